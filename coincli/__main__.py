@@ -1,0 +1,3 @@
+from coincli.cli import main
+
+main()
