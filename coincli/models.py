@@ -268,7 +268,8 @@ def _from_offsets(xp, sigma, t, s0, c0, c, u1, u2):
     heads = xp.where(u1 > 0, xp.atan2(s0, q1) / HALF_PI, 1.0)
     tails = xp.where(u2 > 0, xp.atan2(q2, c0) / HALF_PI, 0.0)
     two = xp.atan2(q1, s0) / HALF_PI
-    three = xp.atan2(sigma * sigma * c / (c0 * q1 + s0 * q2), q1 * q2 + c0 * s0) / HALF_PI
+    # atan2(y/den, x) = atan2(y, x*den) for den > 0; no division, so the scalar path cannot raise
+    three = xp.atan2(sigma * sigma * c, (q1 * q2 + c0 * s0) * (c0 * q1 + s0 * q2)) / HALF_PI
     sides = xp.where(u1 > 0, xp.where(u2 > 0, three, two), 0.0)
     return heads, sides, tails
 
