@@ -1,0 +1,229 @@
+r"""Distributions of the angle psi on [0, pi] (Sec. V, Table II of the paper).
+
+Each density is normalized exactly on ``[0, pi]`` and evaluates on numpy arrays (radians):
+
+- :class:`Uniform`: ``1/pi``;
+- :class:`Cosine`: ``(1 - cos 2 psi)/pi``;
+- :class:`Normal`: a normal of any mean and standard deviation truncated to ``[0, pi]``; the
+  paper's "normal" ``0.58 exp(-(psi - pi/2)^2)`` is ``Normal(pi/2, 1/sqrt 2)`` (its 0.58 is the
+  normalizing constant ``1/(sqrt(pi) erf(pi/2)) = 0.5795...`` rounded);
+- :class:`Table`: points ``(psi, weight)`` joined linearly and renormalized.
+
+``features()`` tells the quadrature where a density changes quickly (a narrow normal) or has
+kinks (a table), so that it can place breakpoints there.  :func:`parse_density` reads the
+command-line syntax (``uniform``, ``cosine``, ``normal``, ``normal:MEAN:SD`` in degrees,
+``table:FILE``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+__all__ = ["Density", "Uniform", "Cosine", "Normal", "Table", "parse_density", "PAPER_DENSITIES"]
+
+MAX_TABLE_BYTES = 10_000_000
+MAX_TABLE_POINTS = 100_000
+
+
+class Density:
+    """A probability density of psi on [0, pi]."""
+
+    name = "density"
+
+    def pdf(self, psi):
+        raise NotImplementedError
+
+    def features(self) -> list[tuple[float, float]]:
+        """(centre, scale) pairs where the density varies on a scale much below pi."""
+        return []
+
+    def kinks(self) -> list[float]:
+        """Points where the density's derivative jumps."""
+        return []
+
+    @property
+    def spec(self) -> str:
+        return self.name
+
+
+class Uniform(Density):
+    """``P(psi) = 1/pi``."""
+
+    name = "uniform"
+
+    def pdf(self, psi):
+        import numpy as np
+
+        return np.full(np.shape(psi), 1 / math.pi)
+
+
+class Cosine(Density):
+    """``P(psi) = (1 - cos 2 psi)/pi = 2 sin^2(psi)/pi``."""
+
+    name = "cosine"
+
+    def pdf(self, psi):
+        import numpy as np
+
+        s = np.sin(psi)
+        return 2 * s * s / math.pi
+
+
+@dataclass(frozen=True)
+class _NormalParams:
+    mean: float
+    sd: float
+
+
+class Normal(Density):
+    """A normal density of ``mean`` and ``sd`` (radians) truncated to [0, pi], normalized exactly.
+
+    The normalizer ``Z = Phi((pi - mean)/sd) - Phi(-mean/sd)`` is formed from ``erfc`` on the
+    side where it does not cancel.
+    """
+
+    def __init__(self, mean: float = math.pi / 2, sd: float = 1 / math.sqrt(2)):
+        for label, v in (("mean", mean), ("sd", sd)):
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                raise ValueError(f"normal {label} must be a finite number, got {v!r}")
+        if not sd > 0:
+            raise ValueError(f"normal sd must be > 0, got {sd!r}")
+        self.mean, self.sd = float(mean), float(sd)
+        a, b = -self.mean / self.sd, (math.pi - self.mean) / self.sd
+        r2 = math.sqrt(2)
+        if a >= 0:
+            z = 0.5 * (math.erfc(a / r2) - math.erfc(b / r2))
+        elif b <= 0:
+            z = 0.5 * (math.erfc(-b / r2) - math.erfc(-a / r2))
+        else:
+            z = 1 - 0.5 * (math.erfc(b / r2) + math.erfc(-a / r2))
+        if not z > 0:
+            raise ValueError(
+                f"normal:{math.degrees(mean):g}:{math.degrees(sd):g} puts no measurable mass "
+                "on [0, 180] degrees; move the mean into the range or widen it"
+            )
+        self._log_norm = -math.log(z * self.sd * math.sqrt(2 * math.pi))
+
+    name = "normal"
+
+    @property
+    def spec(self) -> str:
+        return f"normal:{math.degrees(self.mean):.10g}:{math.degrees(self.sd):.10g}"
+
+    def pdf(self, psi):
+        import numpy as np
+
+        x = (np.asarray(psi, dtype=float) - self.mean) / self.sd
+        return np.exp(self._log_norm - 0.5 * x * x)
+
+    def features(self):
+        return [(self.mean, self.sd)] if self.sd < 0.5 else []
+
+
+class Table(Density):
+    """Points ``(psi_k, w_k)`` (radians, weights >= 0) joined linearly; zero outside them."""
+
+    name = "table"
+
+    def __init__(self, psi, weight, label: str = "table"):
+        import numpy as np
+
+        psi = np.asarray(psi, dtype=float)
+        w = np.asarray(weight, dtype=float)
+        if psi.ndim != 1 or psi.shape != w.shape or len(psi) < 2:
+            raise ValueError("a psi table needs at least two (psi, weight) points")
+        if not (np.all(np.isfinite(psi)) and np.all(np.isfinite(w))):
+            raise ValueError("a psi table must hold finite numbers only")
+        if np.any(psi < 0) or np.any(psi > math.pi + 1e-12):
+            raise ValueError("table psi values must lie in [0, 180] degrees")
+        if np.any(np.diff(psi) <= 0):
+            raise ValueError("table psi values must be strictly increasing")
+        if np.any(w < 0):
+            raise ValueError("table weights must be >= 0")
+        area = float(np.sum(np.diff(psi) * (w[1:] + w[:-1]) / 2))  # exact for the interpolant
+        if not area > 0:
+            raise ValueError("table weights must not all be zero")
+        self.psi, self.w = np.minimum(psi, math.pi), w / area
+        self.label = label
+
+    @property
+    def spec(self) -> str:
+        return f"table:{self.label}"
+
+    def pdf(self, psi):
+        import numpy as np
+
+        return np.interp(psi, self.psi, self.w, left=0.0, right=0.0)
+
+    def kinks(self):
+        return [float(v) for v in self.psi]
+
+    @classmethod
+    def from_text(cls, text: str, label: str = "table", degrees: bool = True) -> Table:
+        """Parse lines ``psi,weight`` (or whitespace-separated); ``#`` comments; psi in degrees."""
+        pts = []
+        for n, raw in enumerate(text.splitlines(), start=1):
+            line = raw.split("#", 1)[0].strip()
+            if not line:
+                continue
+            parts = [p for p in line.replace(",", " ").replace(";", " ").split() if p]
+            if len(parts) != 2:
+                raise ValueError(f"{label} line {n}: expected 'psi,weight', got {raw.strip()!r}")
+            try:
+                a, b = float(parts[0]), float(parts[1])
+            except ValueError:
+                if not pts:  # a header line
+                    continue
+                raise ValueError(f"{label} line {n}: not two numbers: {raw.strip()!r}") from None
+            pts.append((math.radians(a) if degrees else a, b))
+            if len(pts) > MAX_TABLE_POINTS:
+                raise ValueError(f"{label}: more than {MAX_TABLE_POINTS} points")
+        if not pts:
+            raise ValueError(f"{label}: no (psi, weight) points found")
+        psi, w = zip(*pts, strict=True)
+        return cls(psi, w, label)
+
+
+PAPER_DENSITIES = {"uniform": Uniform, "cosine": Cosine, "normal": Normal}
+
+
+def parse_density(text: str) -> Density:
+    """``uniform``, ``cosine``, ``normal`` (the paper's), ``normal:MEAN:SD`` (degrees) or
+    ``table:FILE`` (lines ``psi_degrees,weight``)."""
+    s = str(text).strip()
+    kind, _, rest = s.partition(":")
+    kind = kind.lower()
+    if kind in ("uniform", "cosine") and not rest:
+        return PAPER_DENSITIES[kind]()
+    if kind == "normal":
+        if not rest:
+            return Normal()
+        parts = rest.split(":")
+        if len(parts) != 2:
+            raise ValueError(f"psi density must be normal:MEAN:SD in degrees, got {text!r}")
+        from coincli.parse import parse_number
+
+        mean = parse_number(parts[0], "normal mean (degrees)")
+        sd = parse_number(parts[1], "normal sd (degrees)")
+        if not sd > 0:
+            raise ValueError(f"normal sd must be > 0 degrees, got {parts[1]!r}")
+        return Normal(math.radians(mean), math.radians(sd))
+    if kind == "table" and rest:
+        import os
+
+        try:
+            size = os.path.getsize(rest)
+            if size > MAX_TABLE_BYTES:
+                raise ValueError(f"psi table {rest!r} is larger than {MAX_TABLE_BYTES} bytes")
+            with open(rest, encoding="utf-8") as fh:
+                content = fh.read()
+        except OSError as exc:
+            raise ValueError(f"cannot read psi table {rest!r}: {exc.strerror}") from None
+        except UnicodeDecodeError:
+            raise ValueError(f"psi table {rest!r} is not UTF-8 text") from None
+        return Table.from_text(content, label=rest)
+    raise ValueError(
+        "psi density must be uniform, cosine, normal, normal:MEAN:SD (degrees) or table:FILE; "
+        f"got {text!r}"
+    )

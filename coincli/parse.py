@@ -1,0 +1,135 @@
+"""Parsing of the values people type: probabilities, lengths, angles, lists and ranges.
+
+Pure functions: text in, numbers out, ValueError with a one-line message otherwise.  Nothing
+here evaluates user text as code.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from fractions import Fraction
+
+__all__ = [
+    "parse_number",
+    "parse_probability",
+    "parse_length_mm",
+    "parse_angle_deg",
+    "parse_values",
+    "parse_count",
+    "MAX_ROWS",
+]
+
+MAX_ROWS = 1_000_000  #: the most rows a range or list may expand to
+
+_NUM = re.compile(r"^[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?$")
+_LEN_UNITS = {"mm": 1.0, "cm": 10.0, "m": 1000.0, "in": 25.4, '"': 25.4}
+
+
+def parse_number(text: str, what: str = "value", *, allow_inf: bool = False) -> float:
+    """A decimal number (``0.5``, ``1e-3``); ``inf`` only if allowed.  No NaN."""
+    s = str(text).strip()
+    if allow_inf and s.lower() in ("inf", "+inf", "infinity"):
+        return math.inf
+    if not _NUM.match(s):
+        raise ValueError(f"{what} must be a number, got {text!r}")
+    v = float(s)
+    if math.isinf(v) and not allow_inf:
+        raise ValueError(f"{what} must be a finite number, got {text!r}")
+    return v
+
+
+def parse_probability(text: str, what: str = "probability") -> float:
+    """``0.33``, ``1/3`` or ``33%``, in [0, 1].  Fractions are exact before rounding to a float."""
+    s = str(text).strip()
+    try:
+        if s.endswith("%"):
+            v = float(Fraction(_plain(s[:-1], what)) / 100)
+        elif "/" in s:
+            num, _, den = s.partition("/")
+            d = Fraction(_plain(den, what))
+            if d == 0:
+                raise ValueError(f"{what} {text!r} divides by zero")
+            v = float(Fraction(_plain(num, what)) / d)
+        else:
+            v = float(Fraction(_plain(s, what)))
+    except (ValueError, ZeroDivisionError, OverflowError) as exc:
+        msg = str(exc)
+        if what in msg:
+            raise ValueError(msg) from None
+        raise ValueError(f"{what} must be a number like 0.33, 1/3 or 33%, got {text!r}") from None
+    if not 0.0 <= v <= 1.0:
+        raise ValueError(f"{what} must be in [0, 1] (or 0% to 100%), got {text!r}")
+    return v
+
+
+def _plain(s: str, what: str) -> str:
+    s = s.strip()
+    if not _NUM.match(s):
+        raise ValueError(f"{what} must be a number like 0.33, 1/3 or 33%, got {s!r}")
+    return s
+
+
+def parse_length_mm(text: str, what: str = "length") -> float:
+    """A length in millimetres: ``24.26``, ``24.26mm``, ``2.4cm``, ``0.955in``; finite, > 0."""
+    s = str(text).strip().lower()
+    factor = 1.0
+    for unit, f in sorted(_LEN_UNITS.items(), key=lambda kv: -len(kv[0])):
+        if s.endswith(unit) and _NUM.match(s[: -len(unit)].strip() or "x"):
+            s, factor = s[: -len(unit)].strip(), f
+            break
+    if not _NUM.match(s):
+        raise ValueError(
+            f"{what} must be a length like 24.26, 24.26mm, 2.4cm or 0.955in, got {text!r}"
+        )
+    v = float(s) * factor
+    if not (math.isfinite(v) and v > 0):
+        raise ValueError(f"{what} must be a finite length > 0, got {text!r}")
+    return v
+
+
+def parse_angle_deg(text: str, what: str = "psi") -> float:
+    """An angle in degrees in [0, 180], returned in radians (180 maps to the double nearest pi)."""
+    v = parse_number(text, what)
+    if not 0.0 <= v <= 180.0:
+        raise ValueError(f"{what} must be an angle in [0, 180] degrees, got {text!r}")
+    return math.pi if v == 180.0 else math.radians(v)
+
+
+def parse_count(text: str, what: str = "count") -> int:
+    """A whole number >= 1."""
+    s = str(text).strip()
+    if not re.fullmatch(r"\+?\d+", s) or int(s) < 1:
+        raise ValueError(f"{what} must be a whole number >= 1, got {text!r}")
+    return int(s)
+
+
+def parse_values(text: str, what: str, item=parse_number, *, max_rows: int = MAX_ROWS) -> list:
+    """``a``, a list ``a,b,c`` or an inclusive range ``start:stop:step`` (step > 0).
+
+    Each item is parsed by ``item(text, what)``; a range is computed as ``start + k*step`` (no
+    accumulated rounding) and includes ``stop`` when it is within a millionth of a step of it.
+    More than ``max_rows`` values is an error naming the limit.
+    """
+    s = str(text).strip()
+    if not s:
+        raise ValueError(f"{what} is empty; give a value, a list a,b,c or a range start:stop:step")
+    if ":" in s:
+        parts = s.split(":")
+        if len(parts) != 3:
+            raise ValueError(f"{what} range must be start:stop:step, got {text!r}")
+        start, stop, step = (parse_number(p, f"{what} range") for p in parts)
+        if not step > 0:
+            raise ValueError(f"{what} range step must be > 0, got {parts[2]!r}")
+        if stop < start:
+            raise ValueError(f"{what} range must have start <= stop, got {text!r}")
+        n = math.floor((stop - start) / step + 1e-6)
+        if n + 1 > max_rows:
+            raise ValueError(
+                f"{what} range {text!r} has {n + 1:.3g} values; at most {max_rows} are allowed"
+            )
+        return [item(repr(start + k * step), what) for k in range(n + 1)]
+    items = s.split(",")
+    if len(items) > max_rows:
+        raise ValueError(f"{what} lists {len(items)} values; at most {max_rows} are allowed")
+    return [item(p, what) for p in items]
