@@ -21,7 +21,7 @@ import math
 import os
 import sys
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Annotated
 
 import typer
@@ -131,7 +131,12 @@ class Result:
     rows: list
     note: str = ""
     quiet: object = None  # the main number for --quiet (a value or a list, one per row)
-    extra: dict = field(default_factory=dict)  # extra top-level facts (unused by csv)
+    vertical: bool = False  # a single row shown as "quantity  value" lines on the human table
+    data: list | None = None  # alternatively the columns' values, one list per column
+
+    def __post_init__(self):
+        if self.data is not None and not self.rows:
+            self.rows = list(zip(*self.data, strict=True))
 
 
 def _machine(v):
@@ -185,9 +190,10 @@ def emit(result: Result, fmt: str = "table", quiet: bool = False, out=None) -> N
     names = [c.name for c in result.columns]
     if fmt in ("csv", "tsv"):
         sep = "," if fmt == "csv" else "\t"
-        lines = [sep.join(names)]
-        lines.extend(sep.join(_csv_cell(_machine(v), sep) for v in row) for row in result.rows)
-        out.write("\n".join(lines) + "\n")
+        cols = result.data if result.data is not None else list(zip(*result.rows, strict=True))
+        text_cols = [_text_column(col, sep) for col in cols]
+        body = "\n".join(map(sep.join, zip(*text_cols, strict=True))) if result.rows else ""
+        out.write(sep.join(names) + "\n" + (body + "\n" if body else ""))
     elif fmt in ("json", "jsonl"):
         import json
 
@@ -203,14 +209,29 @@ def emit(result: Result, fmt: str = "table", quiet: bool = False, out=None) -> N
         out.write(plain_table(result))
 
 
+def _text_column(col, sep: str) -> list[str]:
+    if all(type(v) is float for v in col):
+        return list(map(repr, col))  # the fast path of a long batch
+    return [_csv_cell(_machine(v), sep) for v in col]
+
+
 def _csv_cell(text: str, sep: str) -> str:
     if sep in text or '"' in text or "\n" in text:
         return '"' + text.replace('"', '""') + '"'
     return text
 
 
+def _transposed(result: Result) -> Result:
+    row = result.rows[0]
+    return Result(result.title, [Column("quantity", "quantity", "text"), Column("value", "value",
+                  "text")], [(c.header, _human(v, c.style)) for c, v in zip(result.columns, row,
+                                                                      strict=True)], result.note)
+
+
 def plain_table(result: Result) -> str:
     """The human table as plain text: title, aligned columns, note."""
+    if result.vertical and len(result.rows) == 1:
+        result = _transposed(result)
     cells = [[c.header for c in result.columns]]
     cells += [[_human(v, c.style) for v, c in zip(row, result.columns, strict=True)]
               for row in result.rows]
@@ -221,7 +242,7 @@ def plain_table(result: Result) -> str:
             (s.ljust(w) if (k == 0 or c.style == "text") else s.rjust(w))
             for s, w, c in zip(r, widths, result.columns, strict=True)).rstrip())
         if k == 0:
-            lines.append("  ".join("-" * w for w in widths))
+            lines.append("  ".join("-" * w for w in widths).rstrip())
     if result.note:
         lines.append(result.note)
     return "\n".join(lines) + "\n"
@@ -231,6 +252,8 @@ def _rich_table(result: Result) -> None:
     from rich.console import Console
     from rich.table import Table
 
+    if result.vertical and len(result.rows) == 1:
+        result = _transposed(result)
     table = Table(title=result.title, caption=result.note or None, caption_justify="left")
     for c in result.columns:
         table.add_column(c.header, justify="left" if c.style == "text" else "right")

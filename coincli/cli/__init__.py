@@ -1,0 +1,131 @@
+"""The ``coin`` command: a thin typer layer over :mod:`coincli`.
+
+Each command module registers its commands on :data:`app`; this module only runs it, turning
+every failure into one line on stderr and an exit code (:class:`ExitCode`).  Nothing here or in
+the command modules imports numpy, scipy or rich at import time: a closed-form answer must not
+pay for them.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+
+import typer
+
+from coincli import __version__
+from coincli.cli._common import CoinError, ExitCode
+
+app = typer.Typer(
+    name="coin",
+    help="Design thick coins: the chances of heads, sides and tails of a tossed cylinder "
+    "(Yong & Mahadevan).  Example: coin design --p-sides 1/3",
+    no_args_is_help=True,
+    add_completion=True,
+    pretty_exceptions_enable=False,
+    context_settings={"help_option_names": ["-h", "--help"]},
+)
+
+
+def _version(value: bool):
+    if value:
+        print(f"coin {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _root(
+    version: bool = typer.Option(
+        False, "--version", "-V", help="Print the version and exit.", is_eager=True,
+        callback=_version,
+    ),
+    traceback: bool = typer.Option(
+        False, "--traceback", help="On an unexpected error, show the Python traceback.",
+    ),
+):
+    """Design thick coins: chances of heads, sides and tails (Yong & Mahadevan)."""
+    if traceback:
+        os.environ["COIN_TRACEBACK"] = "1"
+
+
+# Command modules register themselves on import.  Keep their top level free of numpy/scipy/rich.
+from coincli.cli import design as _design  # noqa: E402,F401
+
+for _name in ("toss", "check", "plot", "methods"):
+    try:
+        __import__(f"coincli.cli.{_name}")
+    except ModuleNotFoundError as _exc:  # a command module not written yet
+        if _exc.name != f"coincli.cli.{_name}":
+            raise
+
+
+def _fail(message: str, code: int) -> int:
+    try:
+        sys.stderr.write(f"coin: error: {message}\n")
+        sys.stderr.flush()
+    except (BrokenPipeError, ValueError, OSError):
+        pass
+    return int(code)
+
+
+def run(argv=None) -> int:
+    """Run ``coin`` with ``argv`` and return the exit code (never raises, never prints a trace)."""
+    from typer.exceptions import TyperException
+
+    command = typer.main.get_command(app)
+    try:
+        rv = command.main(list(sys.argv[1:] if argv is None else argv), prog_name="coin",
+                          standalone_mode=False)
+        _flush_stdout()
+        return int(rv) if isinstance(rv, int) else 0
+    except CoinError as exc:
+        return _fail(exc.message, exc.code)
+    except TyperException as exc:
+        code = getattr(exc, "exit_code", 2)
+        msg = exc.format_message() if hasattr(exc, "format_message") else str(exc)
+        msg = " ".join(msg.split())
+        return _fail(f"{msg} (see coin --help)" if code == 2 else msg, code)
+    except typer.Exit as exc:
+        return int(exc.exit_code)
+    except typer.Abort:
+        return _fail("aborted", ExitCode.INTERRUPTED)
+    except KeyboardInterrupt:
+        return _fail("interrupted", ExitCode.INTERRUPTED)
+    except BrokenPipeError:
+        return _quiet_broken_pipe()
+    except (ValueError, ArithmeticError) as exc:
+        if os.environ.get("COIN_TRACEBACK"):
+            raise
+        return _fail(str(exc), ExitCode.ERROR)
+    except MemoryError:
+        return _fail("out of memory; ask for fewer rows or samples", ExitCode.ERROR)
+    except OSError as exc:
+        return _fail(f"{exc.strerror or exc}", ExitCode.ERROR)
+    except Exception as exc:  # pragma: no cover - a bug; say so in one line
+        if os.environ.get("COIN_TRACEBACK"):
+            raise
+        return _fail(f"internal error: {type(exc).__name__}: {exc} (rerun with --traceback)",
+                     ExitCode.ERROR)
+
+
+def _flush_stdout():
+    try:
+        sys.stdout.flush()
+    except BrokenPipeError:
+        _quiet_broken_pipe()
+
+
+def _quiet_broken_pipe() -> int:
+    # The reader went away (`coin ... | head`): stop quietly, and keep Python from complaining
+    # when it flushes stdout at exit.
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError):
+        pass
+    return 0
+
+
+def main() -> None:
+    """Console-script entry point."""
+    sys.exit(run())

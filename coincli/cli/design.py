@@ -1,0 +1,583 @@
+"""``coin design``, ``coin table``, ``coin stack``, ``coin coins``, ``coin fair``.
+
+Thin: parse the options, call :mod:`coincli.models` / :mod:`coincli.marginal`, build a
+:class:`Result`, emit it.  A single value under the geometric or dynamic model stays on Python
+floats (no numpy); lists, ranges and stdin batches of those models go through numpy in one
+vectorized call; psi models use quadrature and root finding (numpy and scipy, loaded then).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Annotated
+
+import typer
+
+from coincli import coins as coin_catalog
+from coincli import models, parse
+from coincli.cli import app
+from coincli.cli._common import (
+    Column,
+    FormatOpt,
+    QuietOpt,
+    Result,
+    check_format,
+    compute_error,
+    emit,
+    usage_error,
+    values_option,
+)
+
+# --------------------------------------------------------------------------- models as options
+
+
+@dataclass
+class Model:
+    """A model chosen on the command line: a forward map xi -> Outcome and its inverse."""
+
+    key: str  # geometric | dynamic | psi | dist
+    label: str
+    psi: float | None = None
+    density: object = None
+
+    def forward(self, xi):
+        if self.key == "geometric":
+            return models.geometric(xi)
+        if self.key == "dynamic":
+            return models.dynamic(xi)
+        if self.key == "psi":
+            return models.conditional(xi, self.psi)
+        from coincli.marginal import marginal
+
+        return marginal(xi, self.density)
+
+    def inverse(self, p):
+        if self.key == "geometric":
+            return models.geometric_inverse(p)
+        if self.key == "dynamic":
+            return models.dynamic_inverse(p)
+        from coincli import marginal as mg
+
+        if self.key == "psi":
+            return mg.conditional_inverse(p, self.psi)
+        return mg.marginal_inverse(p, self.density)
+
+    @property
+    def closed_form(self) -> bool:
+        return self.key in ("geometric", "dynamic", "psi")
+
+
+GEOMETRIC = Model("geometric", "geometric (uniform orientations, eq. 11)")
+DYNAMIC = Model("dynamic", "dynamic (Keller flip, psi = 90 deg, eq. 12)")
+
+
+def psi_model(psi_deg_text: str) -> Model:
+    try:
+        psi = parse.parse_angle_deg(psi_deg_text, "--psi")
+    except ValueError as exc:
+        raise usage_error(str(exc)) from None
+    return Model("psi", f"psi = {psi_deg_text.strip()} deg (Table I)", psi=psi)
+
+
+def density_model(spec: str) -> Model:
+    from coincli.densities import parse_density
+
+    try:
+        d = parse_density(spec)
+    except ValueError as exc:
+        raise usage_error(f"--psi-dist: {exc}") from None
+    return Model("dist", f"psi ~ {d.spec} (deg; averaged, eq. 15)", density=d)
+
+
+def choose_model(model: str | None, psi: str | None, psi_dist: str | None) -> Model:
+    """The model from --model, --psi and --psi-dist; contradictions are usage errors."""
+    m = (model or "").strip().lower()
+    if m not in ("", "geometric", "dynamic", "psi"):
+        raise usage_error(f"--model must be geometric, dynamic or psi; got {model!r}")
+    if psi is not None and psi_dist is not None:
+        raise usage_error("give either --psi (a fixed angle) or --psi-dist (a distribution), "
+                          "not both")
+    if m in ("geometric", "dynamic") and (psi is not None or psi_dist is not None):
+        raise usage_error(f"--model {m} takes no --psi or --psi-dist; use --model psi")
+    if psi is not None:
+        return psi_model(psi)
+    if psi_dist is not None:
+        return density_model(psi_dist)
+    if m == "psi":
+        raise usage_error("--model psi needs --psi DEG or --psi-dist SPEC "
+                          "(e.g. --psi-dist normal:90:18)")
+    return GEOMETRIC if m == "geometric" else DYNAMIC
+
+
+ModelOpt = Annotated[
+    str | None,
+    typer.Option("--model", "-m", help="geometric, dynamic (default) or psi.", metavar="MODEL"),
+]
+PsiOpt = Annotated[
+    str | None,
+    typer.Option("--psi", help="Fixed angle between angular momentum and normal, degrees "
+                 "[0, 180] (Table I).", metavar="DEG"),
+]
+PsiDistOpt = Annotated[
+    str | None,
+    typer.Option("--psi-dist", help="Distribution of psi: uniform, cosine, normal (the paper's), "
+                 "normal:MEAN:SD (degrees) or table:FILE.", metavar="SPEC"),
+]
+CoinOpt = Annotated[
+    str, typer.Option("--coin", "-c", help="Catalog coin for stacks (see `coin coins`).")
+]
+
+
+def _coin(name: str) -> coin_catalog.Coin:
+    try:
+        return coin_catalog.get_coin(name)
+    except ValueError as exc:
+        raise usage_error(f"--coin: {exc}") from None
+
+
+def _length(text: str | None, what: str) -> float | None:
+    if text is None:
+        return None
+    try:
+        return parse.parse_length_mm(text, what)
+    except ValueError as exc:
+        raise usage_error(str(exc)) from None
+
+
+def _vector(values):
+    """numpy array for a batch (several values), a float for one."""
+    if not isinstance(values, list):
+        return values  # already an ndarray from a stdin batch
+    if len(values) == 1:
+        return float(values[0])
+    import numpy as np
+
+    return np.asarray(values, dtype=float)
+
+
+def _tolist(v, n):
+    return v.tolist() if hasattr(v, "tolist") and not isinstance(v, float) else [v] * n
+
+
+# --------------------------------------------------------------------------- design
+
+
+def _stack_columns(coin, xi, p, model: Model):
+    """Nearest stack of ``coin`` to each target: (n, xi_n, p_n, p_n-1, p_n+1) columns."""
+    per = coin.xi
+    if model.key in ("geometric", "dynamic") and not isinstance(xi, float):
+        import numpy as np
+
+        with np.errstate(all="ignore"):
+            cont = xi / per
+            finite = np.isfinite(cont)
+            c = np.where(finite, cont, 1.0)
+            lo = np.maximum(1.0, np.floor(c))
+            hi = np.maximum(1.0, np.ceil(c))
+            slo, shi = model.forward(lo * per).sides, model.forward(hi * per).sides
+            n = np.where(np.abs(slo - p) <= np.abs(shi - p), lo, hi)
+            sn = model.forward(n * per).sides
+            sm = np.where(n > 1, model.forward(np.maximum(n - 1, 1) * per).sides, np.nan)
+            sp = model.forward((n + 1) * per).sides
+        cols = [n.astype(int).tolist(), (n * per).tolist(), sn.tolist(), sm.tolist(), sp.tolist()]
+        bad = (~finite).nonzero()[0].tolist()
+        for k in bad:
+            for col in cols:
+                col[k] = None
+        for k, v in enumerate(cols[3]):
+            if isinstance(v, float) and math.isnan(v):
+                cols[3][k] = None
+        return cols
+    ps = _tolist(p, 1) if not isinstance(p, float) else [p]
+    cols = [[], [], [], [], []]
+    for pk in ps:
+        if pk >= 1.0:
+            vals = (None,) * 5
+        else:
+            ch = coin_catalog.nearest_stack(coin, pk, lambda x: float(model.forward(x).sides))
+            nb = {k: s for k, _, s in ch.neighbours}
+            vals = (ch.count, ch.xi, ch.p_sides, nb.get(ch.count - 1), nb.get(ch.count + 1))
+        for col, v in zip(cols, vals, strict=True):
+            col.append(v)
+    return cols
+
+
+@app.command()
+def design(
+    p_sides: Annotated[
+        str,
+        typer.Option("--p-sides", "-p", help="Target chance of landing on a side: 0.33, 1/3 or "
+                     "33%; a list a,b; a range start:stop:step; or - to read one per line "
+                     "from stdin."),
+    ],
+    model: ModelOpt = None,
+    psi: PsiOpt = None,
+    psi_dist: PsiDistOpt = None,
+    diameter: Annotated[
+        str | None,
+        typer.Option("--diameter", "-d", help="Coin diameter (mm, or with a unit: 0.955in, "
+                     "2.4cm); the thickness is computed.  Default: the --coin's diameter."),
+    ] = None,
+    thickness: Annotated[
+        str | None,
+        typer.Option("--thickness", "-t", help="Coin thickness (mm or with a unit); the "
+                     "diameter is computed instead."),
+    ] = None,
+    coin: CoinOpt = "quarter",
+    fmt: FormatOpt = "table",
+    quiet: QuietOpt = False,
+):
+    """The aspect ratio (thickness/diameter) that lands on a side with the chance you want.
+
+    Reports xi, D/h, the thickness for a diameter (or the diameter for a thickness), the nearest
+    stack of a catalog coin with the chances reached by N-1, N and N+1 coins, and what the other
+    model predicts for the same coin.
+
+    Examples: coin design --p-sides 1/3 ;  coin design -p 25% --model geometric --diameter 30 ;
+    seq 0.05 0.05 0.95 | coin design -p - --format csv ;  xi=$(coin design -p 1/3 -q)
+    """
+    check_format(fmt)
+    m = choose_model(model, psi, psi_dist)
+    if diameter is not None and thickness is not None:
+        raise usage_error("give --diameter or --thickness, not both (the other one is computed)")
+    c = _coin(coin)
+    dia, thick = _length(diameter, "--diameter"), _length(thickness, "--thickness")
+    if dia is None and thick is None:
+        dia = c.diameter_mm
+    ps = values_option(p_sides, "--p-sides", parse.parse_probability, bounds=(0.0, 1.0))
+    p = _vector(ps)
+    try:
+        xi = m.inverse(p)
+        out = m.forward(xi)
+    except ValueError as exc:
+        raise compute_error(str(exc)) from None
+    other = DYNAMIC if m.key == "geometric" else GEOMETRIC
+    other_sides = other.forward(xi).sides
+    n = 1 if isinstance(p, float) else len(p)
+    if isinstance(xi, float):
+        d_over_h = math.inf if xi == 0 else 1 / xi
+        thick_col = dia * xi if dia is not None else thick
+        dia_col = dia if dia is not None else (math.inf if xi == 0 else thick / xi)
+    else:
+        import numpy as np
+
+        with np.errstate(all="ignore"):
+            d_over_h = np.where(xi == 0, np.inf, 1 / np.where(xi == 0, 1, xi))
+            if dia is not None:
+                thick_col, dia_col = dia * xi, np.full(xi.shape, dia)
+            else:
+                thick_col = np.full(xi.shape, thick)
+                dia_col = np.where(xi == 0, np.inf, thick / np.where(xi == 0, 1, xi))
+    stack = _stack_columns(c, xi, p, m)
+    data = [
+        _tolist(p, n), _tolist(xi, n), _tolist(d_over_h, n), _tolist(dia_col, n),
+        _tolist(thick_col, n), _tolist(out.heads, n), _tolist(out.tails, n),
+        [c.name] * n, *stack, _tolist(other_sides, n),
+    ]
+    columns = [
+        Column("p_sides", "P(sides) target"),
+        Column("xi", "xi = h/D"),
+        Column("d_over_h", "D/h"),
+        Column("diameter_mm", "diameter (mm)"),
+        Column("thickness_mm", "thickness (mm)"),
+        Column("p_heads", "P(heads)"),
+        Column("p_tails", "P(tails)"),
+        Column("coin", "stack coin", "text"),
+        Column("stack_n", "coins in nearest stack", "int"),
+        Column("stack_xi", "xi of that stack"),
+        Column("stack_p_sides", "P(sides), N coins"),
+        Column("stack_p_sides_minus1", "P(sides), N-1 coins"),
+        Column("stack_p_sides_plus1", "P(sides), N+1 coins"),
+        Column(f"{other.key}_p_sides", f"P(sides), {other.key} model"),
+    ]
+    note = f"model: {m.label}; vigorous toss caught without bouncing; stack of {c.label} " \
+           f"({c.diameter_mm:g} x {c.thickness_mm:g} mm)"
+    emit(Result("coin design", columns, [], note=note, quiet=_tolist(xi, n), vertical=True,
+                data=data), fmt, quiet)
+
+
+# --------------------------------------------------------------------------- table
+
+_ALL_DENSITIES = ("uniform", "cosine", "normal")
+
+
+def _xi_values(xi_text, quarters, coin_name, count):
+    given = [x is not None for x in (xi_text, quarters, count)]
+    if sum(given) != 1:
+        raise usage_error("give exactly one of --xi, --quarters N, or --coin NAME --count N")
+    if xi_text is not None:
+        if coin_name is not None:
+            raise usage_error("--coin goes with --count, not with --xi")
+        vals = values_option(xi_text, "--xi", lambda s, w: _xi_item(s, w), bounds=(0.0, math.inf))
+        return vals, None
+    c = _coin("quarter" if quarters is not None else (coin_name or "quarter"))
+    text = quarters if quarters is not None else count
+    counts = values_option(text, "--count" if quarters is None else "--quarters",
+                           lambda s, w: float(parse.parse_count(s, w)))
+    return [k * c.thickness_mm / c.diameter_mm for k in counts], (c, [int(k) for k in counts])
+
+
+def _xi_item(s, w):
+    v = parse.parse_number(s, w, allow_inf=True)
+    if not v >= 0:
+        raise ValueError(f"{w} must be >= 0 (inf allowed), got {s!r}")
+    return v
+
+
+@app.command()
+def table(
+    xi: Annotated[
+        str | None,
+        typer.Option("--xi", "-x", help="Aspect ratio(s): 0.577, a list 0.2,0.577, a range "
+                     "0.1:1:0.05, or - for stdin."),
+    ] = None,
+    quarters: Annotated[
+        str | None, typer.Option("--quarters", help="A stack of N US quarters instead of --xi.")
+    ] = None,
+    coin: Annotated[
+        str | None, typer.Option("--coin", "-c", help="Catalog coin, with --count.")
+    ] = None,
+    count: Annotated[
+        str | None, typer.Option("--count", "-n", help="Number of stacked --coin coins.")
+    ] = None,
+    psi: PsiOpt = None,
+    psi_dist: Annotated[
+        str | None,
+        typer.Option("--psi-dist", help="Add psi-averaged rows: a comma list of uniform, cosine, "
+                     "normal, normal:MEAN:SD (degrees), table:FILE.", metavar="SPECS"),
+    ] = None,
+    all_models: Annotated[
+        bool, typer.Option("--all", help="Also the three densities of Table II (uniform, "
+                           "cosine, normal).")
+    ] = False,
+    vs: Annotated[
+        str | None, typer.Option("--vs", help="psi: tabulate over psi (Table I) for one xi; "
+                                 "--psi then takes degrees as a list or range (default 0:180:15).")
+    ] = None,
+    fmt: FormatOpt = "table",
+    quiet: QuietOpt = False,
+):
+    """Chances of heads, sides and tails under every model, for one or more coins.
+
+    One row per coin and model: geometric (eq. 11) and dynamic (eq. 12) always; Table I at a
+    fixed --psi; psi-averaged densities with --psi-dist or --all (Table II).
+
+    Examples: coin table --xi 0.577 ;  coin table --xi 0.1:1:0.1 --format csv ;
+    coin table --quarters 8 --all ;  coin table --xi 0.577 --vs psi --psi 0:180:10
+    """
+    check_format(fmt)
+    if vs is not None:
+        if vs.strip().lower() != "psi":
+            raise usage_error(f"--vs takes psi, got {vs!r}")
+        return _table_vs_psi(xi, quarters, coin, count, psi, fmt, quiet)
+    xis, stack = _xi_values(xi, quarters, coin, count)
+    extra: list[Model] = []
+    if psi is not None:
+        extra.append(psi_model(psi))
+    specs = []
+    if all_models:
+        specs += list(_ALL_DENSITIES)
+    if psi_dist is not None:
+        specs += [s for s in psi_dist.split(",") if s.strip()] or [psi_dist]
+    extra += [density_model(s) for s in specs]
+    x = _vector(xis)
+    n = 1 if isinstance(x, float) else len(x)
+    blocks = []
+    for m in (GEOMETRIC, DYNAMIC, *extra):
+        try:
+            o = m.forward(x)
+        except ValueError as exc:
+            raise compute_error(str(exc)) from None
+        blocks.append((m, _tolist(o.heads, n), _tolist(o.sides, n), _tolist(o.tails, n)))
+    xs = _tolist(x, n)
+    rows = []
+    for k in range(n):
+        for m, h, s, t in blocks:
+            lead = (stack[0].name, stack[1][k]) if stack else ()
+            rows.append((*lead, xs[k], _model_name(m), h[k], s[k], t[k]))
+    columns = ([Column("coin", "coin", "text"), Column("count", "count", "int")] if stack
+               else []) + [
+        Column("xi", "xi = h/D"),
+        Column("model", "model", "text"),
+        Column("p_heads", "P(heads)"),
+        Column("p_sides", "P(sides)"),
+        Column("p_tails", "P(tails)"),
+    ]
+    note = "vigorous toss starting heads up, caught without bouncing; geometric = eq. 11, " \
+           "dynamic = eq. 12 (psi = 90 deg)" + "".join(f"; {m.label}" for m in extra)
+    emit(Result("coin table", columns, rows, note=note,
+                quiet=[r[-3] for r in rows if r[-5 if not stack else -5] is not None]), fmt, quiet)
+
+
+def _model_name(m: Model) -> str:
+    if m.key == "psi":
+        return f"psi={math.degrees(m.psi):.10g}"
+    if m.key == "dist":
+        return m.density.spec
+    return m.key
+
+
+def _table_vs_psi(xi_text, quarters, coin_name, count, psi_text, fmt, quiet):
+    xis, _ = _xi_values(xi_text, quarters, coin_name, count)
+    if len(xis) != 1:
+        raise usage_error("--vs psi tabulates one coin: give a single --xi (or one count)")
+    x = float(xis[0])
+    degs = values_option(psi_text or "0:180:15", "--psi",
+                         lambda s, w: math.degrees(parse.parse_angle_deg(s, w)))
+    rows = []
+    t = math.degrees(models.theta0(x)) / 2
+    for d in degs:
+        rad = math.pi if d == 180.0 else math.radians(d)
+        o = models.conditional(x, rad)
+        fold = min(d, 180.0 - d)
+        regime = "heads only" if fold < t else ("heads/sides" if fold < 90 - t else "all three")
+        rows.append((x, d, regime, o.heads, o.sides, o.tails))
+    columns = [Column("xi", "xi = h/D"), Column("psi_deg", "psi (deg)"),
+               Column("regime", "regime", "text"), Column("p_heads", "P(heads)"),
+               Column("p_sides", "P(sides)"), Column("p_tails", "P(tails)")]
+    note = (f"Table I at xi = {x:g}: theta0/2 = {t:.6g} deg; heads only below it, all three "
+            f"outcomes within {t:.6g} deg of 90")
+    emit(Result("coin table --vs psi", columns, rows, note=note, quiet=[r[4] for r in rows]),
+         fmt, quiet)
+
+
+# --------------------------------------------------------------------------- stack and coins
+
+
+@app.command()
+def stack(
+    coin: Annotated[str, typer.Option("--coin", "-c", help="Catalog coin (see `coin coins`).")
+                    ] = "quarter",
+    count: Annotated[
+        str | None, typer.Option("--count", "-n", help="How many coins: N, a list, a range, or -.")
+    ] = None,
+    p_sides: Annotated[
+        str | None, typer.Option("--p-sides", "-p", help="Find the stack nearest this chance "
+                                 "of a side instead (0.33, 1/3, 33%).")
+    ] = None,
+    diameter: Annotated[str | None, typer.Option("--diameter", "-d", help="A custom coin's "
+                                                 "diameter (mm or with unit).")] = None,
+    thickness: Annotated[str | None, typer.Option("--thickness", "-t", help="A custom coin's "
+                                                  "thickness (mm or with unit).")] = None,
+    model: ModelOpt = None,
+    psi: PsiOpt = None,
+    psi_dist: PsiDistOpt = None,
+    fmt: FormatOpt = "table",
+    quiet: QuietOpt = False,
+):
+    """Stacks of real coins glued together: their xi = N h / D and chances.
+
+    Examples: coin stack --coin quarter --count 8 ;  coin stack --coin quarter --p-sides 1/3 ;
+    coin stack --diameter 25 --thickness 2 --count 1:12:1
+    """
+    check_format(fmt)
+    m = choose_model(model, psi, psi_dist)
+    if (diameter is None) != (thickness is None):
+        raise usage_error("a custom coin needs both --diameter and --thickness")
+    if diameter is not None:
+        try:
+            c = coin_catalog.custom_coin(_length(diameter, "--diameter"),
+                                         _length(thickness, "--thickness"))
+        except ValueError as exc:
+            raise usage_error(str(exc)) from None
+    else:
+        c = _coin(coin)
+    if (count is None) == (p_sides is None):
+        raise usage_error("give --count N (how many coins) or --p-sides P (find the count), "
+                          "one of them")
+    if p_sides is not None:
+        try:
+            p = parse.parse_probability(p_sides, "--p-sides")
+        except ValueError as exc:
+            raise usage_error(str(exc)) from None
+        if p >= 1.0:
+            raise compute_error("P(sides) = 1 needs an infinitely tall stack; choose p < 1")
+        try:
+            ch = coin_catalog.nearest_stack(c, p, lambda x: float(m.forward(x).sides))
+        except ValueError as exc:
+            raise compute_error(str(exc)) from None
+        counts = [k for k, _, _ in ch.neighbours]
+        best = ch.count
+    else:
+        counts = [int(k) for k in values_option(count, "--count",
+                                                lambda s, w: float(parse.parse_count(s, w)))]
+        best = None
+    rows = []
+    for k in counts:
+        x = k * c.xi
+        o = m.forward(x)
+        mark = ("nearest" if k == best else "") if best is not None else ""
+        rows.append((c.name, k, k * c.thickness_mm, x, o.heads, o.sides, o.tails, mark))
+    columns = [Column("coin", "coin", "text"), Column("count", "count", "int"),
+               Column("height_mm", "height (mm)"), Column("xi", "xi = h/D"),
+               Column("p_heads", "P(heads)"), Column("p_sides", "P(sides)"),
+               Column("p_tails", "P(tails)"), Column("mark", "", "text")]
+    note = f"{c.label}: {c.diameter_mm:g} x {c.thickness_mm:g} mm; model: {m.label}"
+    quiet_val = best if best is not None else [r[5] for r in rows]
+    emit(Result("coin stack", columns, rows, note=note, quiet=quiet_val), fmt, quiet)
+
+
+@app.command()
+def coins(fmt: FormatOpt = "table", quiet: QuietOpt = False):
+    """The catalog of real coins, with their dimensions and sources."""
+    check_format(fmt)
+    rows = []
+    for c in coin_catalog.CATALOG.values():
+        rows.append((c.name, c.label, c.diameter_mm, c.thickness_mm, c.xi,
+                     models.dynamic(c.xi).sides, c.source))
+    columns = [Column("name", "name", "text"), Column("label", "coin", "text"),
+               Column("diameter_mm", "diameter (mm)"), Column("thickness_mm", "thickness (mm)"),
+               Column("xi", "xi = h/D"), Column("p_sides_dynamic", "P(sides), one coin"),
+               Column("source", "source", "text")]
+    emit(Result("coin coins", columns, rows, note="P(sides) of a single coin, dynamic model",
+                quiet=[r[0] for r in rows]), fmt, quiet)
+
+
+# --------------------------------------------------------------------------- fair
+
+
+@app.command()
+def fair(
+    diameter: Annotated[
+        str | None, typer.Option("--diameter", "-d", help="Diameter for the thickness column "
+                                 "(default: the --coin's).")
+    ] = None,
+    coin: CoinOpt = "quarter",
+    psi_dist: PsiDistOpt = None,
+    fmt: FormatOpt = "table",
+    quiet: QuietOpt = False,
+):
+    """The fair three-sided coin under each model, and what the other model says of it.
+
+    Bertrand's paradox in one screen: von Neumann's geometric answer xi = 1/(2 sqrt 2) and the
+    dynamic answer xi = 1/sqrt 3 disagree, because they assume different ways of tossing.
+
+    Examples: coin fair ;  coin fair --diameter 30 ;  coin fair --psi-dist normal:90:18
+    """
+    check_format(fmt)
+    c = _coin(coin)
+    dia = _length(diameter, "--diameter") or c.diameter_mm
+    ms = [GEOMETRIC, DYNAMIC]
+    if psi_dist is not None:
+        ms.append(density_model(psi_dist))
+    rows = []
+    for m in ms:
+        try:
+            x = m.inverse(1 / 3)
+        except ValueError as exc:
+            raise compute_error(str(exc)) from None
+        ch = coin_catalog.nearest_stack(c, 1 / 3, lambda v, m=m: float(m.forward(v).sides))
+        own, g, d = m.forward(x), GEOMETRIC.forward(x), DYNAMIC.forward(x)
+        rows.append((_model_name(m), x, 1 / x, dia * x, own.heads, own.sides, own.tails,
+                     ch.count, ch.xi, float(m.forward(ch.xi).sides), g.sides, d.sides))
+    columns = [Column("model", "model", "text"), Column("xi", "xi = h/D"),
+               Column("d_over_h", "D/h"), Column("thickness_mm", f"thickness for D = {dia:g} mm"),
+               Column("p_heads", "P(heads)"), Column("p_sides", "P(sides)"),
+               Column("p_tails", "P(tails)"), Column("stack_n", f"{c.name}s stacked", "int"),
+               Column("stack_xi", "xi of stack"), Column("stack_p_sides", "P(sides) of stack"),
+               Column("geometric_p_sides", "geometric says P(sides)"),
+               Column("dynamic_p_sides", "dynamic says P(sides)")]
+    note = ("fair = P(sides) 1/3; geometric: every orientation equally likely (von Neumann); "
+            "dynamic: angular momentum conserved, Keller flip psi = 90 deg")
+    emit(Result("coin fair", columns, rows, note=note, quiet=[r[1] for r in rows]), fmt, quiet)

@@ -1,0 +1,201 @@
+r"""Reference values for :mod:`coincli.models`, from the paper's textbook formulas in mpmath.
+
+Written independently of ``models.py``: no half-angle forms, no error-free transformations, just
+
+- ``theta0 = acos(xi / sqrt(1 + xi^2))`` (Fig. 1b; ``0`` for ``xi = inf``);
+- ``P_G(sides) = cos theta0``, ``P_G(heads) = P_G(tails) = (1 - cos theta0) / 2`` (eq. 11);
+- ``P_D(heads) = P_D(tails) = theta0 / pi``, ``P_D(sides) = 1 - 2 theta0 / pi`` (eq. 12);
+- Table I with ``theta1 = acos((cos theta0 - cos^2 psi) / sin^2 psi)`` and
+  ``theta2 = acos((-cos theta0 - cos^2 psi) / sin^2 psi)`` (eqs. 9-10);
+- the inverses ``xi = p / sqrt(1 - p^2)`` (of eq. 11) and ``xi = tan(pi p / 2)`` (of eq. 12).
+
+Every double input is converted exactly (``mpf(float)``).  These forms cancel catastrophically
+(``1 - 2 theta0/pi`` for a thin coin, ``1 + xi^2`` for a thick one, ``acos`` near 1), so each value
+is evaluated at a working precision of 50 digits *plus* the digits such cancellation can cost for
+the given inputs, and again at twice that; the two must agree to 50 significant digits (or the
+precision doubles again).  The answer is therefore correct to 50 digits, far beyond a double.
+"""
+
+from __future__ import annotations
+
+import math
+
+import mpmath
+from mpmath import mp, mpf
+
+DPS = 50  #: significant digits the reference values are accurate to
+
+__all__ = [
+    "DPS",
+    "ref_theta0",
+    "ref_geometric",
+    "ref_dynamic",
+    "ref_conditional",
+    "ref_geometric_inverse",
+    "ref_dynamic_inverse",
+    "ref_boundaries",
+    "ulp",
+    "ulp_error",
+]
+
+
+# --------------------------------------------------------------------------- adaptive precision
+
+
+def _guard_digits(*args):
+    """Digits that cancellation may cost for these inputs: about twice their decimal exponent."""
+    g = 0
+    for a in args:
+        if a != 0 and math.isfinite(a):
+            g = max(g, 2 * abs(math.frexp(a)[1]) * 30103 // 100000 + 10)
+    return g
+
+
+def _agree(a, b):
+    if a == b:
+        return True
+    if mpmath.isinf(a) or mpmath.isinf(b):
+        return False
+    return abs(a - b) <= abs(b) * mpf(10) ** (-DPS - 2)
+
+
+def _adaptive(fn, *args):
+    """Evaluate ``fn`` on the exact values of the double ``args`` until two precisions agree."""
+    dps = DPS + 20 + _guard_digits(*args)
+    prev = None
+    for _ in range(8):
+        with mp.workdps(dps):
+            val = fn(*(mpf(a) for a in args))
+        if prev is not None and all(_agree(x, y) for x, y in zip(prev, val, strict=True)):
+            with mp.workdps(DPS):
+                return tuple(+v for v in val)  # rounded to DPS digits
+        prev = val
+        dps *= 2
+    raise ArithmeticError(f"reference did not converge for {fn.__name__}{args}")
+
+
+# --------------------------------------------------------------------------- textbook formulas
+
+
+def _cos_theta0(xi):
+    if mpmath.isinf(xi):
+        return mpf(1)
+    return xi / mpmath.sqrt(1 + xi**2)
+
+
+def _theta0(xi):
+    return mpmath.acos(_cos_theta0(xi))
+
+
+def _geometric(xi):
+    c = _cos_theta0(xi)
+    face = (1 - c) / 2
+    return face, c, face
+
+
+def _dynamic(xi):
+    th0 = _theta0(xi)
+    face = th0 / mpmath.pi
+    return face, 1 - 2 * th0 / mpmath.pi, face
+
+
+def _clamped_acos(x):
+    return mpmath.acos(min(max(x, mpf(-1)), mpf(1)))
+
+
+def _conditional(xi, psi):
+    pi = mpmath.pi
+    c = _cos_theta0(xi)
+    t = _theta0(xi) / 2
+    A = mpmath.cos(psi) ** 2
+    B = mpmath.sin(psi) ** 2
+    if B == 0:  # psi = 0: the normal never leaves the vertical
+        return mpf(1), mpf(0), mpf(0)
+    if psi < t or psi > pi - t:  # [0, theta0/2) U (pi - theta0/2, pi]
+        return mpf(1), mpf(0), mpf(0)
+    theta1 = _clamped_acos((c - A) / B)
+    if psi < pi / 2 - t or psi > pi / 2 + t:  # [theta0/2, pi/2 - theta0/2) U mirror
+        return theta1 / pi, 1 - theta1 / pi, mpf(0)
+    theta2 = _clamped_acos((-c - A) / B)  # [pi/2 - theta0/2, pi/2 + theta0/2]
+    return theta1 / pi, (theta2 - theta1) / pi, 1 - theta2 / pi
+
+
+def _geometric_inverse(p):
+    if p == 1:
+        return (mpmath.inf,)
+    return (p / mpmath.sqrt(1 - p**2),)
+
+
+def _dynamic_inverse(p):
+    if p == 1:
+        return (mpmath.inf,)
+    return (mpmath.tan(mpmath.pi * p / 2),)
+
+
+def _boundaries(xi):
+    t = _theta0(xi) / 2
+    pi = mpmath.pi
+    return t, pi / 2 - t, pi / 2 + t, pi - t
+
+
+# --------------------------------------------------------------------------- public API
+
+
+def ref_theta0(xi: float):
+    """theta0 for the double ``xi``, to ``DPS`` digits (an mpf)."""
+    return _adaptive(lambda x: (_theta0(x),), xi)[0]
+
+
+def ref_geometric(xi: float):
+    """(heads, sides, tails) of eq. (11) as mpf values."""
+    return _adaptive(_geometric, xi)
+
+
+def ref_dynamic(xi: float):
+    """(heads, sides, tails) of eq. (12) as mpf values."""
+    return _adaptive(_dynamic, xi)
+
+
+def ref_conditional(xi: float, psi: float):
+    """(heads, sides, tails) of Table I as mpf values."""
+    return _adaptive(_conditional, xi, psi)
+
+
+def ref_geometric_inverse(p: float):
+    """xi with P_G(sides) = p, as an mpf (inf for p = 1)."""
+    return _adaptive(_geometric_inverse, p)[0]
+
+
+def ref_dynamic_inverse(p: float):
+    """xi with P_D(sides) = p, as an mpf (inf for p = 1)."""
+    return _adaptive(_dynamic_inverse, p)[0]
+
+
+def ref_boundaries(xi: float):
+    """The four regime boundaries of Table I on [0, pi], as mpf values."""
+    return _adaptive(_boundaries, xi)
+
+
+# --------------------------------------------------------------------------- error measure
+
+_TINY = mpf(2) ** -1074
+
+
+def ulp(ref):
+    """Spacing of doubles at the exact value ``ref`` (2**-1074 for subnormals)."""
+    ref = abs(mpf(ref))
+    if ref == 0:
+        return _TINY
+    _, e = mpmath.frexp(ref)  # ref = m * 2**e, 0.5 <= m < 1
+    return max(mpmath.ldexp(mpf(1), int(e) - 53), _TINY)
+
+
+def ulp_error(computed: float, ref) -> float:
+    """``|computed - ref| / ulp(ref)`` as a float; exact zeros/infs must match exactly (else inf)."""
+    computed = float(computed)
+    if ref == 0 or mpmath.isinf(ref):
+        return 0.0 if computed == ref else math.inf
+    if not math.isfinite(computed):
+        return math.inf
+    with mp.workdps(DPS + 10):
+        return float(abs(mpf(computed) - ref) / ulp(ref))
