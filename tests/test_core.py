@@ -1,0 +1,173 @@
+"""The paper's own numbers, and the invariants every model must keep."""
+
+from __future__ import annotations
+
+import math
+
+import mpmath as mp
+import pytest
+
+from coincli import coins, models, parse
+from coincli.densities import Cosine, Normal, Table, Uniform, parse_density
+from coincli.marginal import conditional_inverse, marginal, marginal_inverse
+
+XI_FAIR = 1 / math.sqrt(3)
+
+
+def test_fair_coins_of_the_paper():
+    # eq. 11: geometric fair at 1/(2 sqrt 2); eq. 12: dynamic fair at 1/sqrt 3
+    assert models.geometric(models.FAIR_XI_GEOMETRIC).sides == pytest.approx(1 / 3, rel=4e-16)
+    assert models.dynamic(XI_FAIR).sides == pytest.approx(1 / 3, rel=4e-16)
+    # Sec. IV: P_G(sides) = 1/2 at the dynamic fair coin, P_D = 0.216 at the geometric one
+    assert models.geometric(XI_FAIR).sides == pytest.approx(0.5, rel=4e-16)
+    assert round(models.dynamic(models.FAIR_XI_GEOMETRIC).sides, 3) == 0.216
+
+
+@pytest.mark.parametrize(
+    "density, printed",
+    [(Uniform(), (0.630, 0.281, 0.088)), (Cosine(), (0.439, 0.396, 0.165)),
+     (Normal(), (0.478, 0.371, 0.150))],
+)
+def test_table_ii_to_every_printed_digit(density, printed):
+    got = marginal(XI_FAIR, density)
+    assert tuple(round(v, 3) for v in got) == printed
+    assert sum(got) == pytest.approx(1.0, abs=4e-16)
+
+
+def test_eight_quarters_make_the_papers_fair_coin():
+    q = coins.get_coin("paper-quarter")
+    choice = coins.nearest_stack(q, 1 / 3)
+    assert choice.count == 8
+    assert round(choice.xi, 2) == 0.58
+    assert [n for n, _, _ in choice.neighbours] == [7, 8, 9]
+
+
+def test_zero_thickness_coin_is_diaconis_holmes_montgomery():
+    for psi in [math.pi / 4 + 0.01, 1.0, math.pi / 2, 2.0, 3 * math.pi / 4 - 0.01]:
+        h, s, t = models.conditional(0.0, psi)
+        dhm = 0.5 + math.asin(1 / math.tan(psi) ** 2) / math.pi
+        assert h == pytest.approx(dhm, rel=1e-15) and s == 0.0
+        assert t == pytest.approx(1 - dhm, rel=1e-14)
+
+
+def _table_i_mp(xi, psi):
+    # enough digits that c = xi/sqrt(1+xi^2) survives subtraction from cos^2 psi, and that
+    # 1 - c survives for a thick coin: 60 plus twice the decimal exponent of xi
+    mp.mp.dps = 60 + 2 * int(abs(math.log10(xi))) if 0 < xi < math.inf else 60
+    xi, psi = mp.mpf(xi), mp.mpf(psi)
+    c = xi / mp.sqrt(1 + xi**2)
+    a, b = mp.cos(psi) ** 2, mp.sin(psi) ** 2
+    if b == 0:
+        return (1, 0, 0)
+    th1 = mp.pi if (c - a) / b <= -1 else mp.acos((c - a) / b)
+    th2 = mp.pi if (-c - a) / b <= -1 else mp.acos((-c - a) / b)
+    return th1 / mp.pi, (th2 - th1) / mp.pi, 1 - th2 / mp.pi
+
+
+@pytest.mark.parametrize("xi", [1e-200, 1e-6, 0.1, 0.5, XI_FAIR, 2.0, 1e3, 1e150])
+@pytest.mark.parametrize("psi", [0.3, 0.7, 1.0, 1.4, math.pi / 2, 2.0, 2.9])
+def test_conditional_against_table_i_away_from_boundaries(xi, psi):
+    t = math.atan2(1, xi) / 2
+    if min(abs(psi - t), abs(psi - (math.pi / 2 - t)), abs(math.pi - psi - t),
+           abs(math.pi - psi - (math.pi / 2 - t))) < 1e-3:
+        pytest.skip("near a regime boundary: covered by the accuracy tests")
+    got = models.conditional(xi, psi)
+    for g, r in zip(got, _table_i_mp(xi, psi), strict=True):
+        if r == 0:
+            assert g == 0
+        else:
+            assert abs(g - float(r)) <= 4 * math.ulp(float(r)), (xi, psi, g, float(r))
+
+
+def _close(a, b, ulps=2):
+    return all(abs(x - y) <= ulps * math.ulp(max(abs(x), abs(y))) for x, y in zip(a, b,
+                                                                                   strict=True))
+
+
+def test_scalar_and_array_paths_agree():
+    # The same formula runs on libm (math) and on numpy's vectorized sin/cos/atan2, which may
+    # round differently by an ulp; both must stay within 2 ulps of each other.
+    np = pytest.importorskip("numpy")
+    xi = np.array([0.0, 1e-300, 0.01, XI_FAIR, 3.0, 1e300, np.inf])
+    for psi in (0.0, 0.5, 1.2, math.pi / 2, 2.5, math.pi):
+        arr = models.conditional(xi, psi)
+        for k, x in enumerate(xi.tolist()):
+            assert _close(tuple(float(a[k]) for a in arr), tuple(models.conditional(x, psi)))
+    for fn in (models.geometric, models.dynamic):
+        arr = fn(xi)
+        for k, x in enumerate(xi.tolist()):
+            assert _close(tuple(float(a[k]) for a in arr), tuple(fn(x)))
+
+
+def test_extremes():
+    assert models.conditional(math.inf, 1.0) == (0.0, 1.0, 0.0)
+    assert models.conditional(math.inf, 0.0) == (1.0, 0.0, 0.0)
+    assert models.conditional(0.3, math.pi) == (1.0, 0.0, 0.0)
+    assert models.dynamic(math.inf) == (0.0, 1.0, 0.0)
+    assert models.geometric(0.0) == (0.5, 0.0, 0.5)
+    assert models.dynamic_inverse(1.0) == math.inf and models.dynamic_inverse(0.0) == 0.0
+    assert models.geometric_inverse(1.0) == math.inf
+
+
+@pytest.mark.parametrize("bad", [-1e-300, math.nan, -math.inf])
+def test_bad_xi_names_the_argument(bad):
+    with pytest.raises(ValueError, match="xi must be"):
+        models.dynamic(bad)
+
+
+@pytest.mark.parametrize("bad", [-0.1, math.pi + 1e-9, math.nan])
+def test_bad_psi_names_the_argument(bad):
+    with pytest.raises(ValueError, match="psi must be in \\[0, pi\\]"):
+        models.conditional(0.5, bad)
+
+
+def test_asymptotic_series_orders():
+    # the error of the n-term series shrinks like the next term
+    for model in ("geometric", "dynamic"):
+        exact = getattr(models, model)
+        e1 = abs(models.asymptotic_sides(1e-2, model, "small") - exact(1e-2).sides)
+        e2 = abs(models.asymptotic_sides(1e-3, model, "small") - exact(1e-3).sides)
+        assert e2 < e1 * 1e-3 * 1.5  # O(xi^5) after two terms: 1e-5 ratio, allow margin
+        e1 = abs(models.asymptotic_sides(1e2, model, "large") - exact(1e2).sides)
+        e2 = abs(models.asymptotic_sides(1e3, model, "large") - exact(1e3).sides)
+        assert e2 < e1 / 50
+
+
+@pytest.mark.parametrize("p", [1e-12, 0.1, 1 / 3, 0.5, 0.9, 1 - 1e-9])
+def test_root_found_inverses_round_trip(p):
+    for d in (Uniform(), Normal(), Normal(math.pi / 2, 0.3)):
+        xi = marginal_inverse(p, d)
+        assert marginal(xi, d).sides == pytest.approx(p, rel=1e-12)
+    xi = conditional_inverse(p, 1.2)
+    assert models.conditional(xi, 1.2).sides == pytest.approx(p, rel=1e-12)
+
+
+def test_conditional_inverse_unreachable():
+    with pytest.raises(ValueError, match="only p_sides = 0"):
+        conditional_inverse(0.2, 0.0)
+
+
+def test_densities_are_normalized():
+    np = pytest.importorskip("numpy")
+    psi = np.linspace(0, math.pi, 200001)
+    for d in (Uniform(), Cosine(), Normal(), Normal(0.1, 0.05), Normal(3.0, 2.0),
+              Table([0, 1, 2, 3], [0, 1, 3, 0])):
+        assert np.trapezoid(d.pdf(psi), psi) == pytest.approx(1.0, rel=1e-6)
+
+
+def test_parse_forms():
+    assert parse.parse_probability("1/3") == 1 / 3
+    assert parse.parse_probability("33%") == 0.33
+    assert parse.parse_probability("0.33") == 0.33
+    assert parse.parse_length_mm("0.955in") == pytest.approx(24.257)
+    assert parse.parse_values("0.1:0.3:0.1", "x") == [0.1, 0.2, 0.30000000000000004]
+    for bad in ("1/0", "nan", "2", "-1%", "", "1e400", "0x1"):
+        with pytest.raises(ValueError):
+            parse.parse_probability(bad)
+    with pytest.raises(ValueError, match="at most"):
+        parse.parse_values("0:1e9:1", "x")
+    with pytest.raises(ValueError, match="step must be > 0"):
+        parse.parse_values("0:1:0", "x")
+    assert parse_density("normal:90:18").spec == "normal:90:18"
+    with pytest.raises(ValueError, match="normal:MEAN:SD"):
+        parse_density("normal:90")
