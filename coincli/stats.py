@@ -127,11 +127,13 @@ def _whole(value, name: str) -> int | None:
         return None
     if isinstance(value, (bool, str, bytes)):
         raise ValueError(f"{name} must be a whole number >= 0, got {value!r}")
-    try:
-        import operator
+    import operator
 
+    try:
         v = operator.index(value)  # int and numpy integers
     except TypeError:
+        v = None
+    if v is None:
         try:
             f = float(value)
         except (TypeError, ValueError):
@@ -492,7 +494,7 @@ def log_likelihood(counts: Counts, probs) -> float:
 
 
 def format_p(p: float) -> str:
-    """``p = 0.43``, ``p = 0.0052``, ``p = 3.1e-7``; ``p < 1e-300`` below :data:`P_DISPLAY_FLOOR`."""
+    """``p = 0.43``, ``p = 0.0052``, ``p = 3.1e-7``; ``p < 1e-300`` below the display floor."""
     if not p >= P_DISPLAY_FLOOR:
         return "p < 1e-300"
     if p >= 1e-3:
@@ -655,7 +657,7 @@ def _loglik_rows(counts: Sequence[Counts], heads, sides, tails) -> float:
 
 
 def _spread_chances(xi, sigma: float) -> Outcome:
-    """Chances averaged over psi ~ Normal(pi/2, sigma) on [0, pi]; sigma = 0: dynamic, inf: uniform."""
+    """Chances for psi ~ Normal(pi/2, sigma) on [0, pi]; sigma = 0: dynamic, inf: uniform psi."""
     from coincli.models import dynamic
 
     if sigma == 0:
