@@ -23,6 +23,7 @@ __all__ = [
 MAX_ROWS = 1_000_000  #: the most rows a range or list may expand to
 
 _NUM = re.compile(r"^[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?$")
+_INT = re.compile(r"^[+-]?\d+$")
 _LEN_UNITS = {"mm": 1.0, "cm": 10.0, "m": 1000.0, "in": 25.4, '"': 25.4}
 
 
@@ -123,12 +124,19 @@ def parse_values(text: str, what: str, item=parse_number, *, max_rows: int = MAX
             raise ValueError(f"{what} range step must be > 0, got {parts[2]!r}")
         if stop < start:
             raise ValueError(f"{what} range must have start <= stop, got {text!r}")
-        n = math.floor((stop - start) / step + 1e-6)
-        if n + 1 > max_rows:
+        span = (stop - start) / step + 1e-6  # inf when the range is absurdly long
+        if not span + 1 <= max_rows:
             raise ValueError(
-                f"{what} range {text!r} has {n + 1:.3g} values; at most {max_rows} are allowed"
+                f"{what} range {text!r} has {span + 1:.3g} values; at most {max_rows} are allowed"
             )
-        return [item(repr(start + k * step), what) for k in range(n + 1)]
+        n = math.floor(span)
+        if all(_INT.match(p.strip()) for p in parts):
+            # whole numbers stay whole: counts (1:12:1) must not turn into '1.0'
+            a, d = int(parts[0]), int(parts[2])
+            return [item(str(a + k * d), what) for k in range(n + 1)]
+        vals = [start + k * step for k in range(n + 1)]
+        vals[-1] = min(vals[-1], stop)  # stop is included when within 1e-6 steps; never passed
+        return [item(repr(v), what) for v in vals]
     items = s.split(",")
     if len(items) > max_rows:
         raise ValueError(f"{what} lists {len(items)} values; at most {max_rows} are allowed")
