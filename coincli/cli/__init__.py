@@ -8,6 +8,7 @@ pay for them.
 
 from __future__ import annotations
 
+import errno
 import os
 import sys
 
@@ -84,6 +85,9 @@ def run(argv=None) -> int:
         code = getattr(exc, "exit_code", 2)
         msg = exc.format_message() if hasattr(exc, "format_message") else str(exc)
         msg = " ".join(msg.split())
+        if not msg:  # `coin` alone: the help is already on stdout; no empty error line
+            _flush_stdout()
+            return int(code)
         return _fail(f"{msg} (see coin --help)" if code == 2 else msg, code)
     except typer.Exit as exc:
         return int(exc.exit_code)
@@ -93,6 +97,15 @@ def run(argv=None) -> int:
         return _fail("interrupted", ExitCode.INTERRUPTED)
     except BrokenPipeError:
         return _quiet_broken_pipe()
+    except SystemExit as exc:
+        # typer turns EPIPE raised inside a command into sys.exit(1), even outside standalone
+        # mode; the reader going away (`coin ... | head`) is a success.
+        ctx = exc.__context__
+        if isinstance(ctx, OSError) and ctx.errno == errno.EPIPE:
+            sys.stdout = getattr(sys.stdout, "wrapped", sys.stdout)
+            sys.stderr = getattr(sys.stderr, "wrapped", sys.stderr)
+            return _quiet_broken_pipe()
+        raise
     except (ValueError, ArithmeticError) as exc:
         if os.environ.get("COIN_TRACEBACK"):
             raise
