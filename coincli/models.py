@@ -253,25 +253,46 @@ def _from_offsets(xp, sigma, t, s0, c0, c, u1, u2):
       ``theta1/2 = atan2(s0, sqrt D1)``;
     - ``1 - cos theta2 = (1 + c)/sin^2 psi`` and ``1 + cos theta2 = -(c + cos 2psi)/sin^2 psi``, so
       ``(pi - theta2)/2 = atan2(sqrt D2, c0)``;
-    - ``c0 sqrt D1 - s0 sqrt D2 = sin^2 psi * c / (c0 sqrt D1 + s0 sqrt D2)`` (multiply by the
-      conjugate; ``c0^2 D1 - s0^2 D2 = c sin^2 psi``), which gives ``(theta2 - theta1)/2`` by the
-      atan2 difference formula without cancellation.
+    - ``sin((theta2 - theta1)/2) = (c0 sqrt D1 - s0 sqrt D2)/sin^2 psi
+      = c/(c0 sqrt D1 + s0 sqrt D2)`` (sine of a difference, then the conjugate:
+      ``c0^2 D1 - s0^2 D2 = c sin^2 psi``), and ``cos((theta2 - theta1)/2)
+      = (sqrt D1 sqrt D2 + c0 s0)/sin^2 psi``: asin for the small angle, atan2 past pi/4.
 
-    ``sin psi - sin t = 2 cos((psi + t)/2) sin(u1/2)`` and
-    ``sin psi - cos t = 2 sin(t - u2/2) sin(u2/2)`` (sum-to-product), so ``D1``, ``D2`` keep their
-    relative accuracy when the offsets do.
+    ``sin^2 psi - sin^2 t = sin(psi - t) sin(psi + t)`` and ``sin^2 psi - cos^2 t
+    = -cos(psi + t) cos(psi - t)``, with ``psi + t = pi/2 + u2``: ``D1 = sin u1 cos u2`` and
+    ``D2 = sin u2 cos u1``, products that keep their relative accuracy when the offsets do.
     """
-    p1 = 2 * xp.cos(t + u1 / 2) * xp.sin(u1 / 2)  # sin psi - s0
-    p2 = 2 * xp.sin(t - u2 / 2) * xp.sin(u2 / 2)  # sin psi - c0
-    q1 = xp.sqrt(xp.maximum(p1, 0.0)) * xp.sqrt(sigma + s0)  # sqrt(D1), no underflow of D1
-    q2 = xp.sqrt(xp.maximum(p2, 0.0)) * xp.sqrt(sigma + c0)  # sqrt(D2)
-    heads = xp.where(u1 > 0, xp.atan2(s0, q1) / HALF_PI, 1.0)
-    tails = xp.where(u2 > 0, xp.atan2(q2, c0) / HALF_PI, 0.0)
-    two = xp.atan2(q1, s0) / HALF_PI
-    # atan2(y/den, x) = atan2(y, x*den) for den > 0; no division, so the scalar path cannot raise
-    three = xp.atan2(sigma * sigma * c, (q1 * q2 + c0 * s0) * (c0 * q1 + s0 * q2)) / HALF_PI
+    # cos u2 = sin(psi + t) and cos u1 = sin(e + t): the sine of the small sum where it is small
+    a1 = xp.where(u2 > -0.7853981633974483, xp.cos(u2), xp.sin(2 * t + u1))
+    a2 = xp.where(u1 < 0.7853981633974483, xp.cos(u1), xp.sin(2 * t - u2))
+    q1 = _sqrt_prod(xp, xp.maximum(xp.sin(u1), 0.0), a1)  # sqrt(D1)
+    q2 = _sqrt_prod(xp, xp.maximum(xp.sin(u2), 0.0), a2)  # sqrt(D2)
+    heads = xp.where(u1 > 0, _over_half_pi(xp, xp.atan2(s0, q1)), 1.0)
+    tails = xp.where(u2 > 0, _over_half_pi(xp, xp.atan2(q2, c0)), 0.0)
+    two = _over_half_pi(xp, xp.atan2(q1, s0))
+    p, e = _two_prod(xp, c0, q1)
+    den = p + (s0 * q2 + e)  # c0 sqrt D1 + s0 sqrt D2 with the larger product exact
+    w = c / xp.where(den > 0, den, 1.0)  # sin((theta2 - theta1)/2); the guard spares math a 0/0
+    wide = xp.atan2(sigma * sigma * c, (q1 * q2 + c0 * s0) * den)  # (theta2 - theta1)/2 by atan2
+    three = _over_half_pi(xp, xp.where(w < 0.7, xp.asin(xp.minimum(w, 0.7)), wide))
     sides = xp.where(u1 > 0, xp.where(u2 > 0, three, two), 0.0)
     return heads, sides, tails
+
+
+def _sqrt_prod(xp, a, b):
+    """sqrt(a b) for a, b >= 0 with one rounding less than sqrt(a) sqrt(b), and no underflow."""
+    return xp.where(b > 2.0**-500, xp.sqrt(a * b), xp.sqrt(a) * xp.sqrt(xp.maximum(b, 0.0)))
+
+
+# 2/pi as hi + lo (hi the nearest double).
+_TWO_OVER_PI_HI = 0.6366197723675814
+_TWO_OVER_PI_LO = -3.935735335036497e-17
+
+
+def _over_half_pi(xp, a):
+    """a / (pi/2) as a (2/pi)_hi + a (2/pi)_lo, the first product exact (Dekker): one rounding."""
+    p, e = _two_prod(xp, a, _TWO_OVER_PI_HI)
+    return p + (e + a * _TWO_OVER_PI_LO)
 
 
 def conditional(xi, psi):
@@ -314,13 +335,73 @@ def conditional(xi, psi):
     psi = check_psi(psi)
     xp = namespace(xi, psi)
     with _errstate(xp):
+        if xp is not M:
+            xi, psi = (a.copy() for a in xp.broadcast_arrays(xi, psi))  # one mask for both
         t, s0, c0, c = _parts(xp, xi)
         psi_m, e = _fold_psi(xp, psi)
-        sigma = xp.sin(psi_m)
-        heads, sides, tails = _from_offsets(xp, sigma, t, s0, c0, c, psi_m - t, t - e)
+        args = [xp.sin(psi_m), t, s0, c0, c, psi_m - t, t - e]  # sigma, t, s0, c0, c, u1, u2
+        # Offsets under half of t carry t's rounding error amplified; redo them in double-double.
+        near = (xp.abs(args[5]) < t * _NEAR) | (xp.abs(args[6]) < t * _NEAR) | (psi_m < _PLANAR_T)
+        if xp is M:
+            if near:
+                args = _near_boundary(M, xi, psi, *args)
+        elif near.any():
+            for a, v in zip(args, _near_boundary(xp, xi[near], psi[near],
+                                                 *(a[near] for a in args)), strict=True):
+                a[near] = v
+        heads, sides, tails = _from_offsets(xp, *args)
         if xp is not M:
             heads, sides, tails = (xp.asarray(v, dtype=float) for v in (heads, sides, tails))
         return Outcome(heads, sides, tails)
+
+
+# Relative offset |u| / t under which conditional() takes the double-double path.
+_NEAR = 0.5
+# Below this t = theta0/2 (xi > 2**899) the offsets are redone in a frame scaled by _PLANAR_SCALE:
+# every angle there is so small that sin x = x and cos x = 1 in double, Table I depends only on
+# psi/t, and scaling keeps u1 and the low part of t out of the subnormal range.
+_PLANAR_T = 2.0**-900
+_PLANAR_SCALE = 2.0**840
+
+
+def _near_boundary(xp, xi, psi, sigma, t, s0, c0, c, u1, u2):
+    """The arguments of :func:`_from_offsets` with the offsets u1, u2 exact to a few ulps.
+
+    ``theta0/2``, ``psi_m`` and ``e = pi/2 - psi_m`` are formed as double-doubles (hi + lo), so
+    ``u1 = psi_m - t`` and ``u2 = t - e`` keep their relative accuracy however close ``psi`` is to
+    a boundary (down to ~2**-104 t).  Elementwise; xp is math or numpy.
+    """
+    upper = psi > _PIO2_HI  # folded onto pi - psi
+    # psi_m = pi - psi on the upper half (PI_HI - psi is exact there: two_sum keeps it all)
+    mh, ml = _two_sum(xp.where(upper, _PI_HI, psi), xp.where(upper, -psi, 0.0))
+    mh, ml = _dd_add(mh, ml, xp.where(upper, _PI_LO, 0.0), 0.0)
+    # e = pi/2 - psi (lower half) or psi - pi/2 (upper half), exactly
+    eh, el = _two_sum(xp.where(upper, psi, _PIO2_HI), xp.where(upper, -_PIO2_HI, -psi))
+    eh, el = _dd_add(eh, el, xp.where(upper, -_PIO2_LO, _PIO2_LO), 0.0)
+    # theta0 = atan(1/xi) for xi > 1, pi/2 - atan(xi) otherwise: the atan argument is in [0, 1]
+    big = xi > 1
+    x = xp.minimum(xi, 1 / _PLANAR_T)  # keeps inf (handled by the planar frame) out of the way
+    wh = xp.where(big, 1 / xp.maximum(x, 1.0), x)
+    ph, pl = _two_prod(xp, wh, x)
+    wl = xp.where(big, ((1.0 - ph) - pl) / xp.maximum(x, 1.0), 0.0)  # 1/xi - wh = (1 - wh xi)/xi
+    ah, al = _dd_atan(xp, wh, wl)
+    th, tl = _dd_add(xp.where(big, ah, _PIO2_HI), xp.where(big, al, _PIO2_LO),
+                     xp.where(big, 0.0, -ah), xp.where(big, 0.0, -al))
+    th, tl = th / 2, tl / 2
+    u1 = _dd_add(mh, ml, -th, -tl)[0]
+    u2 = _dd_add(th, tl, -eh, -el)[0]
+    # Planar frame: t = 1/(2 xi) to 2**-1800; everything scaled by 2**840 (exact), u2 < 0 there.
+    planar = t < _PLANAR_T
+    xs = xp.maximum(xi, 1 / _PLANAR_T) * _PLANAR_T  # in [1, 2**125) or inf
+    qh = 1 / xs
+    ph, pl = _two_prod(xp, qh, xp.minimum(xs, 2.0**125))
+    ql = xp.where(xs < xp.inf, ((1.0 - ph) - pl) / xs, 0.0)  # 1/xs = qh + ql
+    ts, tsl = qh * (_PLANAR_T * _PLANAR_SCALE / 2), ql * (_PLANAR_T * _PLANAR_SCALE / 2)
+    ms, msl = mh * _PLANAR_SCALE, ml * _PLANAR_SCALE
+    us = _dd_add(ms, msl, -ts, -tsl)[0]
+    return (xp.where(planar, ms, sigma), xp.where(planar, ts, t), xp.where(planar, ts, s0),
+            xp.where(planar, 1.0, c0), xp.where(planar, 1.0, c), xp.where(planar, us, u1),
+            xp.where(planar, -1.0, u2))
 
 
 # --------------------------------------------------------------------------- inverses
@@ -387,6 +468,80 @@ def _two_prod(xp, a, b):
     blo = b - bhi
     e = ((ahi * bhi - p) + ahi * blo + alo * bhi) + alo * blo
     return p, e
+
+
+# --------------------------------------------------------------------------- double-double
+# A double-double is an unevaluated sum hi + lo with |lo| <= ulp(hi)/2: about 106 bits.  These
+# helpers are plain arithmetic (plus xp.atan), so they run elementwise on floats and arrays.
+
+
+def _two_sum(a, b):
+    """a + b = s + e exactly (Knuth), any a, b."""
+    s = a + b
+    bb = s - a
+    return s, (a - (s - bb)) + (b - bb)
+
+
+def _fast_two_sum(a, b):
+    """a + b = s + e exactly when |a| >= |b| (Dekker)."""
+    s = a + b
+    return s, b - (s - a)
+
+
+def _dd_add(ah, al, bh, bl):
+    """(ah + al) + (bh + bl), both parts two-summed (accurate even under cancellation)."""
+    s, e = _two_sum(ah, bh)
+    f, g = _two_sum(al, bl)
+    s, e = _fast_two_sum(s, e + f)
+    return _fast_two_sum(s, e + g)
+
+
+def _dd_mul(xp, ah, al, bh, bl):
+    """(ah + al) * (bh + bl) to about 2**-104 relative."""
+    p, e = _two_prod(xp, ah, bh)
+    return _fast_two_sum(p, e + (ah * bl + al * bh))
+
+
+def _dd_div_int(xp, ah, al, n):
+    """(ah + al) / n for a small integer n (exact as a double)."""
+    q = ah / n
+    p, e = _two_prod(xp, q, float(n))
+    return _fast_two_sum(q, (((ah - p) - e) + al) / n)
+
+
+def _dd_sincos(xp, y):
+    """(sin y, cos y) as double-doubles for a double y in [0, pi/4]: Taylor series.
+
+    The n-th term y**n/n! is carried as a double-double; at y = pi/4 the term n = 30 is below
+    2**-110, so 29 terms suffice for every y in range.
+    """
+    zero = 0.0 * y
+    sh, sl, ch, cl = y, zero, 1.0 + zero, zero
+    th, tl = y, zero  # y**n / n!
+    for n in range(2, 30):
+        th, tl = _dd_mul(xp, th, tl, y, 0.0)
+        th, tl = _dd_div_int(xp, th, tl, n)
+        sign = -1.0 if n % 4 in (2, 3) else 1.0  # cos: + - + ...; sin: + - + ... (n = 0, 1 mod 4)
+        if n % 2:
+            sh, sl = _dd_add(sh, sl, sign * th, sign * tl)
+        else:
+            ch, cl = _dd_add(ch, cl, sign * th, sign * tl)
+    return (sh, sl), (ch, cl)
+
+
+def _dd_atan(xp, xh, xl):
+    """atan(xh + xl) as a double-double for 0 <= xh + xl <= 1.
+
+    One correction of y = atan(xh) (a double within an ulp): atan x - y = atan(d) with
+    d = (x cos y - sin y)/(cos y + x sin y) (tangent of a difference); the numerator cancels, so
+    it is formed in double-double; |d| <= 2**-52 makes atan d = d to 2**-156.
+    """
+    y = xp.atan(xh)
+    (sh, sl), (ch, cl) = _dd_sincos(xp, y)
+    nh, nl = _dd_mul(xp, xh, xl, ch, cl)
+    nh, nl = _dd_add(nh, nl, -sh, -sl)
+    d = (nh + nl) / (ch + xh * sh)
+    return _fast_two_sum(y, d)
 
 
 # --------------------------------------------------------------------------- asymptotics

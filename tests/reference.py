@@ -113,7 +113,8 @@ def _conditional(xi, psi):
         return mpf(1), mpf(0), mpf(0)
     if psi < t or psi > pi - t:  # [0, theta0/2) U (pi - theta0/2, pi]
         return mpf(1), mpf(0), mpf(0)
-    theta1 = _clamped_acos((c - A) / B)
+    # xi = inf: cos theta0 = 1 and theta1 = acos(1) = 0 exactly (the rounded quotient hovers at 1)
+    theta1 = mpf(0) if mpmath.isinf(xi) else _clamped_acos((c - A) / B)
     if psi < pi / 2 - t or psi > pi / 2 + t:  # [theta0/2, pi/2 - theta0/2) U mirror
         return theta1 / pi, 1 - theta1 / pi, mpf(0)
     theta2 = _clamped_acos((-c - A) / B)  # [pi/2 - theta0/2, pi/2 + theta0/2]
