@@ -160,7 +160,7 @@ def test_parse_forms():
     assert parse.parse_probability("33%") == 0.33
     assert parse.parse_probability("0.33") == 0.33
     assert parse.parse_length_mm("0.955in") == pytest.approx(24.257)
-    assert parse.parse_values("0.1:0.3:0.1", "x") == [0.1, 0.2, 0.30000000000000004]
+    assert parse.parse_values("0.1:0.3:0.1", "x") == [0.1, 0.2, 0.3]
     for bad in ("1/0", "nan", "2", "-1%", "", "1e400", "0x1"):
         with pytest.raises(ValueError):
             parse.parse_probability(bad)
