@@ -529,7 +529,7 @@ class ModelTest:
     """How one model fares on one experiment."""
 
     model: str
-    chances: Outcome  # (heads, sides, tails) under the model
+    chances: Outcome  # (heads, sides, tails) as the model gave them (tests renormalize)
     categories: tuple[str, ...]  # the tested categories: heads/sides/tails or sides/faces
     expected: tuple[float, ...]  # expected counts, in the order of categories
     p_value: float
@@ -552,9 +552,11 @@ def goodness_of_fit(counts: Counts, chances, model: str = "model", *, alpha: flo
     if method not in ("auto", "exact", "asymptotic"):
         raise ValueError(f"method must be 'auto', 'exact' or 'asymptotic', got {method!r}")
     ph, ps, pt = _check_probs(chances, 3, "chances")
+    raw = Outcome(*(float(v) for v in chances))  # reported as the model gave them
     probs = (ph, ps, pt) if counts.faces else (ps, ph + pt)
     x = counts.values
-    expected = tuple(counts.n * v for v in probs)
+    shown = tuple(raw) if counts.faces else (raw.sides, raw.heads + raw.tails)
+    expected = tuple(counts.n * v for v in shown)
     g, df, p_asym = g_test(x, probs)
     exact = method == "exact" or (method == "auto" and counts.n <= EXACT_MAX_N)
     if exact:
@@ -567,7 +569,7 @@ def goodness_of_fit(counts: Counts, chances, model: str = "model", *, alpha: flo
     impossible = ll == -math.inf
     if impossible:
         p = 0.0
-    return ModelTest(model, Outcome(ph, ps, pt), counts.categories, expected, p, exact, how, g, df,
+    return ModelTest(model, raw, counts.categories, expected, p, exact, how, g, df,
                      ll, verdict(p, alpha, exact=exact, impossible=impossible))
 
 

@@ -1,0 +1,469 @@
+"""``coin check`` and ``coin fit``: real tosses against the models.
+
+Thin: parse the options (or the experiments file), call :mod:`coincli.stats`, build
+:class:`Result` tables, emit them.  The human output (``--format table``) is a few short tables;
+every machine format (csv, tsv, json, jsonl) gets one long table instead, one row per experiment
+and model (and, for ``fit``, one per model across experiments), with stable column names.
+numpy and scipy load when a command runs, never at import.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from typing import Annotated
+
+import typer
+
+from coincli import parse
+from coincli.cli import app
+from coincli.cli._common import (
+    Column,
+    FormatOpt,
+    QuietOpt,
+    Result,
+    check_format,
+    compute_error,
+    emit,
+    usage_error,
+)
+
+_OUTCOMES = ("heads", "sides", "tails")
+
+# --------------------------------------------------------------------------- shared options
+
+PsiDistsOpt = Annotated[
+    str | None,
+    typer.Option("--psi-dist", help="Also test psi-averaged models: a comma list of uniform, "
+                 "cosine, normal, normal:MEAN:SD (degrees), table:FILE.", metavar="SPECS"),
+]
+AlphaOpt = Annotated[
+    str, typer.Option("--alpha", help="Significance level of the verdicts.", metavar="A")
+]
+ConfidenceOpt = Annotated[
+    str, typer.Option("--confidence", help="Confidence level of the intervals.", metavar="C")
+]
+
+
+def _level(text: str, what: str) -> float:
+    try:
+        v = parse.parse_probability(text, what)
+    except ValueError as exc:
+        raise usage_error(str(exc)) from None
+    if not 0.0 < v < 1.0:
+        raise usage_error(f"{what} must be strictly between 0 and 1, got {text!r}")
+    return v
+
+
+def _densities(specs: str | None) -> dict:
+    if specs is None:
+        return {}
+    from coincli.densities import parse_density
+
+    out = {}
+    for s in [s for s in specs.split(",") if s.strip()] or [specs]:
+        try:
+            d = parse_density(s)
+        except ValueError as exc:
+            raise usage_error(f"--psi-dist: {exc}") from None
+        out[d.spec] = d
+    return out
+
+
+def _whole(text: str | None, what: str) -> int | None:
+    if text is None:
+        return None
+    s = text.strip()
+    if not s.lstrip("+").isdigit():
+        raise usage_error(f"{what} must be a whole number >= 0, got {text!r}")
+    return int(s)
+
+
+def _deg(v: float | None) -> float | None:
+    return None if v is None else math.degrees(v)
+
+
+# --------------------------------------------------------------------------- rows
+
+
+def _observed_cells(row) -> list:
+    """freq, Wilson low/high, Clopper-Pearson low/high for heads, sides, tails (None if unknown)."""
+    by = {p.outcome: p for p in row.proportions}
+    cells = []
+    for name in _OUTCOMES:
+        p = by.get(name)
+        cells += ([None] * 5 if p is None else
+                  [p.estimate, p.wilson.low, p.wilson.high, p.clopper_pearson.low,
+                   p.clopper_pearson.high])
+    return cells
+
+
+def _observed_columns() -> list[Column]:
+    cols = []
+    for name in _OUTCOMES:
+        cols += [Column(f"freq_{name}", f"{name} frequency"),
+                 Column(f"{name}_wilson_low", f"{name} Wilson low"),
+                 Column(f"{name}_wilson_high", f"{name} Wilson high"),
+                 Column(f"{name}_cp_low", f"{name} Clopper-Pearson low"),
+                 Column(f"{name}_cp_high", f"{name} Clopper-Pearson high")]
+    return cols
+
+
+def _expected3(t) -> tuple:
+    """Expected (heads, sides, tails); faces not told apart: (None, sides, None)."""
+    if len(t.expected) == 3:
+        return t.expected
+    return (None, t.expected[0], None)
+
+
+MACHINE_COLUMNS = [
+    Column("scope", "scope", "text"),
+    Column("line", "line", "int"),
+    Column("label", "label", "text"),
+    Column("xi", "xi = h/D"),
+    Column("n", "tosses", "int"),
+    Column("heads", "heads", "int"),
+    Column("sides", "sides", "int"),
+    Column("tails", "tails", "int"),
+    Column("model", "model", "text"),
+    Column("p_heads", "P(heads)"),
+    Column("p_sides", "P(sides)"),
+    Column("p_tails", "P(tails)"),
+    Column("expected_heads", "expected heads"),
+    Column("expected_sides", "expected sides"),
+    Column("expected_tails", "expected tails"),
+    Column("test", "test", "text"),
+    Column("exact", "exact", "text"),
+    Column("p_value", "p-value"),
+    Column("g_statistic", "G"),
+    Column("df", "df", "int"),
+    Column("log_likelihood", "log-likelihood"),
+    Column("verdict", "verdict", "text"),
+    *_observed_columns(),
+]
+FIT_COLUMNS = MACHINE_COLUMNS + [
+    Column("n_params", "fitted parameters", "int"),
+    Column("aic", "AIC"),
+    Column("delta_aic", "delta AIC"),
+    Column("sse_sides", "SSE of side frequencies"),
+    Column("sigma_deg", "psi sd (deg)"),
+    Column("sigma_low_deg", "psi sd low (deg)"),
+    Column("sigma_high_deg", "psi sd high (deg)"),
+]
+
+
+def _experiment_rows(row, line, extra=None) -> list[tuple]:
+    """One machine row per model for one checked experiment."""
+    c = row.counts
+    out = []
+    for t in row.tests:
+        eh, es, et = _expected3(t)
+        cells = ["experiment", line, row.label, row.xi, c.n, c.heads, c.sides, c.tails, t.model,
+                 float(t.chances.heads), float(t.chances.sides), float(t.chances.tails),
+                 eh, es, et, t.method, t.exact, t.p_value, t.g_statistic, t.df,
+                 t.log_likelihood, t.verdict, *_observed_cells(row)]
+        if extra is not None:
+            cells += extra(t.model)
+        out.append(tuple(cells))
+    return out
+
+
+def _interval_text(iv) -> str:
+    return f"{iv.low:.4g} to {iv.high:.4g}"
+
+
+def _expected_text(t) -> str:
+    return " / ".join("-" if v is None else f"{v:.4g}" for v in _expected3(t))
+
+
+def _observed_result(title: str, rows, confidence: float, with_line: bool) -> Result:
+    pct = f"{100 * confidence:g}%"
+    cols = ([Column("line", "line", "int"), Column("label", "label", "text"),
+             Column("xi", "xi")] if with_line else [])
+    cols += [Column("outcome", "outcome", "text"), Column("count", "count", "int"),
+             Column("frequency", "frequency"),
+             Column("wilson", f"{pct} Wilson", "text"),
+             Column("cp", f"{pct} Clopper-Pearson", "text")]
+    body = []
+    for line, r in rows:
+        for p in r.proportions:
+            lead = [line, r.label, r.xi] if with_line else []
+            body.append((*lead, p.outcome, p.count, p.estimate, _interval_text(p.wilson),
+                         _interval_text(p.clopper_pearson)))
+    return Result(title, cols, body)
+
+
+def _tests_result(title: str, rows, note: str, with_line: bool) -> Result:
+    cols = ([Column("line", "line", "int"), Column("label", "label", "text")]
+            if with_line else [])
+    cols += [Column("model", "model", "text"), Column("p_heads", "P(heads)"),
+             Column("p_sides", "P(sides)"), Column("p_tails", "P(tails)"),
+             Column("expected", "expected H / S / T", "text"), Column("p_value", "p-value"),
+             Column("log_likelihood", "log-likelihood"), Column("verdict", "verdict", "text")]
+    body = []
+    for line, r in rows:
+        for t in r.tests:
+            lead = [line, r.label] if with_line else []
+            body.append((*lead, t.model, float(t.chances.heads), float(t.chances.sides),
+                         float(t.chances.tails), _expected_text(t), t.p_value, t.log_likelihood,
+                         t.verdict))
+    return Result(title, cols, body, note=note)
+
+
+def _emit_all(human: list[Result], machine: Result, fmt: str, quiet: bool) -> None:
+    """Human tables one after another, or the one machine table."""
+    if quiet or fmt != "table":
+        emit(machine, fmt, quiet)
+        return
+    for k, res in enumerate(human):
+        if k:
+            sys.stdout.write("\n")
+        emit(res, fmt)
+
+
+def _test_note(rows) -> str:
+    tests = sorted({t.method for r in rows for t in r.tests})
+    return (
+        f"test: {', '.join(tests)}; p = the chance, under the model, of counts no more likely "
+        "than those observed.  'consistent' means the tosses do not contradict the model, not "
+        "that they confirm it."
+    )
+
+
+# --------------------------------------------------------------------------- check
+
+
+def _xi_from_options(xi, quarters, coin, count, diameter, thickness) -> tuple[float, str]:
+    from coincli import coins as catalog
+
+    kinds = [xi is not None, quarters is not None, coin is not None or count is not None,
+             diameter is not None or thickness is not None]
+    if sum(kinds) != 1:
+        raise usage_error("give exactly one coin: --xi X, --quarters N, --coin NAME --count N, "
+                          "or --diameter D --thickness H")
+    if xi is not None:
+        try:
+            v = parse.parse_number(xi, "--xi")
+        except ValueError as exc:
+            raise usage_error(str(exc)) from None
+        if not (math.isfinite(v) and v > 0):
+            raise usage_error(f"--xi must be a finite number > 0 (a coin you tossed), got {xi!r}")
+        return v, f"xi={xi.strip()}"
+    if diameter is not None or thickness is not None:
+        if diameter is None or thickness is None:
+            raise usage_error("--diameter and --thickness go together")
+        try:
+            d = parse.parse_length_mm(diameter, "--diameter")
+            h = parse.parse_length_mm(thickness, "--thickness")
+        except ValueError as exc:
+            raise usage_error(str(exc)) from None
+        return h / d, f"{diameter.strip()} x {thickness.strip()}"
+    name = "quarter" if quarters is not None else (coin or "quarter")
+    text = quarters if quarters is not None else count
+    what = "--quarters" if quarters is not None else "--count"
+    if text is None:
+        raise usage_error("--coin needs --count N (the number of coins in the stack)")
+    try:
+        c = catalog.get_coin(name)
+        k = parse.parse_count(text, what)
+    except ValueError as exc:
+        raise usage_error(str(exc) if "count" in str(exc) or "quarters" in str(exc)
+                          else f"--coin: {exc}") from None
+    return catalog.stack_xi(c, k), (c.name if k == 1 else f"{c.name} x{k}")
+
+
+@app.command()
+def check(
+    xi: Annotated[str | None, typer.Option("--xi", "-x", help="Aspect ratio h/D of the coin "
+                                           "tossed.")] = None,
+    quarters: Annotated[str | None, typer.Option("--quarters", help="A stack of N US quarters "
+                                                 "instead of --xi.")] = None,
+    coin: Annotated[str | None, typer.Option("--coin", "-c", help="Catalog coin, with --count "
+                                             "(see `coin coins`).")] = None,
+    count: Annotated[str | None, typer.Option("--count", help="Number of stacked --coin "
+                                              "coins.")] = None,
+    diameter: Annotated[str | None, typer.Option("--diameter", "-d", help="Coin diameter (mm or "
+                                                 "with a unit), with --thickness.")] = None,
+    thickness: Annotated[str | None, typer.Option("--thickness", "-t", help="Coin thickness "
+                                                  "(mm or with a unit).")] = None,
+    heads: Annotated[str | None, typer.Option("--heads", help="Tosses that landed heads.")
+                     ] = None,
+    sides: Annotated[str | None, typer.Option("--sides", "-s", help="Tosses that landed on a "
+                                              "side.")] = None,
+    tails: Annotated[str | None, typer.Option("--tails", help="Tosses that landed tails.")
+                     ] = None,
+    tosses: Annotated[str | None, typer.Option("--tosses", "-n", help="Number of tosses (with "
+                                               "--sides alone when faces were not told apart)."
+                                               )] = None,
+    psi_dist: PsiDistsOpt = None,
+    alpha: AlphaOpt = "0.05",
+    confidence: ConfidenceOpt = "0.95",
+    fmt: FormatOpt = "table",
+    quiet: QuietOpt = False,
+):
+    """Are your tosses consistent with the models?  Intervals, exact tests, verdicts.
+
+    Gives the observed frequencies with Wilson and Clopper-Pearson intervals and, for the
+    geometric and dynamic models (and each --psi-dist), the expected counts, an exact
+    multinomial goodness-of-fit p-value (binomial with --sides and -n alone), the
+    log-likelihood and a verdict.  --quiet prints the p-values, one per model.
+
+    Examples: coin check --xi 0.583 --heads 35 --sides 33 --tails 32 ;
+    coin check --quarters 8 --sides 33 -n 100 ;  coin check --coin nickel --count 3 --heads 60
+    --sides 9 --tails 31 --psi-dist normal:90:20 --format json
+    """
+    from coincli import stats
+
+    fmt = check_format(fmt)
+    a = _level(alpha, "--alpha")
+    conf = _level(confidence, "--confidence")
+    x, label = _xi_from_options(xi, quarters, coin, count, diameter, thickness)
+    vals = {name: _whole(v, f"--{name}" if name != "n" else "-n")
+            for name, v in (("heads", heads), ("sides", sides), ("tails", tails), ("n", tosses))}
+    try:
+        counts = stats.make_counts(**vals)
+    except ValueError as exc:
+        raise usage_error(str(exc)) from None
+    dens = _densities(psi_dist)
+    try:
+        chances = stats.model_chances(x, dens)
+        row = stats.check(counts, x, chances, confidence=conf, alpha=a, label=label)
+    except ValueError as exc:
+        raise compute_error(str(exc)) from None
+    machine = Result("coin check", MACHINE_COLUMNS, _experiment_rows(row, None),
+                     quiet=[t.p_value for t in row.tests])
+    coin_text = f"xi = {x:.6g}" if xi is not None else f"{label} (xi = {x:.6g})"
+    title = f"coin check: {coin_text}, {counts.n} tosses"
+    human = [
+        _observed_result(title, [(None, row)], conf, False),
+        _tests_result("models", [(None, row)], _test_note([row]) + _models_note(dens), False),
+    ]
+    _emit_all(human, machine, fmt, quiet)
+
+
+def _models_note(dens) -> str:
+    base = "  geometric = eq. 11, dynamic = eq. 12 (Keller flip, psi = 90 deg)"
+    return base + "".join(f"; {name} = psi-averaged (eq. 15)" for name in dens) + "."
+
+
+# --------------------------------------------------------------------------- fit
+
+
+def _read_text(path: str) -> tuple[str, str]:
+    if path.strip() == "-":
+        data = sys.stdin.buffer.read() if hasattr(sys.stdin, "buffer") else sys.stdin.read()
+        name = "stdin"
+    else:
+        import os
+
+        try:
+            if os.path.getsize(path) > 50_000_000:
+                raise usage_error(f"{path}: larger than 50 MB; is this an experiments file?")
+            with open(path, "rb") as fh:
+                data = fh.read()
+        except OSError as exc:
+            raise usage_error(f"cannot read {path}: {exc.strerror or exc}") from None
+        name = path
+    if isinstance(data, bytes):
+        if b"\0" in data:
+            raise usage_error(f"{name}: contains a NUL byte; expected a CSV text file")
+        try:
+            data = data.decode("utf-8")
+        except UnicodeDecodeError:
+            raise usage_error(f"{name}: not UTF-8 text") from None
+    return data, name
+
+
+@app.command()
+def fit(
+    file: Annotated[str, typer.Argument(help="Experiments CSV, or - for stdin.",
+                                        metavar="FILE")],
+    psi_dist: PsiDistsOpt = None,
+    no_spread: Annotated[bool, typer.Option("--no-spread", help="Skip the fit of the spread "
+                                            "of psi.")] = False,
+    alpha: AlphaOpt = "0.05",
+    confidence: ConfidenceOpt = "0.95",
+    fmt: FormatOpt = "table",
+    quiet: QuietOpt = False,
+):
+    """Which model do your tosses follow?  Checks a file of experiments and compares models.
+
+    FILE has a header and one experiment a row: the coin as xi, or coin (and count), or
+    diameter and thickness; the tosses as heads, sides, tails, or sides and n; optionally a
+    label.  Reports every row as `coin check` does, then across rows: the paper's sum of
+    squared errors of the side frequencies, each model's log-likelihood and AIC, and the
+    maximum-likelihood spread of psi (sd of a normal about 90 deg, truncated to [0, 180]) with
+    its profile-likelihood interval.  --quiet prints that spread in degrees.
+
+    Examples: coin fit tosses.csv ;  coin fit tosses.csv --format csv ;
+    coin fit - --psi-dist uniform,cosine < tosses.csv
+    """
+    from coincli import stats
+
+    fmt = check_format(fmt)
+    a = _level(alpha, "--alpha")
+    conf = _level(confidence, "--confidence")
+    dens = _densities(psi_dist)
+    if quiet and no_spread:
+        raise usage_error("--quiet prints the fitted spread of psi; it cannot go with --no-spread")
+    text, name = _read_text(file)
+    try:
+        exps = stats.parse_experiments(text)
+    except ValueError as exc:
+        raise usage_error(f"{name} {exc}") from None
+    try:
+        res = stats.fit(exps, dens, confidence=conf, alpha=a, spread=not no_spread)
+    except ValueError as exc:
+        raise compute_error(str(exc)) from None
+    sp = res.spread
+    spread_cells = ([_deg(sp.sigma), _deg(sp.low), _deg(sp.high)] if sp is not None
+                    else [None] * 3)
+
+    def extra(model):
+        return [None] * 4 + (spread_cells if model == stats.SPREAD_MODEL else [None] * 3)
+
+    rows = [(e.line, r) for e, r in zip(exps, res.rows, strict=True)]
+    machine_rows = []
+    for line, r in rows:
+        machine_rows += _experiment_rows(r, line, extra)
+    n_total = sum(e.counts.n for e in exps)
+    blank = [None] * len(_observed_columns())
+    for m in res.models:
+        cells = ["model", None, "all", None, n_total, None, None, None, m.model,
+                 None, None, None, None, None, None, None, None, None, None, None,
+                 m.log_likelihood, None, *blank, m.n_params, m.aic, m.delta_aic, m.sse_sides]
+        cells += spread_cells if m.model == stats.SPREAD_MODEL else [None] * 3
+        machine_rows.append(tuple(cells))
+    machine = Result("coin fit", FIT_COLUMNS, machine_rows,
+                     quiet=_deg(sp.sigma) if sp is not None else None)
+    human = [
+        _observed_result(f"coin fit: {name}, {len(exps)} experiments, {n_total} tosses", rows,
+                         conf, True),
+        _tests_result("models, each experiment", rows, _test_note(res.rows), True),
+        _comparison_result(res, conf),
+    ]
+    _emit_all(human, machine, fmt, quiet)
+
+
+def _comparison_result(res, conf: float) -> Result:
+    cols = [Column("model", "model", "text"), Column("n_params", "fitted parameters", "int"),
+            Column("log_likelihood", "log-likelihood"), Column("aic", "AIC"),
+            Column("delta_aic", "delta AIC"), Column("sse_sides", "SSE of side frequencies")]
+    body = [(m.model, m.n_params, m.log_likelihood, m.aic, m.delta_aic, m.sse_sides)
+            for m in res.models]
+    sp = res.spread
+    notes = ["AIC = 2k - 2 log L (lower is better; a difference below 2 is no real preference); "
+             "SSE = sum over experiments of (observed - predicted side frequency)^2, as in "
+             "Sec. IV of the paper."]
+    if sp is not None:
+        pieces = ", ".join(f"{_fmt_deg(lo)} to {_fmt_deg(hi)}" for lo, hi in sp.pieces)
+        notes.append(
+            f"psi-spread: psi ~ normal about 90 deg truncated to [0, 180]; maximum-likelihood sd "
+            f"{_fmt_deg(sp.sigma)} deg, {100 * conf:g}% profile-likelihood interval {pieces} deg"
+            + (f" ({sp.note})" if sp.note else "") + "."
+        )
+    return Result("model comparison, all experiments", cols, body, note="\n".join(notes))
+
+
+def _fmt_deg(v: float) -> str:
+    return "inf (uniform psi)" if math.isinf(v) else f"{math.degrees(v):.3g}"
