@@ -17,6 +17,7 @@ rich is imported only to draw a table on a terminal.
 from __future__ import annotations
 
 import enum
+import itertools
 import math
 import os
 import sys
@@ -146,11 +147,19 @@ def _machine(v):
     if isinstance(v, bool):
         return "true" if v else "false"
     if isinstance(v, float):
-        return repr(v)
+        return repr(float(v))  # numpy.float64 is a float, but its repr is 'np.float64(...)'
     return str(v)
 
 
+_JSON_TYPES = (float, int, str, bool, type(None))
+
+
 def _json_value(v):
+    if type(v) not in _JSON_TYPES:
+        if hasattr(v, "item"):  # a numpy scalar: json cannot write numpy.int64
+            v = v.item()
+        elif isinstance(v, float):
+            v = float(v)
     if isinstance(v, float) and math.isnan(v):
         return None
     return v
@@ -183,17 +192,19 @@ def emit(result: Result, fmt: str = "table", quiet: bool = False, out=None) -> N
     if quiet:
         q = result.quiet
         vals = q if isinstance(q, list) else [q]
-        text = "\n".join(_machine(float(v)) if isinstance(v, (int, float)) and not isinstance(
-            v, bool) else _machine(v) for v in vals)
-        out.write(text + "\n")
+        _write_rows(out, [vals], "\n", quote=False)
         return
     names = [c.name for c in result.columns]
     if fmt in ("csv", "tsv"):
         sep = "," if fmt == "csv" else "\t"
-        cols = result.data if result.data is not None else list(zip(*result.rows, strict=True))
-        text_cols = [_text_column(col, sep) for col in cols]
-        body = "\n".join(map(sep.join, zip(*text_cols, strict=True))) if result.rows else ""
-        out.write(sep.join(names) + "\n" + (body + "\n" if body else ""))
+        if result.data is not None:
+            cols = result.data
+        elif result.rows:
+            cols = list(zip(*result.rows, strict=True))
+        else:
+            cols = [[] for _ in names]
+        out.write(sep.join(names) + "\n")
+        _write_rows(out, cols, sep)
     elif fmt in ("json", "jsonl"):
         import json
 
@@ -209,10 +220,32 @@ def emit(result: Result, fmt: str = "table", quiet: bool = False, out=None) -> N
         out.write(plain_table(result))
 
 
-def _text_column(col, sep: str) -> list[str]:
-    if all(type(v) is float for v in col):
-        return list(map(repr, col))  # the fast path of a long batch
-    return [_csv_cell(_machine(v), sep) for v in col]
+_CHUNK = 50_000  # rows formatted and written at a time (bounded memory for long batches)
+
+
+def _write_rows(out, cols, sep: str, quote: bool = True) -> None:
+    """Write columns as lines of ``sep``-separated cells: floats as repr, None as empty.
+
+    Each row is formatted by one ``%`` template (``%r`` for a column of plain floats, ``%d`` for
+    plain ints, ``%s`` for a column converted cell by cell), so a long batch costs one C-level
+    call per row instead of one Python call per cell.
+    """
+    specs, ready = [], []
+    for col in cols:
+        kinds = set(map(type, col))
+        if kinds <= {float}:
+            specs.append("%r")
+            ready.append(col)
+        elif kinds == {int}:
+            specs.append("%d")
+            ready.append(col)
+        else:
+            specs.append("%s")
+            ready.append([_csv_cell(_machine(v), sep) if quote else _machine(v) for v in col])
+    template = sep.join(specs)
+    rows = zip(*ready, strict=True)
+    while chunk := list(itertools.islice(rows, _CHUNK)):
+        out.write("\n".join(map(template.__mod__, chunk)) + "\n")
 
 
 def _csv_cell(text: str, sep: str) -> str:
@@ -259,7 +292,9 @@ def _rich_table(result: Result) -> None:
         table.add_column(c.header, justify="left" if c.style == "text" else "right")
     for row in result.rows:
         table.add_row(*(_human(v, c.style) for v, c in zip(row, result.columns, strict=True)))
-    Console().print(table)
+    # NO_COLOR (no-color.org): rich drops colours itself but keeps bold and italic; a user who
+    # asks for no colour gets plain text in the box, no escape codes at all.
+    Console(color_system=None if env_no_color() else "auto").print(table)
 
 
 # --------------------------------------------------------------------------- values and batches
@@ -268,17 +303,22 @@ MAX_STDIN_LINES = 10_000_000
 MAX_LINE_CHARS = 1000
 
 
-def read_stdin_lines(what: str, stdin=None) -> list[tuple[int, str]]:
+def _stdin_bytes(what: str, stdin=None) -> bytes:
+    stream = stdin if stdin is not None else sys.stdin
+    if stream is None:
+        raise usage_error(f"{what}: '-' reads values from standard input, but there is none")
+    buf = getattr(stream, "buffer", None)
+    return buf.read() if buf is not None else stream.read().encode("utf-8", "surrogateescape")
+
+
+def read_stdin_lines(what: str, stdin=None, data: bytes | None = None) -> list[tuple[int, str]]:
     """Non-blank, non-comment lines of stdin as (line number, text); CRLF and spaces stripped.
 
     Limits: at most 10^7 values and 1000 characters a line; a NUL byte or undecodable text is an
     error naming the line.
     """
-    stream = stdin if stdin is not None else sys.stdin
-    if stream is None:
-        raise usage_error(f"{what}: '-' reads values from standard input, but there is none")
-    buf = getattr(stream, "buffer", None)
-    data = buf.read() if buf is not None else stream.read().encode("utf-8", "surrogateescape")
+    if data is None:
+        data = _stdin_bytes(what, stdin)
     out = []
     for n, raw in enumerate(data.split(b"\n"), start=1):
         if len(raw) > MAX_LINE_CHARS:
@@ -303,18 +343,19 @@ def values_option(text: str, what: str, item: Callable, *, bounds=None, stdin=No
     """Values of an option that takes one value, a list, a range, or '-' for stdin.
 
     Each value is parsed by ``item(text, what)`` (raising ValueError); a bad value from stdin
-    names its line.  A long stdin batch of plain decimals is converted by numpy in one call and
-    returned as an ndarray, checked against ``bounds = (lo, hi)`` (inclusive) when given;
+    names its line.  A long stdin batch of plain decimals, one a line, is converted in one pass
+    and returned as an ndarray, checked against ``bounds = (lo, hi)`` (inclusive) when given;
     otherwise a list.  Raises :class:`CoinError` (usage) on any bad value.
     """
     from coincli.parse import parse_values
 
     if text.strip() == "-":
-        lines = read_stdin_lines(what, stdin)
-        if bounds is not None and len(lines) >= 5000:
-            fast = _fast_floats(lines, what, bounds)
+        data = _stdin_bytes(what, stdin)
+        if bounds is not None and len(data) >= FAST_MIN_BYTES:
+            fast = _fast_floats(data, what, bounds, item)
             if fast is not None:
                 return fast
+        lines = read_stdin_lines(what, data=data)
         vals = []
         for n, t in lines:
             try:
@@ -328,31 +369,45 @@ def values_option(text: str, what: str, item: Callable, *, bounds=None, stdin=No
         raise usage_error(str(exc)) from None
 
 
-_PLAIN = None
+FAST_MIN_BYTES = 20_000  # below this (a few thousand values), per-line parsing costs nothing
+_PLAIN_BYTES = b"0123456789.eE+-\r\n"
 
 
-def _fast_floats(lines, what, bounds):
-    """Plain decimals converted in one numpy call; None (fall back to per-line) otherwise."""
-    global _PLAIN
-    import re
+def _fast_floats(data: bytes, what: str, bounds, item):
+    """Plain decimals, exactly one per line, as an ndarray; None (use the per-line path) otherwise.
 
+    The text must use only digits, ``.``, ``eE+-`` and line ends (``\\r`` only before ``\\n``):
+    no blanks, comments, spaces, ``inf``, ``nan``, ``%`` or ``/``.  Then every line holds one
+    token, Python's ``float`` parses each (the grammar of ``float`` on this alphabet is the plain
+    decimal one; a malformed token sends the whole batch to the per-line path, which names its
+    line), and a value out of ``bounds`` is reported with its line number by ``item`` itself.
+    """
+    if data.translate(None, _PLAIN_BYTES) or data.count(b"\r") != data.count(b"\r\n"):
+        return None
+    tokens = data.split()
+    lines = data.count(b"\n") + (0 if data.endswith(b"\n") else 1)
+    if len(tokens) != lines or len(tokens) > MAX_STDIN_LINES:
+        return None  # blank lines, or too many values: the per-line path says which
+    try:
+        floats = list(map(float, tokens))
+    except ValueError:
+        return None
     import numpy as np
 
-    if _PLAIN is None:
-        _PLAIN = re.compile(r"[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?")
-    texts = [t for _, t in lines]
-    if not all(_PLAIN.fullmatch(t) for t in texts):
-        return None
-    arr = np.array(texts, dtype=float)
+    arr = np.array(floats, dtype=float) + 0.0  # -0.0 -> 0.0, as Fraction-based parsers give
     lo, hi = bounds
     bad = ~((arr >= lo) & (arr <= hi))
     if bad.any():
         k = int(np.argmax(bad))
-        raise usage_error(
-            f"stdin line {lines[k][0]}: {what} must be in [{lo:g}, {hi:g}], got {texts[k]!r}"
-        )
+        t = tokens[k].decode()
+        try:
+            item(t, what)
+        except ValueError as exc:
+            raise usage_error(f"stdin line {k + 1}: {exc}") from None
+        raise usage_error(f"stdin line {k + 1}: {what} must be in [{lo:g}, {hi:g}], got {t!r}")
     return arr
 
 
 def env_no_color() -> bool:
-    return "NO_COLOR" in os.environ
+    """NO_COLOR set to a non-empty value (no-color.org)."""
+    return bool(os.environ.get("NO_COLOR"))
