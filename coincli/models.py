@@ -335,11 +335,12 @@ def conditional(xi, psi):
     psi = check_psi(psi)
     xp = namespace(xi, psi)
     with _errstate(xp):
-        if xp is not M:
-            xi, psi = (a.copy() for a in xp.broadcast_arrays(xi, psi))  # one mask for both
         t, s0, c0, c = _parts(xp, xi)
         psi_m, e = _fold_psi(xp, psi)
         args = [xp.sin(psi_m), t, s0, c0, c, psi_m - t, t - e]  # sigma, t, s0, c0, c, u1, u2
+        if xp is not M:  # full-shape copies, for the masked updates below
+            xi, psi, *args = (a.copy() for a in xp.broadcast_arrays(xi, psi, *args))
+            t = args[1]
         # Offsets under half of t carry t's rounding error amplified; redo them in double-double.
         near = (xp.abs(args[5]) < t * _NEAR) | (xp.abs(args[6]) < t * _NEAR) | (psi_m < _PLANAR_T)
         if xp is M:
@@ -378,7 +379,30 @@ def _near_boundary(xp, xi, psi, sigma, t, s0, c0, c, u1, u2):
     # e = pi/2 - psi (lower half) or psi - pi/2 (upper half), exactly
     eh, el = _two_sum(xp.where(upper, psi, _PIO2_HI), xp.where(upper, -_PIO2_HI, -psi))
     eh, el = _dd_add(eh, el, xp.where(upper, -_PIO2_LO, _PIO2_LO), 0.0)
-    # theta0 = atan(1/xi) for xi > 1, pi/2 - atan(xi) otherwise: the atan argument is in [0, 1]
+    if xp is M:
+        th, tl, ts, tsl = _half_theta0_dd(xp, xi)
+    else:  # theta0/2 depends on xi alone: once per distinct xi (a sweep over psi has one)
+        uniq, inv = xp.unique(xi, return_inverse=True)
+        th, tl, ts, tsl = (v[inv] for v in _half_theta0_dd(xp, uniq))
+    u1 = _dd_add(mh, ml, -th, -tl)[0]
+    u2 = _dd_add(th, tl, -eh, -el)[0]
+    # Planar frame (t < 2**-900): psi_m and t scaled by 2**840 (exact); u2 < 0 there.
+    planar = t < _PLANAR_T
+    ms, msl = mh * _PLANAR_SCALE, ml * _PLANAR_SCALE
+    us = _dd_add(ms, msl, -ts, -tsl)[0]
+    return (xp.where(planar, ms, sigma), xp.where(planar, ts, t), xp.where(planar, ts, s0),
+            xp.where(planar, 1.0, c0), xp.where(planar, 1.0, c), xp.where(planar, us, u1),
+            xp.where(planar, -1.0, u2))
+
+
+def _half_theta0_dd(xp, xi):
+    """theta0/2 as a double-double (th, tl), and (ts, tsl) = 2**840 theta0/2 for xi > 2**899.
+
+    ``theta0 = atan(1/xi)`` for ``xi > 1``, ``pi/2 - atan(xi)`` otherwise, so that the argument of
+    :func:`_dd_atan` is in [0, 1]; ``1/xi`` is carried as hi + lo (Dekker's product gives the
+    remainder ``1 - hi xi`` exactly).  Past ``xi = 2**899``, ``theta0 = 1/xi`` to 2**-1800 and only
+    the scaled value is meaningful (its low part would underflow unscaled).
+    """
     big = xi > 1
     x = xp.minimum(xi, 1 / _PLANAR_T)  # keeps inf (handled by the planar frame) out of the way
     wh = xp.where(big, 1 / xp.maximum(x, 1.0), x)
@@ -387,21 +411,13 @@ def _near_boundary(xp, xi, psi, sigma, t, s0, c0, c, u1, u2):
     ah, al = _dd_atan(xp, wh, wl)
     th, tl = _dd_add(xp.where(big, ah, _PIO2_HI), xp.where(big, al, _PIO2_LO),
                      xp.where(big, 0.0, -ah), xp.where(big, 0.0, -al))
-    th, tl = th / 2, tl / 2
-    u1 = _dd_add(mh, ml, -th, -tl)[0]
-    u2 = _dd_add(th, tl, -eh, -el)[0]
-    # Planar frame: t = 1/(2 xi) to 2**-1800; everything scaled by 2**840 (exact), u2 < 0 there.
-    planar = t < _PLANAR_T
-    xs = xp.maximum(xi, 1 / _PLANAR_T) * _PLANAR_T  # in [1, 2**125) or inf
+    # Planar frame: 2**840 / (2 xi) = 2**-61 / xs with xs = xi 2**-900 in [1, 2**125) (or inf)
+    xs = xp.maximum(xi, 1 / _PLANAR_T) * _PLANAR_T
     qh = 1 / xs
     ph, pl = _two_prod(xp, qh, xp.minimum(xs, 2.0**125))
     ql = xp.where(xs < xp.inf, ((1.0 - ph) - pl) / xs, 0.0)  # 1/xs = qh + ql
-    ts, tsl = qh * (_PLANAR_T * _PLANAR_SCALE / 2), ql * (_PLANAR_T * _PLANAR_SCALE / 2)
-    ms, msl = mh * _PLANAR_SCALE, ml * _PLANAR_SCALE
-    us = _dd_add(ms, msl, -ts, -tsl)[0]
-    return (xp.where(planar, ms, sigma), xp.where(planar, ts, t), xp.where(planar, ts, s0),
-            xp.where(planar, 1.0, c0), xp.where(planar, 1.0, c), xp.where(planar, us, u1),
-            xp.where(planar, -1.0, u2))
+    scale = _PLANAR_T * _PLANAR_SCALE / 2
+    return th / 2, tl / 2, qh * scale, ql * scale
 
 
 # --------------------------------------------------------------------------- inverses
@@ -512,21 +528,29 @@ def _dd_div_int(xp, ah, al, n):
 def _dd_sincos(xp, y):
     """(sin y, cos y) as double-doubles for a double y in [0, pi/4]: Taylor series.
 
-    The n-th term y**n/n! is carried as a double-double; at y = pi/4 the term n = 30 is below
-    2**-110, so 29 terms suffice for every y in range.
+    Terms y**n/n! for n <= 17 are carried as double-doubles; the rest (each below 2**-57, the
+    last, n = 29, below 2**-110) are summed in plain double, whose errors stay under 2**-110.
     """
     zero = 0.0 * y
     sh, sl, ch, cl = y, zero, 1.0 + zero, zero
     th, tl = y, zero  # y**n / n!
+    tail_s, tail_c = zero, zero
     for n in range(2, 30):
-        th, tl = _dd_mul(xp, th, tl, y, 0.0)
-        th, tl = _dd_div_int(xp, th, tl, n)
-        sign = -1.0 if n % 4 in (2, 3) else 1.0  # cos: + - + ...; sin: + - + ... (n = 0, 1 mod 4)
-        if n % 2:
-            sh, sl = _dd_add(sh, sl, sign * th, sign * tl)
+        sign = -1.0 if n % 4 in (2, 3) else 1.0  # cos: + - + ... (n even); sin: + - ... (n odd)
+        if n <= 17:
+            th, tl = _dd_mul(xp, th, tl, y, 0.0)
+            th, tl = _dd_div_int(xp, th, tl, n)
+            if n % 2:
+                sh, sl = _dd_add(sh, sl, sign * th, sign * tl)
+            else:
+                ch, cl = _dd_add(ch, cl, sign * th, sign * tl)
         else:
-            ch, cl = _dd_add(ch, cl, sign * th, sign * tl)
-    return (sh, sl), (ch, cl)
+            th = th * y / n
+            if n % 2:
+                tail_s = tail_s + sign * th
+            else:
+                tail_c = tail_c + sign * th
+    return _dd_add(sh, sl, tail_s, 0.0), _dd_add(ch, cl, tail_c, 0.0)
 
 
 def _dd_atan(xp, xh, xl):
