@@ -1,0 +1,362 @@
+"""``coin plot sides|psi|map|phase``: the paper's figures with the user's design and data.
+
+Thin: parse the options, compute the figure's data with :mod:`coincli.plot`, then either draw
+it with matplotlib into ``--out FILE`` (PNG, SVG or PDF by extension) or, with ``--terminal``,
+``--out -`` or no ``--out``, print a text plot (:mod:`coincli.textplot`).  Nothing heavy is
+imported at module level: numpy, scipy, matplotlib and rich load only when a plot is made.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from typing import Annotated
+
+import typer
+
+from coincli import parse
+from coincli.cli import app
+from coincli.cli._common import compute_error, stderr_is_terminal, usage_error
+
+plot_app = typer.Typer(
+    name="plot",
+    help="Draw the paper's figures with your design and data on them: sides (Fig. 5a), psi "
+    "(Fig. 2d), map (Fig. 2a-c), phase (Fig. 3).  PNG, SVG or PDF by the --out file's "
+    "extension (needs matplotlib: pip install 'coincli[plot]'); a text plot in the terminal "
+    "otherwise.  Example: coin plot sides --p-sides 1/3 --out sides.png",
+    no_args_is_help=True,
+    context_settings={"help_option_names": ["-h", "--help"]},
+)
+app.add_typer(plot_app, name="plot")
+
+MAX_MARKS = 20  # designs marked on one figure
+MAX_DATA_BYTES = 10_000_000
+
+# --------------------------------------------------------------------------- shared options
+
+OutOpt = Annotated[
+    str | None,
+    typer.Option("--out", "-o", help="Figure file: .png, .svg or .pdf (needs matplotlib).  "
+                 "'-' or no --out: a text plot on stdout.", metavar="FILE"),
+]
+TerminalOpt = Annotated[
+    bool, typer.Option("--terminal", help="Draw a text plot in the terminal (no matplotlib "
+                       "needed).")
+]
+DpiOpt = Annotated[float, typer.Option("--dpi", help="Resolution of a PNG (dots per inch; also "
+                                       "rasterized parts of SVG/PDF).", min=10, max=2000)]
+WidthOpt = Annotated[
+    float | None, typer.Option("--width", help="Figure width in inches (default depends on the "
+                               "figure).", min=1, max=100)
+]
+HeightOpt = Annotated[
+    float | None, typer.Option("--height", help="Figure height in inches.", min=1, max=100)
+]
+TitleOpt = Annotated[str | None, typer.Option("--title", help="Replace the figure's title.")]
+LogOpt = Annotated[bool, typer.Option("--log", help="Logarithmic xi axis (0.01 to 100 unless "
+                                      "--xi-range says otherwise).")]
+XiRangeOpt = Annotated[
+    str | None, typer.Option("--xi-range", help="The xi axis as LOW:HIGH (default 0:2, or "
+                             "0.01:100 with --log, widened to show your marks).",
+                             metavar="LOW:HIGH")
+]
+PsiMarkOpt = Annotated[
+    str | None, typer.Option("--psi", help="Mark a tossing angle psi in degrees [0, 180] (a "
+                             "list a,b for several).", metavar="DEG")
+]
+
+
+def _marks(text: str | None, what: str, item) -> list[float]:
+    if text is None:
+        return []
+    try:
+        vals = parse.parse_values(text, what, item, max_rows=MAX_MARKS)
+    except ValueError as exc:
+        raise usage_error(str(exc)) from None
+    return [float(v) for v in vals]
+
+
+def _xi_item(s: str, what: str) -> float:
+    v = parse.parse_number(s, what, allow_inf=False)
+    if not v >= 0:
+        raise ValueError(f"{what} must be a number >= 0, got {s!r}")
+    return v
+
+
+def _deg_item(s: str, what: str) -> float:
+    v = parse.parse_number(s, what)
+    if not 0.0 <= v <= 180.0:
+        raise ValueError(f"{what} must be an angle in [0, 180] degrees, got {s!r}")
+    return v
+
+
+def _xi_range(text: str | None, log: bool):
+    if text is None:
+        return None
+    parts = text.split(":")
+    if len(parts) != 2:
+        raise usage_error(f"--xi-range must be LOW:HIGH, got {text!r}")
+    try:
+        lo, hi = (parse.parse_number(p, "--xi-range") for p in parts)
+    except ValueError as exc:
+        raise usage_error(str(exc)) from None
+    if not 0 <= lo < hi:
+        raise usage_error(f"--xi-range needs 0 <= LOW < HIGH, got {text!r}")
+    if log and lo == 0:
+        raise usage_error(f"--xi-range with --log needs LOW > 0, got {text!r}")
+    return lo, hi
+
+
+class _Target:
+    """Where the plot goes: a figure file, or a text plot on stdout."""
+
+    def __init__(self, out: str | None, terminal: bool):
+        if terminal and out not in (None, "-"):
+            raise usage_error("give --out FILE (a figure) or --terminal (a text plot), not both")
+        self.text = terminal or out in (None, "-")
+        self.path = None if self.text else out
+        if self.path is not None:
+            from coincli.plot import figure_format
+
+            try:
+                self.fmt = figure_format(self.path)
+            except ValueError as exc:
+                raise usage_error(f"--out: {exc}") from None
+
+    def check_matplotlib(self):
+        """Before any computing: a figure file needs matplotlib (exit 1 with the hint)."""
+        if self.text:
+            return
+        from coincli.plot import MatplotlibMissing, require_matplotlib
+
+        try:
+            require_matplotlib()
+        except MatplotlibMissing as exc:
+            raise compute_error(str(exc)) from None
+
+    def save(self, fig, dpi: float) -> None:
+        from coincli.plot import save_figure
+
+        try:
+            size = save_figure(fig, self.path, dpi)
+        except OSError as exc:
+            raise compute_error(f"cannot write {self.path!r}: {exc.strerror or exc}") from None
+        if stderr_is_terminal():
+            sys.stderr.write(f"coin: wrote {self.path} ({self.fmt.upper()}, {size:,} bytes)\n")
+
+    def text_plot(self, build):
+        from coincli.textplot import emit, plot_size
+
+        cols, rows = plot_size()
+        emit(build(cols, rows))
+
+
+def _compute(fn, *args, **kwargs):
+    """Run a data function; a ValueError from the core is exit 1 (valid input, no answer)."""
+    try:
+        return fn(*args, **kwargs)
+    except ValueError as exc:
+        raise compute_error(str(exc)) from None
+
+
+# --------------------------------------------------------------------------- sides
+
+
+def _read_data(path: str):
+    from coincli.stats import parse_experiments
+
+    name = "stdin" if path == "-" else path
+    try:
+        if path == "-":
+            text = sys.stdin.read(MAX_DATA_BYTES + 1)
+        else:
+            with open(path, encoding="utf-8") as fh:
+                text = fh.read(MAX_DATA_BYTES + 1)
+    except OSError as exc:
+        raise usage_error(f"--data: cannot read {name!r}: {exc.strerror or exc}") from None
+    except UnicodeDecodeError:
+        raise usage_error(f"--data: {name!r} is not UTF-8 text") from None
+    if len(text) > MAX_DATA_BYTES:
+        raise usage_error(f"--data: {name!r} is larger than {MAX_DATA_BYTES} bytes")
+    try:
+        return parse_experiments(text)
+    except ValueError as exc:
+        raise usage_error(f"--data {name}: {exc}") from None
+
+
+@plot_app.command("sides")
+def sides(
+    xi: Annotated[
+        str | None, typer.Option("--xi", "-x", help="Mark your coin's aspect ratio h/D (a list "
+                                 "a,b for several).")
+    ] = None,
+    p_sides: Annotated[
+        str | None, typer.Option("--p-sides", "-p", help="Mark a target chance of a side "
+                                 "(0.33, 1/3, 33%) and the xi each model needs.")
+    ] = None,
+    psi: Annotated[
+        str | None, typer.Option("--psi", help="Add Table I curves at fixed angles psi, degrees "
+                                 "(a list a,b).", metavar="DEG")
+    ] = None,
+    psi_dist: Annotated[
+        str | None, typer.Option("--psi-dist", help="Add psi-averaged curves: a comma list of "
+                                 "uniform, cosine, normal, normal:MEAN:SD (degrees), "
+                                 "table:FILE.", metavar="SPECS")
+    ] = None,
+    data: Annotated[
+        str | None, typer.Option("--data", help="Your tosses, the CSV of `coin fit` (xi or "
+                                 "coin/count, heads,sides,tails or sides,n); '-' for stdin.  "
+                                 "Plotted with 95% Wilson intervals.", metavar="FILE")
+    ] = None,
+    log: LogOpt = False,
+    xi_range: XiRangeOpt = None,
+    out: OutOpt = None,
+    terminal: TerminalOpt = False,
+    dpi: DpiOpt = 150.0,
+    width: WidthOpt = None,
+    height: HeightOpt = None,
+    title: TitleOpt = None,
+):
+    """P(sides) against the aspect ratio for the geometric and dynamic models (Fig. 5a).
+
+    The fair three-sided coins of both models are marked; --xi and --p-sides mark your design,
+    --data your tosses (with the paper's sum of squared errors in the legend); --psi and
+    --psi-dist add curves for other ways of tossing.
+
+    Examples: coin plot sides --out sides.png ;  coin plot sides --p-sides 1/3 --log --terminal ;
+    coin plot sides --xi 0.5 --data tosses.csv --psi-dist normal:90:18 --out sides.svg
+    """
+    target = _Target(out, terminal)
+    from coincli.cli.design import density_model  # parses --psi-dist like every command
+
+    xi_marks = _marks(xi, "--xi", _xi_item)
+    p_marks = _marks(p_sides, "--p-sides", parse.parse_probability)
+    psi_curves = _marks(psi, "--psi", _deg_item)
+    specs = [s for s in (psi_dist or "").split(",") if s.strip()]
+    if psi_dist is not None and not specs:
+        raise usage_error("--psi-dist is empty; give e.g. normal:90:18")
+    dens = [density_model(s).density for s in specs]
+    rng = _xi_range(xi_range, log)
+    exps = _read_data(data) if data is not None else []
+    target.check_matplotlib()
+
+    from coincli import plot as P
+
+    models = [P.GEOMETRIC, P.DYNAMIC]
+    models += [P.psi_spec(math.pi if d == 180 else math.radians(d)) for d in psi_curves]
+    models += [P.density_spec(d) for d in dens]
+    points = _compute(P.experiment_points, exps) if exps else []
+
+    def build(n):
+        return _compute(P.sides_data, models, xi_marks=xi_marks, p_marks=p_marks,
+                        experiments=points, log=log, xi_range=rng, points=n)
+
+    if target.text:
+        from coincli.textplot import text_sides
+
+        target.text_plot(lambda c, r: text_sides(build(c), c, r))
+        return
+    fig = P.sides_figure(build(401), width=width or 7.0, height=height or 4.5, title=title)
+    target.save(fig, dpi)
+
+
+# --------------------------------------------------------------------------- psi
+
+
+@plot_app.command("psi")
+def psi_cmd(
+    xi: Annotated[
+        str | None, typer.Option("--xi", "-x", help="The coin's aspect ratio h/D (default "
+                                 "1/sqrt 3 = 0.57735, the dynamically fair coin).")
+    ] = None,
+    psi: PsiMarkOpt = None,
+    out: OutOpt = None,
+    terminal: TerminalOpt = False,
+    dpi: DpiOpt = 150.0,
+    width: WidthOpt = None,
+    height: HeightOpt = None,
+    title: TitleOpt = None,
+):
+    """P(heads), P(sides), P(tails) against psi for one coin, regimes shaded (Fig. 2d).
+
+    psi is the angle between the angular momentum and the coin's normal (Table I): below
+    theta0/2 the coin always lands heads, up to 90 - theta0/2 heads or sides, and within
+    theta0/2 of 90 degrees all three.  --psi marks your tossing angle.
+
+    Examples: coin plot psi --xi 0.577 --out psi.png ;  coin plot psi --xi 1 --psi 70 --terminal
+    """
+    target = _Target(out, terminal)
+    if xi is None:
+        x = 1 / math.sqrt(3)
+    else:
+        try:
+            x = _xi_item(xi, "--xi")
+        except ValueError as exc:
+            raise usage_error(str(exc)) from None
+    marks = _marks(psi, "--psi", _deg_item)
+    target.check_matplotlib()
+    from coincli import plot as P
+
+    if target.text:
+        from coincli.textplot import text_psi
+
+        target.text_plot(lambda c, r: text_psi(_compute(P.psi_data, x, marks, points=c), c, r))
+        return
+    fig = P.psi_figure(_compute(P.psi_data, x, marks), width=width or 7.0,
+                       height=height or 4.5, title=title)
+    target.save(fig, dpi)
+
+
+# --------------------------------------------------------------------------- map
+
+
+@plot_app.command("map")
+def map_cmd(
+    style: Annotated[
+        str, typer.Option("--style", help="panels (three maps, one per outcome) or ternary "
+                          "(one map, colours mixed by the three chances).")
+    ] = "panels",
+    xi: Annotated[
+        str | None, typer.Option("--xi", "-x", help="Mark your coin's aspect ratio (a list a,b).")
+    ] = None,
+    psi: PsiMarkOpt = None,
+    log: LogOpt = False,
+    xi_range: XiRangeOpt = None,
+    out: OutOpt = None,
+    terminal: TerminalOpt = False,
+    dpi: DpiOpt = 150.0,
+    width: WidthOpt = None,
+    height: HeightOpt = None,
+    title: TitleOpt = None,
+):
+    """The chances of heads, sides and tails over the (xi, psi) plane (Fig. 2a-c).
+
+    Table I evaluated on a grid; the regime boundaries are dashed, the white contour is 1/3, the
+    star is the fair three-sided coin (xi = 1/sqrt 3, psi = 90).  --xi and --psi mark your design.
+
+    Examples: coin plot map --out map.png ;  coin plot map --style ternary --xi 0.5 --psi 80
+    --out map.pdf ;  coin plot map --terminal
+    """
+    target = _Target(out, terminal)
+    st = style.strip().lower()
+    if st not in ("panels", "ternary"):
+        raise usage_error(f"--style must be panels or ternary, got {style!r}")
+    xi_marks = _marks(xi, "--xi", _xi_item)
+    psi_marks = _marks(psi, "--psi", _deg_item)
+    rng = _xi_range(xi_range, log)
+    target.check_matplotlib()
+    from coincli import plot as P
+
+    if target.text:
+        from coincli.textplot import text_map
+
+        def build(c, r):
+            d = _compute(P.map_data, xi_range=rng, log=log, nx=c, ny=r, xi_marks=xi_marks,
+                         psi_marks_deg=psi_marks)
+            return text_map(d, c, r)
+
+        target.text_plot(build)
+        return
+    d = _compute(P.map_data, xi_range=rng, log=log, xi_marks=xi_marks, psi_marks_deg=psi_marks)
+    fig = P.map_figure(d, style=st, width=width, height=height, title=title)
+    target.save(fig, dpi)

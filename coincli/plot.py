@@ -1,0 +1,823 @@
+r"""The paper's figures, with the user's design and data on them (``coin plot``).
+
+Two layers:
+
+- *data* functions (:func:`sides_data`, :func:`psi_data`, :func:`map_data`, :func:`phase_data`)
+  evaluate the core (:mod:`coincli.models`, :mod:`coincli.marginal`, :mod:`coincli.toss`) on a
+  grid and return plain dataclasses of numpy arrays.  They know nothing of drawing, so the
+  matplotlib figures and the text plots of :mod:`coincli.textplot` show the same numbers;
+- *figure* builders (:func:`sides_figure`, :func:`psi_figure`, :func:`map_figure`,
+  :func:`phase_figure`) turn that data into a :class:`matplotlib.figure.Figure` on an Agg
+  canvas (no pyplot, no global backend switch, nothing shown on screen).
+
+matplotlib is an optional extra (``pip install 'coincli[plot]'``) and is imported only inside
+the builders; :func:`require_matplotlib` raises :class:`MatplotlibMissing` with the install
+hint when it is absent.
+
+Every artist that carries data has a ``gid`` (``curve:dynamic``, ``fair:geometric``,
+``design-xi:0``, ``data``, ``mesh:heads`` ...) so that tests, and anyone scripting the figures,
+can find it without relying on draw order.  The palette is Okabe & Ito's (distinguishable with
+every common colour-vision deficiency); outcomes and models are also told apart by line style.
+:func:`save_figure` writes PNG, SVG or PDF by the file's extension, byte-for-byte reproducible
+(``svg.hashsalt`` fixed, no dates in the metadata).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+from coincli import models
+
+__all__ = [
+    "OKABE_ITO",
+    "OUTCOME_COLOURS",
+    "FORMATS",
+    "MatplotlibMissing",
+    "require_matplotlib",
+    "ModelSpec",
+    "GEOMETRIC",
+    "DYNAMIC",
+    "psi_spec",
+    "density_spec",
+    "density_label",
+    "ExperimentPoint",
+    "experiment_points",
+    "SidesData",
+    "sides_data",
+    "PsiData",
+    "psi_data",
+    "MapData",
+    "map_data",
+    "PhaseData",
+    "phase_data",
+    "sides_figure",
+    "psi_figure",
+    "map_figure",
+    "phase_figure",
+    "ternary_colours",
+    "save_figure",
+    "figure_format",
+]
+
+#: Okabe & Ito (2008), "Color Universal Design": safe for protan, deutan and tritan vision.
+OKABE_ITO = {
+    "black": "#000000",
+    "orange": "#E69F00",
+    "sky": "#56B4E9",
+    "green": "#009E73",
+    "yellow": "#F0E442",
+    "blue": "#0072B2",
+    "vermillion": "#D55E00",
+    "purple": "#CC79A7",
+}
+OUTCOME_COLOURS = {"heads": OKABE_ITO["blue"], "sides": OKABE_ITO["vermillion"],
+                   "tails": OKABE_ITO["green"]}
+#: Fig. 2d: heads solid, sides small dashes, tails long dashes.
+OUTCOME_STYLES = {"heads": "-", "sides": (0, (2, 2)), "tails": (0, (8, 3))}
+#: Vertices of the ternary colour map: blue / orange is the contrast every eye keeps; tails is
+#: told apart by lightness.
+TERNARY_VERTICES = {"heads": (0x00 / 255, 0x72 / 255, 0xB2 / 255),
+                    "sides": (0xE6 / 255, 0x9F / 255, 0x00 / 255),
+                    "tails": (0.97, 0.97, 0.97)}
+DESIGN_COLOUR = OKABE_ITO["vermillion"]
+_EXTRA_COLOURS = ("orange", "purple", "sky", "green", "yellow")
+_EXTRA_STYLES = ("-.", (0, (1, 1.5)), (0, (5, 1, 1, 1, 1, 1)), (0, (3, 1, 1, 1)), (0, (6, 2)))
+
+FORMATS = {".png": "png", ".svg": "svg", ".pdf": "pdf"}  #: file extension -> format
+INSTALL_HINT = "pip install 'coincli[plot]'"
+
+_RC = {
+    "svg.hashsalt": "coincli",  # ids in SVG output do not change from run to run
+    "svg.fonttype": "path",
+    "font.size": 10.0,
+    "axes.titlesize": 11.0,
+    "axes.labelsize": 10.0,
+    "legend.fontsize": 8.5,
+    "legend.framealpha": 0.9,
+    "axes.grid": False,
+    "grid.alpha": 0.3,
+    "grid.linewidth": 0.6,
+    "lines.linewidth": 1.8,
+    "image.cmap": "viridis",
+    "path.simplify": False,  # keep every computed point in vector output
+}
+_METADATA = {"png": {"Software": None}, "svg": {"Date": None},
+             "pdf": {"CreationDate": None, "ModDate": None}}
+
+
+# --------------------------------------------------------------------------- matplotlib
+
+
+class MatplotlibMissing(ImportError):
+    """matplotlib is not installed; the message carries the one-line install hint."""
+
+
+def require_matplotlib():
+    """Import and return matplotlib, or raise :class:`MatplotlibMissing` with the hint."""
+    try:
+        import matplotlib
+    except ImportError:
+        raise MatplotlibMissing(
+            f"drawing a figure file needs matplotlib: {INSTALL_HINT} "
+            "(or --terminal for a text plot)"
+        ) from None
+    return matplotlib
+
+
+def _style():
+    matplotlib = require_matplotlib()
+    return matplotlib.rc_context(_RC)
+
+
+def _new_figure(width: float, height: float):
+    """A Figure on its own Agg canvas: no pyplot state, no GUI, no global backend change."""
+    require_matplotlib()
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(float(width), float(height)), layout="constrained")
+    FigureCanvasAgg(fig)
+    return fig
+
+
+def figure_format(path: str) -> str:
+    """``png``, ``svg`` or ``pdf`` from the file name; ValueError for anything else."""
+    import os
+
+    ext = os.path.splitext(str(path))[1].lower()
+    if ext not in FORMATS:
+        raise ValueError(
+            f"cannot tell the figure format from {path!r}: the file name must end in "
+            ".png, .svg or .pdf"
+        )
+    return FORMATS[ext]
+
+
+def save_figure(fig, path: str, dpi: float = 150.0) -> int:
+    """Write ``fig`` to ``path`` as PNG, SVG or PDF (by extension); return the bytes written.
+
+    The output is reproducible: the same figure gives the same bytes (SVG ids are salted with a
+    constant, and no creation date is recorded).
+    """
+    import os
+
+    fmt = figure_format(path)
+    if not (isinstance(dpi, (int, float)) and math.isfinite(dpi) and 10 <= dpi <= 2000):
+        raise ValueError(f"dpi must be between 10 and 2000, got {dpi!r}")
+    with _style():
+        fig.savefig(path, format=fmt, dpi=float(dpi), metadata=_METADATA[fmt])
+    return os.path.getsize(path)
+
+
+# --------------------------------------------------------------------------- models
+
+
+@dataclass(frozen=True)
+class ModelSpec:
+    """A curve of P(sides) against xi: geometric, dynamic, fixed psi or a psi density."""
+
+    key: str  #: geometric | dynamic | psi | dist
+    label: str
+    psi: float | None = None  #: radians, for key "psi"
+    density: object = None  #: a :class:`coincli.densities.Density`, for key "dist"
+
+    @property
+    def gid(self) -> str:
+        if self.key == "psi":
+            return f"psi={math.degrees(self.psi):.10g}"
+        if self.key == "dist":
+            return self.density.spec
+        return self.key
+
+    def outcome(self, xi):
+        """The core's chances at ``xi`` (float or array)."""
+        if self.key == "geometric":
+            return models.geometric(xi)
+        if self.key == "dynamic":
+            return models.dynamic(xi)
+        if self.key == "psi":
+            return models.conditional(xi, self.psi)
+        from coincli.marginal import marginal
+
+        return marginal(xi, self.density)
+
+    def inverse(self, p: float) -> float:
+        """The xi at which this model's P(sides) is ``p``."""
+        if self.key == "geometric":
+            return models.geometric_inverse(p)
+        if self.key == "dynamic":
+            return models.dynamic_inverse(p)
+        from coincli import marginal as mg
+
+        if self.key == "psi":
+            return float(mg.conditional_inverse(p, self.psi))
+        return float(mg.marginal_inverse(p, self.density))
+
+
+GEOMETRIC = ModelSpec("geometric", "geometric (uniform orientations, eq. 11)")
+DYNAMIC = ModelSpec("dynamic", "dynamic (Keller flip, ψ = 90°, eq. 12)")
+
+
+def psi_spec(psi_rad: float) -> ModelSpec:
+    """Table I at a fixed angle (radians)."""
+    models.check_psi(psi_rad)
+    return ModelSpec("psi", f"ψ = {math.degrees(psi_rad):.6g}° (Table I)", psi=float(psi_rad))
+
+
+def density_spec(density) -> ModelSpec:
+    """psi averaged over a :class:`coincli.densities.Density` (eq. 15)."""
+    return ModelSpec("dist", f"{density_label(density)} (averaged, eq. 15)", density=density)
+
+
+def density_label(density) -> str:
+    """A short human name: ``ψ ~ normal, mean 90°, sd 40.5°``, ``ψ ~ uniform``."""
+    from coincli.densities import Normal, Table
+
+    if isinstance(density, Normal):
+        return (f"ψ ~ normal, mean {math.degrees(density.mean):.4g}°, "
+                f"sd {math.degrees(density.sd):.3g}°")
+    if isinstance(density, Table):
+        return f"ψ ~ table {density.label}"
+    return f"ψ ~ {density.spec}"
+
+
+# --------------------------------------------------------------------------- experiments
+
+
+@dataclass(frozen=True)
+class ExperimentPoint:
+    """An experiment's frequency of sides with its 95% Wilson interval."""
+
+    label: str
+    xi: float
+    n: int
+    sides: int
+    frequency: float
+    low: float
+    high: float
+
+
+def experiment_points(experiments, confidence: float = 0.95) -> list[ExperimentPoint]:
+    """Frequencies of sides of :class:`coincli.stats.Experiment` rows, with Wilson intervals."""
+    from coincli.stats import proportion
+
+    out = []
+    for e in experiments:
+        pr = proportion(e.counts.sides, e.counts.n, "sides", confidence)
+        out.append(ExperimentPoint(e.label, float(e.xi), e.counts.n, e.counts.sides,
+                                   pr.estimate, pr.wilson.low, pr.wilson.high))
+    return out
+
+
+# --------------------------------------------------------------------------- sides (Fig. 5a)
+
+DEFAULT_XI_RANGE = (0.0, 2.0)
+DEFAULT_LOG_XI_RANGE = (0.01, 100.0)
+
+
+@dataclass
+class Curve:
+    spec: ModelSpec
+    y: object  #: P(sides) at :attr:`SidesData.xi`
+
+
+@dataclass
+class Mark:
+    """A point on a curve: where a design meets a model."""
+
+    gid: str  #: the curve's gid
+    xi: float
+    p: float
+
+
+@dataclass
+class SidesData:
+    xi: object  #: the grid (ndarray)
+    curves: list[Curve]
+    log: bool
+    xlim: tuple[float, float]
+    fair: list[Mark]  #: the fair three-sided coins of the geometric and dynamic models
+    xi_marks: list[tuple[float, list[Mark]]] = field(default_factory=list)
+    p_marks: list[tuple[float, list[Mark]]] = field(default_factory=list)
+    experiments: list[ExperimentPoint] = field(default_factory=list)
+    skipped: list[str] = field(default_factory=list)  #: designs that could not be marked
+
+
+def _check_range(lo: float, hi: float, log: bool) -> tuple[float, float]:
+    if not (math.isfinite(lo) and math.isfinite(hi)) or not hi > lo or lo < 0:
+        raise ValueError(f"the xi range must be finite with 0 <= low < high, got {lo:g}:{hi:g}")
+    if log and lo <= 0:
+        raise ValueError(f"a log xi axis needs a low end > 0, got {lo:g}")
+    return float(lo), float(hi)
+
+
+def _xi_grid(lo: float, hi: float, log: bool, points: int):
+    import numpy as np
+
+    if log:
+        return np.geomspace(lo, hi, points)
+    return np.linspace(lo, hi, points)
+
+
+def _auto_range(values, log: bool, default: tuple[float, float]) -> tuple[float, float]:
+    """The default range widened to show every finite value (xi > 0 on a log axis)."""
+    lo, hi = default
+    vals = [v for v in values if math.isfinite(v) and (v > 0 or not log)]
+    if vals:
+        if log:
+            lo, hi = min(lo, min(vals) / 1.5), max(hi, max(vals) * 1.5)
+        else:
+            hi = max(hi, max(vals) * 1.1)
+    return lo, hi
+
+
+def sides_data(specs: Sequence[ModelSpec] = (GEOMETRIC, DYNAMIC), *, xi_marks=(), p_marks=(),
+               experiments=(), log: bool = False, xi_range=None, points: int = 401) -> SidesData:
+    """P(sides) against xi for each model, with the fair coins, the designs and the data.
+
+    ``xi_marks``: aspect ratios to mark (each meets every curve); ``p_marks``: target chances
+    (the xi each model needs); ``experiments``: :class:`ExperimentPoint` rows.  Without
+    ``xi_range`` the axis runs over ``[0, 2]`` (``[0.01, 100]`` on a log axis), widened to show
+    every mark and experiment.
+    """
+    import numpy as np
+
+    specs = list(specs)
+    p_marks = [float(models.check_p(p, "p_sides")) for p in p_marks]
+    xi_marks = [float(models.check_xi(x)) for x in xi_marks]
+    p_found: list[tuple[float, list[Mark]]] = []
+    skipped: list[str] = []
+    for p in p_marks:
+        row = []
+        for s in specs:
+            try:
+                x = float(s.inverse(p))
+            except ValueError as exc:
+                skipped.append(f"P(sides) = {p:g} under {s.gid}: {exc}")
+                continue
+            row.append(Mark(s.gid, x, p))
+        p_found.append((p, row))
+    if xi_range is None:
+        default = DEFAULT_LOG_XI_RANGE if log else DEFAULT_XI_RANGE
+        lo, hi = _auto_range([*xi_marks, *(m.xi for _, r in p_found for m in r),
+                              *(e.xi for e in experiments)], log, default)
+    else:
+        lo, hi = xi_range
+    lo, hi = _check_range(lo, hi, log)
+    xi = _xi_grid(lo, hi, log, int(points))
+    curves = [Curve(s, np.asarray(s.outcome(xi).sides, dtype=float)) for s in specs]
+    fair = [Mark("geometric", models.FAIR_XI_GEOMETRIC, models.geometric(
+                models.FAIR_XI_GEOMETRIC).sides),
+            Mark("dynamic", models.FAIR_XI_DYNAMIC, models.dynamic(models.FAIR_XI_DYNAMIC).sides)]
+    fair = [m for m in fair if any(c.spec.gid == m.gid for c in curves)]
+    xm = [(x, [Mark(s.gid, x, float(s.outcome(x).sides)) for s in specs]) for x in xi_marks]
+    for x in xi_marks:
+        if not lo <= x <= hi:
+            skipped.append(f"xi = {x:g} is outside the plotted range {lo:g} to {hi:g}")
+    for _, row in p_found:
+        for m in row:
+            if not lo <= m.xi <= hi:
+                skipped.append(f"P(sides) = {m.p:g} under {m.gid} needs xi = {m.xi:g}, outside "
+                               f"the plotted range {lo:g} to {hi:g}")
+    return SidesData(xi, curves, log, (lo, hi), fair, xm, p_found, list(experiments), skipped)
+
+
+def sse(data: SidesData, gid: str) -> float | None:
+    """The paper's sum of squared errors of the side frequencies against one curve's model."""
+    if not data.experiments:
+        return None
+    spec = next(c.spec for c in data.curves if c.spec.gid == gid)
+    return math.fsum((e.frequency - float(spec.outcome(e.xi).sides)) ** 2
+                     for e in data.experiments)
+
+
+def _spread(values, gap: float) -> list[float]:
+    """Label heights (axes fraction) near ``values`` (data = axes fraction on [0, 1]), at least
+    ``gap`` apart, in the order of the values."""
+    order = sorted(range(len(values)), key=lambda k: values[k])
+    out = [0.0] * len(values)
+    last = -math.inf
+    for k in order:
+        out[k] = last = max(values[k], last + gap)
+    top = max(out, default=0.0)
+    if top > 0.98:  # pushed off the top: shift the whole run down
+        shift = top - 0.98
+        out = [v - shift for v in out]
+    return out
+
+
+def _axes_x(data, x: float) -> float:
+    """x as a fraction of the axes' width."""
+    lo, hi = data.xlim
+    if data.log:
+        return math.log(x / lo) / math.log(hi / lo)
+    return (x - lo) / (hi - lo)
+
+
+def _fmt(v: float) -> str:
+    return "∞" if v == math.inf else f"{v:.3g}"
+
+
+_LABEL_BOX = {"boxstyle": "round,pad=0.1", "facecolor": "white", "edgecolor": "none",
+              "alpha": 0.8}
+_LEADER = {"arrowstyle": "-", "linewidth": 0.5, "color": "0.4", "shrinkA": 0, "shrinkB": 3}
+
+
+def _curve_style(k: int, spec: ModelSpec):
+    """(colour, linestyle) of the k-th curve: the paper's solid geometric and dashed dynamic."""
+    if spec.key == "geometric":
+        return OKABE_ITO["black"], "-"
+    if spec.key == "dynamic":
+        return OKABE_ITO["blue"], "--"
+    j = (k - 2) % len(_EXTRA_COLOURS)
+    return OKABE_ITO[_EXTRA_COLOURS[j]], _EXTRA_STYLES[j]
+
+
+def sides_figure(data: SidesData, *, width: float = 7.0, height: float = 4.5,
+                 title: str | None = None):
+    """Fig. 5a: P(sides) against xi, fair coins, designs and experiments (a Figure)."""
+    with _style():
+        fig = _new_figure(width, height)
+        ax = fig.add_subplot()
+        colours = {}
+        for k, c in enumerate(data.curves):
+            colour, ls = _curve_style(k, c.spec)
+            colours[c.spec.gid] = colour
+            label = c.spec.label
+            err = sse(data, c.spec.gid)
+            if err is not None:
+                label += f", SSE {err:.3g}"
+            ax.plot(data.xi, c.y, color=colour, linestyle=ls, label=label,
+                    gid=f"curve:{c.spec.gid}", zorder=2)
+        if data.fair:
+            ax.axhline(1 / 3, color="0.6", linewidth=0.8, linestyle=":", zorder=1,
+                       gid="fair-level")
+        for m in data.fair:
+            colour = OKABE_ITO["black"] if m.gid == "geometric" else OKABE_ITO["blue"]
+            ax.plot([m.xi], [m.p], marker="o", markersize=7, markerfacecolor="white",
+                    markeredgecolor=colour, markeredgewidth=1.6, linestyle="none",
+                    gid=f"fair:{m.gid}", zorder=4,
+                    label=f"fair three-sided coin, {m.gid}: ξ = {m.xi:.3f}")
+        label_gap = 11.0 / (72.0 * height * 0.75)  # ~11 points, as a fraction of the axes
+        for k, (x, row) in enumerate(data.xi_marks):
+            if not data.xlim[0] <= x <= data.xlim[1]:
+                continue
+            ax.axvline(x, color=DESIGN_COLOUR, linewidth=1.0, linestyle=":", zorder=1,
+                       gid=f"design-xi-line:{k}")
+            ax.plot([m.xi for m in row], [m.p for m in row], marker="D", markersize=6,
+                    color=DESIGN_COLOUR, linestyle="none", gid=f"design-xi:{k}", zorder=5,
+                    label=f"your design: ξ = {x:.4g}" if k == 0 else None)
+            ys = _spread([m.p for m in row], label_gap)
+            for m, y in zip(row, ys, strict=True):
+                xf = _axes_x(data, m.xi) + 0.02
+                ax.annotate(f"{m.p:.3f}", (m.xi, m.p), xytext=(xf, y),
+                            textcoords="axes fraction", fontsize=7.5, va="center",
+                            color=colours.get(m.gid, DESIGN_COLOUR), arrowprops=_LEADER,
+                            bbox=_LABEL_BOX)
+        for k, (p, row) in enumerate(data.p_marks):
+            ax.axhline(p, color=DESIGN_COLOUR, linewidth=1.0, linestyle=(0, (4, 2)), zorder=1,
+                       gid=f"design-p-line:{k}")
+            shown = [m for m in row if data.xlim[0] <= m.xi <= data.xlim[1]]
+            ax.plot([m.xi for m in shown], [m.p for m in shown], marker="v", markersize=7,
+                    color=DESIGN_COLOUR, linestyle="none", gid=f"design-p:{k}", zorder=5,
+                    label=f"your target: P(sides) = {p:.4g}" if k == 0 else None)
+            xs = _spread([_axes_x(data, m.xi) for m in shown], 11.0 / (72.0 * width * 0.85))
+            for m, xf in zip(shown, xs, strict=True):
+                ax.annotate(f"ξ = {_fmt(m.xi)}", (m.xi, m.p), xytext=(xf, m.p + 0.045),
+                            textcoords=("axes fraction", "data"), fontsize=7.5, rotation=90,
+                            ha="center", va="bottom", color=colours.get(m.gid, DESIGN_COLOUR),
+                            arrowprops=_LEADER, bbox=_LABEL_BOX)
+        if data.experiments:
+            import numpy as np
+
+            ex = np.array([e.xi for e in data.experiments])
+            fy = np.array([e.frequency for e in data.experiments])
+            lo = np.array([e.low for e in data.experiments])
+            hi = np.array([e.high for e in data.experiments])
+            eb = ax.errorbar(ex, fy, yerr=np.vstack([fy - lo, hi - fy]), fmt="o",
+                             color=OKABE_ITO["black"], markerfacecolor=OKABE_ITO["orange"],
+                             markersize=5.5, capsize=3, elinewidth=1.0, zorder=6,
+                             label="your tosses: frequency of sides, 95% Wilson interval")
+            eb.lines[0].set_gid("data")
+        if data.log:
+            ax.set_xscale("log")
+        ax.set_xlim(*data.xlim)
+        ax.set_ylim(0.0, 1.0)
+        ax.grid(True, which="major")
+        ax.set_xlabel("aspect ratio ξ = h/D (thickness / diameter, dimensionless)")
+        ax.set_ylabel("P(sides)")
+        ax.set_title(title or "Chance of landing on a side (Yong & Mahadevan, Fig. 5a)")
+        ax.legend(loc="upper left" if data.log or data.xlim[1] > 3 else "lower right")
+    return fig
+
+
+# --------------------------------------------------------------------------- psi (Fig. 2d)
+
+
+@dataclass
+class PsiData:
+    xi: float
+    psi_deg: object  #: grid in degrees; the core is evaluated at ``numpy.radians(psi_deg)``
+    heads: object
+    sides: object
+    tails: object
+    bounds_deg: tuple[float, float, float, float]  #: theta0/2, 90 - theta0/2, 90 + .., 180 - ..
+    marks: list[tuple[float, models.Outcome]] = field(default_factory=list)  #: (deg, outcome)
+
+
+def psi_data(xi: float, psi_marks_deg=(), points: int = 721) -> PsiData:
+    """P(heads), P(sides), P(tails) against psi (degrees, 0 to 180) for one coin: Fig. 2d.
+
+    The grid is ``points`` evenly spaced angles plus the four regime boundaries of Table I, where
+    the curves have kinks.
+    """
+    import numpy as np
+
+    xi = float(models.check_xi(xi))
+    t = math.degrees(models.theta0(xi)) / 2
+    bounds = (t, 90.0 - t, 90.0 + t, 180.0 - t)
+    psi_deg = np.unique(np.concatenate([np.linspace(0.0, 180.0, int(points)),
+                                        np.clip(bounds, 0.0, 180.0)]))
+    o = models.conditional(xi, np.minimum(np.radians(psi_deg), math.pi))
+    marks = []
+    for d in psi_marks_deg:
+        d = float(d)
+        if not 0.0 <= d <= 180.0:
+            raise ValueError(f"psi must be an angle in [0, 180] degrees, got {d:g}")
+        marks.append((d, models.conditional(xi, math.pi if d == 180.0 else math.radians(d))))
+    return PsiData(xi, psi_deg, np.asarray(o.heads), np.asarray(o.sides), np.asarray(o.tails),
+                   bounds, marks)
+
+
+REGIME_SHADES = {"heads only": "0.95", "heads or sides": "0.86", "all three": "0.74"}
+
+
+def psi_figure(data: PsiData, *, width: float = 7.0, height: float = 4.5,
+               title: str | None = None):
+    """Fig. 2d: the three chances against psi with the regimes of Table I shaded."""
+    t1, t2, t3, t4 = data.bounds_deg
+    with _style():
+        fig = _new_figure(width, height)
+        ax = fig.add_subplot()
+        spans = [(0.0, t1, "heads only"), (t1, t2, "heads or sides"), (t2, t3, "all three"),
+                 (t3, t4, "heads or sides"), (t4, 180.0, "heads only")]
+        seen = set()
+        for k, (a, b, name) in enumerate(spans):
+            if b <= a:
+                continue
+            ax.axvspan(a, b, color=REGIME_SHADES[name], linewidth=0, zorder=0,
+                       gid=f"regime:{k}:{name}",
+                       label=f"regime: {name}" if name not in seen else None)
+            seen.add(name)
+        for name in ("heads", "sides", "tails"):
+            ax.plot(data.psi_deg, getattr(data, name), color=OUTCOME_COLOURS[name],
+                    linestyle=OUTCOME_STYLES[name], label=f"P({name})", gid=f"curve:{name}",
+                    zorder=3)
+        for k, (d, o) in enumerate(data.marks):
+            ax.axvline(d, color=DESIGN_COLOUR, linewidth=1.0, linestyle=":", zorder=2,
+                       gid=f"design-psi-line:{k}")
+            ax.plot([d, d, d], [o.heads, o.sides, o.tails], marker="D", markersize=6,
+                    color=DESIGN_COLOUR, linestyle="none", zorder=5, gid=f"design-psi:{k}",
+                    label=f"your toss: ψ = {d:.4g}°" if k == 0 else None)
+            for name in ("heads", "sides", "tails"):
+                v = getattr(o, name)
+                ax.annotate(f"{v:.3f}", (d, v), xytext=(5, 3), textcoords="offset points",
+                            fontsize=7.5, color=DESIGN_COLOUR)
+        ax.axhline(1 / 3, color="0.45", linewidth=0.7, linestyle=":", zorder=1, gid="fair-level")
+        ax.set_xlim(0.0, 180.0)
+        ax.set_ylim(0.0, 1.02)
+        ax.set_xticks(range(0, 181, 30))
+        ax.set_xlabel("ψ, angle between angular momentum and the coin's normal (degrees)")
+        ax.set_ylabel("probability")
+        ax.set_title(title or f"Heads, sides and tails against ψ for ξ = {data.xi:.4g} "
+                     "(Yong & Mahadevan, Fig. 2d)")
+        ax.legend(loc="upper center", ncols=2, fontsize=8)
+    return fig
+
+
+# --------------------------------------------------------------------------- map (Fig. 2a-c)
+
+
+@dataclass
+class MapData:
+    xi: object  #: cell centres along xi (ndarray, nx)
+    psi_deg: object  #: cell centres along psi in degrees (ndarray, ny)
+    heads: object  #: (ny, nx): the core at (xi[j], radians(psi_deg[i]))
+    sides: object
+    tails: object
+    log: bool
+    xlim: tuple[float, float]
+    xi_marks: list[float] = field(default_factory=list)
+    psi_marks: list[float] = field(default_factory=list)  #: degrees
+
+
+def map_data(*, xi_range=None, log: bool = False, nx: int = 301, ny: int = 361, xi_marks=(),
+             psi_marks_deg=()) -> MapData:
+    """The three chances of Table I over the (xi, psi) plane, psi in degrees from 0 to 180."""
+    import numpy as np
+
+    xi_marks = [float(models.check_xi(x)) for x in xi_marks]
+    psi_marks = [float(d) for d in psi_marks_deg]
+    for d in psi_marks:
+        if not 0.0 <= d <= 180.0:
+            raise ValueError(f"psi must be an angle in [0, 180] degrees, got {d:g}")
+    if xi_range is None:
+        lo, hi = _auto_range(xi_marks, log, DEFAULT_LOG_XI_RANGE if log else DEFAULT_XI_RANGE)
+    else:
+        lo, hi = xi_range
+    lo, hi = _check_range(lo, hi, log)
+    xi = _xi_grid(lo, hi, log, int(nx))
+    psi_deg = np.linspace(0.0, 180.0, int(ny))
+    o = models.conditional(xi[None, :], np.minimum(np.radians(psi_deg), math.pi)[:, None])
+    return MapData(xi, psi_deg, o.heads, o.sides, o.tails, log, (lo, hi), xi_marks, psi_marks)
+
+
+def ternary_colours(heads, sides, tails):
+    """RGB colours (..., 3) mixing the :data:`TERNARY_VERTICES` in proportion to the chances."""
+    import numpy as np
+
+    out = np.zeros(np.shape(heads) + (3,))
+    for name, w in (("heads", heads), ("sides", sides), ("tails", tails)):
+        out += np.asarray(w)[..., None] * np.asarray(TERNARY_VERTICES[name])
+    return np.clip(out, 0.0, 1.0)
+
+
+def _boundary_lines(ax, data: MapData, colour: str):
+    """The regime boundaries psi = theta0/2, 90 -+ theta0/2, 180 - theta0/2 over xi."""
+    import numpy as np
+
+    xs = _xi_grid(max(data.xlim[0], 1e-12) if data.log else data.xlim[0], data.xlim[1],
+                  data.log, 400)
+    t = np.degrees(np.arctan2(1.0, xs)) / 2
+    for k, y in enumerate((t, 90 - t, 90 + t, 180 - t)):
+        ax.plot(xs, y, color=colour, linewidth=0.8, linestyle=(0, (3, 2)), zorder=3,
+                gid=f"boundary:{k}", label="regime boundaries (Table I)" if k == 0 else None)
+
+
+def _map_marks(ax, data: MapData, colour: str, legend: bool):
+    ax.plot([models.FAIR_XI_DYNAMIC], [90.0], marker="*", markersize=12, color=OKABE_ITO["yellow"],
+            markeredgecolor="black", linestyle="none", zorder=6, gid="fair:dynamic",
+            label="fair three-sided coin: ξ = 1/√3, ψ = 90°" if legend else None)
+    for k, x in enumerate(data.xi_marks):
+        ax.axvline(x, color=colour, linewidth=1.2, linestyle=":", zorder=4, gid=f"design-xi:{k}",
+                   label=f"your design: ξ = {x:.4g}" if legend and k == 0 else None)
+    for k, d in enumerate(data.psi_marks):
+        ax.axhline(d, color=colour, linewidth=1.2, linestyle=(0, (4, 2)), zorder=4,
+                   gid=f"design-psi:{k}",
+                   label=f"your toss: ψ = {d:.4g}°" if legend and k == 0 else None)
+    pts = [(x, d) for x in data.xi_marks for d in data.psi_marks]
+    if pts:
+        ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="D", markersize=6,
+                color=colour, markeredgecolor="black", linestyle="none", zorder=6,
+                gid="design-point")
+
+
+def _map_axes(ax, data: MapData, ylabel: bool = True):
+    if data.log:
+        ax.set_xscale("log")
+    ax.set_xlim(*data.xlim)
+    ax.set_ylim(0.0, 180.0)
+    ax.set_yticks(range(0, 181, 30))
+    ax.set_xlabel("aspect ratio ξ = h/D")
+    if ylabel:
+        ax.set_ylabel("ψ (degrees)")
+
+
+def map_figure(data: MapData, *, style: str = "panels", width: float | None = None,
+               height: float | None = None, title: str | None = None):
+    """Fig. 2a-c: the chances over (xi, psi), as three panels or one ternary colour map."""
+    if style not in ("panels", "ternary"):
+        raise ValueError(f"map style must be panels or ternary, got {style!r}")
+    default = (12.0, 4.4) if style == "panels" else (8.0, 5.0)
+    width = default[0] if width is None else width
+    height = default[1] if height is None else height
+    with _style():
+        fig = _new_figure(width, height)
+        if style == "panels":
+            axes = fig.subplots(1, 3, sharey=True)
+            mesh = None
+            for k, (ax, name) in enumerate(zip(axes, ("heads", "sides", "tails"), strict=True)):
+                z = getattr(data, name)
+                mesh = ax.pcolormesh(data.xi, data.psi_deg, z, shading="nearest", vmin=0.0,
+                                     vmax=1.0, cmap="viridis", rasterized=True,
+                                     gid=f"mesh:{name}")
+                cs = ax.contour(data.xi, data.psi_deg, z, levels=[1 / 3], colors="white",
+                                linewidths=0.9, linestyles="-")
+                cs.set_gid(f"contour:{name}")
+                _boundary_lines(ax, data, "0.85")
+                _map_marks(ax, data, OKABE_ITO["vermillion"], legend=(k == 0))
+                _map_axes(ax, data, ylabel=(k == 0))
+                ax.set_title(f"({'abc'[k]}) P({name})")
+            fig.colorbar(mesh, ax=list(axes), label="probability (white contour: 1/3)",
+                         shrink=0.9)
+            axes[0].legend(loc="lower left", fontsize=7, framealpha=0.85)
+            fig.suptitle(title or "Heads, sides and tails over aspect ratio and ψ "
+                         "(Yong & Mahadevan, Fig. 2a-c)")
+        else:
+            gs = fig.add_gridspec(1, 2, width_ratios=(4.2, 1.0))
+            ax = fig.add_subplot(gs[0, 0])
+            rgb = ternary_colours(data.heads, data.sides, data.tails)
+            ax.pcolormesh(data.xi, data.psi_deg, rgb, shading="nearest", rasterized=True,
+                          gid="mesh:ternary")
+            _boundary_lines(ax, data, "0.25")
+            _map_marks(ax, data, OKABE_ITO["vermillion"], legend=True)
+            _map_axes(ax, data)
+            ax.legend(loc="lower right", fontsize=7, framealpha=0.85)
+            ax.set_title(title or "Heads, sides and tails over aspect ratio and ψ "
+                         "(Yong & Mahadevan, Fig. 2a-c)")
+            _ternary_key(fig.add_subplot(gs[0, 1]))
+    return fig
+
+
+def _ternary_key(ax):
+    """The colour key: a triangle with heads, sides and tails at its corners."""
+    import numpy as np
+
+    n = 60
+    corners = {"heads": (0.0, 0.0), "tails": (1.0, 0.0), "sides": (0.5, math.sqrt(3) / 2)}
+    ys, xs = np.mgrid[0:n + 1, 0:n + 1] / n
+    xs, ys = xs, ys * math.sqrt(3) / 2
+    # barycentric coordinates of each pixel centre
+    s = ys / (math.sqrt(3) / 2)
+    t = xs - 0.5 * s
+    h = 1 - s - t
+    inside = (h >= -1e-9) & (t >= -1e-9) & (s >= -1e-9)
+    rgb = ternary_colours(np.clip(h, 0, 1), np.clip(s, 0, 1), np.clip(t, 0, 1))
+    rgba = np.concatenate([rgb, inside[..., None].astype(float)], axis=-1)
+    ax.imshow(rgba, origin="lower", extent=(0, 1, 0, math.sqrt(3) / 2), interpolation="nearest",
+              gid="ternary-key")
+    for name, (x, y) in corners.items():
+        ax.annotate(name, (x, y), xytext=(0, -12 if y == 0 else 5), textcoords="offset points",
+                    ha="center", fontsize=8)
+    ax.plot([1 / 2], [math.sqrt(3) / 6], marker="+", color="black", markersize=8,
+            gid="ternary-key-fair")
+    ax.set_xlim(-0.15, 1.15)
+    ax.set_ylim(-0.15, 1.0)
+    ax.set_aspect("equal")
+    ax.axis("off")
+    ax.set_title("colour key\n(+ = 1/3 each)", fontsize=8)
+
+
+# --------------------------------------------------------------------------- phase (Fig. 3)
+
+
+@dataclass
+class PhaseData:
+    """The outcome over the plane of launch speed and spin (Fig. 3), and eq. 10's boundaries."""
+
+    xi: float
+    psi_deg: float
+    u: object  #: cell centres along the launch speed (ndarray, nx)
+    omega: object  #: cell centres along the spin (ndarray, ny)
+    outcome: object  #: (ny, nx) int codes: 0 heads, 1 sides, 2 tails
+    curves: list = field(default_factory=list)  #: [(label, u ndarray, omega ndarray)]
+    u_label: str = "launch speed u"
+    omega_label: str = "spin ω"
+    marks: list = field(default_factory=list)  #: [(u, omega)] the user's tosses
+    note: str = ""
+
+
+OUTCOME_CODES = ("heads", "sides", "tails")
+
+
+def phase_data(*args, **kwargs) -> PhaseData:  # pragma: no cover - replaced below if toss exists
+    raise NotImplementedError("the finite-vigor toss (coincli.toss) is not available yet")
+
+
+def phase_figure(data: PhaseData, *, width: float = 7.0, height: float = 5.5,
+                 title: str | None = None):
+    """Fig. 3: the pre-images of heads, sides and tails over (u, omega), eq. 10's hyperbolae."""
+    import numpy as np
+
+    with _style():
+        fig = _new_figure(width, height)
+        ax = fig.add_subplot()
+        from matplotlib.colors import BoundaryNorm, ListedColormap
+        from matplotlib.patches import Patch
+
+        cmap = ListedColormap(["#FFFFFF", "#1A1A1A", OKABE_ITO["sky"]])
+        ax.pcolormesh(data.u, data.omega, np.asarray(data.outcome, dtype=float),
+                      shading="nearest", cmap=cmap, norm=BoundaryNorm([-0.5, 0.5, 1.5, 2.5], 3),
+                      rasterized=True, gid="mesh:phase")
+        for k, (label, cu, co) in enumerate(data.curves):
+            ax.plot(cu, co, color=OKABE_ITO["vermillion"], linewidth=0.9, linestyle="--",
+                    gid=f"hyperbola:{k}", label=label if k == 0 else None, zorder=3)
+        for k, (mu, mo) in enumerate(data.marks):
+            ax.plot([mu], [mo], marker="D", markersize=7, color=OKABE_ITO["orange"],
+                    markeredgecolor="black", linestyle="none", gid=f"design:{k}", zorder=5,
+                    label="your toss" if k == 0 else None)
+        handles = [Patch(facecolor="#FFFFFF", edgecolor="0.3", label="heads"),
+                   Patch(facecolor="#1A1A1A", edgecolor="0.3", label="sides"),
+                   Patch(facecolor=OKABE_ITO["sky"], edgecolor="0.3", label="tails")]
+        h2, l2 = ax.get_legend_handles_labels()
+        ax.legend(handles=handles + h2, labels=["heads", "sides", "tails", *l2],
+                  loc="upper right", fontsize=8, framealpha=0.9)
+        ax.set_xlim(float(np.min(data.u)), float(np.max(data.u)))
+        ax.set_ylim(float(np.min(data.omega)), float(np.max(data.omega)))
+        ax.set_xlabel(data.u_label)
+        ax.set_ylabel(data.omega_label)
+        ax.set_title(title or f"Phase space of a toss, ξ = {data.xi:.4g}, ψ = "
+                     f"{data.psi_deg:.4g}° (Yong & Mahadevan, Fig. 3)")
+    return fig
