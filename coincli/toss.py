@@ -1,0 +1,1178 @@
+r"""Real tosses: time of flight, outcome, many tosses and phase-space maps (Sec. II, Fig. 3).
+
+The closed forms of :mod:`coincli.models` hold for a vigorous toss, ``u omega / g >> 1``.  This
+module is the deterministic model they are the limit of.  A coin of diameter ``D = 2a`` and
+thickness ``h = xi D`` starts heads up with its centre at height ``z0``, is thrown upward at
+``u`` and precesses at ``omega = omega_N = M / I_1`` about its angular momentum, which makes the
+angle ``psi`` with the normal (eq. 2).  Everything is SI: metres, seconds, radians.
+
+Model
+    ``z(t) = z0 + u t - g t^2 / 2`` with the paper's ``z0 = (sqrt 3 / 2) a`` (eq. 5), and
+    ``cos alpha(t) = A + B cos(omega t)``, ``A = cos^2 psi``, ``B = sin^2 psi`` (eq. 3).  The coin
+    is caught at ``z = 0``; the time of flight ``t_f`` is the smallest positive root of
+    ``F(t) = z(t) - L(alpha(t))`` (eq. 6), where ``L`` is the depth of the coin's lowest point
+    below its centre:
+
+    - ``contact="rim"`` (the paper's): ``L = a sin alpha``, the rim of the mid-plane disc;
+    - ``contact="thick"``: ``L = a sin alpha + (h/2) |cos alpha|``, the lowest corner of the
+      cylinder.  Its default launch height is raised by ``h/2`` to ``z0 = (sqrt 3/2) a + h/2``, so
+      that the lowest point starts ``(sqrt 3/2) a`` above the catch plane as the paper's rim does
+      (with the paper's ``z0`` a coin with ``xi >= sqrt 3 / 2`` would start below the plane).
+
+    The outcome is eq. (7) applied to ``alpha_f = alpha(t_f)``: heads for
+    ``0 <= alpha_f <= theta0``, sides for ``theta0 < alpha_f <= pi - theta0``, tails for
+    ``pi - theta0 < alpha_f <= pi`` (so ``alpha_f = theta0`` is heads, ``alpha_f = pi - theta0``
+    is sides).  ``alpha`` is computed from the half-angle identity
+    ``sin(alpha/2) = sin psi |sin(omega t / 2)|``, ``cos(alpha/2) = hypot(cos(omega t/2),
+    cos psi sin(omega t/2))``, which keeps full accuracy at ``alpha`` near 0 and pi (the textbook
+    ``arccos(A + B cos theta)`` loses half the digits there).
+
+Root finding (never skipping an earlier crossing)
+    1. *Window.*  ``L`` never exceeds ``Lmax`` (``a``, or ``hypot(a, h/2)`` for a thick coin, or
+       less when ``psi`` keeps the coin from tilting that far), so no contact is possible while
+       ``z(t) > Lmax``.  The flight ``[0, t_end]`` (``z(t_end) = 0``, where ``F <= 0``) is cut to
+       the one or two intervals where ``z <= Lmax``.
+    2. *Scan.*  Each window is cut into cells of a sixteenth of a precession period.  ``F`` is
+       semi-concave: ``F'' <= K2 = omega^2 sin psi (a + (h/2) sin psi) - g`` (the horizontal
+       projection of the normal, ``sin alpha``, has second derivative at least
+       ``-|N''| = -omega^2 sin psi``; the corners of ``|.|`` only bend it upward).  Hence on a
+       cell of width ``d``, ``F >= min(F(t1), F(t2)) - max(K2, 0) d^2 / 8``: a cell where this
+       lower bound is positive holds no root, *certainly*, however thin a dip could be.
+    3. *Refine.*  The first cell that is not excluded is bisected, left half first, with the same
+       bound, until a cell has ``F(t1) > 0 >= F(t2)`` and is certified monotone
+       (``F'(t1+) + max(K2, 0) d < 0``, again from semi-concavity).  That cell holds exactly
+       one root, which :func:`scipy.optimize.brentq` (scalar) or a safeguarded Newton iteration
+       (arrays) finds to a few ulps.  A tangency (a double root, measure zero) is resolved to
+       the last bit of ``t`` and counted as contact only if ``F`` goes non-positive at a sampled
+       point.
+
+    Contact happens within about one precession period after ``z`` drops below ``Lmax`` (``L``
+    reaches ``Lmax`` once a period), so the cost does not grow with the number of turns in the
+    air; tosses of millions of turns cost the same as one.  The phase ``omega t`` must stay below
+    ``1e12`` rad, beyond which a double no longer holds it to ``1e-4`` rad.
+
+Vectorized tosses
+    :func:`toss_many` runs the same three steps on arrays: a ragged scan round moves each toss's
+    certified front across excluded cells, zooms into a cell (by a factor 8) when it cannot be
+    excluded, and zooms back out after; certified cells are solved together at the end.  A million
+    ordinary tosses take about a second (``benchmarks/toss_bench.py``).
+
+Nothing here prints or exits; bad input raises :class:`ValueError` naming the argument and its
+allowed range.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field
+
+from coincli.models import Outcome, conditional
+
+__all__ = [
+    "DEFAULT_DIAMETER",
+    "STANDARD_G",
+    "CONTACTS",
+    "HEADS",
+    "SIDES",
+    "TAILS",
+    "NAMES",
+    "LETTERS",
+    "MAX_PHASE",
+    "Toss",
+    "Tosses",
+    "Boundary",
+    "PhaseMap",
+    "Dist",
+    "Frequency",
+    "Simulation",
+    "default_z0",
+    "lowest_point",
+    "alpha_at",
+    "classify",
+    "flight_time",
+    "toss",
+    "toss_many",
+    "hyperbolae",
+    "phase_map",
+    "parse_dist",
+    "as_dist",
+    "sample_conditions",
+    "simulate_chunks",
+    "simulate",
+    "wilson_interval",
+    "vigorous_limit",
+]
+
+DEFAULT_DIAMETER = 0.02426  #: m, a US quarter (the paper's coin)
+STANDARD_G = 9.81  #: m/s^2
+CONTACTS = ("rim", "thick")
+HEADS, SIDES, TAILS = 0, 1, 2  #: outcome codes
+NAMES = ("heads", "sides", "tails")
+LETTERS = ("H", "S", "T")
+MAX_PHASE = 1e12  #: rad; omega * t_end beyond this is refused (the phase would be noise)
+
+_TWO_PI = 2.0 * math.pi
+_EPS = 2.220446049250313e-16
+_SQRT3_2 = math.sqrt(3.0) / 2.0
+_CELLS_PER_TURN = 16  # scan step: a sixteenth of a precession period
+_ZOOM = 8  # refinement factor of the vectorized scan
+_CHUNK = 1 << 16  # tosses per vectorized batch (also fixes the random stream of simulate)
+
+
+# --------------------------------------------------------------------------- validation
+
+
+def _range_text(lo, hi, lo_open, hi_open, unit):
+    u = f" {unit}" if unit else ""
+    if hi == math.inf:
+        return f"{'>' if lo_open else '>='} {lo:g}{u} (finite)"
+    hi_s = "pi" if hi == math.pi else f"{hi:g}"
+    return f"in {'(' if lo_open else '['}{lo:g}, {hi_s}{')' if hi_open else ']'}{u}"
+
+
+def _check(name, value, lo, hi=math.inf, *, lo_open=False, hi_open=False, unit="",
+           allow_inf=False):
+    """Validate a scalar or array_like; return a float or a float ndarray."""
+    msg = f"{name} must be {_range_text(lo, hi, lo_open, hi_open, unit)}"
+    if isinstance(value, bool):
+        raise ValueError(f"{msg}, got {value!r}")
+    if isinstance(value, (int, float)):
+        v = float(value)
+        bad = (math.isnan(v) or v < lo or v > hi or (lo_open and v == lo)
+               or (hi_open and v == hi) or (math.isinf(v) and not allow_inf))
+        if bad:
+            raise ValueError(f"{msg}, got {v!r}")
+        return v
+    import numpy as np
+
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number or an array of numbers, got {value!r}") from None
+    with np.errstate(invalid="ignore"):
+        bad = np.isnan(arr) | (arr < lo) | (arr > hi)
+        if lo_open:
+            bad |= arr == lo
+        if hi_open:
+            bad |= arr == hi
+        if not allow_inf:
+            bad |= np.isinf(arr)
+    if bad.any():
+        raise ValueError(f"{msg}, got {float(arr[bad].flat[0])!r}")
+    return arr
+
+
+def _check_contact(contact):
+    if contact not in CONTACTS:
+        raise ValueError(f"contact must be 'rim' or 'thick', got {contact!r}")
+    return contact == "thick"
+
+
+def _check_all(xi, psi, u, omega, diameter, g, contact):
+    thick = _check_contact(contact)
+    xi = _check("xi", xi, 0.0, allow_inf=not thick)
+    psi = _check("psi", psi, 0.0, math.pi, unit="rad")
+    u = _check("u", u, 0.0, 1e100, unit="m/s")
+    omega = _check("omega", omega, 0.0, unit="rad/s")
+    diameter = _check("diameter", diameter, 0.0, lo_open=True, unit="m")
+    g = _check("g", g, 0.0, lo_open=True, unit="m/s^2")
+    return xi, psi, u, omega, diameter, g, thick
+
+
+# --------------------------------------------------------------------------- geometry
+
+
+def default_z0(xi, diameter=DEFAULT_DIAMETER, contact="rim"):
+    """Launch height of the centre: ``(sqrt 3 / 2) a`` (eq. 5), plus ``h / 2`` for thick contact."""
+    thick = _check_contact(contact)
+    a = diameter / 2
+    return _SQRT3_2 * a + (xi * diameter / 2 if thick else 0.0)
+
+
+def alpha_at(psi, theta):
+    r"""The tilt ``alpha`` of the normal from the vertical after precessing by ``theta`` (eq. 3).
+
+    ``sin(alpha/2) = sin psi |sin(theta/2)|`` (from ``1 - cos alpha = B (1 - cos theta)``), with
+    ``cos(alpha/2) = hypot(cos(theta/2), cos psi sin(theta/2))``; ``alpha = 2 atan2(.,.)``.
+    Scalars or arrays (numpy only for arrays).
+    """
+    if isinstance(psi, (int, float)) and isinstance(theta, (int, float)):
+        sh = abs(math.sin(0.5 * theta))
+        return 2.0 * math.atan2(math.sin(psi) * sh, math.hypot(math.cos(0.5 * theta),
+                                                                 math.cos(psi) * sh))
+    import numpy as np
+
+    psi = np.asarray(psi, dtype=float)
+    theta = np.asarray(theta, dtype=float)
+    sh = np.abs(np.sin(0.5 * theta))
+    return 2.0 * np.arctan2(np.sin(psi) * sh, np.hypot(np.cos(0.5 * theta), np.cos(psi) * sh))
+
+
+def lowest_point(alpha, diameter=DEFAULT_DIAMETER, xi=0.0, contact="rim"):
+    """Depth of the coin's lowest point below its centre at tilt ``alpha``: ``a sin alpha``
+    (rim) or ``a sin alpha + (h/2)|cos alpha|`` (thick)."""
+    thick = _check_contact(contact)
+    a = diameter / 2
+    if isinstance(alpha, (int, float)):
+        return a * math.sin(alpha) + (xi * diameter / 2 * abs(math.cos(alpha)) if thick else 0.0)
+    import numpy as np
+
+    alpha = np.asarray(alpha, dtype=float)
+    return a * np.sin(alpha) + (xi * diameter / 2 * np.abs(np.cos(alpha)) if thick else 0.0)
+
+
+def classify(alpha_f, xi):
+    """Outcome codes of eq. (7): 0 heads (``alpha_f <= theta0``), 1 sides
+    (``theta0 < alpha_f <= pi - theta0``), 2 tails (``alpha_f > pi - theta0``).
+
+    ``theta0 = atan2(1, xi)`` and ``pi - theta0 = atan2(1, -xi)`` (no rounding of a subtraction).
+    Scalars give an int, arrays an int8 array.
+    """
+    xi = _check("xi", xi, 0.0, allow_inf=True)
+    if isinstance(alpha_f, (int, float)) and isinstance(xi, float):
+        t0, t1 = math.atan2(1.0, xi), math.atan2(1.0, -xi)
+        return HEADS if alpha_f <= t0 else (SIDES if alpha_f <= t1 else TAILS)
+    import numpy as np
+
+    a = np.asarray(alpha_f, dtype=float)
+    t0, t1 = np.arctan2(1.0, xi), np.arctan2(1.0, -np.asarray(xi))
+    return np.where(a <= t0, HEADS, np.where(a <= t1, SIDES, TAILS)).astype(np.int8)
+
+
+@dataclass
+class _Setup:
+    """Everything the root finder needs about one toss (floats) or many (arrays)."""
+
+    om: object
+    sp: object  # sin psi
+    cp: object  # cos psi
+    a: object
+    hh: object  # half thickness entering the contact (0 for rim)
+    z0: object
+    u: object
+    g: object
+    t_end: object  # z(t_end) = 0
+    lmax: object
+    w1: object  # first window [0, w1] (w1 = -1: none)
+    w2s: object  # second window [w2s, t_end]
+    k2: object  # upper bound of F''
+    tol0: object  # absolute accuracy of a computed F at time t: tol0 + tol1 t
+    tol1: object
+    stol: object  # absolute accuracy of a computed F'
+    step: object  # base scan step
+
+
+def _setup(xp, xi, psi, u, om, diameter, g, thick, z0):
+    """Per-toss constants; xp is ``math`` (via coincli._backend.M) or numpy."""
+    a = diameter / 2
+    hh = xi * diameter / 2 if thick else 0.0 * a
+    if z0 is None:
+        z0 = _SQRT3_2 * a + hh
+    sp, cp = xp.sin(psi), xp.cos(psi)
+    # The largest tilt reached is alpha(pi) = 2 min(psi, pi - psi); none without precession.
+    amax = xp.where(om > 0, 2.0 * xp.minimum(psi, math.pi - psi), 0.0)
+    if thick:
+        lmax = xp.where(amax >= xp.atan2(a, hh), xp.hypot(a, hh),
+                        a * xp.sin(amax) + hh * xp.abs(xp.cos(amax)))
+    else:
+        lmax = xp.where(amax >= 0.5 * math.pi, a, a * xp.sin(amax))
+    lmax = lmax * (1.0 + 8 * _EPS)  # a rounded-down bound must not shrink the window
+    t_end = (u + xp.sqrt(u * u + 2.0 * g * z0)) / g
+    d = lmax - z0  # > 0: the launch height is inside the window
+    disc = u * u - 2.0 * g * d
+    root = xp.sqrt(xp.maximum(disc, 0.0))
+    inside = (d > 0) & (disc <= 0)
+    w1 = xp.where(d > 0, 2.0 * d / xp.maximum(u + root, 1e-300), -1.0)
+    w1 = xp.where(inside, -1.0, w1)
+    w2s = xp.where(inside, 0.0, xp.minimum((u + root) / g, t_end))
+    k2 = om * om * sp * (a + hh * sp) - g
+    zscale = z0 + u * u / (2.0 * g)
+    # Rounding: a few ulps of the height scale, plus the phase omega t carried to eps omega t.
+    tol0 = 16 * _EPS * (zscale + 2.0 * lmax)
+    tol1 = 16 * _EPS * lmax * om
+    stol = 16 * _EPS * (u + g * t_end + om * (a + hh) * (1.0 + om * t_end))
+    step = xp.where(om > 0, _TWO_PI / (_CELLS_PER_TURN * xp.maximum(om, 1e-300)), xp.inf)
+    return _Setup(om, sp, cp, a, hh, z0, u, g, t_end, lmax, w1, w2s, k2, tol0, tol1, stol, step)
+
+
+def _M():
+    from coincli._backend import M
+
+    return M
+
+
+# --------------------------------------------------------------------------- F and F' (scalar)
+
+
+def _f_scalar(t, s: _Setup):
+    th = s.om * t
+    sh = abs(math.sin(0.5 * th))
+    ss = s.sp * sh
+    c = math.sqrt(math.cos(0.5 * th) ** 2 + (s.cp * sh) ** 2)
+    low = 2.0 * s.a * ss * c
+    if s.hh:
+        low += s.hh * abs((c - ss) * (c + ss))
+    return s.z0 + t * (s.u - 0.5 * s.g * t) - low
+
+
+def _fprime_scalar(t, s: _Setup):
+    """Right derivative of F at t."""
+    th = s.om * t
+    phi = math.fmod(th, _TWO_PI)
+    sh, ch = math.sin(0.5 * phi), math.cos(0.5 * phi)  # sh >= 0 on [0, 2 pi)
+    ss = s.sp * sh
+    c = math.sqrt(ch * ch + (s.cp * sh) ** 2)
+    dalpha = s.sp * ch / c if c > 0 else -s.sp  # d alpha / d theta, |.| <= sin psi
+    cos_a = (c - ss) * (c + ss)
+    sin_a = 2.0 * ss * c
+    dlow = s.a * cos_a * dalpha
+    if s.hh:
+        dcos = -sin_a * dalpha
+        dlow += s.hh * (math.copysign(1.0, cos_a) * dcos if cos_a != 0 else abs(dcos))
+    return s.u - s.g * t - s.om * dlow
+
+
+# --------------------------------------------------------------------------- F and F' (numpy)
+
+
+def _f_np(np, t, om, sp, cp, a, hh, z0, u, g, thick):
+    th = om * t
+    half = 0.5 * th
+    sh = np.abs(np.sin(half))
+    ch = np.cos(half)
+    ss = sp * sh
+    cs = cp * sh
+    c = np.sqrt(ch * ch + cs * cs)
+    low = 2.0 * a * ss * c
+    if thick:
+        low = low + hh * np.abs((c - ss) * (c + ss))
+    return z0 + t * (u - 0.5 * g * t) - low
+
+
+def _f_fprime_np(np, t, om, sp, cp, a, hh, z0, u, g, thick):
+    th = om * t
+    phi = np.mod(th, _TWO_PI)
+    sh, ch = np.sin(0.5 * phi), np.cos(0.5 * phi)
+    ss = sp * sh
+    cs = cp * sh
+    c = np.sqrt(ch * ch + cs * cs)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        dalpha = np.where(c > 0, sp * ch / c, -sp)
+    cos_a = (c - ss) * (c + ss)
+    sin_a = 2.0 * ss * c
+    low = a * sin_a
+    dlow = a * cos_a * dalpha
+    if thick:
+        low = low + hh * np.abs(cos_a)
+        dcos = -sin_a * dalpha
+        dlow = dlow + hh * np.where(cos_a != 0, np.sign(cos_a) * dcos, np.abs(dcos))
+    return z0 + t * (u - 0.5 * g * t) - low, u - g * t - om * dlow
+
+
+# --------------------------------------------------------------------------- one toss
+
+
+@dataclass(frozen=True)
+class Toss:
+    """One toss: time of flight, turns, final tilt and outcome."""
+
+    t_f: float  #: s, time of flight (first contact with the catch plane z = 0)
+    turns: float  #: omega t_f / (2 pi), precession turns in the air
+    alpha_f: float  #: rad, tilt of the normal at contact
+    theta0: float  #: rad, the static angle atan2(1, xi)
+    vigor: float  #: u omega / g (>> 1 for the closed forms)
+    outcome: str  #: 'heads', 'sides' or 'tails'
+    code: int  #: 0, 1, 2
+    z0: float  #: m, launch height of the centre
+    contact: str  #: 'rim' or 'thick'
+
+
+def flight_time(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, contact="rim",
+                z0=None):
+    """Time of flight ``t_f`` (s): the smallest positive root of ``z(t) - L(alpha(t)) = 0``.
+
+    Parameters are SI scalars: ``psi`` in radians, ``u`` in m/s, ``omega`` in rad/s,
+    ``diameter`` in m.  ``z0`` overrides the launch height (see :func:`default_z0`); it must
+    exceed the initial depth of the lowest point (0 for rim, ``h/2`` for thick).
+    See the module docstring for the algorithm and its guarantee.
+    """
+    s = _scalar_setup(xi, psi, u, omega, diameter, g, contact, z0)
+    return _first_root_scalar(s)
+
+
+def _scalar_setup(xi, psi, u, omega, diameter, g, contact, z0):
+    for name, v in (("xi", xi), ("psi", psi), ("u", u), ("omega", omega),
+                    ("diameter", diameter), ("g", g)):
+        if not isinstance(v, (int, float)) or isinstance(v, bool):
+            raise ValueError(f"{name} must be a number, got {v!r} (use toss_many for arrays)")
+    xi, psi, u, omega, diameter, g, thick = _check_all(xi, psi, u, omega, diameter, g, contact)
+    z0 = _check_z0(z0, xi, diameter, thick)
+    s = _setup(_M(), xi, psi, u, omega, diameter, g, thick, z0)
+    phase = omega * s.t_end
+    if phase > MAX_PHASE:
+        raise ValueError(
+            f"omega * t_end = {phase:.3g} rad exceeds {MAX_PHASE:g} rad, where a double no longer "
+            f"holds the phase; lower omega (got {omega:g} rad/s) or u (got {u:g} m/s)")
+    return s
+
+
+def _check_z0(z0, xi, diameter, thick):
+    if z0 is None:
+        return None
+    z0 = _check("z0", z0, 0.0, lo_open=True, unit="m")
+    floor = xi * diameter / 2 if thick else 0.0
+    if z0 <= floor:
+        raise ValueError(f"z0 must be > h/2 = {floor:g} m for thick contact (the coin would start "
+                         f"below the catch plane), got {z0!r}")
+    return z0
+
+
+def _first_root_scalar(s: _Setup):
+    windows = []
+    if s.w1 >= 0:
+        windows.append((0.0, s.w1))
+    windows.append((s.w2s, s.t_end))
+    for w0, w1 in windows:
+        if w1 <= w0:
+            if _f_scalar(w0, s) <= 0:
+                return w0
+            continue
+        f0 = _f_scalar(w0, s)
+        if f0 <= 0:  # only at a window's start, where everything before is certified
+            return w0
+        step = min(s.step, w1 - w0)
+        n = max(1, math.ceil((w1 - w0) / step))
+        t1, f1 = w0, f0
+        for k in range(1, n + 1):
+            t2 = w1 if k == n else w0 + k * step
+            f2 = _f_scalar(t2, s)
+            if not _excluded(s, t1, t2, f1, f2):
+                r = _refine_scalar(s, t1, t2, f1, f2)
+                if r is not None:
+                    return r
+            t1, f1 = t2, f2
+    # z(t_end) = 0 and L >= 0, so F(t_end) <= 0 up to rounding: contact at t_end at the latest.
+    return s.t_end
+
+
+def _excluded(s, t1, t2, f1, f2):
+    """True when [t1, t2] holds no root that rounding could resolve.
+
+    Either the semi-concave lower bound is positive beyond rounding, or both ends are positive
+    and the curvature allowance is itself below rounding (a dip that shallow is noise).
+    """
+    d = t2 - t1
+    curv = max(s.k2, 0.0) * d * d * 0.125
+    m = min(f1, f2)
+    tol = s.tol0 + s.tol1 * t2
+    return m > 0 and (m - curv > tol or curv <= tol)
+
+
+def _refine_scalar(s, t1, t2, f1, f2):
+    """Leftmost root in [t1, t2] (F(t1) > 0), or None; left-first bisection with exclusion."""
+    stack = [(t1, t2, f1, f2)]
+    while stack:
+        t1, t2, f1, f2 = stack.pop()
+        if _excluded(s, t1, t2, f1, f2):
+            continue
+        d = t2 - t1
+        if f2 <= 0 and _fprime_scalar(t1, s) + max(s.k2, 0.0) * d < -s.stol:
+            return _brentq(s, t1, t2, f2)
+        if d <= 4 * _EPS * t2:  # the last bit of t: a tangency or a root at t2
+            if f2 <= 0:
+                return t2
+            continue
+        tm = t1 + 0.5 * d
+        fm = _f_scalar(tm, s)
+        stack.append((tm, t2, fm, f2))
+        stack.append((t1, tm, f1, fm))
+    return None
+
+
+def _brentq(s, t1, t2, f2):
+    if f2 == 0:
+        return t2
+    from scipy.optimize import brentq
+
+    return brentq(_f_scalar, t1, t2, args=(s,), xtol=1e-300, rtol=4 * _EPS, maxiter=200)
+
+
+def toss(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, contact="rim", z0=None):
+    """Simulate one toss (SI scalars, ``psi`` in radians); return a :class:`Toss`."""
+    s = _scalar_setup(xi, psi, u, omega, diameter, g, contact, z0)
+    t_f = _first_root_scalar(s)
+    alpha_f = alpha_at(float(psi), omega * t_f)
+    code = classify(alpha_f, float(xi))
+    return Toss(
+        t_f=t_f,
+        turns=omega * t_f / _TWO_PI,
+        alpha_f=alpha_f,
+        theta0=math.atan2(1.0, float(xi)),
+        vigor=u * omega / g,
+        outcome=NAMES[code],
+        code=code,
+        z0=float(s.z0),
+        contact=contact,
+    )
+
+
+# --------------------------------------------------------------------------- many tosses
+
+
+@dataclass
+class Tosses:
+    """Many tosses (arrays of one shape)."""
+
+    t_f: object  #: s
+    alpha_f: object  #: rad
+    code: object  #: int8: 0 heads, 1 sides, 2 tails
+
+    def counts(self):
+        """(heads, sides, tails) counts."""
+        import numpy as np
+
+        c = np.bincount(np.asarray(self.code).ravel(), minlength=3)
+        return int(c[0]), int(c[1]), int(c[2])
+
+
+def toss_many(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, contact="rim",
+              z0=None):
+    """Vectorized :func:`toss`: arguments broadcast (numbers or arrays); returns :class:`Tosses`.
+
+    Same model, same certified first-root guarantee as :func:`flight_time`; agrees with it to a
+    few ulps of ``t_f``.  Work is done in batches of 65536 tosses.
+    """
+    import numpy as np
+
+    xi, psi, u, omega, diameter, g, thick = _check_all(xi, psi, u, omega, diameter, g, contact)
+    if z0 is not None:
+        z0 = _check("z0", z0, 0.0, lo_open=True, unit="m")
+        floor = np.asarray(xi) * np.asarray(diameter) / 2 if thick else 0.0
+        if np.any(np.asarray(z0) <= floor):
+            raise ValueError("z0 must be > h/2 for thick contact (the coin would start below the "
+                             "catch plane)")
+    arrs = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (
+        xi, psi, u, omega, diameter, g, 0.0 if z0 is None else z0)))
+    shape = arrs[0].shape
+    xi, psi, u, omega, diameter, g, z0v = (x.ravel() for x in arrs)
+    n = xi.size
+    t_f = np.empty(n)
+    for lo in range(0, n, _CHUNK):
+        sl = slice(lo, min(n, lo + _CHUNK))
+        s = _setup(np, xi[sl], psi[sl], u[sl], omega[sl], diameter[sl], g[sl], thick,
+                   None if z0 is None else z0v[sl])
+        phase = omega[sl] * s.t_end
+        if np.any(phase > MAX_PHASE):
+            k = int(np.argmax(phase > MAX_PHASE))
+            raise ValueError(
+                f"omega * t_end = {phase[k]:.3g} rad exceeds {MAX_PHASE:g} rad, where a double no "
+                f"longer holds the phase; lower omega (got {omega[sl][k]:g} rad/s) or u "
+                f"(got {u[sl][k]:g} m/s)")
+        t_f[sl] = _first_root_np(np, s, thick)
+    with np.errstate(invalid="ignore"):
+        alpha_f = alpha_at(psi, omega * t_f)
+    code = classify(alpha_f, xi)
+    return Tosses(t_f.reshape(shape), alpha_f.reshape(shape), code.reshape(shape))
+
+
+def _first_root_np(np, s: _Setup, thick):
+    """First root of F for each toss of a batch (1-D arrays in s)."""
+    n = s.t_end.size
+    names = ("om", "sp", "cp", "a", "hh", "z0", "u", "g")
+    full = {k: np.broadcast_to(np.asarray(getattr(s, k), dtype=float), (n,)) for k in names}
+    out = np.full(n, np.nan)
+
+    # State of each toss: front t (F > 0 certified on [0, t]), step d, window end, window index.
+    has_w1 = s.w1 >= 0
+    t = np.where(has_w1, 0.0, s.w2s)
+    wend = np.where(has_w1, s.w1, s.t_end)
+    win = np.where(has_w1, 0, 1)
+    base = np.minimum(s.step, np.maximum(wend - t, 0.0))
+    d = base.copy()
+    idx = np.arange(n)
+    k2p = np.maximum(s.k2, 0.0)
+    tol0, tol1, stol = (np.broadcast_to(v, (n,)) for v in (s.tol0, s.tol1, s.stol))
+    solve = []  # (indices, lo, hi, flo, fhi) of certified cells
+
+    def par(rows):
+        return [full[k][rows] for k in names]
+
+    k = _ZOOM
+    for _round in range(100_000):
+        if idx.size == 0:
+            break
+        ti, di, we = t[idx], d[idx], wend[idx]
+        rem = we - ti
+        with np.errstate(invalid="ignore", divide="ignore"):
+            nc = np.where(di > 0, np.ceil(rem / di), 1.0)
+        nc = np.clip(np.nan_to_num(nc, nan=1.0, posinf=k), 1, k).astype(np.int64)
+        npts = nc + 1
+        start = np.cumsum(npts) - npts
+        total = int(npts.sum())
+        row = np.repeat(np.arange(idx.size), npts)
+        j = np.arange(total) - start[row]
+        tt = np.minimum(ti[row] + j * di[row], we[row])
+        g_idx = idx[row]
+        ff = _f_np(np, tt, *par(g_idx), thick)
+        f1, f2 = ff[:-1], ff[1:]
+        dt = tt[1:] - tt[:-1]
+        cell_ok = j[:-1] < nc[row[:-1]]
+        m = np.minimum(f1, f2)
+        curv = k2p[g_idx[:-1]] * dt * dt * 0.125
+        tl = tol0[g_idx[:-1]] + tol1[g_idx[:-1]] * tt[1:]
+        keep = cell_ok & ~((m > 0) & ((m - curv > tl) | (curv <= tl)))
+        pos = np.where(keep, np.arange(total - 1), total)
+        first = np.minimum.reduceat(np.append(pos, total), start)
+        found = first < total
+
+        # Tosses whose cells were all excluded: move the front to the last point, zoom out.
+        nf = ~found
+        if nf.any():
+            r = idx[nf]
+            last = start[nf] + npts[nf] - 1
+            t[r] = tt[last]
+            d[r] = np.minimum(d[r] * k, base[r])
+
+        if found.any():
+            r = idx[found]
+            c = first[found]
+            t1, t2, fa, fb = tt[c], tt[c + 1], ff[c], ff[c + 1]
+            now = fa <= 0  # the front itself (a window's start): contact there
+            out[r[now]] = t1[now]
+            rest = ~now
+            r, t1, t2, fa, fb = r[rest], t1[rest], t2[rest], fa[rest], fb[rest]
+            dd = t2 - t1
+            _, fp = _f_fprime_np(np, t1, *par(r), thick)
+            cert = (fb <= 0) & (fp + k2p[r] * dd < -stol[r])
+            if cert.any():
+                solve.append((r[cert], t1[cert], t2[cert], fa[cert], fb[cert]))
+                out[r[cert]] = -1.0  # pending
+            unres = ~cert
+            r, t1, t2, fb, dd = r[unres], t1[unres], t2[unres], fb[unres], dd[unres]
+            tiny = dd <= 4 * _EPS * t2
+            hit = tiny & (fb <= 0)
+            out[r[hit]] = t2[hit]
+            pass_ = tiny & ~hit  # a tangency below the resolution of t: step over it
+            rp = r[pass_]
+            t[rp] = t2[pass_]
+            d[rp] = np.minimum(d[rp] * k, base[rp])
+            zoom = ~tiny
+            rz = r[zoom]
+            t[rz] = t1[zoom]
+            d[rz] = dd[zoom] / k
+
+        # Fronts that reached the end of their window: on to the second window, or done.
+        idx = np.flatnonzero(np.isnan(out))
+        ended = idx[t[idx] >= wend[idx]]
+        if ended.size:
+            first_win = win[ended] == 0
+            nxt, last_win = ended[first_win], ended[~first_win]
+            t[nxt] = s.w2s[nxt]
+            wend[nxt] = s.t_end[nxt]
+            win[nxt] = 1
+            base[nxt] = np.minimum(s.step[nxt], s.t_end[nxt] - s.w2s[nxt])
+            d[nxt] = base[nxt]
+            # A second window of zero length (no tilt: L = Lmax = 0) ends at t_end; the end of
+            # the second window is contact: F(t_end) = -L <= 0 up to rounding.
+            fin = np.concatenate([nxt[base[nxt] <= 0], last_win])
+            out[fin] = s.t_end[fin]
+            idx = np.flatnonzero(np.isnan(out))
+    else:  # pragma: no cover - a bug, never a slow toss
+        raise RuntimeError("toss_many: the root scan did not terminate")
+
+    if solve:
+        r = np.concatenate([x[0] for x in solve])
+        lo, hi, flo, fhi = (np.concatenate([x[i] for x in solve]) for i in range(1, 5))
+        out[r] = _newton_bracketed(np, lo, hi, flo, fhi, par(r), thick)
+    return out
+
+
+def _newton_bracketed(np, lo, hi, flo, fhi, params, thick):
+    """The single root of a decreasing F in each [lo, hi] (F(lo) > 0 >= F(hi))."""
+    x = np.where(fhi == 0, hi, lo + (hi - lo) * (flo / (flo - fhi)))
+    x = np.clip(x, lo, hi)
+    done = fhi == 0
+    act = np.flatnonzero(~done)
+    lo, hi = lo.copy(), hi.copy()
+    for _ in range(100):
+        if act.size == 0:
+            break
+        xa = x[act]
+        f, fp = _f_fprime_np(np, xa, *(p[act] for p in params), thick)
+        pos = f > 0
+        lo[act] = np.where(pos, xa, lo[act])
+        hi[act] = np.where(pos, hi[act], xa)
+        la, ha = lo[act], hi[act]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            xn = xa - f / fp
+        bad = ~((xn > la) & (xn < ha)) | ~(fp < 0)
+        xn = np.where(bad, la + 0.5 * (ha - la), xn)
+        conv = (f == 0) | (np.abs(xn - xa) <= 2 * _EPS * xa) | (ha - la <= 4 * _EPS * ha)
+        x[act] = np.where(f == 0, xa, xn)
+        act = act[~conv]
+    return x
+
+
+# --------------------------------------------------------------------------- phase space
+
+
+@dataclass(frozen=True)
+class Boundary:
+    """One boundary curve ``omega(u) = phase / t_star(u)`` in the (u, omega) plane."""
+
+    kind: str  #: 'heads|sides' or 'sides|tails'
+    phase: float  #: omega t_f at the boundary: 2 n pi +- theta1 or 2 n pi +- theta2
+    omega: object  #: ndarray over the u grid (nan where undefined)
+
+    @property
+    def coefficient(self):
+        """``c`` in eq. (10)'s ``omega = c pi g / (2 u)``: ``phase / pi``."""
+        return self.phase / math.pi
+
+
+def _boundary_phases(xi, psi):
+    """Phases theta1 (heads|sides) and theta2 (sides|tails) in (0, pi), or None (Table I)."""
+    c0 = math.cos(math.atan2(1.0, xi))
+    A, B = math.cos(psi) ** 2, math.sin(psi) ** 2
+    if B == 0:
+        return None, None
+    x1 = (c0 - A) / B
+    x2 = (-c0 - A) / B
+    th1 = math.acos(x1) if -1 < x1 < 1 else None
+    th2 = math.acos(x2) if -1 < x2 < 1 else None
+    return th1, th2
+
+
+def hyperbolae(xi, psi, u, omega_max, *, g=STANDARD_G, exact=False, diameter=DEFAULT_DIAMETER,
+               contact="rim", z0=None, max_curves=4000):
+    r"""The outcome boundaries of Fig. 3 as curves over the ``u`` grid.
+
+    The boundaries are where contact happens exactly at ``alpha_f = theta0`` (heads|sides) or
+    ``pi - theta0`` (sides|tails): ``omega t_f = 2 n pi +- theta1`` or ``2 n pi +- theta2``
+    (``theta1``, ``theta2`` of Table I; for ``psi = pi/2`` they are ``theta0`` and
+    ``pi - theta0``).  With the vigorous ``t_f = 2u/g`` this is eq. (10):
+
+    .. math:: \omega_N = \left(2n \pm \tfrac{\theta_0}{\pi}\right)\frac{\pi g}{2u},\qquad
+              \omega_N = \left(2n + 1 \pm \tfrac{\theta_0}{\pi}\right)\frac{\pi g}{2u}
+
+    (``theta0/pi = 1/3`` for ``xi = 1/sqrt 3``).  ``exact=True`` uses instead the time at which
+    the descending centre is at the contact height ``L(theta0)`` (``a sin theta0``, or
+    ``hypot(a, h/2)`` for a thick coin): ``t* = (u + sqrt(u^2 + 2 g (z0 - L)))/g``.  For the fair
+    coin with the paper's ``z0 = a sin theta0`` this *is* ``2u/g``: eq. (10) is then exact
+    wherever that contact is the first one, i.e. for ``omega a / u`` small.
+
+    Returns a list of :class:`Boundary`, sorted by phase, with ``omega`` over ``u`` (an array;
+    NaN where ``t*`` is undefined, and at ``u = 0`` for eq. 10).  Only curves reaching below
+    ``omega_max`` somewhere on the grid are returned, at most ``max_curves``.
+    """
+    import numpy as np
+
+    thick = _check_contact(contact)
+    xi = _check("xi", xi, 0.0, allow_inf=not thick)
+    psi = _check("psi", psi, 0.0, math.pi, unit="rad")
+    g = _check("g", g, 0.0, lo_open=True, unit="m/s^2")
+    u = np.atleast_1d(_check("u", u, 0.0, unit="m/s"))
+    omega_max = _check("omega_max", omega_max, 0.0, unit="rad/s")
+    th1, th2 = _boundary_phases(xi, psi)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        if exact:
+            a = diameter / 2
+            hh = xi * diameter / 2 if thick else 0.0
+            zz = default_z0(xi, diameter, contact) if z0 is None else z0
+            low = math.hypot(a, hh) if thick else a * math.sin(math.atan2(1.0, xi))
+            rad = u * u + 2 * g * (zz - low)
+            tstar = np.where(rad >= 0, (u + np.sqrt(np.maximum(rad, 0))) / g, np.nan)
+        else:
+            tstar = np.where(u > 0, 2 * u / g, np.nan)
+    tmax = np.nanmax(tstar) if np.any(np.isfinite(tstar)) else 0.0
+    phase_max = omega_max * tmax
+    out = []
+    for kind, th in (("heads|sides", th1), ("sides|tails", th2)):
+        if th is None:
+            continue
+        n = 0
+        while 2 * n * math.pi - th <= phase_max and len(out) < 2 * max_curves:
+            for ph in (2 * n * math.pi - th, 2 * n * math.pi + th):
+                if 0 < ph <= phase_max:
+                    with np.errstate(divide="ignore", invalid="ignore"):
+                        out.append(Boundary(kind, ph, ph / tstar))
+            n += 1
+    out.sort(key=lambda b: b.phase)
+    return out[:max_curves]
+
+
+@dataclass
+class PhaseMap:
+    """Outcome codes on a grid of (u, omega), with the boundary curves."""
+
+    u: object  #: (nu,) m/s, cell centres
+    omega: object  #: (nw,) rad/s, cell centres
+    codes: object  #: (nw, nu) int8: rows omega (ascending), columns u
+    xi: float
+    psi: float
+    contact: str
+    curves: list = field(default_factory=list)  #: eq. (10) boundaries (:func:`hyperbolae`)
+
+    def fractions(self):
+        """Fractions of the grid that land heads, sides, tails."""
+        import numpy as np
+
+        c = np.bincount(np.asarray(self.codes).ravel(), minlength=3) / self.codes.size
+        return Outcome(float(c[0]), float(c[1]), float(c[2]))
+
+
+def phase_map(xi, psi, u_range, omega_range, shape=(200, 200), *, diameter=DEFAULT_DIAMETER,
+              g=STANDARD_G, contact="rim", z0=None, exact_curves=False):
+    """The pre-images of heads, sides and tails (Fig. 3) on a ``shape = (nu, nomega)`` grid.
+
+    ``u_range = (u_lo, u_hi)`` in m/s, ``omega_range`` in rad/s; the grid samples cell centres.
+    Curves are :func:`hyperbolae` over the same u grid (eq. 10 unless ``exact_curves``).
+    """
+    import numpy as np
+
+    nu, nw = (int(v) for v in shape)
+    if nu < 1 or nw < 1 or nu * nw > 50_000_000:
+        raise ValueError(f"shape must be two positive sizes with at most 5e7 cells, got {shape!r}")
+    (u0, u1), (w0, w1) = _range("u", u_range, "m/s"), _range("omega", omega_range, "rad/s")
+    u = u0 + (np.arange(nu) + 0.5) * (u1 - u0) / nu
+    w = w0 + (np.arange(nw) + 0.5) * (w1 - w0) / nw
+    res = toss_many(xi, psi, u[None, :], w[:, None], diameter=diameter, g=g, contact=contact,
+                    z0=z0)
+    curves = hyperbolae(xi, psi, u, w1, g=g, exact=exact_curves, diameter=diameter,
+                        contact=contact, z0=z0)
+    return PhaseMap(u, w, res.code, float(xi), float(psi), contact, curves)
+
+
+def _range(name, r, unit):
+    try:
+        lo, hi = (float(v) for v in r)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} range must be two numbers (low, high), got {r!r}") from None
+    if not (math.isfinite(lo) and math.isfinite(hi) and 0 <= lo < hi):
+        raise ValueError(f"{name} range must satisfy 0 <= low < high (finite, {unit}), "
+                         f"got ({lo:g}, {hi:g})")
+    return lo, hi
+
+
+# --------------------------------------------------------------------------- distributions
+
+
+_NUM = r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?"
+_NUM_RE = re.compile(_NUM)
+
+
+@dataclass(frozen=True)
+class Dist:
+    """A fixed value or a distribution of one initial condition.
+
+    ``kind`` is 'fixed' (``p1``), 'normal' (mean ``p1``, sd ``p2``, truncated to the quantity's
+    allowed range ``[lo, hi]``) or 'uniform' (``[p1, p2]``).
+    """
+
+    kind: str
+    p1: float
+    p2: float = 0.0
+    lo: float = -math.inf
+    hi: float = math.inf
+
+    def __str__(self):
+        if self.kind == "fixed":
+            return f"{self.p1:g}"
+        return f"{self.kind}:{self.p1:g}:{self.p2:g}"
+
+    @property
+    def is_fixed(self):
+        return self.kind == "fixed" or (self.kind == "normal" and self.p2 == 0) or (
+            self.kind == "uniform" and self.p1 == self.p2)
+
+    def scaled(self, factor):
+        """The same distribution in other units (e.g. degrees to radians): all values times
+        ``factor > 0``."""
+        f = float(factor)
+        return Dist(self.kind, self.p1 * f, self.p2 * f, self.lo * f, self.hi * f)
+
+    def sample(self, rng, n):
+        """``n`` draws (a float for a fixed value) from a numpy Generator."""
+        import numpy as np
+
+        if self.kind == "fixed":
+            return self.p1
+        if self.kind == "uniform":
+            if self.p1 == self.p2:
+                return self.p1
+            return rng.uniform(self.p1, self.p2, n)
+        mu, sd = self.p1, self.p2
+        if sd == 0:
+            return mu
+        return _truncnorm(np, rng, mu, sd, self.lo, self.hi, n)
+
+    def pdf_interval(self):
+        """The support ``(low, high)`` of the distribution."""
+        if self.kind == "uniform":
+            return self.p1, self.p2
+        if self.kind == "fixed":
+            return self.p1, self.p1
+        return self.lo, self.hi
+
+
+def _truncnorm(np, rng, mu, sd, lo, hi, n):
+    """Normal(mu, sd) truncated to [lo, hi], exact: rejection when the mass is large, else the
+    inverse CDF of scipy.stats.truncnorm."""
+    from statistics import NormalDist
+
+    nd = NormalDist()
+    mass = nd.cdf((hi - mu) / sd) - nd.cdf((lo - mu) / sd) if math.isfinite(hi) or math.isfinite(
+        lo) else 1.0
+    if mass > 0.2:
+        out = np.empty(n)
+        filled = 0
+        while filled < n:
+            draw = rng.normal(mu, sd, max(64, int((n - filled) / mass * 1.1) + 16))
+            draw = draw[(draw >= lo) & (draw <= hi)][: n - filled]
+            out[filled:filled + draw.size] = draw
+            filled += draw.size
+        return out
+    from scipy.stats import truncnorm
+
+    return truncnorm.rvs((lo - mu) / sd, (hi - mu) / sd, loc=mu, scale=sd, size=n,
+                         random_state=rng)
+
+
+_KINDS = {"normal": "normal", "norm": "normal", "gauss": "normal", "uniform": "uniform",
+          "unif": "uniform", "fixed": "fixed"}
+
+
+def parse_dist(spec, name, lo=-math.inf, hi=math.inf, unit=""):
+    """Parse ``"2.4"``, ``"fixed:2.4"``, ``"normal:MEAN:SD"`` or ``"uniform:LOW:HIGH"``.
+
+    ``[lo, hi]`` is the quantity's allowed range (e.g. ``u >= 0``): a fixed value and a uniform
+    interval must lie in it, a normal is truncated to it and must put some mass there.  No
+    ``eval``; numbers are plain decimals.  Raises ValueError naming ``name``.
+    """
+    u = f" {unit}" if unit else ""
+    form = "a number, normal:MEAN:SD or uniform:LOW:HIGH"
+    if isinstance(spec, (int, float)) and not isinstance(spec, bool):
+        parts = [repr(float(spec))]
+        kind = "fixed"
+    else:
+        if not isinstance(spec, str):
+            raise ValueError(f"{name} must be {form}, got {spec!r}")
+        text = spec.strip()
+        parts = [p.strip() for p in text.split(":")]
+        if len(parts) == 1:
+            kind = "fixed"
+        else:
+            kind = _KINDS.get(parts[0].lower())
+            parts = parts[1:]
+            if kind is None:
+                raise ValueError(f"{name}: unknown distribution {spec!r}; expected {form}")
+        want = 1 if kind == "fixed" else 2
+        if len(parts) != want or not all(_NUM_RE.fullmatch(p) for p in parts):
+            raise ValueError(f"{name}: cannot read {spec!r}; expected {form} "
+                             "(plain decimal numbers)")
+    vals = [float(p) for p in parts]
+    if not all(math.isfinite(v) for v in vals):
+        raise ValueError(f"{name}: numbers must be finite, got {spec!r}")
+    rng = f"[{lo:g}, {hi:g}]{u}" if math.isfinite(hi) else f">= {lo:g}{u}"
+    if kind == "fixed":
+        v = vals[0]
+        if not lo <= v <= hi:
+            raise ValueError(f"{name} must be {'in ' if math.isfinite(hi) else ''}{rng}, got "
+                             f"{v:g}")
+        return Dist("fixed", v, 0.0, lo, hi)
+    if kind == "uniform":
+        a, b = vals
+        if not (lo <= a <= b <= hi):
+            raise ValueError(f"{name}: uniform:LOW:HIGH needs LOW <= HIGH, both "
+                             f"{'in ' if math.isfinite(hi) else ''}{rng}; got {spec!r}")
+        return Dist("uniform", a, b, lo, hi)
+    mu, sd = vals
+    if sd < 0:
+        raise ValueError(f"{name}: normal:MEAN:SD needs SD >= 0, got {spec!r}")
+    if sd == 0:
+        if not lo <= mu <= hi:
+            raise ValueError(f"{name} must be {'in ' if math.isfinite(hi) else ''}{rng}, got "
+                             f"{mu:g}")
+        return Dist("normal", mu, 0.0, lo, hi)
+    from statistics import NormalDist
+
+    nd = NormalDist()
+    mass = nd.cdf((hi - mu) / sd) - nd.cdf((lo - mu) / sd)
+    if not mass > 1e-9:
+        raise ValueError(f"{name}: {spec!r} puts no probability in the allowed range {rng}")
+    return Dist("normal", mu, sd, lo, hi)
+
+
+def as_dist(value, name, lo=-math.inf, hi=math.inf):
+    """A :class:`Dist` from a Dist, a number or a spec string."""
+    if isinstance(value, Dist):
+        return value
+    return parse_dist(value, name, lo, hi)
+
+
+_DOMAINS = {"u": (0.0, 1e100), "omega": (0.0, math.inf), "psi": (0.0, math.pi)}
+
+
+def sample_conditions(n, rng, *, u, omega, psi):
+    """Draw ``n`` initial conditions from a numpy Generator (or an int seed).
+
+    ``u`` (m/s), ``omega`` (rad/s) and ``psi`` (radians) are numbers, spec strings or
+    :class:`Dist`.  Normals are truncated to the allowed range (``u, omega >= 0``,
+    ``0 <= psi <= pi``).  Returns a dict of arrays (floats for fixed values).  The draws are made
+    in the order u, omega, psi, so a seed gives the same stream on every run.
+    """
+    import numpy as np
+
+    n = _count(n)
+    rng = np.random.default_rng(rng) if not isinstance(rng, np.random.Generator) else rng
+    out = {}
+    for name, val in (("u", u), ("omega", omega), ("psi", psi)):
+        lo, hi = _DOMAINS[name]
+        dist = as_dist(val, name, lo, hi)
+        if dist.lo < lo or dist.hi > hi:
+            dist = Dist(dist.kind, dist.p1, dist.p2, max(dist.lo, lo), min(dist.hi, hi))
+        out[name] = dist.sample(rng, n)
+    return out
+
+
+def _count(n):
+    if isinstance(n, bool) or not isinstance(n, (int,)) and not (
+            isinstance(n, float) and n.is_integer()):
+        raise ValueError(f"n must be a whole number >= 1, got {n!r}")
+    n = int(n)
+    if not 1 <= n <= 10**10:
+        raise ValueError(f"n must be in [1, 1e10], got {n}")
+    return n
+
+
+def simulate_chunks(n, seed, *, xi, u, omega, psi, diameter=DEFAULT_DIAMETER, g=STANDARD_G,
+                    contact="rim") -> Iterator:
+    """Yield the outcome codes (int8 arrays) of ``n`` seeded tosses, batch by batch.
+
+    Each batch of up to 65536 tosses draws its own initial conditions from one
+    ``numpy.random.default_rng(seed)``, so a seed always gives the same sequence of outcomes,
+    however the caller consumes it.  Arguments as :func:`sample_conditions`; ``xi``,
+    ``diameter``, ``g`` are fixed numbers.
+    """
+    import numpy as np
+
+    n = _count(n)
+    thick = _check_contact(contact)
+    xi = _check("xi", xi, 0.0, allow_inf=not thick)
+    dists = {k: as_dist(v, k, *_DOMAINS[k]) for k, v in (("u", u), ("omega", omega),
+                                                          ("psi", psi))}
+    rng = np.random.default_rng(seed)
+    done = 0
+    while done < n:
+        m = min(_CHUNK, n - done)
+        c = sample_conditions(m, rng, **dists)
+        res = toss_many(xi, c["psi"], c["u"], c["omega"], diameter=diameter, g=g,
+                        contact=contact)
+        code = np.broadcast_to(res.code, (m,))
+        yield code
+        done += m
+
+
+@dataclass(frozen=True)
+class Frequency:
+    """Observed frequency of one outcome with its Wilson score interval."""
+
+    outcome: str
+    count: int
+    p: float
+    lo: float
+    hi: float
+
+
+def wilson_interval(k, n, level=0.95):
+    """Wilson score interval for ``k`` successes in ``n`` trials."""
+    if n <= 0:
+        raise ValueError(f"n must be >= 1, got {n}")
+    if not 0 < level < 1:
+        raise ValueError(f"level must be in (0, 1), got {level}")
+    from statistics import NormalDist
+
+    z = NormalDist().inv_cdf(0.5 + level / 2)
+    p = k / n
+    z2 = z * z
+    den = 1 + z2 / n
+    centre = (p + z2 / (2 * n)) / den
+    half = z * math.sqrt(p * (1 - p) / n + z2 / (4 * n * n)) / den
+    return max(0.0, centre - half), min(1.0, centre + half)
+
+
+@dataclass
+class Simulation:
+    """Result of :func:`simulate`."""
+
+    n: int
+    counts: tuple
+    frequencies: list  #: list of :class:`Frequency` (heads, sides, tails)
+    vigorous: Outcome | None  #: closed-form prediction for the same psi distribution
+    level: float = 0.95
+
+
+def simulate(n, seed, *, xi, u, omega, psi, diameter=DEFAULT_DIAMETER, g=STANDARD_G,
+             contact="rim", level=0.95, progress: Callable[[int], None] | None = None):
+    """Toss ``n`` coins with seeded random initial conditions; count the outcomes.
+
+    Returns a :class:`Simulation` with Wilson intervals and :func:`vigorous_limit` for the same
+    psi distribution.  ``progress(done)`` is called after each batch.
+    """
+    counts = [0, 0, 0]
+    import numpy as np
+
+    done = 0
+    for code in simulate_chunks(n, seed, xi=xi, u=u, omega=omega, psi=psi, diameter=diameter,
+                                g=g, contact=contact):
+        c = np.bincount(code, minlength=3)
+        for i in range(3):
+            counts[i] += int(c[i])
+        done += code.size
+        if progress is not None:
+            progress(done)
+    freqs = []
+    for i in range(3):
+        lo, hi = wilson_interval(counts[i], done, level)
+        freqs.append(Frequency(NAMES[i], counts[i], counts[i] / done, lo, hi))
+    return Simulation(done, tuple(counts), freqs, vigorous_limit(xi, psi), level)
+
+
+def vigorous_limit(xi, psi):
+    """The vigorous-toss chances (Table I) averaged over a psi distribution (radians).
+
+    ``psi`` is a number, a spec string or a :class:`Dist` on [0, pi].  A fixed value gives
+    :func:`coincli.models.conditional`; otherwise the average is integrated by adaptive
+    quadrature with the regime boundaries ``theta0/2``, ``pi/2 -+ theta0/2``, ... as breakpoints
+    (the chances have square-root corners there).
+    """
+    dist = as_dist(psi, "psi", 0.0, math.pi)
+    xi = _check("xi", xi, 0.0, allow_inf=True)
+    if dist.is_fixed:
+        return conditional(xi, min(max(dist.p1, 0.0), math.pi))
+    from scipy.integrate import quad
+
+    lo, hi = dist.pdf_interval()
+    lo, hi = max(lo, 0.0), min(hi, math.pi)
+    t = math.atan2(1.0, xi) / 2
+    pts = sorted(p for p in (t, math.pi / 2 - t, math.pi / 2, math.pi / 2 + t, math.pi - t)
+                 if lo < p < hi)
+    if dist.kind == "uniform":
+        def w(x):
+            return 1.0 / (hi - lo)
+        norm = 1.0
+    else:
+        mu, sd = dist.p1, dist.p2
+        if lo < mu < hi:
+            pts = sorted({*pts, mu})
+
+        def w(x):
+            return math.exp(-0.5 * ((x - mu) / sd) ** 2)
+        norm = quad(w, lo, hi, points=pts or None, limit=200, epsabs=0, epsrel=1e-12)[0]
+    vals = []
+    for i in (0, 1, 2):
+        vals.append(quad(lambda x, i=i: conditional(xi, x)[i] * w(x), lo, hi, points=pts or None,
+                         limit=200, epsabs=1e-14, epsrel=1e-11)[0] / norm)
+    return Outcome(*vals)
