@@ -148,7 +148,7 @@ class Canvas:
 
 
 def plot_size(width: int | None = None, height: int | None = None,
-              default_rows: int = 20) -> tuple[int, int]:
+              default_rows: int = 21) -> tuple[int, int]:
     """Columns and rows of the plot area: the terminal's width (at most 110 columns)."""
     import shutil
 
