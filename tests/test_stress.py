@@ -225,6 +225,82 @@ def test_theta0_and_dynamic_against_mpmath():
     assert WORST["theta0 rel"][0] < 1e-15
 
 
+# --------------------------------------------------------------------------- psi-averaged models
+
+DENSITIES = ["uniform", "cosine", "normal", "normal:90:18", "normal:90:0.001", "normal:1:1",
+             "normal:179:0.5"]
+
+
+def _marginal_sweep(spec):
+    from coincli.densities import parse_density
+    from coincli.marginal import marginal
+
+    d = parse_density(spec)
+    o = marginal(np.array(XIS), d)
+    h, s, t = (np.asarray(v, dtype=float) for v in o)
+    for xi in (0.0, 1e-300, 0.5, 1e300, math.inf):
+        o1 = marginal(xi, d)
+        assert not any(math.isnan(float(v)) for v in o1), (spec, xi, o1)
+    return h, s, t
+
+
+@pytest.mark.parametrize("spec", DENSITIES)
+def test_marginal_across_600_decades(spec):
+    """No NaN; in [0, 1], summing to 1 and monotone to within 1e-11 (see the strict test)."""
+    h, s, t = _marginal_sweep(spec)
+    tol = 1e-11
+    for name, v in (("heads", h), ("sides", s), ("tails", t)):
+        assert not np.isnan(v).any(), (spec, name)
+        assert ((v >= -tol) & (v <= 1 + tol)).all(), (spec, name, v.max())
+    assert np.abs(h + s + t - 1).max() <= tol, spec
+    assert (np.diff(s) >= -tol).all(), spec
+    _record("marginal max |P - clip(P)|", float(max(np.abs(v - np.clip(v, 0, 1)).max()
+                                                    for v in (h, s, t))), spec)
+    _record("marginal max |sum - 1|", float(np.abs(h + s + t - 1).max()), spec)
+
+
+@pytest.mark.xfail(strict=False, reason="coincli/marginal.py: quadrature rounding gives "
+                   "P(sides) = 1 + a few ulps (up to 1.9e-12 for normal:90:0.001) and ulp-level "
+                   "non-monotone steps for a thick coin; reported, not fixed here")
+@pytest.mark.parametrize("spec", DENSITIES)
+def test_marginal_strictly_in_unit_interval_and_monotone(spec):
+    h, s, t = _marginal_sweep(spec)
+    for v in (h, s, t):
+        assert ((v >= 0) & (v <= 1)).all()
+    assert (np.diff(s) >= 0).all()
+
+
+@pytest.mark.parametrize("spec", ["uniform", "normal"])
+def test_marginal_inverse_across_magnitudes(spec):
+    from coincli.densities import parse_density
+    from coincli.marginal import marginal, marginal_inverse
+
+    d = parse_density(spec)
+    for p in [1e-300, 1e-100, 1e-10, 1e-3, 0.1, 1 / 3, 0.5, 0.9, 1 - 1e-9]:
+        xi = float(marginal_inverse(p, d))
+        assert not math.isnan(xi) and xi >= 0, (spec, p, xi)
+        if math.isfinite(xi):
+            back = float(marginal(xi, d).sides)
+            _record(f"marginal_inverse rel ({spec})", _err(back, p), (p, xi, back))
+
+
+@pytest.mark.parametrize("psi_deg", [1.0, 30.0, 60.0, 90.0, 150.0])
+def test_conditional_inverse_across_magnitudes(psi_deg):
+    from coincli.marginal import conditional_inverse
+
+    psi = math.radians(psi_deg)
+    for p in [0.0, 1e-300, 1e-100, 1e-10, 1e-3, 0.1, 1 / 3, 0.5, 0.9, 1 - 1e-9]:
+        try:
+            xi = float(conditional_inverse(p, psi))
+        except ValueError:
+            continue  # unreachable chance for this psi: a clean error is fine
+        assert not math.isnan(xi) and xi >= 0, (psi_deg, p, xi)
+        if math.isfinite(xi) and p >= 1e-10:  # below, the chance ~ sqrt(distance to the
+            # boundary xi) is finer than the doubles near it: sides(xi) may round to 0
+            back = float(models.conditional(xi, psi).sides)
+            _record("conditional_inverse rel", _err(back, p), (psi_deg, p, xi, back))
+
+
 def test_zz_print_worst_errors(capsys):
     with capsys.disabled():
         print("\nworst errors against mpmath (50 digits):")
