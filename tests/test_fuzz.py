@@ -187,15 +187,24 @@ def check_outcome(argv, code, out, err):
     if "--quiet" in argv or "-q" in argv or not out:
         return
     if fmt == "json":
-        _check_json(json.loads(out), out, where)
+        _check_json(strict_json(out), out, where)
     elif fmt == "jsonl":
         for line in out.splitlines():
-            _check_json(json.loads(line), line, where)
+            _check_json(strict_json(line), line, where)
     elif fmt in ("csv", "tsv"):
         rows = list(csv.reader(io.StringIO(out), delimiter="," if fmt == "csv" else "\t"))
         assert rows, where
         width = len(rows[0])
         assert all(len(r) == width for r in rows), f"ragged {fmt} for {where}"
+
+
+def _reject_constant(name):
+    raise ValueError(f"{name} is not JSON (RFC 8259)")
+
+
+def strict_json(text):
+    """json.loads that refuses NaN / Infinity / -Infinity, as jq and JSON.parse do."""
+    return json.loads(text, parse_constant=_reject_constant)
 
 
 def _format_of(argv):
@@ -305,6 +314,18 @@ def test_json_round_trip_of_printed_floats(capsys, monkeypatch):
             if isinstance(v, float):
                 assert float(c[k]) == v  # csv and json print the same double
                 assert math.isfinite(v)
+
+
+@pytest.mark.parametrize("fmt", ["json", "jsonl"])
+def test_json_is_strict_for_infinite_values(fmt, capsys, monkeypatch):
+    # was: "xi": Infinity (Python's json default), which jq and JSON.parse reject
+    for argv in (["design", "--p-sides", "1"], ["table", "--xi", "inf"]):
+        code, out, err = run_case([*argv, "--format", fmt], b"", capsys, monkeypatch)
+        assert code == 0
+        rows = [strict_json(line) for line in out.splitlines()] if fmt == "jsonl" else \
+            strict_json(out)
+        assert any(r.get("xi") == "inf" for r in rows)
+        assert float("inf") == float(rows[0]["xi"])
 
 
 def test_large_stdin_stream(capsys, monkeypatch):

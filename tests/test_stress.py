@@ -295,7 +295,7 @@ def test_conditional_inverse_across_magnitudes(psi_deg):
         except ValueError:
             continue  # unreachable chance for this psi: a clean error is fine
         assert not math.isnan(xi) and xi >= 0, (psi_deg, p, xi)
-        if math.isfinite(xi) and p >= 1e-10:  # below, the chance ~ sqrt(distance to the
+        if math.isfinite(xi) and p >= 1e-6:  # below, the chance ~ sqrt(distance to the
             # boundary xi) is finer than the doubles near it: sides(xi) may round to 0
             back = float(models.conditional(xi, psi).sides)
             _record("conditional_inverse rel", _err(back, p), (psi_deg, p, xi, back))

@@ -160,8 +160,10 @@ def _json_value(v):
             v = v.item()
         elif isinstance(v, float):
             v = float(v)
-    if isinstance(v, float) and math.isnan(v):
-        return None
+    if isinstance(v, float) and not math.isfinite(v):
+        # JSON has no NaN or Infinity (RFC 8259; jq and JSON.parse reject them): NaN is null,
+        # +-inf the strings "inf" / "-inf" that float() reads back, as in csv.
+        return None if math.isnan(v) else ("inf" if v > 0 else "-inf")
     return v
 
 
@@ -211,9 +213,9 @@ def emit(result: Result, fmt: str = "table", quiet: bool = False, out=None) -> N
         objs = [{n: _json_value(v) for n, v in zip(names, row, strict=True)} for row in
                 result.rows]
         if fmt == "json":
-            out.write(json.dumps(objs, indent=2) + "\n")
+            out.write(json.dumps(objs, indent=2, allow_nan=False) + "\n")
         else:
-            out.write("".join(json.dumps(o) + "\n" for o in objs))
+            out.write("".join(json.dumps(o, allow_nan=False) + "\n" for o in objs))
     elif stdout_is_terminal() and out is sys.stdout:
         _rich_table(result)
     else:
