@@ -769,55 +769,96 @@ class PhaseData:
 
     xi: float
     psi_deg: float
-    u: object  #: cell centres along the launch speed (ndarray, nx)
-    omega: object  #: cell centres along the spin (ndarray, ny)
-    outcome: object  #: (ny, nx) int codes: 0 heads, 1 sides, 2 tails
-    curves: list = field(default_factory=list)  #: [(label, u ndarray, omega ndarray)]
-    u_label: str = "launch speed u"
-    omega_label: str = "spin ω"
+    u: object  #: cell centres along the launch speed, m/s (ndarray, nu)
+    omega: object  #: cell centres along the spin, rad/s (ndarray, nw)
+    outcome: object  #: (nw, nu) codes of :func:`coincli.toss.toss_many`: 0 heads, 1 sides, 2 tails
+    curves: list = field(default_factory=list)  #: :class:`coincli.toss.Boundary` over ``u``
+    fractions: object = None  #: Outcome: the share of the grid's cells of each outcome
+    vigorous: object = None  #: Outcome: the vigorous limit (Table I at this xi and psi)
     marks: list = field(default_factory=list)  #: [(u, omega)] the user's tosses
-    note: str = ""
+    exact_curves: bool = False
+    u_range: tuple = (0.0, 2.0)  #: the plotted range, m/s (the outer cells' edges)
+    omega_range: tuple = (0.0, 60.0)
+    u_label: str = "launch speed u (m/s)"
+    omega_label: str = "precession rate ω (rad/s)"
 
 
 OUTCOME_CODES = ("heads", "sides", "tails")
+DEFAULT_U_RANGE = (0.0, 2.0)  #: m/s
+DEFAULT_OMEGA_RANGE = (0.0, 60.0)  #: rad/s
 
 
-def phase_data(*args, **kwargs) -> PhaseData:  # pragma: no cover - replaced below if toss exists
-    raise NotImplementedError("the finite-vigor toss (coincli.toss) is not available yet")
+def phase_data(xi: float = models.FAIR_XI_DYNAMIC, psi_deg: float = 90.0, *,
+               u_range=DEFAULT_U_RANGE, omega_range=DEFAULT_OMEGA_RANGE, nu: int = 400,
+               nw: int = 400, marks=(), exact_curves: bool = False, **toss_options) -> PhaseData:
+    """Fig. 3: the outcome of each (u, omega) cell by :func:`coincli.toss.phase_map`.
+
+    ``toss_options`` go to it (``diameter`` in m, ``g``, ``contact``, ``z0``).  The boundary
+    curves are eq. (10) (or the exact contact-time curves with ``exact_curves``).
+    """
+    from coincli import toss
+
+    psi_deg = float(psi_deg)
+    if not 0.0 <= psi_deg <= 180.0:
+        raise ValueError(f"psi must be an angle in [0, 180] degrees, got {psi_deg:g}")
+    psi = math.pi if psi_deg == 180.0 else math.radians(psi_deg)
+    pm = toss.phase_map(xi, psi, u_range, omega_range, (int(nu), int(nw)),
+                        exact_curves=exact_curves, **toss_options)
+    return PhaseData(float(xi), psi_deg, pm.u, pm.omega, pm.codes, list(pm.curves),
+                     pm.fractions(), models.conditional(float(xi), psi),
+                     [(float(a), float(b)) for a, b in marks], exact_curves,
+                     tuple(map(float, u_range)), tuple(map(float, omega_range)))
 
 
-def phase_figure(data: PhaseData, *, width: float = 7.0, height: float = 5.5,
+def phase_figure(data: PhaseData, *, width: float = 9.5, height: float = 5.5,
                  title: str | None = None):
-    """Fig. 3: the pre-images of heads, sides and tails over (u, omega), eq. 10's hyperbolae."""
+    """Fig. 3: the pre-images of heads (white), sides (black) and tails (blue) over (u, omega),
+    with the boundary curves of eq. (10) dashed."""
     import numpy as np
 
     with _style():
-        fig = _new_figure(width, height)
-        ax = fig.add_subplot()
         from matplotlib.colors import BoundaryNorm, ListedColormap
+        from matplotlib.lines import Line2D
         from matplotlib.patches import Patch
 
-        cmap = ListedColormap(["#FFFFFF", "#1A1A1A", OKABE_ITO["sky"]])
+        fig = _new_figure(width, height)
+        ax = fig.add_subplot()
+        colours = PHASE_COLOURS
+        cmap = ListedColormap([colours["heads"], colours["sides"], colours["tails"]])
         ax.pcolormesh(data.u, data.omega, np.asarray(data.outcome, dtype=float),
                       shading="nearest", cmap=cmap, norm=BoundaryNorm([-0.5, 0.5, 1.5, 2.5], 3),
                       rasterized=True, gid="mesh:phase")
-        for k, (label, cu, co) in enumerate(data.curves):
-            ax.plot(cu, co, color=OKABE_ITO["vermillion"], linewidth=0.9, linestyle="--",
-                    gid=f"hyperbola:{k}", label=label if k == 0 else None, zorder=3)
+        styles = {"heads|sides": (OKABE_ITO["orange"], (0, (4, 2))),
+                  "sides|tails": (OKABE_ITO["vermillion"], (0, (1, 1.5)))}
+        for k, b in enumerate(data.curves):
+            colour, ls = styles.get(b.kind, (OKABE_ITO["orange"], "--"))
+            ax.plot(data.u, b.omega, color=colour, linewidth=0.9, linestyle=ls, zorder=3,
+                    gid=f"hyperbola:{k}")
         for k, (mu, mo) in enumerate(data.marks):
-            ax.plot([mu], [mo], marker="D", markersize=7, color=OKABE_ITO["orange"],
-                    markeredgecolor="black", linestyle="none", gid=f"design:{k}", zorder=5,
-                    label="your toss" if k == 0 else None)
-        handles = [Patch(facecolor="#FFFFFF", edgecolor="0.3", label="heads"),
-                   Patch(facecolor="#1A1A1A", edgecolor="0.3", label="sides"),
-                   Patch(facecolor=OKABE_ITO["sky"], edgecolor="0.3", label="tails")]
-        h2, l2 = ax.get_legend_handles_labels()
-        ax.legend(handles=handles + h2, labels=["heads", "sides", "tails", *l2],
-                  loc="upper right", fontsize=8, framealpha=0.9)
-        ax.set_xlim(float(np.min(data.u)), float(np.max(data.u)))
-        ax.set_ylim(float(np.min(data.omega)), float(np.max(data.omega)))
+            ax.plot([mu], [mo], marker="D", markersize=7, color=OKABE_ITO["yellow"],
+                    markeredgecolor="black", linestyle="none", gid=f"design:{k}", zorder=5)
+        f = data.fractions
+        handles = [Patch(facecolor=colours[n], edgecolor="0.3",
+                         label=f"{n}: {getattr(f, n):.1%} of the plotted area")
+                   for n in OUTCOME_CODES]
+        src = "contact-time curves" if data.exact_curves else "eq. 10, t_f = 2u/g"
+        handles += [Line2D([], [], color=c, linestyle=ls, label=f"{kind} boundary ({src})")
+                    for kind, (c, ls) in styles.items()
+                    if any(b.kind == kind for b in data.curves)]
+        if data.marks:
+            handles.append(Line2D([], [], marker="D", color=OKABE_ITO["yellow"],
+                                  markeredgecolor="black", linestyle="none", label="your toss"))
+        fig.legend(handles=handles, loc="outside right upper", fontsize=8, frameon=False,
+                   title=f"vigorous limit (Table I):\nheads {data.vigorous.heads:.3f}, sides "
+                   f"{data.vigorous.sides:.3f},\ntails {data.vigorous.tails:.3f}",
+                   title_fontsize=8, alignment="left")
+        ax.set_xlim(*data.u_range)
+        ax.set_ylim(*data.omega_range)
         ax.set_xlabel(data.u_label)
         ax.set_ylabel(data.omega_label)
-        ax.set_title(title or f"Phase space of a toss, ξ = {data.xi:.4g}, ψ = "
+        ax.set_title(title or f"Phase space of a toss: ξ = {data.xi:.4g}, ψ = "
                      f"{data.psi_deg:.4g}° (Yong & Mahadevan, Fig. 3)")
     return fig
+
+
+PHASE_COLOURS = {"heads": "#FFFFFF", "sides": "#1A1A1A", "tails": OKABE_ITO["sky"]}

@@ -50,14 +50,16 @@ class Canvas:
 
     def col(self, x: float) -> int | None:
         f = self.xfrac(float(x))
-        if not math.isfinite(f) or f < -1e-9 or f > 1 + 1e-9:
+        tol = 0.5 / (self.cols - 1) + 1e-9  # half a cell: the edges of the outer cells
+        if not math.isfinite(f) or f < -tol or f > 1 + tol:
             return None
         return min(max(round(f * (self.cols - 1)), 0), self.cols - 1)
 
     def row(self, y: float) -> int | None:
         lo, hi = self.ylim
         f = (float(y) - lo) / (hi - lo)
-        if not math.isfinite(f) or f < -1e-9 or f > 1 + 1e-9:
+        tol = 0.5 / (self.rows - 1) + 1e-9
+        if not math.isfinite(f) or f < -tol or f > 1 + tol:
             return None
         return self.rows - 1 - min(max(round(f * (self.rows - 1)), 0), self.rows - 1)
 
@@ -173,8 +175,13 @@ def _ticks(lo: float, hi: float, log: bool, n: int = 5):
     if log:
         a, b = math.ceil(math.log10(lo) - 1e-9), math.floor(math.log10(hi) + 1e-9)
         return [(10.0**k, f"{10.0**k:g}") for k in range(a, b + 1)]
-    return [(lo + (hi - lo) * k / (n - 1), f"{lo + (hi - lo) * k / (n - 1):g}")
-            for k in range(n)]
+    out = []
+    for k in range(n):
+        v = lo + (hi - lo) * k / (n - 1)
+        if abs(v) < 1e-9 * (hi - lo):
+            v = 0.0
+        out.append((v, f"{v:.6g}"))
+    return out
 
 
 def text_sides(data, cols: int, rows: int):
@@ -305,7 +312,7 @@ def text_phase(data, cols: int, rows: int):
 
     u = np.asarray(data.u, dtype=float)
     om = np.asarray(data.omega, dtype=float)
-    cv = Canvas(cols, rows, (float(u.min()), float(u.max())), (float(om.min()), float(om.max())))
+    cv = Canvas(cols, rows, (float(u[0]), float(u[-1])), (float(om[0]), float(om[-1])))
     names = ("heads", "sides", "tails")
     codes = np.asarray(data.outcome)
     for i, w in enumerate(om.tolist()):
@@ -316,15 +323,18 @@ def text_phase(data, cols: int, rows: int):
                 continue
             name = names[int(codes[i, j])]
             cv.put(c, r, OUTCOME_CHAR[name], OUTCOME_STYLE[name], 1)
-    legend = [(OUTCOME_CHAR[n], OUTCOME_STYLE[n], n) for n in names]
+    f, v = data.fractions, data.vigorous
+    legend = [(OUTCOME_CHAR[n], OUTCOME_STYLE[n],
+               f"{n}: {getattr(f, n):.1%} of the plotted cells (vigorous limit {getattr(v, n):.3f})")
+              for n in names]
     for mu, mo in data.marks:
         cv.point(mu, mo, "X", DESIGN_STYLE, layer=7)
     if data.marks:
-        legend.append(("X", DESIGN_STYLE, "your toss"))
+        legend.append(("X", DESIGN_STYLE, "your toss: " + ", ".join(
+            f"u = {mu:.4g} m/s, omega = {mo:.4g} rad/s" for mu, mo in data.marks)))
+    (lo_u, hi_u), (lo_w, hi_w) = data.u_range, data.omega_range
     return cv.render(
         title=f"coin plot phase: outcome over launch speed and spin, xi = {data.xi:.4g}, "
               f"psi = {data.psi_deg:.4g} deg (Fig. 3)",
-        xlabel=data.u_label, ylabel=data.omega_label,
-        xticks=_ticks(cv.xlim[0], cv.xlim[1], False), yticks=_ticks(cv.ylim[0], cv.ylim[1],
-                                                                    False),
-        legend=legend, notes=[data.note] if data.note else [])
+        xlabel="launch speed u (m/s)", ylabel="precession rate omega (rad/s)",
+        xticks=_ticks(lo_u, hi_u, False), yticks=_ticks(lo_w, hi_w, False), legend=legend)

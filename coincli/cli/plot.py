@@ -360,3 +360,137 @@ def map_cmd(
     d = _compute(P.map_data, xi_range=rng, log=log, xi_marks=xi_marks, psi_marks_deg=psi_marks)
     fig = P.map_figure(d, style=st, width=width, height=height, title=title)
     target.save(fig, dpi)
+
+
+# --------------------------------------------------------------------------- phase
+
+
+def _pair(text: str | None, what: str, default, unit: str):
+    if text is None:
+        return default
+    parts = text.split(":")
+    if len(parts) != 2:
+        raise usage_error(f"{what} must be LOW:HIGH in {unit}, got {text!r}")
+    try:
+        lo, hi = (parse.parse_number(p, what) for p in parts)
+    except ValueError as exc:
+        raise usage_error(str(exc)) from None
+    if not 0 <= lo < hi:
+        raise usage_error(f"{what} needs 0 <= LOW < HIGH ({unit}), got {text!r}")
+    return lo, hi
+
+
+def _tosses(text: str | None) -> list[tuple[float, float]]:
+    if text is None:
+        return []
+    out = []
+    for item in text.split(","):
+        parts = item.split(":")
+        if len(parts) != 2:
+            raise usage_error(f"--toss must be U:OMEGA (m/s:rad/s), a list a:b,c:d; got {item!r}")
+        try:
+            u, w = (parse.parse_number(p, "--toss") for p in parts)
+        except ValueError as exc:
+            raise usage_error(str(exc)) from None
+        if u < 0 or w < 0:
+            raise usage_error(f"--toss needs u >= 0 and omega >= 0, got {item!r}")
+        out.append((u, w))
+    if len(out) > MAX_MARKS:
+        raise usage_error(f"--toss marks at most {MAX_MARKS} tosses")
+    return out
+
+
+@plot_app.command("phase")
+def phase_cmd(
+    xi: Annotated[
+        str | None, typer.Option("--xi", "-x", help="The coin's aspect ratio h/D (default "
+                                 "1/sqrt 3 = 0.57735, the paper's Fig. 3).")
+    ] = None,
+    psi: Annotated[
+        str, typer.Option("--psi", help="Angle between angular momentum and normal, degrees "
+                          "[0, 180] (default 90: the Keller flip).", metavar="DEG")
+    ] = "90",
+    u_range: Annotated[
+        str | None, typer.Option("--u-range", help="Launch speeds LOW:HIGH in m/s (default "
+                                 "0:2).", metavar="LOW:HIGH")
+    ] = None,
+    omega_range: Annotated[
+        str | None, typer.Option("--omega-range", help="Precession rates LOW:HIGH in rad/s "
+                                 "(default 0:60).", metavar="LOW:HIGH")
+    ] = None,
+    diameter: Annotated[
+        str | None, typer.Option("--diameter", "-d", help="Coin diameter (mm, or with a unit: "
+                                 "0.955in, 2.4cm; default a US quarter, 24.26 mm).")
+    ] = None,
+    contact: Annotated[
+        str, typer.Option("--contact", help="rim (the paper's: the rim of the mid-plane disc "
+                          "touches down) or thick (the lowest corner of the cylinder).")
+    ] = "rim",
+    exact_curves: Annotated[
+        bool, typer.Option("--exact-curves", help="Draw the boundaries at the exact contact "
+                           "time instead of eq. 10's t_f = 2u/g.")
+    ] = False,
+    toss: Annotated[
+        str | None, typer.Option("--toss", help="Mark your toss as U:OMEGA (m/s:rad/s); a list "
+                                 "a:b,c:d for several.", metavar="U:OMEGA")
+    ] = None,
+    resolution: Annotated[
+        int, typer.Option("--resolution", help="Grid cells along each axis of a figure file.",
+                          min=10, max=2000)
+    ] = 400,
+    out: OutOpt = None,
+    terminal: TerminalOpt = False,
+    dpi: DpiOpt = 150.0,
+    width: WidthOpt = None,
+    height: HeightOpt = None,
+    title: TitleOpt = None,
+):
+    """The outcome over launch speed and precession rate for one coin (Fig. 3).
+
+    Each cell is one finite toss (the engine of `coin phase`: the coin starts heads up, flies
+    and is caught at the first contact); the dashed curves are eq. 10's hyperbolae
+    omega = (2n +- theta0/pi) pi g / (2u).  Far from the origin the bands thin out and the
+    shares approach the vigorous limit of Table I.
+
+    Examples: coin plot phase --out phase.png ;  coin plot phase --xi 0.3 --psi 70 --terminal ;
+    coin plot phase --toss 1.2:40 --u-range 0:3 --omega-range 0:100 --out phase.svg
+    """
+    target = _Target(out, terminal)
+    if xi is None:
+        x = 1 / math.sqrt(3)
+    else:
+        try:
+            x = _xi_item(xi, "--xi")
+        except ValueError as exc:
+            raise usage_error(str(exc)) from None
+    try:
+        psi_deg = _deg_item(psi, "--psi")
+    except ValueError as exc:
+        raise usage_error(str(exc)) from None
+    ct = contact.strip().lower()
+    if ct not in ("rim", "thick"):
+        raise usage_error(f"--contact must be rim or thick, got {contact!r}")
+    ur = _pair(u_range, "--u-range", (0.0, 2.0), "m/s")
+    wr = _pair(omega_range, "--omega-range", (0.0, 60.0), "rad/s")
+    dia_m = 0.02426
+    if diameter is not None:
+        try:
+            dia_m = parse.parse_length_mm(diameter, "--diameter") / 1000.0
+        except ValueError as exc:
+            raise usage_error(str(exc)) from None
+    marks = _tosses(toss)
+    target.check_matplotlib()
+    from coincli import plot as P
+
+    def build(nu, nw):
+        return _compute(P.phase_data, x, psi_deg, u_range=ur, omega_range=wr, nu=nu, nw=nw,
+                        marks=marks, exact_curves=exact_curves, diameter=dia_m, contact=ct)
+
+    if target.text:
+        from coincli.textplot import text_phase
+
+        target.text_plot(lambda c, r: text_phase(build(c, r), c, r))
+        return
+    fig = P.phase_figure(build(resolution, resolution), width=width or 9.5,
+                         height=height or 5.5, title=title)
+    target.save(fig, dpi)
