@@ -280,8 +280,9 @@ def _from_offsets(xp, sigma, t, s0, c0, c, u1, u2):
 
 
 def _sqrt_prod(xp, a, b):
-    """sqrt(a b) for a, b >= 0 with one rounding less than sqrt(a) sqrt(b), and no underflow."""
-    return xp.where(b > 2.0**-500, xp.sqrt(a * b), xp.sqrt(a) * xp.sqrt(xp.maximum(b, 0.0)))
+    """sqrt(a b) for a, b >= 0: one rounding less than sqrt(a) sqrt(b), which is kept for tiny a b."""
+    ab = a * b
+    return xp.where(ab > 2.0**-1000, xp.sqrt(ab), xp.sqrt(a) * xp.sqrt(xp.maximum(b, 0.0)))
 
 
 # 2/pi as hi + lo (hi the nearest double).
@@ -351,6 +352,7 @@ def conditional(xi, psi):
                                                  *(a[near] for a in args)), strict=True):
                 a[near] = v
         heads, sides, tails = _from_offsets(xp, *args)
+        tails = xp.minimum(tails, heads)  # theta1 + theta2 >= pi; rounding near psi = pi/2 aside
         if xp is not M:
             heads, sides, tails = (xp.asarray(v, dtype=float) for v in (heads, sides, tails))
         return Outcome(heads, sides, tails)

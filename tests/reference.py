@@ -200,3 +200,76 @@ def ulp_error(computed: float, ref) -> float:
         return math.inf
     with mp.workdps(DPS + 10):
         return float(abs(mpf(computed) - ref) / ulp(ref))
+
+
+# --------------------------------------------------------------------------- input grids
+# Shared by tests/test_accuracy.py and benchmarks/accuracy.py, so that the committed table and the
+# tests measure the same kind of inputs.
+
+BOUNDARY_OFFSETS = (1e-12, 1e-9, 1e-6)  #: relative and absolute distances from each boundary
+
+
+def xi_grid(n_log: int = 121, n_random: int = 200, seed: int = 0) -> list[float]:
+    """0, inf, log-spaced and log-uniform random xi in [1e-300, 1e300], and the fair coins."""
+    import random
+
+    rng = random.Random(seed)
+    out = [0.0, math.inf, 1 / (2 * math.sqrt(2)), 1 / math.sqrt(3), 1.0, 1e-8, 1e8]
+    out += [10.0 ** (-300 + 600 * k / (n_log - 1)) for k in range(n_log)]
+    out += [10.0 ** rng.uniform(-300, 300) for _ in range(n_random)]
+    return out
+
+
+def p_grid(n_log: int = 121, n_random: int = 200, seed: int = 0) -> list[float]:
+    """p in [1e-300, 1 - 2**-53]: log-spaced towards 0 and towards 1, random, plus 0 and 1."""
+    import random
+
+    rng = random.Random(seed)
+    out = [0.0, 1.0, 1 - 2.0**-53, 1 - 2.0**-52, 0.5, math.nextafter(0.5, 1), 1 / 3, 2.0**-1074]
+    out += [10.0 ** (-300 + 300 * k / (n_log - 1)) for k in range(n_log)]  # towards 0
+    out += [1 - 10.0 ** (-15.9 + 15.6 * k / (n_log - 1)) for k in range(n_log)]  # towards 1
+    out += [rng.random() for _ in range(n_random)]
+    out += [10.0 ** rng.uniform(-300, 0) for _ in range(n_random)]
+    out += [1 - 10.0 ** rng.uniform(-16, 0) for _ in range(n_random)]
+    return [p for p in out if 0 <= p <= 1]
+
+
+def boundary_psis(xi: float) -> list[tuple[float, str]]:
+    """(psi, kind) near the four regime boundaries of Table I for this xi.
+
+    kind is ``"boundary"`` for points 1e-12, 1e-9, 1e-6 away (relative and absolute) and
+    ``"adjacent"`` for the doubles nearest to the boundary and their neighbours (closer still).
+    """
+    out = []
+    for b in (float(v) for v in ref_boundaries(xi)):
+        for d in BOUNDARY_OFFSETS:
+            out += [(b * (1 + d), "boundary"), (b * (1 - d), "boundary"),
+                    (b + d, "boundary"), (b - d, "boundary")]
+        p = b
+        q = b
+        for _ in range(3):
+            out += [(p, "adjacent"), (q, "adjacent")]
+            p, q = math.nextafter(p, -1.0), math.nextafter(q, 4.0)
+    return [(p, k) for p, k in out if 0 <= p <= math.pi]
+
+
+def conditional_cases(n_xi_log: int = 25, n_xi_random: int = 15, n_psi_random: int = 8,
+                      seed: int = 0) -> list[tuple[float, float, str]]:
+    """(xi, psi, kind): every boundary neighbourhood for a spread of xi, plus interior points.
+
+    kind is ``"boundary"``, ``"adjacent"`` (see :func:`boundary_psis`) or ``"interior"``.
+    """
+    import random
+
+    rng = random.Random(seed)
+    xis = [0.0, math.inf, 1 / (2 * math.sqrt(2)), 1 / math.sqrt(3), 1.0, 1e-8, 1e8]
+    xis += [10.0 ** (-300 + 600 * k / (n_xi_log - 1)) for k in range(n_xi_log)]
+    xis += [10.0 ** rng.uniform(-300, 300) for _ in range(n_xi_random)]
+    xis += [10.0 ** rng.uniform(-6, 6) for _ in range(n_xi_random)]
+    out = []
+    for xi in xis:
+        out += [(xi, p, k) for p, k in boundary_psis(xi)]
+        specials = [0.0, math.pi / 2, math.pi, 2.0**-1074, 1e-300]
+        out += [(xi, p, "interior") for p in specials]
+        out += [(xi, rng.uniform(0, math.pi), "interior") for _ in range(n_psi_random)]
+    return out
