@@ -288,12 +288,23 @@ def _setup(xp, xi, psi, u, om, diameter, g, thick, z0):
     w1 = xp.where(inside, -1.0, w1)
     w2s = xp.where(inside, 0.0, xp.minimum((u + root) / g, t_end))
     k2 = om * om * sp * (a + hh * sp) - g
+    # The launch window [0, w1] often needs no look: z >= z0 there (the centre is rising) and
+    # alpha <= omega t sin psi (|d alpha / d theta| <= sin psi), so L <= L(min(omega w1 sin psi,
+    # amax)) while L(alpha) increases (up to pi/2 for the rim, theta0 for a thick coin).
+    ab = xp.minimum(om * xp.maximum(w1, 0.0) * sp, amax)
+    if thick:
+        lw1 = xp.where(ab >= xp.atan2(a, hh), xp.hypot(a, hh),
+                       a * xp.sin(ab) + hh * xp.abs(xp.cos(ab)))
+    else:
+        lw1 = xp.where(ab >= 0.5 * math.pi, a, a * xp.sin(ab))
     zscale = z0 + u * u / (2.0 * g)
     # Rounding: a few ulps of the height scale, plus the phase omega t carried to eps omega t.
     tol0 = 16 * _EPS * (zscale + 2.0 * lmax)
     tol1 = 16 * _EPS * lmax * om
     stol = 16 * _EPS * (u + g * t_end + om * (a + hh) * (1.0 + om * t_end))
     step = xp.where(om > 0, _TWO_PI / (_CELLS_PER_TURN * xp.maximum(om, 1e-300)), xp.inf)
+    clear = z0 - lw1 * (1.0 + 8 * _EPS) > 2.0 * (tol0 + tol1 * xp.maximum(w1, 0.0))
+    w1 = xp.where(clear, -1.0, w1)
     return _Setup(om, sp, cp, a, hh, z0, u, g, t_end, lmax, w1, w2s, k2, tol0, tol1, stol, step)
 
 
@@ -577,115 +588,121 @@ def toss_many(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, con
     return Tosses(t_f.reshape(shape), alpha_f.reshape(shape), code.reshape(shape))
 
 
+_PARAMS = ("om", "sp", "cp", "a", "hh", "z0", "u", "g")
+
+
 def _first_root_np(np, s: _Setup, thick):
-    """First root of F for each toss of a batch (1-D arrays in s)."""
+    """First root of F for each toss of a batch (1-D arrays in s).
+
+    Each active toss carries a front ``t`` (``F > 0`` certified on ``[0, t]``), a step ``d`` and
+    its window end.  A round lays at most ``_ZOOM`` cells of width ``d`` from the front (ragged
+    across tosses), moves the front over the excluded ones, and at the first cell that is not
+    excluded either queues it for the solver (certified), zooms in (``d / 8``) or, at the last
+    bit of ``t``, decides.  State is compacted as tosses finish.
+    """
     n = s.t_end.size
-    names = ("om", "sp", "cp", "a", "hh", "z0", "u", "g")
-    full = {k: np.broadcast_to(np.asarray(getattr(s, k), dtype=float), (n,)) for k in names}
     out = np.full(n, np.nan)
-
-    # State of each toss: front t (F > 0 certified on [0, t]), step d, window end, window index.
-    has_w1 = s.w1 >= 0
-    t = np.where(has_w1, 0.0, s.w2s)
-    wend = np.where(has_w1, s.w1, s.t_end)
-    win = np.where(has_w1, 0, 1)
-    base = np.minimum(s.step, np.maximum(wend - t, 0.0))
-    d = base.copy()
-    idx = np.arange(n)
-    k2p = np.maximum(s.k2, 0.0)
-    tol0, tol1, stol = (np.broadcast_to(v, (n,)) for v in (s.tol0, s.tol1, s.stol))
-    solve = []  # (indices, lo, hi, flo, fhi) of certified cells
-
-    def par(rows):
-        return [full[k][rows] for k in names]
-
+    st = {k: np.broadcast_to(np.asarray(getattr(s, k), dtype=float), (n,)).copy()
+          for k in (*_PARAMS, "w2s", "t_end", "tol0", "tol1", "stol", "step")}
+    st["k2p"] = np.maximum(np.broadcast_to(s.k2, (n,)), 0.0)
+    has_w1 = np.broadcast_to(s.w1 >= 0, (n,))
+    st["t"] = np.where(has_w1, 0.0, st["w2s"])
+    st["wend"] = np.where(has_w1, np.broadcast_to(s.w1, (n,)), st["t_end"])
+    st["win"] = np.where(has_w1, 0.0, 1.0)
+    st["base"] = np.minimum(st["step"], np.maximum(st["wend"] - st["t"], 0.0))
+    st["d"] = st["base"].copy()
+    st["gi"] = np.arange(n, dtype=float)
+    solve = []  # (global indices, lo, hi, flo, fhi, params) of certified cells
     k = _ZOOM
+
     for _round in range(100_000):
-        if idx.size == 0:
+        na = st["t"].size
+        if na == 0:
             break
-        ti, di, we = t[idx], d[idx], wend[idx]
-        rem = we - ti
+        ti, di, we = st["t"], st["d"], st["wend"]
         with np.errstate(invalid="ignore", divide="ignore"):
-            nc = np.where(di > 0, np.ceil(rem / di), 1.0)
+            nc = np.where(di > 0, np.ceil((we - ti) / di), 1.0)
         nc = np.clip(np.nan_to_num(nc, nan=1.0, posinf=k), 1, k).astype(np.int64)
         npts = nc + 1
         start = np.cumsum(npts) - npts
-        total = int(npts.sum())
-        row = np.repeat(np.arange(idx.size), npts)
+        total = int(start[-1] + npts[-1])
+        row = np.repeat(np.arange(na), npts)
         j = np.arange(total) - start[row]
         tt = np.minimum(ti[row] + j * di[row], we[row])
-        g_idx = idx[row]
-        ff = _f_np(np, tt, *par(g_idx), thick)
+        ff = _f_np(np, tt, *(st[p][row] for p in _PARAMS), thick)
         f1, f2 = ff[:-1], ff[1:]
         dt = tt[1:] - tt[:-1]
-        cell_ok = j[:-1] < nc[row[:-1]]
+        r1 = row[:-1]
         m = np.minimum(f1, f2)
-        curv = k2p[g_idx[:-1]] * dt * dt * 0.125
-        tl = tol0[g_idx[:-1]] + tol1[g_idx[:-1]] * tt[1:]
-        keep = cell_ok & ~((m > 0) & ((m - curv > tl) | (curv <= tl)))
+        curv = st["k2p"][r1] * dt * dt * 0.125
+        tl = st["tol0"][r1] + st["tol1"][r1] * tt[1:]
+        keep = (j[:-1] < nc[r1]) & ~((m > 0) & ((m - curv > tl) | (curv <= tl)))
         pos = np.where(keep, np.arange(total - 1), total)
         first = np.minimum.reduceat(np.append(pos, total), start)
         found = first < total
+        done = np.zeros(na, dtype=bool)
 
-        # Tosses whose cells were all excluded: move the front to the last point, zoom out.
-        nf = ~found
-        if nf.any():
-            r = idx[nf]
-            last = start[nf] + npts[nf] - 1
-            t[r] = tt[last]
-            d[r] = np.minimum(d[r] * k, base[r])
+        # All cells excluded: the front moves to the last point; zoom back out.
+        nf = np.flatnonzero(~found)
+        st["t"][nf] = tt[start[nf] + npts[nf] - 1]
+        st["d"][nf] = np.minimum(st["d"][nf] * k, st["base"][nf])
 
-        if found.any():
-            r = idx[found]
-            c = first[found]
+        fr = np.flatnonzero(found)
+        if fr.size:
+            c = first[fr]
             t1, t2, fa, fb = tt[c], tt[c + 1], ff[c], ff[c + 1]
             now = fa <= 0  # the front itself (a window's start): contact there
-            out[r[now]] = t1[now]
+            out[st["gi"][fr[now]].astype(np.int64)] = t1[now]
+            done[fr[now]] = True
             rest = ~now
-            r, t1, t2, fa, fb = r[rest], t1[rest], t2[rest], fa[rest], fb[rest]
+            fr, t1, t2, fa, fb = fr[rest], t1[rest], t2[rest], fa[rest], fb[rest]
             dd = t2 - t1
-            _, fp = _f_fprime_np(np, t1, *par(r), thick)
-            cert = (fb <= 0) & (fp + k2p[r] * dd < -stol[r])
+            _, fp = _f_fprime_np(np, t1, *(st[p][fr] for p in _PARAMS), thick)
+            cert = (fb <= 0) & (fp + st["k2p"][fr] * dd < -st["stol"][fr])
             if cert.any():
-                solve.append((r[cert], t1[cert], t2[cert], fa[cert], fb[cert]))
-                out[r[cert]] = -1.0  # pending
-            unres = ~cert
-            r, t1, t2, fb, dd = r[unres], t1[unres], t2[unres], fb[unres], dd[unres]
+                rc = fr[cert]
+                solve.append((st["gi"][rc].astype(np.int64), t1[cert], t2[cert], fa[cert],
+                              fb[cert], [st[p][rc] for p in _PARAMS]))
+                done[rc] = True
+            un = ~cert
+            fr, t1, t2, fb, dd = fr[un], t1[un], t2[un], fb[un], dd[un]
             tiny = dd <= 4 * _EPS * t2
-            hit = tiny & (fb <= 0)
-            out[r[hit]] = t2[hit]
-            pass_ = tiny & ~hit  # a tangency below the resolution of t: step over it
-            rp = r[pass_]
-            t[rp] = t2[pass_]
-            d[rp] = np.minimum(d[rp] * k, base[rp])
+            hit = tiny & (fb <= 0)  # a root at the last bit of t (a tangency or a corner)
+            out[st["gi"][fr[hit]].astype(np.int64)] = t2[hit]
+            done[fr[hit]] = True
+            over = tiny & ~hit  # cannot happen with the noise rule of the exclusion; be safe
+            st["t"][fr[over]] = t2[over]
             zoom = ~tiny
-            rz = r[zoom]
-            t[rz] = t1[zoom]
-            d[rz] = dd[zoom] / k
+            st["t"][fr[zoom]] = t1[zoom]
+            st["d"][fr[zoom]] = dd[zoom] / k
 
-        # Fronts that reached the end of their window: on to the second window, or done.
-        idx = np.flatnonzero(np.isnan(out))
-        ended = idx[t[idx] >= wend[idx]]
-        if ended.size:
-            first_win = win[ended] == 0
-            nxt, last_win = ended[first_win], ended[~first_win]
-            t[nxt] = s.w2s[nxt]
-            wend[nxt] = s.t_end[nxt]
-            win[nxt] = 1
-            base[nxt] = np.minimum(s.step[nxt], s.t_end[nxt] - s.w2s[nxt])
-            d[nxt] = base[nxt]
-            # A second window of zero length (no tilt: L = Lmax = 0) ends at t_end; the end of
-            # the second window is contact: F(t_end) = -L <= 0 up to rounding.
-            fin = np.concatenate([nxt[base[nxt] <= 0], last_win])
-            out[fin] = s.t_end[fin]
-            idx = np.flatnonzero(np.isnan(out))
+        # Fronts at the end of their window: on to the second window, or contact at t_end.
+        ended = ~done & (st["t"] >= st["wend"])
+        if ended.any():
+            e1 = np.flatnonzero(ended & (st["win"] == 0))
+            st["t"][e1] = st["w2s"][e1]
+            st["wend"][e1] = st["t_end"][e1]
+            st["win"][e1] = 1.0
+            st["base"][e1] = np.minimum(st["step"][e1], st["t_end"][e1] - st["w2s"][e1])
+            st["d"][e1] = st["base"][e1]
+            # F(t_end) = -L <= 0 up to rounding: contact there at the latest.  A second window of
+            # zero length (L = Lmax = 0 throughout) ends there too.
+            fin_mask = ended & (st["win"] == 1)
+            fin_mask[e1] = st["base"][e1] <= 0
+            fin = np.flatnonzero(fin_mask)
+            out[st["gi"][fin].astype(np.int64)] = st["t_end"][fin]
+            done[fin] = True
+        if done.any():
+            live = ~done
+            st = {key: v[live] for key, v in st.items()}
     else:  # pragma: no cover - a bug, never a slow toss
         raise RuntimeError("toss_many: the root scan did not terminate")
 
     if solve:
-        r = np.concatenate([x[0] for x in solve])
+        gi = np.concatenate([x[0] for x in solve])
         lo, hi, flo, fhi = (np.concatenate([x[i] for x in solve]) for i in range(1, 5))
-        out[r] = _newton_bracketed(np, lo, hi, flo, fhi, par(r), thick)
+        params = [np.concatenate([x[5][i] for x in solve]) for i in range(len(_PARAMS))]
+        out[gi] = _newton_bracketed(np, lo, hi, flo, fhi, params, thick)
     return out
 
 
@@ -706,11 +723,13 @@ def _newton_bracketed(np, lo, hi, flo, fhi, params, thick):
         hi[act] = np.where(pos, hi[act], xa)
         la, ha = lo[act], hi[act]
         with np.errstate(divide="ignore", invalid="ignore"):
-            xn = xa - f / fp
-        bad = ~((xn > la) & (xn < ha)) | ~(fp < 0)
-        xn = np.where(bad, la + 0.5 * (ha - la), xn)
-        conv = (f == 0) | (np.abs(xn - xa) <= 2 * _EPS * xa) | (ha - la <= 4 * _EPS * ha)
-        x[act] = np.where(f == 0, xa, xn)
+            step = f / fp
+        xn = xa - step
+        ok = (xn >= la) & (xn <= ha) & (fp < 0)
+        # Converged: F is zero, a Newton step below the last bits of t, or a bracket that tight.
+        conv = (f == 0) | (ok & (np.abs(step) <= 2 * _EPS * xa)) | (ha - la <= 4 * _EPS * ha)
+        nxt = np.where(ok, xn, la + 0.5 * (ha - la))  # Newton inside the bracket, else bisect
+        x[act] = np.where((f == 0) | (conv & ~ok), xa, nxt)
         act = act[~conv]
     return x
 
