@@ -137,7 +137,27 @@ class Result:
 
     def __post_init__(self):
         if self.data is not None and not self.rows:
-            self.rows = list(zip(*self.data, strict=True))
+            if len({len(col) for col in self.data}) > 1:
+                raise ValueError("Result.data: columns of different lengths")
+            self.rows = _RowView(self.data)  # rows on demand: csv of a long batch needs none
+
+
+class _RowView(Sequence):
+    """The rows of column data, read on demand (a list of 10^6 tuples costs half a second)."""
+
+    def __init__(self, data):
+        self._data = data
+
+    def __len__(self):
+        return len(self._data[0]) if self._data else 0
+
+    def __getitem__(self, k):
+        if isinstance(k, slice):
+            return list(zip(*(col[k] for col in self._data)))
+        return tuple(col[k] for col in self._data)
+
+    def __iter__(self):
+        return zip(*self._data)
 
 
 def _machine(v):
@@ -199,7 +219,7 @@ def emit(result: Result, fmt: str = "table", quiet: bool = False, out=None) -> N
     names = [c.name for c in result.columns]
     if fmt in ("csv", "tsv"):
         sep = "," if fmt == "csv" else "\t"
-        if result.data is not None:
+        if result.data is not None and isinstance(result.rows, _RowView):
             cols = result.data
         elif result.rows:
             cols = list(zip(*result.rows, strict=True))
@@ -222,6 +242,14 @@ def emit(result: Result, fmt: str = "table", quiet: bool = False, out=None) -> N
         out.write(plain_table(result))
 
 
+class _Empty:
+    """A cell that ``%r`` writes as nothing (None in a float column)."""
+
+    def __repr__(self):
+        return ""
+
+
+_EMPTY = _Empty()
 _CHUNK = 50_000  # rows formatted and written at a time (bounded memory for long batches)
 
 
@@ -241,7 +269,14 @@ def _write_rows(out, cols, sep: str, quote: bool = True) -> None:
         elif kinds == {int}:
             specs.append("%d")
             ready.append(col)
-        else:
+        elif kinds == {float, type(None)}:  # e.g. a neighbour that does not exist: empty cell
+            specs.append("%r")
+            ready.append([_EMPTY if v is None else v for v in col])
+        elif kinds <= {str, type(None)}:  # few distinct texts (a coin, a model): each once
+            specs.append("%s")
+            cells = {v: _csv_cell(_machine(v), sep) if quote else _machine(v) for v in set(col)}
+            ready.append(list(map(cells.__getitem__, col)))
+        else:  # mixed: cell by cell (a set would merge 0.0 with -0.0 and 1 with True)
             specs.append("%s")
             ready.append([_csv_cell(_machine(v), sep) if quote else _machine(v) for v in col])
     template = sep.join(specs)
