@@ -418,13 +418,19 @@ def _model_name(m: Model) -> str:
     return m.key
 
 
+def _deg_item(s, w):
+    """Degrees as typed (checked to lie in [0, 180]); no round trip through radians."""
+    parse.parse_angle_deg(s, w)
+    return parse.parse_number(s, w) + 0.0
+
+
 def _table_vs_psi(xi_text, quarters, coin_name, count, psi_text, fmt, quiet):
     xis, _ = _xi_values(xi_text, quarters, coin_name, count)
     if len(xis) != 1:
         raise usage_error("--vs psi tabulates one coin: give a single --xi (or one count)")
     x = float(xis[0])
     degs = values_option(psi_text or "0:180:15", "--psi",
-                         lambda s, w: math.degrees(parse.parse_angle_deg(s, w)))
+                         lambda s, w: _deg_item(s, w))
     rows = []
     t = math.degrees(models.theta0(x)) / 2
     for d in degs:
