@@ -501,6 +501,8 @@ def sides_figure(data: SidesData, *, width: float = 7.0, height: float = 4.5,
                              markersize=5.5, capsize=3, elinewidth=1.0, zorder=6,
                              label="your tosses: frequency of sides, 95% Wilson interval")
             eb.lines[0].set_gid("data")
+            for k, coll in enumerate(eb.lines[2]):
+                coll.set_gid("data-errorbars" if k == 0 else f"data-errorbars:{k}")
         if data.log:
             ax.set_xscale("log")
         ax.set_xlim(*data.xlim)

@@ -325,7 +325,8 @@ def text_phase(data, cols: int, rows: int):
             cv.put(c, r, OUTCOME_CHAR[name], OUTCOME_STYLE[name], 1)
     f, v = data.fractions, data.vigorous
     legend = [(OUTCOME_CHAR[n], OUTCOME_STYLE[n],
-               f"{n}: {getattr(f, n):.1%} of the plotted cells (vigorous limit {getattr(v, n):.3f})")
+               f"{n}: {getattr(f, n):.1%} of the plotted cells "
+               f"(vigorous limit {getattr(v, n):.3f})")
               for n in names]
     for mu, mo in data.marks:
         cv.point(mu, mo, "X", DESIGN_STYLE, layer=7)

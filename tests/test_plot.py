@@ -1,0 +1,384 @@
+"""coin plot: the figures show the core's numbers, the designs and data where they belong, files
+of each format are written, the text plots work without matplotlib, errors are one line.
+
+No pixel comparisons: the tests read the data back from the figure objects (found by ``gid``).
+"""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from coincli import models
+from coincli.cli import run
+
+TOSSES = """\
+# three experiments: stacks of quarters and a rod
+label,coin,count,diameter,thickness,heads,sides,tails
+one,quarter,1,,,49,1,50
+eight,quarter,8,,,30,36,34
+rod,,,25mm,30mm,10,70,20
+"""
+
+
+def _run(argv, capsys):
+    code = run(argv)
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def _one(fig, gid):
+    found = fig.findobj(lambda a: a.get_gid() == gid)
+    assert len(found) == 1, f"{gid}: {len(found)} artists"
+    return found[0]
+
+
+def _all(fig, prefix):
+    return list(fig.findobj(lambda a: str(a.get_gid() or "").startswith(prefix)))
+
+
+@pytest.fixture
+def no_matplotlib(monkeypatch):
+    """Pretend matplotlib is not installed."""
+    for name in list(sys.modules):
+        if name == "matplotlib" or name.startswith("matplotlib."):
+            monkeypatch.delitem(sys.modules, name)
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+
+
+# --------------------------------------------------------------------------- text plots
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["plot", "sides", "--terminal"], ["P(sides)", "G  geometric", "D  dynamic", "F  fair"]),
+    (["plot", "sides", "--out", "-", "--xi", "0.5", "-p", "1/4", "--log"],
+     ["your design xi = 0.5", "your target P(sides) = 0.25", "log scale"]),
+    (["plot", "psi", "--terminal", "--psi", "70"], ["P(heads)", "regimes (Table I)",
+                                                    "your toss psi = 70 deg"]),
+    (["plot", "map", "--terminal", "--xi", "0.5", "--psi", "80"], ["heads likeliest",
+                                                                   "your design: xi = 0.5"]),
+    (["plot", "phase", "--terminal", "--toss", "1:30"], ["heads:", "vigorous limit 0.333",
+                                                         "your toss: u = 1 m/s"]),
+])
+def test_text_plots(capsys, argv, words):
+    code, out, err = _run(argv, capsys)
+    assert code == 0, err
+    assert err == ""
+    for w in words:
+        assert w in out
+    assert "\x1b[" not in out  # no colour codes in a pipe
+
+
+def test_text_plot_values_are_the_cores():
+    from coincli.plot import psi_data
+    from coincli.textplot import Canvas, text_psi
+
+    d = psi_data(0.577, points=70)
+    text = text_psi(d, 70, 21).plain
+    cv = Canvas(70, 21, (0.0, 180.0), (0.0, 1.0))
+    lines = text.splitlines()[2:23]
+    axis = lines[0].index("+")  # the y axis: the top row carries the tick label 1
+    grid = [line[axis + 1:] for line in lines]
+    assert all(line[axis] in "+|" for line in lines)
+    # heads is drawn last: where the grid shows an H at a psi grid point, the core agrees
+    hits = 0
+    for psi, h in zip(d.psi_deg.tolist(), d.heads.tolist(), strict=True):
+        c, r = cv.col(psi), cv.row(h)
+        if grid[r][c] == "H":
+            hits += 1
+    assert hits >= 60
+
+
+def test_text_plot_without_matplotlib(capsys, no_matplotlib, tmp_path):
+    code, out, err = _run(["plot", "sides", "--out", "-", "--data", str(_tosses(tmp_path))],
+                          capsys)
+    assert code == 0 and err == ""
+    assert "your tosses (3 rows)" in out and "95% Wilson" in out
+    code, out, err = _run(["plot", "psi"], capsys)
+    assert code == 0 and "P(sides)" in out and err == ""
+    assert sys.modules.get("matplotlib") is None
+
+
+@pytest.mark.parametrize("sub", ["sides", "psi", "map", "phase"])
+def test_missing_matplotlib_is_one_line_with_the_hint(capsys, no_matplotlib, tmp_path, sub):
+    path = tmp_path / "f.png"
+    code, out, err = _run(["plot", sub, "--out", str(path)], capsys)
+    assert code == 1 and out == ""
+    assert err.count("\n") == 1 and "pip install 'coincli[plot]'" in err
+    assert not path.exists()
+
+
+# --------------------------------------------------------------------------- errors
+
+
+@pytest.mark.parametrize("argv, code, words", [
+    (["plot", "sides", "--out", "x.jpg"], 2, ".png, .svg or .pdf"),
+    (["plot", "sides", "--out", "x.png", "--terminal"], 2, "not both"),
+    (["plot", "sides", "--xi", "-1"], 2, "--xi"),
+    (["plot", "sides", "-p", "2"], 2, "--p-sides"),
+    (["plot", "sides", "--psi-dist", "normal:90"], 2, "--psi-dist"),
+    (["plot", "sides", "--data", "/nonexistent/t.csv"], 2, "--data"),
+    (["plot", "sides", "--xi-range", "1:0.5"], 2, "--xi-range"),
+    (["plot", "sides", "--log", "--xi-range", "0:2"], 2, "LOW > 0"),
+    (["plot", "psi", "--xi", "abc"], 2, "--xi"),
+    (["plot", "psi", "--psi", "200"], 2, "[0, 180]"),
+    (["plot", "map", "--style", "pie"], 2, "--style"),
+    (["plot", "phase", "--contact", "edge"], 2, "--contact"),
+    (["plot", "phase", "--u-range", "2:1"], 2, "--u-range"),
+    (["plot", "phase", "--toss", "1"], 2, "--toss"),
+    (["plot", "sides", "--dpi", "0"], 2, "--dpi"),
+    (["plot", "nosuch"], 2, "No such command"),
+])
+def test_errors_are_one_line(capsys, argv, code, words):
+    got, out, err = _run(argv, capsys)
+    assert got == code, err
+    assert out == ""
+    assert err.startswith("coin: error: ") and err.count("\n") == 1 and words in err
+    assert "Traceback" not in err
+
+
+def test_bad_data_file_names_the_line(capsys, tmp_path):
+    p = tmp_path / "t.csv"
+    p.write_text("xi,heads,sides,tails\n0.5,1,2,3\n0.5,1,x,3\n")
+    code, out, err = _run(["plot", "sides", "--data", str(p)], capsys)
+    assert code == 2 and "line 3" in err and err.count("\n") == 1
+
+
+def test_unwritable_output_is_exit_1(capsys, tmp_path):
+    pytest.importorskip("matplotlib")
+    code, out, err = _run(["plot", "psi", "--out", str(tmp_path / "no" / "dir" / "f.png")],
+                          capsys)
+    assert code == 1 and err.count("\n") == 1 and "cannot write" in err
+
+
+def test_import_budget():
+    """Registering and asking for help loads neither numpy nor matplotlib nor rich; a text plot
+    does not load matplotlib."""
+    probe = (
+        "import sys\nfrom coincli.cli import run\n"
+        "import coincli.cli.plot\n"
+        "print('A', sorted(m for m in ('numpy','scipy','rich','matplotlib') if m in sys.modules))\n"
+        "run(['plot','psi','--terminal'])\n"
+        "print('B', 'matplotlib' in sys.modules)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                         timeout=120)
+    assert out.returncode == 0, out.stderr
+    lines = out.stdout.strip().splitlines()
+    assert lines[0] == "A []"
+    assert lines[-1] == "B False"
+
+
+# --------------------------------------------------------------------------- figures
+
+mpl = None
+
+
+@pytest.fixture
+def plotmod():
+    global mpl
+    mpl = pytest.importorskip("matplotlib")
+    from coincli import plot
+
+    return plot
+
+
+def test_sides_curves_are_the_cores(plotmod):
+    from coincli.densities import Normal
+    from coincli.marginal import marginal
+
+    dens = Normal(math.pi / 2, math.radians(18))
+    specs = [plotmod.GEOMETRIC, plotmod.DYNAMIC, plotmod.psi_spec(math.radians(60)),
+             plotmod.density_spec(dens)]
+    data = plotmod.sides_data(specs, points=101)
+    fig = plotmod.sides_figure(data)
+    for gid, f in [("geometric", lambda x: models.geometric(x).sides),
+                   ("dynamic", lambda x: models.dynamic(x).sides),
+                   ("psi=60", lambda x: models.conditional(x, math.radians(60)).sides),
+                   (dens.spec, lambda x: marginal(x, dens).sides)]:
+        line = _one(fig, f"curve:{gid}")
+        x, y = np.asarray(line.get_xdata()), np.asarray(line.get_ydata())
+        assert x.size == 101 and x[0] == 0.0 and x[-1] == 2.0
+        np.testing.assert_array_equal(y, f(x))
+    # the fair coins of both models, on their curves at 1/3
+    g, d = _one(fig, "fair:geometric"), _one(fig, "fair:dynamic")
+    assert g.get_xdata()[0] == models.FAIR_XI_GEOMETRIC
+    assert d.get_xdata()[0] == models.FAIR_XI_DYNAMIC
+    assert g.get_ydata()[0] == pytest.approx(1 / 3, abs=1e-15)
+    assert d.get_ydata()[0] == pytest.approx(1 / 3, abs=1e-15)
+    ax = fig.axes[0]
+    assert ax.get_xlabel().startswith("aspect ratio") and ax.get_ylabel() == "P(sides)"
+    assert "Fig. 5a" in ax.get_title()
+
+
+def test_sides_design_marks(plotmod):
+    data = plotmod.sides_data(xi_marks=[0.5], p_marks=[0.25], points=51)
+    fig = plotmod.sides_figure(data)
+    m = _one(fig, "design-xi:0")
+    np.testing.assert_array_equal(m.get_xdata(), [0.5, 0.5])
+    np.testing.assert_array_equal(m.get_ydata(), [models.geometric(0.5).sides,
+                                                  models.dynamic(0.5).sides])
+    assert _one(fig, "design-xi-line:0").get_xdata()[0] == 0.5
+    m = _one(fig, "design-p:0")
+    np.testing.assert_array_equal(m.get_xdata(), [models.geometric_inverse(0.25),
+                                                  models.dynamic_inverse(0.25)])
+    np.testing.assert_array_equal(m.get_ydata(), [0.25, 0.25])
+    # a design beyond the default range widens the axis to show it
+    far = plotmod.sides_data(xi_marks=[5.0], points=11)
+    assert far.xlim[1] >= 5.0 and not far.skipped
+
+
+def test_sides_experiments_with_wilson_bars(plotmod, tmp_path):
+    from coincli.stats import parse_experiments, proportion
+
+    exps = parse_experiments(TOSSES)
+    data = plotmod.sides_data(experiments=plotmod.experiment_points(exps), points=51)
+    fig = plotmod.sides_figure(data)
+    pts = _one(fig, "data")
+    assert list(pts.get_xdata()) == [e.xi for e in exps]
+    assert list(pts.get_ydata()) == [e.counts.sides / e.counts.n for e in exps]
+    bars = _one(fig, "data-errorbars")
+    for seg, e in zip(bars.get_segments(), exps, strict=True):
+        w = proportion(e.counts.sides, e.counts.n).wilson
+        assert seg[0][0] == seg[1][0] == e.xi
+        assert sorted([seg[0][1], seg[1][1]]) == pytest.approx([w.low, w.high], rel=1e-12)
+    assert data.xlim[1] >= 1.2  # the rod (xi = 1.2) is on the axis
+    labels = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    assert any("SSE" in t for t in labels)
+
+
+def test_psi_curves_and_regimes(plotmod):
+    xi = 0.577
+    data = plotmod.psi_data(xi, [70.0], points=181)
+    fig = plotmod.psi_figure(data)
+    for name in ("heads", "sides", "tails"):
+        line = _one(fig, f"curve:{name}")
+        x = np.asarray(line.get_xdata())
+        want = getattr(models.conditional(xi, np.minimum(np.radians(x), math.pi)), name)
+        np.testing.assert_array_equal(line.get_ydata(), want)
+    t = math.degrees(models.theta0(xi)) / 2
+    x = np.asarray(_one(fig, "curve:heads").get_xdata())
+    for b in (t, 90 - t, 90 + t, 180 - t):
+        assert b in x  # the kinks are grid points
+    spans = _all(fig, "regime:")
+    assert len(spans) == 5
+    names = [s.get_gid().split(":")[2] for s in spans]
+    assert names == ["heads only", "heads or sides", "all three", "heads or sides", "heads only"]
+    mark = _one(fig, "design-psi:0")
+    o = models.conditional(xi, math.radians(70))
+    np.testing.assert_array_equal(mark.get_ydata(), [o.heads, o.sides, o.tails])
+    assert list(mark.get_xdata()) == [70.0] * 3
+    assert "degrees" in fig.axes[0].get_xlabel()
+
+
+@pytest.mark.parametrize("style", ["panels", "ternary"])
+def test_map_values(plotmod, style):
+    data = plotmod.map_data(nx=31, ny=37, xi_marks=[0.5], psi_marks_deg=[80.0])
+    fig = plotmod.map_figure(data, style=style)
+    o = models.conditional(data.xi[None, :], np.radians(data.psi_deg)[:, None])
+    if style == "panels":
+        for name in ("heads", "sides", "tails"):
+            mesh = _one(fig, f"mesh:{name}")
+            np.testing.assert_array_equal(np.asarray(mesh.get_array()).reshape(37, 31),
+                                          getattr(o, name))
+            edges = mesh.get_coordinates()
+            np.testing.assert_allclose((edges[0, :-1, 0] + edges[0, 1:, 0]) / 2, data.xi,
+                                       atol=1e-12)
+    else:
+        mesh = _one(fig, "mesh:ternary")
+        rgb = np.asarray(mesh.get_array()).reshape(37, 31, -1)[..., :3]
+        np.testing.assert_allclose(rgb, plotmod.ternary_colours(o.heads, o.sides, o.tails))
+    assert all(a.get_xdata()[0] == 0.5 for a in _all(fig, "design-xi:0"))
+    assert all(a.get_ydata()[0] == 80.0 for a in _all(fig, "design-psi:0"))
+    star = _all(fig, "fair:dynamic")[0]
+    assert (star.get_xdata()[0], star.get_ydata()[0]) == (models.FAIR_XI_DYNAMIC, 90.0)
+
+
+def test_phase_map_and_hyperbolae(plotmod):
+    from coincli import toss
+
+    data = plotmod.phase_data(u_range=(0.0, 2.0), omega_range=(0.0, 60.0), nu=24, nw=20,
+                              marks=[(1.0, 30.0)])
+    fig = plotmod.phase_figure(data)
+    codes = np.asarray(_one(fig, "mesh:phase").get_array()).reshape(20, 24)
+    for i, j in [(0, 0), (5, 7), (19, 23), (12, 3)]:
+        t = toss.toss(models.FAIR_XI_DYNAMIC, math.pi / 2, float(data.u[j]),
+                      float(data.omega[i]))
+        assert codes[i, j] == t.code
+    # eq. 10 for the fair coin: omega = (2n +- 1/3) pi g / (2u), (2n + 1 +- 1/3) pi g / (2u)
+    u = data.u
+    coeffs = sorted(round(b.coefficient, 9) for b in data.curves)
+    assert coeffs[:4] == [round(c, 9) for c in (1 / 3, 2 / 3, 4 / 3, 5 / 3)]
+    for k, b in enumerate(data.curves):
+        line = _one(fig, f"hyperbola:{k}")
+        np.testing.assert_allclose(line.get_ydata(), b.coefficient * math.pi * 9.81 / (2 * u),
+                                   rtol=1e-12)
+    assert list(_one(fig, "design:0").get_xydata()[0]) == [1.0, 30.0]
+    assert "(m/s)" in fig.axes[0].get_xlabel() and "(rad/s)" in fig.axes[0].get_ylabel()
+
+
+def test_builders_leave_matplotlib_state_alone(plotmod, tmp_path):
+    before = dict(mpl.rcParams)
+    backend = mpl.get_backend()
+    fig = plotmod.psi_figure(plotmod.psi_data(0.5, points=31))
+    plotmod.save_figure(fig, str(tmp_path / "f.svg"))
+    assert mpl.get_backend() == backend
+    assert dict(mpl.rcParams) == before
+
+
+# --------------------------------------------------------------------------- files
+
+
+@pytest.mark.parametrize("fmt, magic", [("png", b"\x89PNG"), ("svg", b"<?xml"),
+                                        ("pdf", b"%PDF")])
+@pytest.mark.parametrize("argv", [
+    ["plot", "sides", "--xi", "0.5"],
+    ["plot", "psi", "--xi", "0.577"],
+    ["plot", "map", "--style", "ternary"],
+    ["plot", "phase", "--resolution", "30"],
+])
+def test_files_of_each_format(capsys, tmp_path, plotmod, fmt, magic, argv):
+    path = tmp_path / f"fig.{fmt}"
+    code, out, err = _run([*argv, "--out", str(path), "--dpi", "50"], capsys)
+    assert code == 0, err
+    assert out == ""
+    data = path.read_bytes()
+    assert len(data) > 1000 and data.startswith(magic)
+
+
+def test_png_size_follows_dpi_width_height(capsys, tmp_path, plotmod):
+    path = tmp_path / "f.png"
+    code, _, err = _run(["plot", "psi", "--out", str(path), "--dpi", "40", "--width", "5",
+                         "--height", "3"], capsys)
+    assert code == 0, err
+    head = path.read_bytes()[16:24]
+    assert (int.from_bytes(head[:4], "big"), int.from_bytes(head[4:], "big")) == (200, 120)
+
+
+def test_svg_is_deterministic(capsys, tmp_path, plotmod):
+    outs = []
+    for k in range(2):
+        path = tmp_path / f"f{k}.svg"
+        code, _, err = _run(["plot", "sides", "--xi", "0.5", "-p", "0.3", "--data",
+                             str(_tosses(tmp_path)), "--out", str(path)], capsys)
+        assert code == 0, err
+        outs.append(path.read_bytes())
+    assert outs[0] == outs[1]
+    assert b"<dc:date>" not in outs[0]
+
+
+def _tosses(tmp_path):
+    p = tmp_path / "tosses.csv"
+    p.write_text(TOSSES)
+    return p
+
+
+def test_title_option(capsys, tmp_path, plotmod):
+    from coincli.plot import psi_data, psi_figure
+
+    fig = psi_figure(psi_data(0.3, points=11), title="My coin")
+    assert fig.axes[0].get_title() == "My coin"
