@@ -80,6 +80,7 @@ __all__ = [
     "NAMES",
     "LETTERS",
     "MAX_PHASE",
+    "U_MAX",
     "Toss",
     "Tosses",
     "Boundary",
@@ -112,6 +113,7 @@ HEADS, SIDES, TAILS = 0, 1, 2  #: outcome codes
 NAMES = ("heads", "sides", "tails")
 LETTERS = ("H", "S", "T")
 MAX_PHASE = 1e12  #: rad; omega * t_end beyond this is refused (the phase would be noise)
+U_MAX = 1e8  #: m/s, the largest launch speed accepted
 
 _TWO_PI = 2.0 * math.pi
 _EPS = 2.220446049250313e-16
@@ -124,10 +126,10 @@ _CHUNK = 1 << 16  # tosses per vectorized batch (also fixes the random stream of
 # --------------------------------------------------------------------------- validation
 
 
-def _range_text(lo, hi, lo_open, hi_open, unit):
+def _range_text(lo, hi, lo_open, hi_open, unit, allow_inf=False):
     u = f" {unit}" if unit else ""
     if hi == math.inf:
-        return f"{'>' if lo_open else '>='} {lo:g}{u} (finite)"
+        return f"{'>' if lo_open else '>='} {lo:g}{u}" + ("" if allow_inf else " (finite)")
     hi_s = "pi" if hi == math.pi else f"{hi:g}"
     return f"in {'(' if lo_open else '['}{lo:g}, {hi_s}{')' if hi_open else ']'}{u}"
 
@@ -135,7 +137,7 @@ def _range_text(lo, hi, lo_open, hi_open, unit):
 def _check(name, value, lo, hi=math.inf, *, lo_open=False, hi_open=False, unit="",
            allow_inf=False):
     """Validate a scalar or array_like; return a float or a float ndarray."""
-    msg = f"{name} must be {_range_text(lo, hi, lo_open, hi_open, unit)}"
+    msg = f"{name} must be {_range_text(lo, hi, lo_open, hi_open, unit, allow_inf)}"
     if isinstance(value, bool):
         raise ValueError(f"{msg}, got {value!r}")
     if isinstance(value, (int, float)):
@@ -172,12 +174,13 @@ def _check_contact(contact):
 
 def _check_all(xi, psi, u, omega, diameter, g, contact):
     thick = _check_contact(contact)
-    xi = _check("xi", xi, 0.0, allow_inf=not thick)
+    xi = _check("xi", xi, 0.0, 1e100, allow_inf=not thick) if thick else _check(
+        "xi", xi, 0.0, allow_inf=True)
     psi = _check("psi", psi, 0.0, math.pi, unit="rad")
-    u = _check("u", u, 0.0, 1e100, unit="m/s")
+    u = _check("u", u, 0.0, U_MAX, unit="m/s")
     omega = _check("omega", omega, 0.0, unit="rad/s")
-    diameter = _check("diameter", diameter, 0.0, lo_open=True, unit="m")
-    g = _check("g", g, 0.0, lo_open=True, unit="m/s^2")
+    diameter = _check("diameter", diameter, 0.0, 1e100, lo_open=True, unit="m")
+    g = _check("g", g, 0.0, 1e100, lo_open=True, unit="m/s^2")
     return xi, psi, u, omega, diameter, g, thick
 
 
@@ -421,6 +424,9 @@ def _scalar_setup(xi, psi, u, omega, diameter, g, contact, z0):
     xi, psi, u, omega, diameter, g, thick = _check_all(xi, psi, u, omega, diameter, g, contact)
     z0 = _check_z0(z0, xi, diameter, thick)
     s = _setup(_M(), xi, psi, u, omega, diameter, g, thick, z0)
+    if not math.isfinite(s.t_end):
+        raise ValueError(f"the flight is too long to represent (g = {g:g} m/s^2, u = {u:g} m/s); "
+                         "raise g or lower u")
     phase = omega * s.t_end
     if phase > MAX_PHASE:
         raise ValueError(
@@ -574,6 +580,8 @@ def toss_many(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, con
         sl = slice(lo, min(n, lo + _CHUNK))
         s = _setup(np, xi[sl], psi[sl], u[sl], omega[sl], diameter[sl], g[sl], thick,
                    None if z0 is None else z0v[sl])
+        if not np.all(np.isfinite(s.t_end)):
+            raise ValueError("the flight is too long to represent; raise g or lower u")
         phase = omega[sl] * s.t_end
         if np.any(phase > MAX_PHASE):
             k = int(np.argmax(phase > MAX_PHASE))
@@ -1031,7 +1039,7 @@ def as_dist(value, name, lo=-math.inf, hi=math.inf):
     return parse_dist(value, name, lo, hi)
 
 
-_DOMAINS = {"u": (0.0, 1e100), "omega": (0.0, math.inf), "psi": (0.0, math.pi)}
+_DOMAINS = {"u": (0.0, U_MAX), "omega": (0.0, math.inf), "psi": (0.0, math.pi)}
 
 
 def sample_conditions(n, rng, *, u, omega, psi):
