@@ -328,9 +328,18 @@ def _auto_range(values, log: bool, default: tuple[float, float]) -> tuple[float,
     if vals:
         if log:
             lo, hi = min(lo, min(vals) / 1.5), max(hi, max(vals) * 1.5)
-        else:
-            hi = max(hi, max(vals) * 1.1)
+        elif max(vals) * 1.05 > hi:
+            hi = _nice_ceil(max(vals) * 1.05)
     return lo, hi
+
+
+def _nice_ceil(v: float) -> float:
+    """The smallest of 1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 8 times a power of ten that is >= v."""
+    e = math.floor(math.log10(v))
+    for m in (1.0, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0):
+        if m * 10.0**e >= v:
+            return m * 10.0**e
+    return 10.0 ** (e + 1)
 
 
 def sides_data(specs: Sequence[ModelSpec] = (GEOMETRIC, DYNAMIC), *, xi_marks=(), p_marks=(),
