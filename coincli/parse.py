@@ -18,13 +18,16 @@ __all__ = [
     "parse_values",
     "parse_count",
     "MAX_ROWS",
+    "MAX_COUNT",
 ]
 
 MAX_ROWS = 1_000_000  #: the most rows a range or list may expand to
+MAX_COUNT = 2**53  #: the largest count (of coins) that a double still holds exactly
 
 _NUM = re.compile(r"^[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?$")
 _INT = re.compile(r"^[+-]?\d+$")
-_LEN_UNITS = {"mm": 1.0, "cm": 10.0, "m": 1000.0, "in": 25.4, '"': 25.4}
+_LEN_UNITS = {"mm": Fraction(1), "cm": Fraction(10), "m": Fraction(1000), "in": Fraction("25.4"),
+              '"': Fraction("25.4")}  # exact, so 0.955in is the double nearest 24.257 mm
 
 
 def parse_number(text: str, what: str = "value", *, allow_inf: bool = False) -> float:
@@ -45,16 +48,18 @@ def parse_probability(text: str, what: str = "probability") -> float:
     s = str(text).strip()
     try:
         if s.endswith("%"):
-            v = float(Fraction(_plain(s[:-1], what)) / 100)
+            v = float(_plain(s[:-1], what) / 100)
         elif "/" in s:
             num, _, den = s.partition("/")
-            d = Fraction(_plain(den, what))
+            d = _plain(den, what)
             if d == 0:
                 raise ValueError(f"{what} {text!r} divides by zero")
-            v = float(Fraction(_plain(num, what)) / d)
+            v = float(_plain(num, what) / d)
         else:
-            v = float(Fraction(_plain(s, what)))
-    except (ValueError, ZeroDivisionError, OverflowError) as exc:
+            v = float(_plain(s, what))
+    except OverflowError:  # beyond the double range: certainly not in [0, 1]
+        v = math.inf
+    except (ValueError, ZeroDivisionError) as exc:
         msg = str(exc)
         if what in msg:
             raise ValueError(msg) from None
@@ -64,17 +69,29 @@ def parse_probability(text: str, what: str = "probability") -> float:
     return v
 
 
-def _plain(s: str, what: str) -> str:
+def _plain(s: str, what: str) -> Fraction:
+    """The exact value of a plain decimal, its exponent clamped to +-(1000 + its length).
+
+    ``Fraction('1e-99999999')`` builds a hundred-million-digit integer (minutes); clamped, the
+    value is still far outside the double range, so it rounds (or fails a range check) the same.
+    """
     s = s.strip()
-    if not _NUM.match(s):
+    m = _NUM.match(s)
+    if not m:
         raise ValueError(f"{what} must be a number like 0.33, 1/3 or 33%, got {s!r}")
-    return s
+    if m.group(3):
+        mant, _, exp = s.partition("e") if "e" in s else s.partition("E")
+        lim = 1000 + len(s)
+        e = int(exp)
+        if abs(e) > lim:
+            s = f"{mant}e{lim if e > 0 else -lim}"
+    return Fraction(s)
 
 
 def parse_length_mm(text: str, what: str = "length") -> float:
     """A length in millimetres: ``24.26``, ``24.26mm``, ``2.4cm``, ``0.955in``; finite, > 0."""
     s = str(text).strip().lower()
-    factor = 1.0
+    factor = Fraction(1)
     for unit, f in sorted(_LEN_UNITS.items(), key=lambda kv: -len(kv[0])):
         if s.endswith(unit) and _NUM.match(s[: -len(unit)].strip() or "x"):
             s, factor = s[: -len(unit)].strip(), f
@@ -83,7 +100,10 @@ def parse_length_mm(text: str, what: str = "length") -> float:
         raise ValueError(
             f"{what} must be a length like 24.26, 24.26mm, 2.4cm or 0.955in, got {text!r}"
         )
-    v = float(s) * factor
+    try:
+        v = float(_plain(s, what) * factor)
+    except OverflowError:
+        v = math.inf
     if not (math.isfinite(v) and v > 0):
         raise ValueError(f"{what} must be a finite length > 0, got {text!r}")
     return v
@@ -98,11 +118,14 @@ def parse_angle_deg(text: str, what: str = "psi") -> float:
 
 
 def parse_count(text: str, what: str = "count") -> int:
-    """A whole number >= 1."""
+    """A whole number from 1 to :data:`MAX_COUNT`."""
     s = str(text).strip()
-    if not re.fullmatch(r"\+?\d+", s) or int(s) < 1:
+    digits = s.lstrip("+").lstrip("0")
+    if not re.fullmatch(r"\+?\d+", s) or not digits:
         raise ValueError(f"{what} must be a whole number >= 1, got {text!r}")
-    return int(s)
+    if len(digits) > 16 or int(digits) > MAX_COUNT:  # no 5000-digit int() either
+        raise ValueError(f"{what} must be a whole number from 1 to {MAX_COUNT}, got {text!r}")
+    return int(digits)
 
 
 def parse_values(text: str, what: str, item=parse_number, *, max_rows: int = MAX_ROWS) -> list:
