@@ -385,7 +385,7 @@ def _covers(fit, sigma):
 def test_spread_interval_is_calibrated(sigma, faces, reps):
     """Synthetic tosses (8 stacks x 100) from a known spread: the 95% profile-likelihood set
     covers it in at least 90% of seeded repetitions (measured: 95/100 and 38/40 here;
-    93-99% over 200 repetitions at each of six spreads)."""
+    93-99% over 200 repetitions in each of six settings, docs/check.md)."""
     hits = 0
     for seed in range(reps):
         fit = stats.fit_spread(QUARTER_STACKS, _simulate(sigma, seed, faces=faces))
