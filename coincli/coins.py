@@ -93,6 +93,9 @@ def stack_xi(coin: Coin, count: int) -> float:
     return count * coin.thickness_mm / coin.diameter_mm
 
 
+MAX_STACK = 2**40  #: the tallest stack :func:`nearest_stack` considers under a searched model
+
+
 @dataclass(frozen=True)
 class StackChoice:
     """The stack nearest a target: its count and the (count, xi, P(sides)) of its neighbours."""
@@ -109,6 +112,7 @@ def nearest_stack(coin: Coin, p_sides: float, sides_of=None) -> StackChoice:
     ``sides_of(xi) -> P(sides)`` is the model (default: the dynamic one, eq. 12).  The chance
     is increasing in ``xi``, so the answer is the floor or ceiling of the continuous count
     ``xi* D / h``, whichever lands nearer the target (ties go to the smaller stack).
+    A ValueError if no stack of up to :data:`MAX_STACK` coins reaches ``p_sides``.
     """
     models.check_p(p_sides, "p_sides")
     if sides_of is None:
@@ -122,8 +126,14 @@ def nearest_stack(coin: Coin, p_sides: float, sides_of=None) -> StackChoice:
     if target_xi is None:
         # bracket the count by doubling, then bisect on whole numbers
         lo, hi = 1, 1
-        while sides_of(hi * per_coin) < p_sides and hi < 2**40:
+        while sides_of(hi * per_coin) < p_sides and hi < MAX_STACK:
             lo, hi = hi, hi * 2
+        if sides_of(hi * per_coin) < p_sides:
+            # the model never gets there (psi = 0 never lands on a side): no "nearest" stack
+            raise ValueError(
+                f"no stack of up to {MAX_STACK} coins reaches P(sides) = {p_sides:.6g} under "
+                f"this model (it gives {sides_of(hi * per_coin):.6g} there)"
+            )
         while hi - lo > 1:
             mid = (lo + hi) // 2
             if sides_of(mid * per_coin) < p_sides:
