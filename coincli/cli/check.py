@@ -45,6 +45,10 @@ ConfidenceOpt = Annotated[
 ]
 
 
+def _opt(*names: str, mv: str, help: str):
+    return typer.Option(*names, metavar=mv, help=help)
+
+
 def _level(text: str, what: str) -> float:
     try:
         v = parse.parse_probability(text, what)
@@ -274,27 +278,26 @@ def _xi_from_options(xi, quarters, coin, count, diameter, thickness) -> tuple[fl
 
 @app.command()
 def check(
-    xi: Annotated[str | None, typer.Option("--xi", "-x", help="Aspect ratio h/D of the coin "
-                                           "tossed.")] = None,
-    quarters: Annotated[str | None, typer.Option("--quarters", help="A stack of N US quarters "
-                                                 "instead of --xi.")] = None,
-    coin: Annotated[str | None, typer.Option("--coin", "-c", help="Catalog coin, with --count "
-                                             "(see `coin coins`).")] = None,
-    count: Annotated[str | None, typer.Option("--count", help="Number of stacked --coin "
-                                              "coins.")] = None,
-    diameter: Annotated[str | None, typer.Option("--diameter", "-d", help="Coin diameter (mm or "
-                                                 "with a unit), with --thickness.")] = None,
-    thickness: Annotated[str | None, typer.Option("--thickness", "-t", help="Coin thickness "
-                                                  "(mm or with a unit).")] = None,
-    heads: Annotated[str | None, typer.Option("--heads", help="Tosses that landed heads.")
+    xi: Annotated[str | None, _opt("--xi", "-x", mv="X",
+                                   help="Aspect ratio h/D of the coin tossed.")] = None,
+    quarters: Annotated[str | None, _opt("--quarters", mv="N",
+                                         help="A stack of N US quarters instead of --xi.")] = None,
+    coin: Annotated[str | None, _opt("--coin", "-c", mv="NAME",
+                                     help="Catalog coin, with --count (see `coin coins`).")] = None,
+    count: Annotated[str | None, _opt("--count", mv="N",
+                                      help="Number of stacked --coin coins.")] = None,
+    diameter: Annotated[str | None, _opt("--diameter", "-d", mv="D", help="Coin diameter (mm "
+                                         "or with a unit), with --thickness.")] = None,
+    thickness: Annotated[str | None, _opt("--thickness", "-t", mv="H",
+                                          help="Coin thickness (mm or with a unit).")] = None,
+    heads: Annotated[str | None, _opt("--heads", mv="H", help="Tosses that landed heads.")
                      ] = None,
-    sides: Annotated[str | None, typer.Option("--sides", "-s", help="Tosses that landed on a "
-                                              "side.")] = None,
-    tails: Annotated[str | None, typer.Option("--tails", help="Tosses that landed tails.")
+    sides: Annotated[str | None, _opt("--sides", "-s", mv="S",
+                                      help="Tosses that landed on a side.")] = None,
+    tails: Annotated[str | None, _opt("--tails", mv="T", help="Tosses that landed tails.")
                      ] = None,
-    tosses: Annotated[str | None, typer.Option("--tosses", "-n", help="Number of tosses (with "
-                                               "--sides alone when faces were not told apart)."
-                                               )] = None,
+    tosses: Annotated[str | None, _opt("--tosses", "-n", mv="N", help="Number of tosses (with "
+                                       "--sides alone when faces were not told apart).")] = None,
     psi_dist: PsiDistsOpt = None,
     alpha: AlphaOpt = "0.05",
     confidence: ConfidenceOpt = "0.95",
