@@ -171,16 +171,26 @@ def emit(text, out=None) -> None:
 # --------------------------------------------------------------------------- the figures
 
 
-def _ticks(lo: float, hi: float, log: bool, n: int = 5):
+def _ascii(text: str) -> str:
+    """Labels of :mod:`coincli.plot` in the text plot's plain words."""
+    return text.replace("ψ", "psi").replace("°", " deg").replace("ξ", "xi")
+
+
+def _ticks(lo: float, hi: float, log: bool, n: int = 6):
+    """Tick positions and labels: decades on a log axis, round steps (1, 2, 2.5, 5 x 10^k)
+    giving about ``n`` ticks on a linear one."""
     if log:
         a, b = math.ceil(math.log10(lo) - 1e-9), math.floor(math.log10(hi) + 1e-9)
         return [(10.0**k, f"{10.0**k:g}") for k in range(a, b + 1)]
+    raw = (hi - lo) / max(n - 1, 1)
+    e = math.floor(math.log10(raw))
+    step = next(m * 10.0**e for m in (1.0, 2.0, 2.5, 5.0, 10.0) if m * 10.0**e >= raw * 0.999)
     out = []
-    for k in range(n):
-        v = lo + (hi - lo) * k / (n - 1)
-        if abs(v) < 1e-9 * (hi - lo):
-            v = 0.0
-        out.append((v, f"{v:.6g}"))
+    k = math.ceil(lo / step - 1e-9)
+    while k * step <= hi + 1e-9 * step:
+        v = k * step
+        out.append((v, f"{round(v, 10):g}"))
+        k += 1
     return out
 
 
@@ -199,7 +209,7 @@ def text_sides(data, cols: int, rows: int):
             k_extra += 1
         chars[c.spec.gid] = ch
         cv.plot(data.xi.tolist(), c.y.tolist(), ch, style)
-        legend.append((ch, style, c.spec.label))
+        legend.append((ch, style, _ascii(c.spec.label)))
     if data.fair:
         cv.hline(1 / 3, ".", "dim")
     for m in data.fair:
