@@ -71,9 +71,20 @@ def _fail(message: str, code: int) -> int:
 
 def run(argv=None) -> int:
     """Run ``coin`` with ``argv`` and return the exit code (never raises, never prints a trace)."""
+    command = typer.main.get_command(app)
+    saved_traceback = os.environ.get("COIN_TRACEBACK")
+    try:
+        return _run(command, argv)
+    finally:  # --traceback lasts one run (run() is also called in-process, by tests)
+        if saved_traceback is None:
+            os.environ.pop("COIN_TRACEBACK", None)
+        else:
+            os.environ["COIN_TRACEBACK"] = saved_traceback
+
+
+def _run(command, argv) -> int:
     from typer.exceptions import TyperException
 
-    command = typer.main.get_command(app)
     try:
         rv = command.main(list(sys.argv[1:] if argv is None else argv), prog_name="coin",
                           standalone_mode=False)
