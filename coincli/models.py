@@ -46,6 +46,9 @@ _PIO2_HI = 1.5707963267948966
 _PIO2_LO = 6.123233995736766e-17
 _PI_HI = 3.141592653589793
 _PI_LO = 1.2246467991473532e-16
+# The next 53 bits of each, for offsets near pi/2 that are far smaller than 2**-107.
+_PIO2_LO2 = -1.4973849048591698e-33
+_PI_LO2 = -2.9947698097183397e-33
 # Beyond this, xi/hypot(1, xi) is 1.0 in double; clamping keeps xi = inf away from inf/inf.
 _XI_BIG = 2.0**600
 
@@ -377,10 +380,11 @@ def _near_boundary(xp, xi, psi, sigma, t, s0, c0, c, u1, u2):
     upper = psi > _PIO2_HI  # folded onto pi - psi
     # psi_m = pi - psi on the upper half (PI_HI - psi is exact there: two_sum keeps it all)
     mh, ml = _two_sum(xp.where(upper, _PI_HI, psi), xp.where(upper, -psi, 0.0))
-    mh, ml = _dd_add(mh, ml, xp.where(upper, _PI_LO, 0.0), 0.0)
+    mh, ml = _dd_add(mh, ml, xp.where(upper, _PI_LO, 0.0), xp.where(upper, _PI_LO2, 0.0))
     # e = pi/2 - psi (lower half) or psi - pi/2 (upper half), exactly
     eh, el = _two_sum(xp.where(upper, psi, _PIO2_HI), xp.where(upper, -_PIO2_HI, -psi))
-    eh, el = _dd_add(eh, el, xp.where(upper, -_PIO2_LO, _PIO2_LO), 0.0)
+    eh, el = _dd_add(eh, el, xp.where(upper, -_PIO2_LO, _PIO2_LO),
+                     xp.where(upper, -_PIO2_LO2, _PIO2_LO2))
     if xp is M:
         th, tl, ts, tsl = _half_theta0_dd(xp, xi)
     else:  # theta0/2 depends on xi alone: once per distinct xi (a sweep over psi has one)
@@ -413,6 +417,7 @@ def _half_theta0_dd(xp, xi):
     ah, al = _dd_atan(xp, wh, wl)
     th, tl = _dd_add(xp.where(big, ah, _PIO2_HI), xp.where(big, al, _PIO2_LO),
                      xp.where(big, 0.0, -ah), xp.where(big, 0.0, -al))
+    tl = tl + xp.where(big, 0.0, _PIO2_LO2)  # pi/2 to 2**-160: th + tl stays good to 2**-106
     # Planar frame: 2**840 / (2 xi) = 2**-61 / xs with xs = xi 2**-900 in [1, 2**125) (or inf)
     xs = xp.maximum(xi, 1 / _PLANAR_T) * _PLANAR_T
     qh = 1 / xs
