@@ -125,7 +125,11 @@ class Canvas:
         for r in range(self.rows):
             lab = ylab.get(r)
             out.append((lab.rjust(w) + " +") if lab is not None else (" " * w + " |"))
-            for ch, style, _ in self.cells[r]:
+            row = self.cells[r]
+            end = len(row)
+            while end > 0 and row[end - 1][0] == " ":
+                end -= 1  # no trailing blanks
+            for ch, style, _ in row[:end]:
                 out.append(ch, style=style or None)
             out.append("\n")
         out.append(" " * w + " +" + "-" * self.cols + "\n")
@@ -143,7 +147,7 @@ class Canvas:
         for ch, style, text in legend:
             out.append("  ")
             out.append(ch, style=style or None)
-            out.append(f"  {text}\n")
+            out.append("  " + text.replace("\n", "\n     ") + "\n")
         for n in notes:
             out.append(f"  note: {n}\n", style="dim")
         return out
@@ -256,9 +260,9 @@ def text_psi(data, cols: int, rows: int):
         cv.plot(psi, getattr(data, name).tolist(), OUTCOME_CHAR[name], OUTCOME_STYLE[name])
     legend = [(OUTCOME_CHAR[n], OUTCOME_STYLE[n], f"P({n})") for n in ("heads", "sides", "tails")]
     t1, t2, t3, t4 = data.bounds_deg
-    legend.append((":", "dim", f"regimes (Table I): heads only below {t1:.4g} deg and above "
-                   f"{t4:.4g}; heads or sides {t1:.4g}-{t2:.4g} and {t3:.4g}-{t4:.4g}; "
-                   f"all three {t2:.4g}-{t3:.4g}"))
+    legend.append((":", "dim", f"regimes (Table I): all three {t2:.4g}-{t3:.4g} deg; heads or "
+                   f"sides {t1:.4g}-{t2:.4g} and {t3:.4g}-{t4:.4g};\nheads only below "
+                   f"{t1:.4g} and above {t4:.4g}"))
     for d, o in data.marks:
         cv.vline(d, "|", DESIGN_STYLE, layer=1)
         for v in o:

@@ -82,7 +82,7 @@ def test_text_plot_values_are_the_cores():
     cv = Canvas(70, 21, (0.0, 180.0), (0.0, 1.0))
     lines = text.splitlines()[2:23]
     axis = lines[0].index("+")  # the y axis: the top row carries the tick label 1
-    grid = [line[axis + 1:] for line in lines]
+    grid = [line[axis + 1:].ljust(70) for line in lines]
     assert all(line[axis] in "+|" for line in lines)
     # heads is drawn last: where the grid shows an H at a psi grid point, the core agrees
     hits = 0
