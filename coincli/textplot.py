@@ -260,9 +260,14 @@ def text_psi(data, cols: int, rows: int):
         cv.plot(psi, getattr(data, name).tolist(), OUTCOME_CHAR[name], OUTCOME_STYLE[name])
     legend = [(OUTCOME_CHAR[n], OUTCOME_STYLE[n], f"P({n})") for n in ("heads", "sides", "tails")]
     t1, t2, t3, t4 = data.bounds_deg
-    legend.append((":", "dim", f"regimes (Table I): all three {t2:.4g}-{t3:.4g} deg; heads or "
-                   f"sides {t1:.4g}-{t2:.4g} and {t3:.4g}-{t4:.4g};\nheads only below "
-                   f"{t1:.4g} and above {t4:.4g}"))
+    parts = []
+    if t3 > t2:
+        parts.append(f"all three {t2:.4g}-{t3:.4g} deg")
+    if t2 > t1:
+        parts.append(f"heads or sides {t1:.4g}-{t2:.4g} and {t3:.4g}-{t4:.4g}")
+    if t1 > 0:
+        parts.append(f"heads only below {t1:.4g} and above {t4:.4g}")
+    legend.append((":", "dim", "regimes (Table I): " + ";\n".join(parts)))
     for d, o in data.marks:
         cv.vline(d, "|", DESIGN_STYLE, layer=1)
         for v in o:

@@ -256,8 +256,16 @@ def sides(
 
         target.text_plot(lambda c, r: text_sides(build(c), c, r))
         return
-    fig = P.sides_figure(build(401), width=width or 7.0, height=height or 4.5, title=title)
+    data = build(401)
+    fig = P.sides_figure(data, width=width or 7.0, height=height or 4.5, title=title)
     target.save(fig, dpi)
+    _notes(data.skipped)
+
+
+def _notes(notes) -> None:
+    """What could not be drawn (a design off the axis), one line each on stderr."""
+    for n in notes:
+        sys.stderr.write(f"coin: note: {n}\n")
 
 
 # --------------------------------------------------------------------------- psi
