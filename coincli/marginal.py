@@ -7,123 +7,424 @@ folded density ``P(psi) + P(pi - psi)``.  The integrand has kinks at the regime 
 ``t = theta0/2`` and ``pi/2 - t`` (Table I), where the rarer outcome grows like the square root of
 the distance.  The range is split there into
 
-- A: ``[0, t]``, heads only;
+- A: ``[0, t]``, heads only, ``psi = t s``;
 - B: ``[t, pi/2 - t]`` with ``psi = t + beta s^2`` (``beta = pi/2 - theta0 = atan xi``);
 - C: ``[pi/2 - t, pi/2]`` with ``psi = pi/2 - t + t s^2``;
 
 the substitution ``s^2`` makes the square roots analytic in ``s``.  What remains are branch
-points just outside a piece when one piece is much shorter than the other (``sin psi = -sin t``
-for a thick coin, ``sin psi = sin t`` seen from C for a thin one); the ``s`` range is split
-geometrically toward them (ratio 4), so Gauss-Legendre converges spectrally on every
-subinterval.  Narrow normals and table kinks add their own breakpoints.  The integrand is
-evaluated from the offsets to the boundaries (``u1``, ``u2`` of
-:func:`coincli.models._from_offsets`), so even a chance of 1e-300 keeps its relative accuracy.
+points just outside a piece when one piece is much shorter than the other (at ``s = i s*`` with
+``s* = sqrt(2t/beta)`` in B for a thick coin, ``s* = sqrt(beta/t)`` in C for a thin one); the
+``s`` range is split geometrically toward them (ratio 4), so Gauss-Legendre converges spectrally
+(at least like ``3**(-2n)`` with ``n`` nodes) on every subinterval.  In C the grading stops at
+``s* = 1e-18``: closer, the branch point changes the integral by about ``s*`` relative, under a
+rounding error.  Narrow normals and table kinks add their own breakpoints.
+
+Vectorized.  For an array of ``xi`` the subintervals of every ``xi`` and piece are laid out as one
+flat list, the nodes as a 2-D array (subintervals x nodes, in cache-sized blocks), and each
+piece's integrand is evaluated in one numpy pass; the sums go back to their ``xi`` by
+``bincount``.  The integrands use ``D1 = sin^2 psi - sin^2 t = sin u1 cos u2`` and
+``D2 = sin^2 psi - cos^2 t = sin u2 cos u1`` with the offsets ``u1 = psi - t``,
+``u2 = psi - pi/2 + t``, each factor the sine of an angle in ``[0, pi/2]`` formed without
+cancellation, so that even a chance of 1e-300 keeps its relative accuracy.
+
+Normalization.  The sums are divided by the quadrature's own mass of the density, and the
+largest chance is taken as 1 minus the other two: heads + sides + tails = 1 to rounding, every
+chance lies in [0, 1], and a narrow density's peak a rounding away from a piece's end costs
+nothing.  A normal too narrow for any quadrature (``mean +- sd/2`` rounds to the mean) is Table I
+at its mean, the limit.
 """
 
 from __future__ import annotations
 
 import math
+import weakref
 from functools import lru_cache
 
 import numpy as np
 
 from coincli import models
-from coincli.densities import Density, Normal
+from coincli.densities import Cosine, Density, Normal, Uniform
 from coincli.models import HALF_PI, Outcome
 
-__all__ = ["marginal", "marginal_inverse", "conditional_inverse", "DEFAULT_ORDER"]
+__all__ = [
+    "marginal",
+    "marginal_inverse",
+    "conditional_inverse",
+    "DEFAULT_ORDER",
+    "MIN_ORDER",
+    "MAX_ORDER",
+    "order_for_tol",
+]
 
 DEFAULT_ORDER = 16  #: Gauss-Legendre nodes per subinterval
+MIN_ORDER, MAX_ORDER = 2, 64  #: the range of ``order``
 _RATIO = 4.0  #: geometric grading ratio toward a nearby branch point
-_FEATURE_STEPS = (0.0, 0.5, 1.0, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0, 40.0)
+_LAST = 0.9  #: no graded point above this: a sliver [0.9, 1] would cost a subinterval for little
+_S_FLOOR = 1e-18  #: no grading in C toward a branch point closer than this (see module notes)
+_FEATURE_STEPS = np.array([0.0, 0.5, 1.0, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0, 40.0])
+_CHUNK = 1 << 21  #: (xi values) x (breakpoints) per pass, to bound memory for long tables
+# 2/pi as hi + lo: the sums of angles are scaled once, with one rounding
+_TWO_OVER_PI_HI = 0.6366197723675814
+_TWO_OVER_PI_LO = -3.935735335036497e-17
+
+# Absolute error reached by ``order`` nodes per subinterval, measured over the benchmark and
+# stress cases (docs/work-precision.md; tests/test_marginal.py keeps it honest).  The rate is
+# that of the grading, about 4.4**(-2n); the table adds a margin of a factor 10 or more.
+_ORDER_TABLE = ((2, 3e-3), (3, 3e-4), (4, 3e-5), (5, 3e-6), (6, 3e-7), (7, 3e-8), (8, 3e-9),
+                (9, 3e-10), (10, 3e-11), (11, 3e-12), (12, 3e-13), (13, 3e-14), (14, 1e-14),
+                (16, 2e-15))
 
 
-@lru_cache(maxsize=16)
+def order_for_tol(tol: float) -> int:
+    """The fewest Gauss-Legendre nodes per subinterval whose absolute error is within ``tol``.
+
+    From the calibration in ``_ORDER_TABLE``; tolerances below 2e-15 get ``DEFAULT_ORDER``
+    (double precision is the limit: the answer is within a few ulps there).
+    """
+    if isinstance(tol, bool) or not isinstance(tol, (int, float)) or not tol > 0 \
+            or math.isnan(tol):
+        raise ValueError(f"tol must be a number > 0, got {tol!r}")
+    for n, err in _ORDER_TABLE:
+        if err <= tol:
+            return n
+    return DEFAULT_ORDER
+
+
+def error_bound(order: int) -> float:
+    """The calibrated absolute error of :func:`marginal` with ``order`` nodes per subinterval."""
+    order = _check_order(order)
+    bound = 1.0
+    for n, err in _ORDER_TABLE:
+        if n <= order:
+            bound = err
+    return max(bound, 2e-15)
+
+
+def _check_order(order) -> int:
+    if isinstance(order, bool) or not isinstance(order, (int, np.integer)) \
+            or not MIN_ORDER <= order <= MAX_ORDER:
+        raise ValueError(f"order must be an integer in [{MIN_ORDER}, {MAX_ORDER}] "
+                         f"(Gauss-Legendre nodes per subinterval), got {order!r}")
+    return int(order)
+
+
+@lru_cache(maxsize=64)
 def _gauss_legendre(n: int):
     x, w = np.polynomial.legendre.leggauss(n)
     return (x + 1) / 2, w / 2  # on [0, 1]
 
 
-def _graded(s_star: float) -> list[float]:
-    """Breakpoints s*, 4 s*, 16 s*, ... below 1: each subinterval is at most 3 times as long as
-    its distance from a branch point at distance ``s_star`` from s = 0 (none if s* >= 1)."""
-    pts, s = [], max(s_star, 1e-300)
-    while s < 1.0:
-        pts.append(s)
-        s *= _RATIO
+# --------------------------------------------------------------------------- the density
+
+
+def _features(density: Density) -> list[tuple[float, float]]:
+    """(centre, scale) pairs on [0, pi] where the density varies quickly."""
+    if isinstance(density, Normal):
+        mean, sd = density.mean, density.sd
+        out = [(mean, sd)] if sd < 0.5 else []
+        # a mean outside [0, pi] leaves the tail: exp(-d x / sd^2) from the nearer end
+        for end, d in ((0.0, -mean), (math.pi, mean - math.pi)):
+            if d > sd and sd * sd / d < 0.5:
+                out.append((end, sd * sd / d))
+        return out
+    return list(density.features())
+
+
+_BREAKS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _psi_breaks(density: Density) -> np.ndarray:
+    """Sorted points of (0, pi/2) where the folded density has a kink or a fast change."""
+    try:
+        return _BREAKS[density]
+    except (KeyError, TypeError):
+        pass
+    arr = _psi_breaks_uncached(density)
+    try:
+        _BREAKS[density] = arr
+    except TypeError:  # not weak-referenceable: no cache
+        pass
+    return arr
+
+
+def _psi_breaks_uncached(density: Density) -> np.ndarray:
+    pts = [min(k, math.pi - k) for k in density.kinks()]
+    for c, sd in _features(density):
+        for centre in {min(c, math.pi - c), c}:
+            pts.extend((centre - _FEATURE_STEPS * sd).tolist())
+            pts.extend((centre + _FEATURE_STEPS * sd).tolist())
+    arr = np.unique(np.asarray(pts, dtype=float))
+    return arr[(arr > 0) & (arr < HALF_PI)]
+
+
+def _folded_pdf(density: Density):
+    """psi -> P(psi) + P(pi - psi) on [0, pi/2] (numpy in and out)."""
+    if type(density) is Uniform:
+        return lambda psi: 2 / math.pi
+    if type(density) is Cosine:
+        def cosine(psi):
+            s = np.sin(psi)
+            return (4 / math.pi) * (s * s)
+        return cosine
+    if type(density) is Normal:
+        # P(psi) + P(pi - psi) = E (1 + exp(-k (pi - 2 psi)(pi - 2 mu))) with E the normal at
+        # mu = min(mean, pi - mean) (the fold is symmetric in mu -> pi - mu): the second term
+        # never exceeds the first, so nothing overflows where E underflows.
+        mu = min(density.mean, math.pi - density.mean)
+        k = 0.5 / density.sd**2
+        ln = density._log_norm
+        kk = 2 * k * (math.pi - 2 * mu)
+
+        if mu == HALF_PI:
+            ln2 = ln + math.log(2.0)
+
+            def keller(psi):
+                d = psi - mu
+                return np.exp(ln2 - k * (d * d))
+            return keller
+
+        def normal(psi):
+            d = psi - mu
+            return np.exp(ln - k * (d * d)) * (1.0 + np.exp(kk * (psi - HALF_PI)))
+        return normal
+    return lambda psi: density.pdf(psi) + density.pdf(math.pi - psi)
+
+
+# --------------------------------------------------------------------------- layout
+# Each piece of each xi is cut into subintervals of s in [0, 1]: at the graded points toward a
+# branch point and at the density's breakpoints mapped to s.  One xi: Python lists.  Many:
+# one row of breakpoints per xi, sorted, then the nonempty subintervals as a flat list.
+
+
+def _graded_one(s_star: float) -> list[float]:
+    pts, s = [], s_star
+    if 0 < s_star < 1:
+        while s < _LAST:
+            pts.append(s)
+            s *= _RATIO
     return pts
 
 
-def _folded_points(density: Density) -> tuple[list[float], list[tuple[float, float]]]:
-    """The density's kinks and features folded onto [0, pi/2]."""
-    kinks = sorted({min(k, math.pi - k) for k in density.kinks()})
-    feats = [(min(c, math.pi - c), s) for c, s in density.features()]
-    return kinks, feats
+def _edges_one(pts) -> tuple[np.ndarray, np.ndarray]:
+    e = sorted({0.0, 1.0, *(min(max(p, 0.0), 1.0) for p in pts)})
+    e = np.array(e)
+    return e[:-1], e[1:]
 
 
-def _psi_breaks(lo: float, hi: float, kinks, feats) -> list[float]:
-    pts = [k for k in kinks if lo < k < hi]
-    for c, sd in feats:
-        for m in _FEATURE_STEPS:
-            for p in (c - m * sd, c + m * sd):
-                if lo < p < hi:
-                    pts.append(p)
-    return pts
+def _graded(s_star: np.ndarray) -> np.ndarray:
+    """Breakpoints s*, 4 s*, 16 s*, ... below 1 for each s* (rows; 1.0 where there are none).
+
+    Each subinterval is then at most 3 times as long as its distance from a branch point at
+    ``s = i s*``."""
+    live = (s_star < 1.0) & (s_star > 0)
+    if not live.any():
+        return np.ones((s_star.size, 0))
+    smin = float(s_star[live].min())
+    g = int(math.ceil(-math.log(smin) / math.log(_RATIO))) + 1
+    pts = s_star[:, None] * _RATIO ** np.arange(g)[None, :]
+    return np.where(live[:, None] & (pts < _LAST), pts, 1.0)
 
 
-def _nodes(breaks_s, n):
-    """Gauss-Legendre nodes and weights on [0, 1] split at sorted unique ``breaks_s``."""
-    x, w = _gauss_legendre(n)
-    edges = np.unique(np.concatenate(([0.0], np.clip(breaks_s, 0.0, 1.0), [1.0])))
-    a, b = edges[:-1], edges[1:]
+def _intervals(parts: list[np.ndarray], m: int):
+    """Rows of breakpoints (each in [0, 1]) -> flat (row, a, b) of the nonempty subintervals."""
+    parts = [p for p in parts if p.shape[1]]
+    edges = np.concatenate([np.zeros((m, 1)), *parts, np.ones((m, 1))], axis=1)
+    if len(parts) > 1:
+        edges.sort(axis=1)
+    a, b = edges[:, :-1], edges[:, 1:]
     keep = b > a
-    a, b = a[keep], b[keep]
-    s = (a[:, None] + (b - a)[:, None] * x[None, :]).ravel()
-    ws = ((b - a)[:, None] * w[None, :]).ravel()
-    return s, ws
+    rows = np.nonzero(keep)[0]
+    return rows, a[keep], b[keep]
 
 
-def _marginal_one(xi: float, density: Density, n: int) -> tuple[float, float, float]:
-    if xi == math.inf:
-        return 0.0, 1.0, 0.0  # every precessing toss lands on a side; psi = 0, pi has no mass
-    t, s0, c0, c = models._parts(models.M, xi)
-    beta = math.atan(xi)  # = pi/2 - theta0, without cancellation
-    kinks, feats = _folded_points(density)
-
-    def fold(psi):
-        return density.pdf(psi) + density.pdf(math.pi - psi)
-
-    heads = sides = tails = 0.0
-    # A: [0, t], heads only
-    if t > 0:
-        br = [p / t for p in _psi_breaks(0.0, t, kinks, feats)]
-        s, w = _nodes(br, n)
-        heads += t * float(np.dot(w, fold(t * s)))
-    # B: psi = t + beta s^2 on [t, pi/2 - t]
+def _layout_one(x: float, breaks: list[float]):
+    """(params, [(a, b) of pieces A, B, C]) for one finite xi."""
+    t = math.atan2(1.0, x) / 2
+    beta = math.atan(x)
+    xc = min(x, 2.0**600)  # beyond, x/hypot(1, x) is 1.0 (and inf/inf is kept away)
+    par = (t, beta, math.sin(t), math.cos(t), xc / math.hypot(1.0, xc), math.sin(beta / 2),
+           math.cos(beta / 2))
+    lo = HALF_PI - t
+    pa = [p / t for p in breaks if p < t]
+    pb = _graded_one(math.sqrt(2 * t / beta)) if beta > 0 else []
     if beta > 0:
-        br = _graded(math.sqrt(2 * t / beta)) + [
-            math.sqrt((p - t) / beta) for p in _psi_breaks(t, HALF_PI - t, kinks, feats)]
-        s, w = _nodes(br, n)
-        u1 = beta * s * s
-        psi = t + u1
-        h, si, _ = models._from_offsets(np, np.sin(psi), t, s0, c0, c, u1, u1 - beta)
-        wt = 2 * beta * s * w * fold(psi)
-        heads += float(np.dot(wt, h))
-        sides += float(np.dot(wt, si))
-    # C: psi = pi/2 - t + t s^2 on [pi/2 - t, pi/2]
-    if t > 0:
-        br = _graded(math.sqrt(beta / t)) + [
-            math.sqrt((p - (HALF_PI - t)) / t) for p in _psi_breaks(HALF_PI - t, HALF_PI, kinks,
-                                                                     feats)]
-        s, w = _nodes(br, n)
-        u2 = t * s * s
-        psi = (HALF_PI - t) + u2
-        h, si, ta = models._from_offsets(np, np.cos(t - u2), t, s0, c0, c, u2 + beta, u2)
-        wt = 2 * t * s * w * fold(psi)
-        heads += float(np.dot(wt, h))
-        sides += float(np.dot(wt, si))
-        tails += float(np.dot(wt, ta))
-    return heads, sides, tails
+        pb += [math.sqrt((p - t) / beta) for p in breaks if t < p < lo]
+    sstar = math.sqrt(beta / t)
+    pc = _graded_one(sstar) if sstar >= _S_FLOOR else []
+    pc += [math.sqrt((p - lo) / t) for p in breaks if p > lo]
+    return par, [_edges_one(pa), _edges_one(pb), _edges_one(pc)]
+
+
+def _layout_many(xi: np.ndarray, breaks: np.ndarray):
+    """(params (7, m), [(rows, a, b) of pieces A, B, C]) for a 1-D array of finite xi."""
+    m = xi.size
+    t = np.arctan2(1.0, xi) / 2
+    beta = np.arctan(xi)
+    xc = np.minimum(xi, 2.0**600)
+    par = np.stack([t, beta, np.sin(t), np.cos(t), xc / np.hypot(1.0, xc), np.sin(beta / 2),
+                    np.cos(beta / 2)])
+    nb = breaks.size
+    lo = HALF_PI - t
+    with np.errstate(divide="ignore", invalid="ignore"):
+        pa = [np.clip(breaks[None, :] / t[:, None], 0.0, 1.0)] if nb else []
+        bpos = np.where(beta > 0, beta, np.inf)
+        pb = [_graded(np.where(beta > 0, np.sqrt(2 * t / bpos), 1.0))]
+        if nb:
+            pb.append(np.sqrt(np.clip((breaks[None, :] - t[:, None]) / bpos[:, None], 0, 1)))
+        sstar = np.sqrt(beta / t)
+        pc = [_graded(np.where(sstar >= _S_FLOOR, sstar, 1.0))]
+        if nb:
+            pc.append(np.sqrt(np.clip((breaks[None, :] - lo[:, None]) / t[:, None], 0, 1)))
+    return par, [_intervals(pa, m), _intervals(pb, m), _intervals(pc, m)]
+
+
+# --------------------------------------------------------------------------- the integrands
+# Each returns per-subinterval sums: heads (as a chance) for A; angles (theta/2) for B and C,
+# scaled by 2/pi once at the end.  ``p`` holds (t, beta, s0, c0, c, sin beta/2, cos beta/2),
+# floats for one xi or (k, 1) columns, one per subinterval.
+
+
+def _nodes(a, b, n, scale):
+    x, w = _gauss_legendre(n)
+    h = (b - a)[:, None]
+    return a[:, None] + h * x, (h * scale) * w
+
+
+def _piece_a(a, b, n, p, fold):
+    t = p[0]
+    s, w = _nodes(a, b, n, t)
+    return ((w * fold(t * s)).sum(axis=1),)
+
+
+def _piece_b(a, b, n, p, fold):
+    """psi = t + beta s^2 on [t, pi/2 - t]: heads or sides."""
+    t, beta, s0 = p[0], p[1], p[2]
+    s, w = _nodes(a, b, n, 2 * beta)
+    u1 = beta * (s * s)  # psi - t
+    # D1 = sin^2 psi - sin^2 t = sin u1 sin(2t + u1): both angles in [0, pi/2], no cancellation
+    q1 = np.sqrt(np.sin(u1)) * np.sqrt(np.sin(2 * t + u1))
+    wt = w * s * fold(t + u1)
+    return ((wt * np.arctan2(s0, q1)).sum(axis=1), (wt * np.arctan2(q1, s0)).sum(axis=1),
+            wt.sum(axis=1))
+
+
+def _piece_c(a, b, n, p, fold):
+    """psi = pi/2 - t + t s^2 on [pi/2 - t, pi/2]: all three outcomes."""
+    t, beta, s0, c0, c = p[0], p[1], p[2], p[3], p[4]
+    s, w = _nodes(a, b, n, 2 * t)
+    u2 = t * (s * s)  # psi - (pi/2 - t), in [0, t]; u1 = psi - t = beta + u2
+    # D1 = sin u1 cos u2 and D2 = sin u2 cos u1 = sin u2 sin(2t - u2): every angle in [0, pi/2]
+    # and 2t - u2 >= t, so each factor keeps its relative accuracy
+    q1 = np.sqrt(np.sin(beta + u2)) * np.sqrt(np.cos(u2))
+    q2 = np.sqrt(np.sin(u2)) * np.sqrt(np.sin(2 * t - u2))
+    wt = w * s * fold((HALF_PI - t) + u2)
+    # (theta2 - theta1)/2 = atan2(c sin^2 psi, (sqrt(D1 D2) + c0 s0)(c0 sqrt D1 + s0 sqrt D2))
+    # with sin^2 psi = D1 + s0^2
+    three = np.arctan2((q1 * q1 + s0 * s0) * c, (q1 * q2 + c0 * s0) * (c0 * q1 + s0 * q2))
+    return ((wt * np.arctan2(s0, q1)).sum(axis=1), (wt * three).sum(axis=1),
+            (wt * np.arctan2(q2, c0)).sum(axis=1), wt.sum(axis=1))
+
+
+_PIECES = (_piece_a, _piece_b, _piece_c)
+# where each piece's sums go: 0 heads in A (= its mass), 1-3 heads, sides, tails as angles,
+# 4 the mass of B and C
+_SLOTS = ((0,), (1, 2, 4), (1, 2, 3, 4))
+_BLOCK = 1 << 15  #: nodes per numpy pass: the temporaries stay in cache
+
+
+def _integrate_one(x: float, density: Density, n: int, breaks: list[float]):
+    p, pieces = _layout_one(x, breaks)
+    fold = _folded_pdf(density)
+    acc = [0.0] * 5
+    for fn, slots, (a, b) in zip(_PIECES, _SLOTS, pieces, strict=True):
+        for k, v in zip(slots, fn(a, b, n, p, fold), strict=True):
+            acc[k] += float(v.sum())
+    return acc
+
+
+def _integrate_many(xi: np.ndarray, density: Density, n: int, breaks: np.ndarray):
+    m = xi.size
+    par, pieces = _layout_many(xi, breaks)
+    fold = _folded_pdf(density)
+    acc = np.zeros((5, m))
+    step = max(1, _BLOCK // n)
+    for fn, slots, (rows, a, b) in zip(_PIECES, _SLOTS, pieces, strict=True):
+        for j in range(0, rows.size, step):
+            r = rows[j:j + step]
+            p = par[:, r][:, :, None]
+            for k, v in zip(slots, fn(a[j:j + step], b[j:j + step], n, p, fold), strict=True):
+                acc[k] += np.bincount(r, weights=v, minlength=m)
+    return acc
+
+
+def _scale(angle_sum):
+    """An integral of angles -> chances: times 2/pi with one rounding."""
+    return angle_sum * _TWO_OVER_PI_HI + angle_sum * _TWO_OVER_PI_LO
+
+
+def _finish(acc):
+    """Sums -> (heads, sides, tails): divided by the quadrature's own mass of the density, and
+    the largest as 1 - the other two.
+
+    Dividing by the mass the same nodes see cancels what they miss of a narrow density (a peak
+    of height 1/sd a rounding away from a piece's end) and the density's own normalization
+    error; the complement keeps the sum at 1 and a chance near 1 at or below 1.  The largest
+    is at least 1/3, so the complement costs it no relative accuracy.
+    """
+    mass = acc[0] + acc[4]
+    h = (acc[0] + _scale(acc[1])) / mass
+    s, t = _scale(acc[2]) / mass, _scale(acc[3]) / mass
+    if isinstance(h, float):
+        if h >= s and h >= t:
+            h = 1.0 - (s + t)
+        elif s >= t:
+            s = 1.0 - (h + t)
+        else:
+            t = 1.0 - (h + s)
+        return min(max(h, 0.0), 1.0), min(max(s, 0.0), 1.0), min(max(t, 0.0), 1.0)
+    v = np.stack([h, s, t])
+    k = np.argmax(v, axis=0)
+    cols = np.arange(v.shape[1])
+    v[k, cols] = 0.0
+    v[k, cols] = 1.0 - v.sum(axis=0)
+    return np.clip(v, 0.0, 1.0)
+
+
+def _delta(density: Density) -> float | None:
+    """The angle of a normal too narrow for any quadrature (mean +- sd/2 round to the mean)."""
+    if isinstance(density, Normal) and density.mean + 0.5 * density.sd == density.mean \
+            and density.mean - 0.5 * density.sd == density.mean:
+        return min(max(density.mean, 0.0), math.pi)
+    return None
+
+
+def _marginal_flat(xi: np.ndarray, density: Density, n: int) -> np.ndarray:
+    """(3, len(xi)) chances for a 1-D array of xi in [0, inf]; chunked to bound memory."""
+    psi = _delta(density)
+    if psi is not None:  # the limit sd -> 0: Table I at the mean
+        return np.array(models.conditional(xi, np.full(xi.shape, psi)), dtype=float)
+    out = np.empty((3, xi.size))
+    inf = np.isinf(xi)
+    out[:, inf] = np.array([[0.0], [1.0], [0.0]])  # every precessing toss lands on a side
+    fin = np.nonzero(~inf)[0]
+    if fin.size:
+        breaks = _psi_breaks(density)
+        step = max(1, _CHUNK // (breaks.size + 64))
+        for k in range(0, fin.size, step):
+            idx = fin[k:k + step]
+            out[:, idx] = _finish(_integrate_many(xi[idx], density, n, breaks))
+    return out
+
+
+def _marginal_scalar(x: float, density: Density, n: int, breaks=None):
+    if x == math.inf:
+        return 0.0, 1.0, 0.0  # every precessing toss lands on a side; psi = 0, pi has no mass
+    psi = _delta(density)
+    if psi is not None:  # the limit sd -> 0: Table I at the mean
+        return tuple(models.conditional(x, psi))
+    if breaks is None:
+        breaks = _psi_breaks(density).tolist()
+    return _finish(_integrate_one(x, density, n, breaks))
 
 
 def marginal(xi, density: Density | None = None, *, order: int = DEFAULT_ORDER) -> Outcome:
@@ -136,13 +437,14 @@ def marginal(xi, density: Density | None = None, *, order: int = DEFAULT_ORDER) 
     density : Density
         A :mod:`coincli.densities` density (default: the paper's normal, mean pi/2, sd 1/sqrt 2).
     order : int
-        Gauss-Legendre nodes per subinterval (16 reaches about 1e-15 relative on the paper's
-        densities; see ``docs/accuracy.md``).
+        Gauss-Legendre nodes per subinterval, 2 to 64.  16 (the default) is within a few ulps
+        of the exact value; :func:`order_for_tol` gives the fewest nodes for a tolerance.
 
     Returns
     -------
     Outcome
-        Floats for a float ``xi``, arrays of its shape otherwise.
+        Floats for a float ``xi``, arrays of its shape otherwise.  An array is computed in one
+        vectorized pass.
 
     Examples
     --------
@@ -150,21 +452,28 @@ def marginal(xi, density: Density | None = None, *, order: int = DEFAULT_ORDER) 
     >>> [round(v, 3) for v in marginal(3 ** -0.5, Uniform())]  # Table II, uniform column
     [0.63, 0.281, 0.088]
     """
+    density = _check_density(density)
+    n = _check_order(order)
+    xi = models.check_xi(xi)
+    if isinstance(xi, float):
+        return Outcome(*_marginal_scalar(xi, density, n))
+    flat = xi.ravel()
+    if flat.size > 1:
+        uniq, inv = np.unique(flat, return_inverse=True)
+        if uniq.size < flat.size:
+            out = _marginal_flat(uniq, density, n)[:, inv.ravel()]
+        else:
+            out = _marginal_flat(flat, density, n)
+    else:
+        out = _marginal_flat(flat, density, n)
+    return Outcome(*(o.reshape(xi.shape) for o in out))
+
+
+def _check_density(density):
     density = Normal() if density is None else density
     if not isinstance(density, Density):
         raise ValueError(f"density must be a coincli.densities.Density, got {density!r}")
-    xi = models.check_xi(xi)
-    if isinstance(xi, float):
-        return Outcome(*_marginal_one(xi, density, order))
-    flat = xi.ravel()
-    out = np.empty((3, flat.size))
-    cache: dict[float, tuple] = {}
-    for k, x in enumerate(flat.tolist()):
-        r = cache.get(x)
-        if r is None:
-            r = cache[x] = _marginal_one(x, density, order)
-        out[:, k] = r
-    return Outcome(*(o.reshape(xi.shape) for o in out))
+    return density
 
 
 # --------------------------------------------------------------------------- inverses
@@ -211,15 +520,19 @@ def marginal_inverse(p_sides, density: Density | None = None, *, order: int = DE
     not scipy's absolute default that would be meaningless for a thin coin.  ``p = 0`` gives 0
     and ``p = 1`` gives ``inf`` (the chance tends to 1 only as ``xi`` grows without bound).
     """
-    density = Normal() if density is None else density
+    density = _check_density(density)
+    n = _check_order(order)
+    breaks = _psi_breaks(density).tolist()
+
+    def sides_of(x):
+        return _marginal_scalar(x, density, n, breaks)[1]
 
     def one(p):
         if p == 0.0:
             return 0.0
         if p == 1.0:
             return math.inf
-        return _invert(lambda x: _marginal_one(x, density, order)[1], p,
-                       models.dynamic_inverse(p))
+        return _invert(sides_of, p, models.dynamic_inverse(p))
 
     return _vectorize(one, p_sides)
 
