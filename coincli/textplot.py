@@ -238,7 +238,8 @@ def text_sides(data, cols: int, rows: int):
         cv.vbar(e.xi, e.low, e.high, "|", "")
         cv.point(e.xi, e.frequency, "o", "bold #E69F00", layer=5)
     if data.experiments:
-        legend.append(("o", "bold #E69F00", f"your tosses ({len(data.experiments)} rows): "
+        n = len(data.experiments)
+        legend.append(("o", "bold #E69F00", f"your tosses ({n} row{'s' if n > 1 else ''}): "
                        "frequency of sides, | = 95% Wilson interval"))
     return cv.render(
         title="coin plot sides: chance of landing on a side (Fig. 5a)",

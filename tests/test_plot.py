@@ -148,6 +148,15 @@ def test_bad_data_file_names_the_line(capsys, tmp_path):
     assert code == 2 and "line 3" in err and err.count("\n") == 1
 
 
+def test_data_from_stdin(capsys, monkeypatch):
+    import io
+
+    monkeypatch.setattr(sys, "stdin", io.StringIO("xi,sides,n\n0.5,30,100\n"))
+    code, out, err = _run(["plot", "sides", "--data", "-", "--terminal"], capsys)
+    assert code == 0, err
+    assert "your tosses (1 row)" in out
+
+
 def test_unwritable_output_is_exit_1(capsys, tmp_path):
     pytest.importorskip("matplotlib")
     code, out, err = _run(["plot", "psi", "--out", str(tmp_path / "no" / "dir" / "f.png")],
