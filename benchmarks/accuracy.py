@@ -10,7 +10,6 @@ in ulps of the reference value, on the scalar (math) path and on the numpy path.
 from __future__ import annotations
 
 import argparse
-import math
 import platform
 import sys
 from pathlib import Path

@@ -192,7 +192,7 @@ def ulp(ref):
 
 
 def ulp_error(computed: float, ref) -> float:
-    """``|computed - ref| / ulp(ref)`` as a float; exact zeros/infs must match exactly (else inf)."""
+    """``|computed - ref| / ulp(ref)`` as a float; exact zeros and infs must match (else inf)."""
     computed = float(computed)
     if ref == 0 or mpmath.isinf(ref):
         return 0.0 if computed == ref else math.inf

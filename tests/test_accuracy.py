@@ -7,8 +7,8 @@ and on the numpy path, everywhere on the grids of ``reference.py`` -- including 
 1e-9, 1e-6 (relative and absolute) from each of the four regime boundaries of Table I.  The
 doubles adjacent to a boundary (closer than 1e-12; the offset to the boundary can be as small as
 ~1e-18 of theta0/2) are held to a measured, derived bound instead: see
-test_conditional_at_the_doubles_adjacent_to_a_boundary.  The worst error per function and output, and where it
-occurred, is printed in the terminal summary ("accuracy (ulps vs mpmath)").
+test_conditional_at_the_doubles_adjacent_to_a_boundary.  The worst error per function and
+output, and where it occurred, is printed in the terminal summary ("accuracy (ulps vs mpmath)").
 
 The two paths run the same formula; numpy's SIMD atan/atan2/asin/tan/hypot round differently
 from libm by an ulp now and then, so bit-for-bit agreement is checked with numpy's elementary
@@ -26,8 +26,8 @@ import numpy as np
 import pytest
 from reference import (
     conditional_cases,
-    ref_boundaries,
     p_grid,
+    ref_boundaries,
     ref_conditional,
     ref_dynamic,
     ref_dynamic_inverse,
