@@ -71,10 +71,9 @@ def _fail(message: str, code: int) -> int:
 
 def run(argv=None) -> int:
     """Run ``coin`` with ``argv`` and return the exit code (never raises, never prints a trace)."""
-    command = typer.main.get_command(app)
     saved_traceback = os.environ.get("COIN_TRACEBACK")
     try:
-        return _run(command, argv)
+        return _run(argv)
     finally:  # --traceback lasts one run (run() is also called in-process, by tests)
         if saved_traceback is None:
             os.environ.pop("COIN_TRACEBACK", None)
@@ -82,10 +81,11 @@ def run(argv=None) -> int:
             os.environ["COIN_TRACEBACK"] = saved_traceback
 
 
-def _run(command, argv) -> int:
+def _run(argv) -> int:
     from typer.exceptions import TyperException
 
     try:
+        command = typer.main.get_command(app)
         rv = command.main(list(sys.argv[1:] if argv is None else argv), prog_name="coin",
                           standalone_mode=False)
         _flush_stdout()

@@ -1,0 +1,202 @@
+"""The real ``coin`` process: import budget, pipes, Ctrl-C, exit codes, terminal colour.
+
+Each test starts ``python -m coincli`` (or a tiny wrapper around :func:`coincli.cli.run`) with
+the interpreter running the tests, so it works in any venv.  No timing assertions.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from coincli import models
+
+COIN = [sys.executable, "-m", "coincli"]
+
+# The closed-form paths: geometric or dynamic model, single values.
+CLOSED_FORM = [
+    ["design", "--p-sides", "0.33"],
+    ["design", "--p-sides", "1/3", "-q"],
+    ["design", "--p-sides", "33%", "--model", "geometric", "--diameter", "0.955in"],
+    ["design", "--p-sides", "0.4", "--thickness", "2", "--format", "json"],
+    ["table", "--xi", "0.577"],
+    ["table", "--quarters", "8", "--format", "csv"],
+    ["table", "--coin", "nickel", "--count", "3"],
+    ["table", "--xi", "0.577", "--psi", "60"],
+    ["table", "--xi", "0.577", "--vs", "psi"],
+    ["stack", "--coin", "quarter", "--count", "8"],
+    ["stack", "--coin", "quarter", "--p-sides", "1/3"],
+    ["stack", "--coin", "quarter", "--p-sides", "1/3", "--model", "geometric", "-q"],
+    ["coins"],
+    ["fair"],
+    ["fair", "--diameter", "30", "-f", "tsv"],
+]
+
+_PROBE = r"""
+import json, sys
+from coincli.cli import run
+report = []
+for argv in json.loads(sys.argv[1]):
+    code = run(argv)
+    sys.stdout.flush()
+    report.append([argv, code, [m for m in ("numpy", "scipy", "rich") if m in sys.modules]])
+print(json.dumps(report), file=sys.stderr)
+"""
+
+
+def _probe(commands):
+    """Run ``commands`` one after another in one process, stdout a pipe (not a terminal)."""
+    p = subprocess.run([sys.executable, "-c", _PROBE, json.dumps(commands)],
+                       capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stderr
+    return json.loads(p.stderr.strip().splitlines()[-1]), p.stdout
+
+
+def test_closed_form_commands_import_neither_numpy_scipy_nor_rich():
+    report, out = _probe(CLOSED_FORM)
+    assert "\x1b" not in out  # piped: no colour codes
+    for argv, code, loaded in report:
+        assert code == 0, argv
+        assert loaded == [], f"coin {' '.join(argv)} imported {loaded}"
+
+
+def test_the_probe_sees_numpy_when_it_is_loaded():
+    # control: a list of targets is one numpy call, a psi density uses scipy quadrature
+    report, _ = _probe([["design", "-p", "0.1,0.2"], ["design", "-p", "0.3", "--psi-dist",
+                                                     "normal:90:18"]])
+    assert report[0][1] == 0 and "numpy" in report[0][2]
+    assert report[1][1] == 0 and "scipy" in report[1][2]
+
+
+def test_importtime_of_the_real_command():
+    p = subprocess.run([*COIN[:1], "-X", "importtime", *COIN[1:], "design", "--p-sides", "0.33"],
+                       capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0, p.stderr
+    assert float(p.stdout.split("xi = h/D")[1].split()[0]) == pytest.approx(0.57039, abs=1e-5)
+    imported = {line.split("|")[-1].strip().split(".")[0] for line in p.stderr.splitlines()
+                if line.startswith("import time:") and "|" in line}
+    assert "coincli" in imported and "typer" in imported
+    assert not imported & {"numpy", "scipy", "rich"}, imported & {"numpy", "scipy", "rich"}
+
+
+def test_exit_codes_and_one_line_errors():
+    cases = [(["design", "-p", "1/3", "-q"], 0), (["stack", "--p-sides", "1"], 1),
+             (["design", "-p", "1.5"], 2), (["design", "-p", "1/3", "--coin", "quater"], 2),
+             (["table"], 2)]
+    for argv, code in cases:
+        p = subprocess.run([*COIN, *argv], capture_output=True, text=True, timeout=60)
+        assert p.returncode == code, (argv, p.stderr)
+        if code:
+            assert p.stdout == "" and p.stderr.count("\n") == 1
+            assert p.stderr.startswith("coin: error: ") and "Traceback" not in p.stderr
+        else:
+            assert float(p.stdout) == models.dynamic_inverse(1 / 3) and p.stderr == ""
+
+
+def test_quiet_output_feeds_a_shell_variable():
+    script = 'xi=$("$@" design --p-sides 1/3 -q) && echo "xi is $xi"'
+    p = subprocess.run(["sh", "-c", script, "sh", *COIN], capture_output=True, text=True,
+                       timeout=60)
+    assert p.returncode == 0 and p.stdout == f"xi is {models.dynamic_inverse(1 / 3)!r}\n"
+
+
+def test_stdin_batch_through_a_real_pipe():
+    seq = "".join(f"{k / 100:.2f}\n" for k in range(1, 100))
+    p = subprocess.run([*COIN, "design", "--p-sides", "-", "--format", "csv"], input=seq,
+                       capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0 and p.stderr == ""
+    lines = p.stdout.splitlines()
+    assert len(lines) == 100 and lines[0].startswith("p_sides,xi,")
+    assert [line.split(",")[0] for line in lines[1:]] == [repr(float(v)) for v in seq.split()]
+    p = subprocess.run([*COIN, "design", "--p-sides", "-", "--format", "csv"],
+                       input=seq.replace("0.42\n", "0.42x\n"), capture_output=True, text=True,
+                       timeout=60)
+    assert p.returncode == 2 and p.stdout == ""
+    assert p.stderr.startswith("coin: error: stdin line 42:") and p.stderr.count("\n") == 1
+
+
+def test_head_closing_the_pipe_early_exits_0_quietly():
+    # coin table --xi 0.01:100:0.001 | head -3   (10^5 coins, 2*10^5 rows)
+    for fmt in ("table", "csv"):
+        p = subprocess.Popen([*COIN, "table", "--xi", "0.01:100:0.001", "--format", fmt],
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+        head = [p.stdout.readline() for _ in range(3)]
+        p.stdout.close()
+        err = p.stderr.read()
+        assert p.wait(timeout=60) == 0, err
+        assert err == b"" and all(head)
+
+
+def test_a_reader_gone_before_the_first_write_exits_0_quietly():
+    for argv in (["table", "--xi", "0.01:100:0.001", "-f", "csv"], ["design", "-p", "0.3"],
+                 ["design", "-p", "0.3", "-q"]):
+        r, w = os.pipe()
+        os.close(r)
+        try:
+            p = subprocess.run([*COIN, *argv], stdout=w, stderr=subprocess.PIPE, timeout=60)
+        finally:
+            os.close(w)
+        assert (p.returncode, p.stderr) == (0, b""), argv
+
+
+_WAIT_FOR_STDIN = r"""
+import sys
+from coincli.cli import run
+sys.stderr.write("ready\n")
+sys.stderr.flush()
+sys.exit(run(sys.argv[1:]))
+"""
+
+
+def test_ctrl_c_exits_130_without_a_traceback():
+    # the command blocks reading a stdin batch that never ends; SIGINT arrives while it waits
+    p = subprocess.Popen([sys.executable, "-c", _WAIT_FOR_STDIN, "design", "-p", "-"],
+                         stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    try:
+        assert p.stderr.readline() == b"ready\n"
+        p.stdin.write(b"0.1\n0.2\n")
+        p.stdin.flush()
+        time.sleep(0.5)  # run() parses its options and blocks in read()
+        p.send_signal(signal.SIGINT)
+        assert p.wait(timeout=30) == 130
+        assert b"Traceback" not in p.stderr.read() and p.stdout.read() == b""
+    finally:
+        if p.poll() is None:
+            p.kill()
+        p.stdin.close()
+
+
+@pytest.mark.skipif(not hasattr(os, "openpty"), reason="needs a pseudo-terminal")
+def test_terminal_gets_a_rich_table_and_no_color_removes_every_escape():
+    def on_a_terminal(extra_env):
+        master, slave = os.openpty()
+        env = {k: v for k, v in os.environ.items() if k not in ("NO_COLOR", "FORCE_COLOR")}
+        env.update({"TERM": "xterm-256color", "COLUMNS": "120", **extra_env})
+        try:
+            p = subprocess.run([*COIN, "table", "--xi", "0.577"], stdout=slave,
+                               stderr=subprocess.PIPE, env=env, timeout=60)
+        finally:
+            os.close(slave)
+        chunks = []
+        while True:
+            try:
+                data = os.read(master, 65536)
+            except OSError:  # EIO: the terminal has no more writers
+                break
+            if not data:
+                break
+            chunks.append(data)
+        os.close(master)
+        assert p.returncode == 0, p.stderr
+        return b"".join(chunks).decode()
+
+    styled = on_a_terminal({})
+    assert "\x1b[" in styled and "geometric" in styled
+    plain = on_a_terminal({"NO_COLOR": "1"})
+    assert "\x1b" not in plain and "geometric" in plain and "0.499772" in plain
