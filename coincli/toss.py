@@ -1078,9 +1078,9 @@ def simulate_chunks(n, seed, *, xi, u, omega, psi, diameter=DEFAULT_DIAMETER, g=
                     contact="rim") -> Iterator:
     """Yield the outcome codes (int8 arrays) of ``n`` seeded tosses, batch by batch.
 
-    Each batch of up to 65536 tosses draws its own initial conditions from one
-    ``numpy.random.default_rng(seed)``, so a seed always gives the same sequence of outcomes,
-    however the caller consumes it.  Arguments as :func:`sample_conditions`; ``xi``,
+    Each batch of 65536 tosses draws its initial conditions from one
+    ``numpy.random.default_rng(seed)`` (a full batch even when fewer are needed), so a seed
+    always gives the same sequence of outcomes, and a shorter run is a prefix of a longer one.  Arguments as :func:`sample_conditions`; ``xi``,
     ``diameter``, ``g`` are fixed numbers.
     """
     import numpy as np
@@ -1094,7 +1094,10 @@ def simulate_chunks(n, seed, *, xi, u, omega, psi, diameter=DEFAULT_DIAMETER, g=
     done = 0
     while done < n:
         m = min(_CHUNK, n - done)
-        c = sample_conditions(m, rng, **dists)
+        # Always draw a full batch, so that the first m tosses of a run are those of any longer
+        # run with the same seed.
+        c = {k: (v if isinstance(v, float) else v[:m])
+             for k, v in sample_conditions(_CHUNK, rng, **dists).items()}
         res = toss_many(xi, c["psi"], c["u"], c["omega"], diameter=diameter, g=g,
                         contact=contact)
         code = np.broadcast_to(res.code, (m,))
@@ -1127,7 +1130,7 @@ def wilson_interval(k, n, level=0.95):
     den = 1 + z2 / n
     centre = (p + z2 / (2 * n)) / den
     half = z * math.sqrt(p * (1 - p) / n + z2 / (4 * n * n)) / den
-    return max(0.0, centre - half), min(1.0, centre + half)
+    return (0.0 if k == 0 else max(0.0, centre - half)), (1.0 if k == n else min(1.0, centre + half))
 
 
 @dataclass

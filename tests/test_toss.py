@@ -253,47 +253,55 @@ def test_random_tosses_against_dense_sampling(xi, psi, u, om, contact, dia):
     dense_check(xi, psi, u, om, contact=contact, diameter=dia)
 
 
-def _grazing(psi, xi, contact, eps, turns=50, u=2.0):
-    """A toss whose descending centre is at L_peak - eps exactly when L peaks (a thin dip)."""
-    a, hh = A, (xi * A if contact == "thick" else 0.0)
-    z0 = math.sqrt(3) / 2 * a + hh
-    if contact == "thick":
-        peak, theta = math.hypot(a, hh), None
-    else:
-        peak = a if psi >= math.pi / 4 else a * math.sin(2 * psi)
-    # phase of the peak within a turn: alpha = pi/2 (rim, psi >= pi/4), alpha = 2 psi (theta =
-    # pi), or alpha = theta0 (thick): sin(alpha/2) = sin(psi) sin(theta/2)
-    target = math.pi / 2 if contact == "rim" else math.atan2(1, xi)
-    if contact == "rim" and psi < math.pi / 4:
-        theta = math.pi
-    else:
-        theta = 2 * math.asin(math.sin(target / 2) / math.sin(psi))
-    level = peak - eps
-    t_star = (u + math.sqrt(u * u + 2 * G * (z0 - level))) / G
-    om = (theta + 2 * math.pi * turns) / t_star
-    return t_star, om
+def _grazing(psi, xi, contact, u=2.0, om=776.0):
+    """(t_m, F_m, z0): a local minimum of F that is lower than F ever was before it.
+
+    With the launch height shifted to ``z0 - F_m -+ eps`` (F moves by a constant), the toss
+    dips ``eps`` below the plane at ``t_m`` (a near-tangency) or clears it by ``eps``.
+    Located on a grid and refined by brentq on F' (the module's; only the construction uses it).
+    """
+    from scipy.optimize import brentq
+
+    s = T._scalar_setup(xi, psi, u, om, D, G, contact, None)
+    ts = np.linspace(0.0, s.t_end, 400_001)
+    f = np.array([T._f_scalar(t, s) for t in ts])
+    before = np.minimum.accumulate(f)
+    floor = (xi * A if contact == "thick" else 0.0)
+    for i in range(1, ts.size - 1):
+        if f[i] < f[i - 1] and f[i] <= f[i + 1] and f[i] < before[i - 1] and 0 < f[i] < (
+                s.z0 - floor) * 0.9:
+            t_m = brentq(T._fprime_scalar, ts[i - 1], ts[i + 1], args=(s,), xtol=1e-300,
+                         rtol=4 * EPS)
+            return t_m, T._f_scalar(t_m, s), s.z0
+    raise AssertionError("no grazing minimum")
 
 
 @pytest.mark.parametrize("contact,psi,xi", [("rim", math.pi / 2, 0.5), ("rim", 0.5, 0.2),
                                              ("rim", 1.2, 0.05), ("thick", math.pi / 2, 0.3),
                                              ("thick", 1.3, 0.8)])
 def test_a_dip_too_thin_for_dense_sampling_is_found(contact, psi, xi):
-    # A dip below the plane 1e-12 a deep lasts ~1e-6 rad of phase: 512 points a turn miss it,
-    # the certified scan does not.  Raising the centre by 2e-12 a removes it.
-    eps = 1e-12 * A
-    t_star, om = _grazing(psi, xi, contact, eps)
+    # A dip 1e-11 a below the plane lasts ~1e-5 rad of phase: 512 points a turn miss it, the
+    # certified scan does not, and it finds the dip's first root (its left edge).  A clearance
+    # of 1e-10 a instead: no contact there.
+    u, om = 2.0, 776.0
+    t_m, f_m, z0 = _grazing(psi, xi, contact, u, om)
     period = 2 * math.pi / om
-    t_f = T.flight_time(xi, psi, 2.0, om, contact=contact)
-    assert t_star - 1e-4 * period < t_f <= t_star * (1 + 1e-12)
-    v = T.toss_many(xi, psi, 2.0, om, contact=contact)
-    assert float(v.t_f) == pytest.approx(t_f, rel=1e-11)
-    ts = np.linspace(t_star - period / 4, t_star + period / 4, 513)
-    assert np.all(ref_f(ts, xi, psi, 2.0, om, contact=contact) > 0)  # dense sampling misses it
-    # a clearance instead of a dip: no contact there, the next one comes later
-    t_star2, om2 = _grazing(psi, xi, contact, -eps)
-    t_f2 = T.flight_time(xi, psi, 2.0, om2, contact=contact)
-    assert t_f2 > t_star2 + 2 * math.pi / om2 / 64
-    dense_check(xi, psi, 2.0, om2, contact=contact)
+    eps = 1e-11 * A
+    z_dip = z0 - f_m - eps
+    half = math.sqrt(2 * eps / (A * om * om))  # half-width of the dip, to a factor ~2
+    t_f = T.flight_time(xi, psi, u, om, contact=contact, z0=z_dip)
+    t_v = float(T.toss_many(xi, psi, u, om, contact=contact, z0=z_dip).t_f)
+    for t in (t_f, t_v):
+        assert t_m - 3 * half < t < t_m - half / 3
+    ts = t_m + period * (np.arange(-512, 512) + 0.5) / 512  # two turns, 512 points a turn
+    before = ts[(ts > 0) & (ts < t_m)]
+    f = ref_f(before, xi, psi, u, om, contact=contact, z0=z_dip)
+    assert before.size > 20 and np.all(f > 0)  # dense sampling sees nothing up to the dip
+    z_clear = z0 - f_m + 10 * eps
+    t_f2 = T.flight_time(xi, psi, u, om, contact=contact, z0=z_clear)
+    assert t_f2 > t_m + period / 64
+    assert float(T.toss_many(xi, psi, u, om, contact=contact, z0=z_clear).t_f) == pytest.approx(
+        t_f2, rel=1e-12)
 
 
 # --------------------------------------------------------------------------- vectorized vs scalar
@@ -486,8 +494,9 @@ def test_convergence_other_seeds_and_thickness():
 
 
 def test_vigorous_limit_fixed_psi_is_table_i():
-    assert T.vigorous_limit(FAIR, math.pi / 2) == dynamic(FAIR)
+    assert T.vigorous_limit(FAIR, math.pi / 2) == pytest.approx(dynamic(FAIR), rel=1e-15)
     assert T.vigorous_limit(0.3, 1.1) == conditional(0.3, 1.1)
+    assert T.vigorous_limit(0.3, "normal:1.1:0") == conditional(0.3, 1.1)
 
 
 def test_vigorous_limit_averages_against_a_plain_quadrature():
