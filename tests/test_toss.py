@@ -625,3 +625,37 @@ def test_simulate_bad_counts_and_specs():
         T.simulate(10, 1, xi=FAIR, u=2.0, omega="normal:38", psi=1.0)
     with pytest.raises(ValueError, match="psi"):
         T.simulate(10, 1, xi=FAIR, u=2.0, omega=40.0, psi="uniform:0:4")
+
+
+# --------------------------------------------------------------------------- psi densities
+
+
+def _density_cdf(d):
+    grid = np.linspace(0, math.pi, 200_001)
+    pdf = d.pdf(grid)
+    cdf = np.concatenate([[0], np.cumsum(np.diff(grid) * (pdf[1:] + pdf[:-1]) / 2)])
+    cdf /= cdf[-1]
+    return lambda x: np.interp(x, grid, cdf)
+
+
+def test_psi_densities_sample_their_pdf():
+    from scipy.stats import kstest
+
+    from coincli.densities import Cosine, Normal, Table, Uniform
+
+    for d in (Cosine(), Uniform(), Normal(1.0, 0.3), Normal(0.1, 2.0),
+              Table([0, 1, 2, math.pi], [0, 1, 0.2, 0.5])):
+        x = T.Dist.from_density(d).sample(np.random.default_rng(4), 100_000)
+        assert x.min() >= 0 and x.max() <= math.pi
+        assert kstest(x, _density_cdf(d)).pvalue > 1e-3, d.spec
+
+
+def test_psi_density_prediction_is_the_projects_marginal_and_simulation_converges():
+    from coincli.densities import Cosine
+    from coincli.marginal import marginal
+
+    assert T.vigorous_limit(FAIR, Cosine()) == marginal(FAIR, Cosine())
+    s = T.simulate(200_000, 1, xi=FAIR, u="normal:153.6:19.2", omega="normal:38:4", psi=Cosine())
+    assert _within(s, s.vigorous)
+    with pytest.raises(ValueError, match="cannot be rescaled"):
+        T.Dist.from_density(Cosine()).scaled(2.0)
