@@ -1,0 +1,213 @@
+"""Speed of the ``coin`` command: start-up of the closed-form answers, and a 10^6-line batch.
+
+Run from the repository root, in the environment where ``coin`` is installed (a few minutes):
+
+    python benchmarks/bench_cli.py             # writes its section of docs/performance.md
+    python benchmarks/bench_cli.py --quick     # 10^5-line batch, fewer repeats; print only
+
+Start-up: each closed-form command (geometric or dynamic model, one value) against
+``python -c "import typer"``, the floor for any typer program, run alternately so both see the
+same machine; the aim is a ratio of medians <= 1.2 for ``coin design --p-sides 0.33``.
+
+Batch: 10^6 targets on stdin (``coin design --p-sides - --format csv`` and ``-q``) against
+numpy alone reading the same file with ``np.loadtxt`` and writing with ``np.savetxt``
+(``%.17g``, enough digits to read back): once the same 10^6 numbers (one column, what ``-q``
+writes), once as many numbers as coin's csv (14 columns).  Aim: <= 2x.
+
+Times are wall-clock medians; CPU time (user + system of the child) is reported beside them
+because a loaded machine stretches wall time but not CPU time.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import resource
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+import _report  # noqa: E402
+
+AIM_STARTUP = 1.2
+AIM_BATCH = 2.0
+
+
+def coin_command() -> list[str]:
+    """The installed ``coin`` script next to this interpreter, else ``python -m coincli``."""
+    script = Path(sys.executable).with_name("coin")
+    if script.exists():
+        return [str(script)]
+    found = shutil.which("coin")
+    return [found] if found else [sys.executable, "-m", "coincli"]
+
+
+def _cpu_children() -> float:
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
+def run_once(argv, stdin_path=None, check=True) -> tuple[float, float]:
+    """(wall seconds, CPU seconds) of one run, output discarded."""
+    stdin = open(stdin_path, "rb") if stdin_path else subprocess.DEVNULL
+    try:
+        c0, t0 = _cpu_children(), time.perf_counter()
+        p = subprocess.run(argv, stdin=stdin, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+        wall, cpu = time.perf_counter() - t0, _cpu_children() - c0
+    finally:
+        if stdin_path:
+            stdin.close()
+    if check and p.returncode != 0:
+        raise SystemExit(f"{' '.join(argv)} failed ({p.returncode}): {p.stderr.decode()}")
+    return wall, cpu
+
+
+def interleaved(cases: dict[str, list[str]], repeat: int, stdin_paths=None):
+    """Run every case ``repeat`` times, round-robin; {name: (wall list, cpu list)}."""
+    stdin_paths = stdin_paths or {}
+    res = {k: ([], []) for k in cases}
+    for k, argv in cases.items():  # warm the disk cache and .pyc files
+        run_once(argv, stdin_paths.get(k))
+    for i in range(repeat):
+        for k, argv in cases.items():
+            w, c = run_once(argv, stdin_paths.get(k))
+            res[k][0].append(w)
+            res[k][1].append(c)
+        print(f"  round {i + 1}/{repeat}", file=sys.stderr, end="\r")
+    print(file=sys.stderr)
+    return {k: (_report.median(w), _report.median(c)) for k, (w, c) in res.items()}
+
+
+STARTUP = [
+    "design --p-sides 0.33",
+    "design --p-sides 1/3 -q",
+    "design --p-sides 0.33 --model geometric --format csv",
+    "table --xi 0.577",
+    "stack --coin quarter --count 8",
+    "stack --coin quarter --p-sides 1/3",
+    "fair",
+    "coins",
+]
+
+
+def startup(repeat: int):
+    coin = coin_command()
+    py = sys.executable
+    cases = {"python -c pass": [py, "-c", "pass"],
+             'python -c "import typer"': [py, "-c", "import typer"]}
+    cases.update({f"coin {c}": [*coin, *c.split()] for c in STARTUP})
+    return interleaved(cases, repeat)
+
+
+NUMPY_ONE = ("import sys, numpy as np; a = np.loadtxt(sys.stdin.buffer); "
+             "np.savetxt(sys.stdout.buffer, a, fmt='%.17g')")
+NUMPY_WIDE = ("import sys, numpy as np; a = np.loadtxt(sys.stdin.buffer); "
+              "np.savetxt(sys.stdout.buffer, np.column_stack([a] * 14), fmt='%.17g', "
+              "delimiter=',')")
+
+
+def batch(n: int, repeat: int):
+    import numpy as np
+
+    coin = coin_command()
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "targets.txt")
+        p = np.random.default_rng(7).uniform(0.0, 1.0, n)
+        with open(path, "w") as f:
+            f.write("\n".join(map(repr, p.tolist())) + "\n")
+        cases = {
+            "coin design --p-sides - --format csv": [*coin, "design", "--p-sides", "-",
+                                                     "--format", "csv"],
+            "coin design --p-sides - -q": [*coin, "design", "--p-sides", "-", "-q"],
+            "numpy: read, write the same numbers (1 column)": [sys.executable, "-c", NUMPY_ONE],
+            "numpy: read, write as many numbers as coin's csv (14 columns)":
+                [sys.executable, "-c", NUMPY_WIDE],
+        }
+        out = subprocess.run([*coin, "design", "--p-sides", "-", "--format", "csv"],
+                             stdin=open(path, "rb"), capture_output=True, check=True).stdout
+        sizes = {"input": os.path.getsize(path), "csv": len(out),
+                 "rows": out.count(b"\n") - 1}
+        del out
+        res = interleaved(cases, repeat, {k: path for k in cases})
+    return res, sizes
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--repeat", type=int, default=21, help="start-up runs per command (21)")
+    ap.add_argument("--batch-repeat", type=int, default=5, help="runs of each batch case (5)")
+    ap.add_argument("-n", type=int, default=10**6, help="batch size (10^6)")
+    ap.add_argument("--quick", action="store_true", help="10^5 batch, 7 and 3 repeats, print only")
+    ap.add_argument("--no-write", action="store_true", help="do not touch docs/performance.md")
+    args = ap.parse_args(argv)
+    if args.quick:
+        args.repeat, args.batch_repeat, args.n, args.no_write = 7, 3, 10**5, True
+
+    where = _report.machine()
+    print(f"start-up, {args.repeat} rounds", file=sys.stderr)
+    st = startup(args.repeat)
+    print(f"batch of {args.n}, {args.batch_repeat} rounds", file=sys.stderr)
+    bt, sizes = batch(args.n, args.batch_repeat)
+
+    typer_w, typer_c = st['python -c "import typer"']
+    rows = []
+    for name, (w, c) in st.items():
+        rows.append([f"`{name}`", _report.fmt_time(w), _report.fmt_time(c),
+                     f"{w / typer_w:.2f}", f"{c / typer_c:.2f}"])
+    head_w = st["coin design --p-sides 0.33"][0] / typer_w
+    head_c = st["coin design --p-sides 0.33"][1] / typer_c
+
+    one_w, one_c = bt["numpy: read, write the same numbers (1 column)"]
+    wide_w, wide_c = bt["numpy: read, write as many numbers as coin's csv (14 columns)"]
+    brows = []
+    for name, (w, c) in bt.items():
+        brows.append([f"`{name}`" if name.startswith("coin") else name,
+                      _report.fmt_time(w), _report.fmt_time(c),
+                      f"{w / one_w:.2f}", f"{w / wide_w:.2f}"])
+    csv_w, csv_c = bt["coin design --p-sides - --format csv"]
+    q_w, q_c = bt["coin design --p-sides - -q"]
+
+    def verdict(r, aim):
+        return "met" if r <= aim else "**missed**"
+
+    n_text = f"10^{len(str(args.n)) - 1}" if str(args.n).strip("0") == "1" else f"{args.n:,}"
+    body = [
+        "## The command (`benchmarks/bench_cli.py`)", "",
+        "Command: `python benchmarks/bench_cli.py` (a few minutes).  " + where + ".  "
+        f"`coin` is `{' '.join(coin_command())}`.", "",
+        f"### Start-up of the closed-form answers ({args.repeat} runs each, interleaved)", "",
+        f"`coin design --p-sides 0.33` takes **{head_w:.2f}x** the wall time of "
+        f"`python -c \"import typer\"` ({head_c:.2f}x its CPU time); aim <= {AIM_STARTUP}: "
+        f"{verdict(head_w, AIM_STARTUP)}.  None of these runs imports numpy, scipy or rich "
+        "(checked by `tests/test_cli_subprocess.py`).", "",
+        _report.table(["command", "wall", "CPU", "wall / import typer", "CPU / import typer"],
+                      rows),
+        f"### A batch of {n_text} targets on stdin ({args.batch_repeat} runs each, interleaved)",
+        "",
+        f"Input {sizes['input'] / 1e6:.1f} MB ({n_text} random doubles, 17 significant digits); "
+        f"coin's csv is {sizes['rows']:,} rows, {sizes['csv'] / 1e6:.0f} MB "
+        "(14 columns, every float the shortest text that reads back).", "",
+        _report.table(["run", "wall", "CPU", "/ numpy 1 column", "/ numpy 14 columns"], brows),
+        f"- `-q` (reads {n_text} numbers, writes {n_text}) against numpy reading and writing the "
+        f"same numbers: **{q_w / one_w:.2f}x** wall ({q_c / one_c:.2f}x CPU); aim <= "
+        f"{AIM_BATCH:g}: {verdict(q_w / one_w, AIM_BATCH)}.",
+        f"- `--format csv` against numpy writing as many numbers: **{csv_w / wide_w:.2f}x** wall "
+        f"({csv_c / wide_c:.2f}x CPU): {verdict(csv_w / wide_w, AIM_BATCH)}.  Against the "
+        f"one-column baseline it is {csv_w / one_w:.1f}x: the csv holds 14 times the numbers, "
+        "and formatting a double as its shortest round-trip text (`repr`, ~0.4 µs) is most of "
+        "the time.", "",
+    ]
+    text = "\n".join(body)
+    print(text)
+    if not args.no_write:
+        _report.write_section("bench_cli", text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
