@@ -85,9 +85,9 @@ def _run(argv) -> int:
     from typer.exceptions import TyperException
 
     try:
-        command = typer.main.get_command(app)
-        rv = command.main(list(sys.argv[1:] if argv is None else argv), prog_name="coin",
-                          standalone_mode=False)
+        argv = list(sys.argv[1:] if argv is None else argv)
+        command = _click_command(argv)
+        rv = command.main(argv, prog_name="coin", standalone_mode=False)
         _flush_stdout()
         return int(rv) if isinstance(rv, int) else 0
     except CoinError as exc:
@@ -130,6 +130,30 @@ def _run(argv) -> int:
             raise
         return _fail(f"internal error: {type(exc).__name__}: {exc} (rerun with --traceback)",
                      ExitCode.ERROR)
+
+
+def _click_command(argv):
+    """The click command for ``argv``: the root group holding only the subcommand named.
+
+    Turning a typer app into click commands inspects every parameter of every command (about
+    10 ms for all of them, a fifth of a closed-form run); a run needs one.  The whole tree is
+    built for help at the root, an unknown name (click then suggests one) and shell completion.
+    """
+    import copy
+
+    name = next((a for a in argv if not a.startswith("-")), None)
+    before = argv[: argv.index(name)] if name is not None else argv
+    if name is None or any(a in ("-h", "--help") for a in before) or any(
+            k.startswith("_COIN") and k.endswith("_COMPLETE") for k in os.environ):
+        return typer.main.get_command(app)
+    commands = [c for c in app.registered_commands
+                if (c.name or typer.main.get_command_name(c.callback.__name__)) == name]
+    groups = [g for g in app.registered_groups if g.name == name]
+    if not commands and not groups:
+        return typer.main.get_command(app)
+    lean = copy.copy(app)
+    lean.registered_commands, lean.registered_groups = commands, groups
+    return typer.main.get_command(lean)
 
 
 def _flush_stdout():
