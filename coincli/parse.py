@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import math
 import re
-from fractions import Fraction
 
 __all__ = [
     "parse_number",
@@ -26,8 +25,8 @@ MAX_COUNT = 2**53  #: the largest count (of coins) that a double still holds exa
 
 _NUM = re.compile(r"^[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?$")
 _INT = re.compile(r"^[+-]?\d+$")
-_LEN_UNITS = {"mm": Fraction(1), "cm": Fraction(10), "m": Fraction(1000), "in": Fraction("25.4"),
-              '"': Fraction("25.4")}  # exact, so 0.955in is the double nearest 24.257 mm
+# exact factors (as text for Fraction), so 0.955in is the double nearest 24.257 mm
+_LEN_UNITS = {"mm": "1", "cm": "10", "m": "1000", "in": "25.4", '"': "25.4"}
 
 
 def parse_number(text: str, what: str = "value", *, allow_inf: bool = False) -> float:
@@ -55,8 +54,10 @@ def parse_probability(text: str, what: str = "probability") -> float:
             if d == 0:
                 raise ValueError(f"{what} {text!r} divides by zero")
             v = float(_plain(num, what) / d)
-        else:
-            v = float(_plain(s, what))
+        else:  # a plain decimal: float() rounds correctly, as float(Fraction(s)) would
+            if not _NUM.match(s):
+                _plain(s, what)
+            v = float(s) + 0.0  # -0 -> 0.0
     except OverflowError:  # beyond the double range: certainly not in [0, 1]
         v = math.inf
     except (ValueError, ZeroDivisionError) as exc:
@@ -69,12 +70,14 @@ def parse_probability(text: str, what: str = "probability") -> float:
     return v
 
 
-def _plain(s: str, what: str) -> Fraction:
+def _plain(s: str, what: str):
     """The exact value of a plain decimal, its exponent clamped to +-(1000 + its length).
 
     ``Fraction('1e-99999999')`` builds a hundred-million-digit integer (minutes); clamped, the
     value is still far outside the double range, so it rounds (or fails a range check) the same.
     """
+    from fractions import Fraction  # imported when needed: it costs a millisecond
+
     s = s.strip()
     m = _NUM.match(s)
     if not m:
@@ -91,7 +94,7 @@ def _plain(s: str, what: str) -> Fraction:
 def parse_length_mm(text: str, what: str = "length") -> float:
     """A length in millimetres: ``24.26``, ``24.26mm``, ``2.4cm``, ``0.955in``; finite, > 0."""
     s = str(text).strip().lower()
-    factor = Fraction(1)
+    factor = "1"
     for unit, f in sorted(_LEN_UNITS.items(), key=lambda kv: -len(kv[0])):
         if s.endswith(unit) and _NUM.match(s[: -len(unit)].strip() or "x"):
             s, factor = s[: -len(unit)].strip(), f
@@ -100,10 +103,13 @@ def parse_length_mm(text: str, what: str = "length") -> float:
         raise ValueError(
             f"{what} must be a length like 24.26, 24.26mm, 2.4cm or 0.955in, got {text!r}"
         )
-    try:
-        v = float(_plain(s, what) * factor)
-    except OverflowError:
-        v = math.inf
+    if factor == "1":
+        v = float(s)
+    else:
+        try:
+            v = float(_plain(s, what) * _plain(factor, what))
+        except OverflowError:
+            v = math.inf
     if not (math.isfinite(v) and v > 0):
         raise ValueError(f"{what} must be a finite length > 0, got {text!r}")
     return v
