@@ -1,0 +1,341 @@
+"""``coin toss``, ``coin simulate``, ``coin phase`` run in-process through :func:`coincli.cli.run`.
+
+Every printed number is read back and compared, as a double, with :mod:`coincli.toss`; bad
+input is one line on stderr with exit 2 and nothing on stdout.  No timing here.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from coincli import toss as T
+from coincli.cli import run
+
+FAIR = 0.577
+
+
+@pytest.fixture
+def coin(capsys, monkeypatch):
+    def call(*argv, stdin: str | None = None):
+        if stdin is not None:
+            monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(stdin.encode())))
+        code = run([str(a) for a in argv])
+        out, err = capsys.readouterr()
+        return code, out, err
+
+    return call
+
+
+def _ok(result):
+    code, out, err = result
+    assert (code, err) == (0, ""), err
+    return out
+
+
+def _error(result, code, *words):
+    rc, out, err = result
+    assert rc == code, (rc, out, err)
+    assert out == ""
+    assert err.startswith("coin: error: ") and err.count("\n") == 1, err
+    for w in words:
+        assert w in err, (w, err)
+
+
+# --------------------------------------------------------------------------- coin toss
+
+
+def test_toss_json_is_the_core_bit_for_bit(coin):
+    out = _ok(coin("toss", "--xi", "0.577", "--psi", "90", "--u", "2.0", "--omega", "40",
+                   "--format", "json"))
+    (row,) = json.loads(out)
+    r = T.toss(0.577, math.pi / 2, 2.0, 40.0)
+    assert row["t_f"] == r.t_f
+    assert row["turns"] == r.turns
+    assert row["alpha_f_deg"] == math.degrees(r.alpha_f)
+    assert row["theta0_deg"] == math.degrees(r.theta0)
+    assert row["vigor"] == r.vigor
+    assert row["outcome"] == r.outcome
+    assert row["contact"] == "rim"
+    assert row["z0_mm"] == pytest.approx(math.sqrt(3) / 2 * 12.13, rel=1e-14)
+
+
+def test_toss_human_table_and_quiet(coin):
+    out = _ok(coin("toss", "--xi", "0.577", "--psi", "90", "--u", "2", "--omega", "40"))
+    for word in ("t_f (s)", "turns", "alpha_f (deg)", "theta0 (deg)", "vigor", "outcome",
+                 "tails"):
+        assert word in out
+    assert _ok(coin("toss", "--xi", "0.577", "--psi", "90", "--u", "2", "--omega", "40",
+                    "-q")) == "tails\n"
+
+
+def test_toss_options_diameter_g_contact_z0(coin):
+    out = _ok(coin("toss", "--xi", "0.4", "--psi", "70", "--u", "1.5", "--omega", "55",
+                   "--diameter", "2.5cm", "--g", "9.8", "--contact", "thick", "--z0", "20",
+                   "--format", "json"))
+    (row,) = json.loads(out)
+    r = T.toss(0.4, math.radians(70), 1.5, 55.0, diameter=0.025, g=9.8, contact="thick",
+               z0=0.02)
+    assert row["t_f"] == r.t_f and row["outcome"] == r.outcome and row["contact"] == "thick"
+
+
+def test_toss_lists_pair_up_and_match_toss_many(coin):
+    out = _ok(coin("toss", "--xi", "0.577", "--psi", "90", "--u", "2", "--omega", "30:50:0.5",
+                   "--format", "csv"))
+    rows = list(csv.DictReader(io.StringIO(out)))
+    assert len(rows) == 41
+    w = np.array([float(r["omega"]) for r in rows])
+    v = T.toss_many(0.577, math.pi / 2, 2.0, w)
+    assert [float(r["t_f"]) for r in rows] == v.t_f.tolist()
+    assert [r["outcome"] for r in rows] == [T.NAMES[c] for c in v.code]
+    for r in rows[::10]:
+        s = T.toss(0.577, math.pi / 2, 2.0, float(r["omega"]))
+        assert float(r["t_f"]) == pytest.approx(s.t_f, rel=1e-12)
+
+
+def test_toss_reads_stdin(coin):
+    out = _ok(coin("toss", "--xi", "0.577", "--psi", "90", "--u", "-", "--omega", "40",
+                   "--format", "csv", stdin="1\n2\n# a comment\n3\n"))
+    assert [float(r["u"]) for r in csv.DictReader(io.StringIO(out))] == [1.0, 2.0, 3.0]
+
+
+@pytest.mark.parametrize("argv,words", [
+    (["--u", "-2"], ["--u"]),
+    (["--omega", "-1"], ["--omega"]),
+    (["--psi", "200"], ["--psi", "180"]),
+    (["--xi", "-0.1"], ["--xi"]),
+    (["--g", "0"], ["--g"]),
+    (["--g", "-9.81"], ["--g"]),
+    (["--diameter", "0"], ["--diameter"]),
+    (["--contact", "edge"], ["--contact"]),
+    (["--omega", "1e13"], ["omega", "1e+12"]),
+    (["--u", "1,2", "--omega", "1,2,3"], ["one value or 3"]),
+    (["--xi", "__import__('os')"], ["--xi"]),
+    (["--z0", "1", "--contact", "thick", "--xi", "1"], ["z0"]),
+])
+def test_toss_bad_input_is_one_line_exit_2(coin, argv, words):
+    base = {"--xi": "0.577", "--psi": "90", "--u": "2", "--omega": "40"}
+    extra = []
+    it = iter(argv)
+    for k in it:
+        v = next(it)
+        if k in base:
+            base[k] = v
+        else:
+            extra += [k, v]
+    args = [x for kv in base.items() for x in kv] + extra
+    _error(coin("toss", *args), 2, *words)
+
+
+def test_toss_missing_option_is_usage(coin):
+    _error(coin("toss", "--xi", "0.5", "--psi", "90", "--u", "2"), 2, "--omega")
+
+
+# --------------------------------------------------------------------------- coin simulate
+
+
+SIM = ["simulate", "--xi", "0.577", "--u", "normal:2.4:0.3", "--omega", "normal:38:4"]
+
+
+def test_simulate_csv_is_the_core(coin):
+    out = _ok(coin(*SIM, "--psi-dist", "normal:90:10", "-n", "20000", "--seed", "7",
+                   "--format", "csv"))
+    rows = list(csv.DictReader(io.StringIO(out)))
+    psi = T.parse_dist("normal:90:10", "psi", 0, 180).scaled(math.pi / 180)
+    sim = T.simulate(20000, 7, xi=0.577, u="normal:2.4:0.3", omega="normal:38:4", psi=psi)
+    assert [r["outcome"] for r in rows] == ["heads", "sides", "tails"]
+    assert tuple(int(r["count"]) for r in rows) == sim.counts
+    for r, f, p in zip(rows, sim.frequencies, sim.vigorous, strict=True):
+        assert float(r["frequency"]) == f.p
+        assert float(r["ci_low"]) == f.lo and float(r["ci_high"]) == f.hi
+        assert float(r["vigorous"]) == p
+
+
+def test_simulate_seed_reproducible_and_note_names_it(coin):
+    a = _ok(coin(*SIM, "--psi", "90", "-n", "3000", "--seed", "5"))
+    b = _ok(coin(*SIM, "--psi", "90", "-n", "3000", "--seed", "5"))
+    assert a == b and "seed 5" in a
+    c = _ok(coin(*SIM, "--psi", "90", "-n", "3000"))
+    assert "seed " in c  # a fresh seed, printed so the run can be repeated
+
+
+def test_simulate_stream_letters_prefix_and_counts(coin):
+    out = _ok(coin(*SIM, "--psi", "90", "-n", "100", "--seed", "3", "--stream"))
+    lines = out.splitlines()
+    assert len(lines) == 100 and set(lines) <= {"H", "S", "T"}
+    short = _ok(coin(*SIM, "--psi", "90", "-n", "10", "--seed", "3", "--stream")).splitlines()
+    assert short == lines[:10]
+    codes = np.concatenate(list(T.simulate_chunks(100, 3, xi=0.577, u="normal:2.4:0.3",
+                                                  omega="normal:38:4", psi=math.pi / 2)))
+    assert lines == [T.LETTERS[c] for c in codes]
+
+
+def test_simulate_psi_dist_accepts_the_design_densities(coin):
+    for spec in ("cosine", "uniform", "normal", "normal:80:20", "uniform:60:120", "90"):
+        out = _ok(coin(*SIM, "--psi-dist", spec, "-n", "2000", "--seed", "1", "--format",
+                       "json"))
+        rows = json.loads(out)
+        assert sum(r["count"] for r in rows) == 2000
+        assert sum(r["vigorous"] for r in rows) == pytest.approx(1.0, abs=1e-9)
+
+
+def test_simulate_psi_table_file(coin, tmp_path):
+    f = tmp_path / "psi.csv"
+    f.write_text("psi,weight\n0,0\n90,1\n180,0\n")
+    out = _ok(coin(*SIM, "--psi-dist", f"table:{f}", "-n", "2000", "--seed", "1", "--format",
+                   "json"))
+    assert sum(r["count"] for r in json.loads(out)) == 2000
+
+
+def test_simulate_quiet_gives_the_three_frequencies(coin):
+    out = _ok(coin(*SIM, "--psi", "90", "-n", "1000", "--seed", "2", "-q"))
+    vals = [float(x) for x in out.split()]
+    assert len(vals) == 3 and sum(vals) == pytest.approx(1.0)
+
+
+@pytest.mark.parametrize("argv,words", [
+    (["--u", "normal:2.4"], ["--u", "normal:MEAN:SD"]),
+    (["--u", "normal:a:b"], ["--u"]),
+    (["--u", "uniform:3:1"], ["--u", "LOW <= HIGH"]),
+    (["--u", "-1"], ["--u"]),
+    (["--u", "normal:-50:1"], ["--u", "no probability"]),
+    (["--omega", "cauchy:1:2"], ["--omega", "unknown distribution"]),
+    (["--omega", "normal:38:-4"], ["--omega", "SD >= 0"]),
+    (["--psi-dist", "foo"], ["--psi-dist"]),
+    (["--psi-dist", "uniform:0:200"], ["--psi-dist"]),
+    (["--psi-dist", "normal:90"], ["--psi-dist"]),
+    (["--psi", "90", "--psi-dist", "cosine"], ["--psi"]),
+    (["-n", "0"], ["-n"]),
+    (["-n", "1.5"], ["-n"]),
+    (["--seed", "-3"], ["--seed"]),
+    (["--g", "0"], ["--g"]),
+    (["--xi", "0.1,0.2"], ["one --xi"]),
+    (["--stream", "--format", "csv"], ["--stream"]),
+])
+def test_simulate_bad_input_is_one_line_exit_2(coin, argv, words):
+    base = {"--xi": "0.577", "--u": "normal:2.4:0.3", "--omega": "normal:38:4", "-n": "100"}
+    extra = []
+    flags = [a for a in argv if a == "--stream"]
+    rest = [a for a in argv if a != "--stream"]
+    it = iter(rest)
+    for k in it:
+        v = next(it)
+        if k in base:
+            base[k] = v
+        else:
+            extra += [k, v]
+    if "--psi" not in extra and "--psi-dist" not in extra:
+        extra += ["--psi", "90"]
+    args = [x for kv in base.items() for x in kv] + extra + flags
+    _error(coin("simulate", *args), 2, *words)
+
+
+def test_simulate_needs_a_psi(coin):
+    _error(coin(*SIM, "-n", "10"), 2, "--psi")
+
+
+def test_simulate_stream_survives_a_closed_pipe():
+    p = subprocess.run(
+        f"{sys.executable} -m coincli simulate -n 300000 --seed 1 --xi 0.577 --u 2.4 "
+        "--omega normal:38:4 --psi 90 --stream | head -2", shell=True, capture_output=True,
+        text=True, timeout=120)
+    assert p.stdout.split() in (["H", "H"], ["H", "S"], ["H", "T"], ["S", "H"], ["S", "S"],
+                                ["S", "T"], ["T", "H"], ["T", "S"], ["T", "T"])
+    assert "Traceback" not in p.stderr and p.stderr == ""
+
+
+# --------------------------------------------------------------------------- coin phase
+
+
+def test_phase_csv_is_phase_map(coin):
+    out = _ok(coin("phase", "--xi", "0.577", "--psi", "90", "--u", "0:3", "--omega", "0:60",
+                   "--cols", "12", "--rows", "8", "--format", "csv"))
+    rows = list(csv.DictReader(io.StringIO(out)))
+    pm = T.phase_map(0.577, math.pi / 2, (0, 3), (0, 60), (12, 8))
+    assert len(rows) == 96
+    assert [int(r["code"]) for r in rows] == pm.codes.ravel().tolist()
+    assert [float(r["u"]) for r in rows[:12]] == pm.u.tolist()
+    assert float(rows[12]["omega"]) == pm.omega[1]
+    assert {r["outcome"] for r in rows} <= set(T.NAMES)
+
+
+def test_phase_text_in_a_pipe_is_letters_with_legend(coin):
+    out = _ok(coin("phase", "--cols", "40", "--rows", "12"))
+    grid = [line[8:48] for line in out.splitlines()[1:13]]
+    assert all(len(g) == 40 and set(g) <= set("HSThst") for g in grid)
+    assert grid[-1].upper().startswith("H")  # the strip next to the omega = 0 axis: heads
+    assert "H heads" in out and "S sides" in out and "T tails" in out
+    assert "eq. (10)" in out and "Vigorous limit" in out
+    plain = _ok(coin("phase", "--cols", "40", "--rows", "12", "--no-curves"))
+    assert not any(c in "hst" for line in plain.splitlines()[1:13] for c in line[8:48])
+    # the letters are the map, whatever the marks
+    pm = T.phase_map(T.FAIR_XI if hasattr(T, "FAIR_XI") else 1 / math.sqrt(3), math.pi / 2,
+                     (0, 3), (0, 60), (40, 12))
+    top = plain.splitlines()[1][8:48]
+    assert top == "".join(T.LETTERS[c] for c in pm.codes[-1])
+
+
+def test_phase_colour_on_a_terminal(coin, monkeypatch):
+    import coincli.cli.toss as C
+
+    monkeypatch.setattr(C, "stdout_is_terminal", lambda: True)
+    monkeypatch.delenv("NO_COLOR", raising=False)
+    out = _ok(coin("phase", "--cols", "30", "--rows", "10"))
+    assert "\x1b[" in out and "heads" in out and "boundary" in out
+    monkeypatch.setenv("NO_COLOR", "1")
+    out = _ok(coin("phase", "--cols", "30", "--rows", "10"))
+    assert "\x1b[" not in out
+
+
+def test_phase_figure_file(coin, tmp_path):
+    pytest.importorskip("matplotlib")
+    for ext in ("png", "svg"):
+        path = tmp_path / f"phase.{ext}"
+        _ok(coin("phase", "--u", "0:3", "--omega", "0:60", "--cols", "60", "--rows", "60",
+                 "--out", str(path)))
+        assert path.stat().st_size > 1000
+    _error(coin("phase", "--out", str(tmp_path / "phase.txt")), 2, "--out")
+    _error(coin("phase", "--out", str(tmp_path / "p.png"), "--format", "csv"), 2, "--out")
+
+
+def test_phase_figure_without_matplotlib_says_how_to_install(coin, tmp_path, monkeypatch):
+    import builtins
+
+    real = builtins.__import__
+
+    def no_mpl(name, *a, **k):
+        if name == "matplotlib" or name.startswith("matplotlib."):
+            raise ImportError("no matplotlib")
+        return real(name, *a, **k)
+
+    monkeypatch.setattr(builtins, "__import__", no_mpl)
+    _error(coin("phase", "--out", str(tmp_path / "p.png")), 1, "matplotlib", "pip install")
+    assert not (tmp_path / "p.png").exists()
+
+
+@pytest.mark.parametrize("argv,words", [
+    (["--u", "3:0"], ["--u"]), (["--u", "0"], ["--u"]), (["--omega", "-1:60"], ["--omega"]),
+    (["--cols", "1"], ["--cols"]), (["--rows", "99999"], ["--rows"]),
+    (["--psi", "-5"], ["--psi"]), (["--xi", "x"], ["--xi"]), (["--g", "0"], ["--g"]),
+    (["--omega", "0:1e14"], ["omega"]),
+])
+def test_phase_bad_input_is_one_line_exit_2(coin, argv, words):
+    _error(coin("phase", *argv, "--format", "csv"), 2, *words)
+
+
+# --------------------------------------------------------------------------- start-up budget
+
+
+def test_importing_the_command_module_loads_no_numpy_scipy_rich():
+    code = ("import sys, coincli.cli.toss; "
+            "print(sorted(m for m in ('numpy', 'scipy', 'rich') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=60)
+    assert out.stdout.strip() == "[]", out.stdout + out.stderr
