@@ -1138,8 +1138,8 @@ def simulate_chunks(n, seed, *, xi, u, omega, psi, diameter=DEFAULT_DIAMETER, g=
 
     Each batch of 65536 tosses draws its initial conditions from one
     ``numpy.random.default_rng(seed)`` (a full batch even when fewer are needed), so a seed
-    always gives the same sequence of outcomes, and a shorter run is a prefix of a longer one.  Arguments as :func:`sample_conditions`; ``xi``,
-    ``diameter``, ``g`` are fixed numbers.
+    always gives the same sequence of outcomes, and a shorter run is a prefix of a longer one.
+    Arguments as :func:`sample_conditions`; ``xi``, ``diameter``, ``g`` are fixed numbers.
     """
     import numpy as np
 
@@ -1188,7 +1188,8 @@ def wilson_interval(k, n, level=0.95):
     den = 1 + z2 / n
     centre = (p + z2 / (2 * n)) / den
     half = z * math.sqrt(p * (1 - p) / n + z2 / (4 * n * n)) / den
-    return (0.0 if k == 0 else max(0.0, centre - half)), (1.0 if k == n else min(1.0, centre + half))
+    lo = 0.0 if k == 0 else max(0.0, centre - half)
+    return lo, (1.0 if k == n else min(1.0, centre + half))
 
 
 @dataclass

@@ -148,7 +148,9 @@ def test_simulate_csv_is_the_core(coin):
     out = _ok(coin(*SIM, "--psi-dist", "normal:90:10", "-n", "20000", "--seed", "7",
                    "--format", "csv"))
     rows = list(csv.DictReader(io.StringIO(out)))
-    psi = T.parse_dist("normal:90:10", "psi", 0, 180).scaled(math.pi / 180)
+    from coincli.densities import parse_density
+
+    psi = T.Dist.from_density(parse_density("normal:90:10"))  # the grammar of coin design
     sim = T.simulate(20000, 7, xi=0.577, u="normal:2.4:0.3", omega="normal:38:4", psi=psi)
     assert [r["outcome"] for r in rows] == ["heads", "sides", "tails"]
     assert tuple(int(r["count"]) for r in rows) == sim.counts
@@ -276,8 +278,7 @@ def test_phase_text_in_a_pipe_is_letters_with_legend(coin):
     plain = _ok(coin("phase", "--cols", "40", "--rows", "12", "--no-curves"))
     assert not any(c in "hst" for line in plain.splitlines()[1:13] for c in line[8:48])
     # the letters are the map, whatever the marks
-    pm = T.phase_map(T.FAIR_XI if hasattr(T, "FAIR_XI") else 1 / math.sqrt(3), math.pi / 2,
-                     (0, 3), (0, 60), (40, 12))
+    pm = T.phase_map(0.5773502691896257, math.pi / 2, (0, 3), (0, 60), (40, 12))
     top = plain.splitlines()[1][8:48]
     assert top == "".join(T.LETTERS[c] for c in pm.codes[-1])
 

@@ -26,7 +26,7 @@ G = T.STANDARD_G
 EPS = 2.0**-52
 
 
-# --------------------------------------------------------------------------- an independent reference
+# --------------------------------------------------------------------------- independent reference
 
 
 def ref_f(t, xi, psi, u, om, diameter=D, g=G, contact="rim", z0=None):
@@ -50,7 +50,8 @@ def ref_tol(xi, psi, u, om, t, diameter=D, g=G, contact="rim"):
 
 
 def contact_zone(xi, u, t_hi, diameter=D, g=G, contact="rim"):
-    """Intervals of [0, t_hi] where z(t) <= a + h/2 (+ a margin): contact is impossible elsewhere."""
+    """Intervals of [0, t_hi] where z(t) <= a + h/2 (+ a margin); no contact is possible elsewhere.
+    """
     a = diameter / 2
     hh = xi * diameter / 2 if contact == "thick" else 0.0
     z0 = math.sqrt(3) / 2 * a + hh
@@ -379,7 +380,7 @@ def test_fair_coin_boundaries_are_the_hyperbolae_of_eq10_once_u_is_large():
         wmax = 4.5 * math.pi * G / (2 * u)  # the first nine curves: c = 1/3, 2/3, ..., 13/3
         curves = T.hyperbolae(FAIR, psi, np.array([u]), wmax)
         assert [round(c.coefficient, 12) for c in curves] == [
-            round(c, 12) for c in (1 / 3, 2 / 3, 4 / 3, 5 / 3, 7 / 3, 8 / 3, 10 / 3, 11 / 3, 13 / 3)]
+            round(k / 3, 12) for k in (1, 2, 4, 5, 7, 8, 10, 11, 13)]
         b = _transitions(FAIR, psi, u, wmax)
         devs.append((len(b), _deviation(b, curves)))
     assert devs[0][1] > 1e-2  # slow tosses: contact comes early, boundaries bend away
@@ -401,7 +402,7 @@ def test_boundaries_approach_eq10_as_u_grows_for_any_thickness():
         devs.append(_deviation(b, T.hyperbolae(xi, psi, np.array([u]), wmax)))
         exact = T.hyperbolae(xi, psi, np.array([u]), wmax, exact=True)
         assert _deviation(b, exact) < 1e-12
-    for d1, d2 in zip(devs, devs[1:]):
+    for d1, d2 in zip(devs, devs[1:], strict=False):
         assert 3.5 < d1 / d2 < 4.5  # 1/u^2
     assert devs[-1] < 1e-4
 
@@ -451,7 +452,7 @@ def test_phase_map_bad_ranges():
 
 def _within(sim, pred, z=3.29):
     """Every frequency within the 99.9% Monte Carlo interval of the prediction."""
-    for f, p in zip(sim.frequencies, pred):
+    for f, p in zip(sim.frequencies, pred, strict=False):
         se = math.sqrt(max(p * (1 - p), 1e-300) / sim.n)
         if abs(f.p - p) > z * se + 1e-12:
             return False
@@ -480,8 +481,8 @@ def test_frequencies_converge_to_the_vigorous_limit(name, psi, contact):
     assert fast.vigorous == slow.vigorous
     assert not _within(slow, slow.vigorous)  # vigor ~1: far from the closed forms
     assert _within(fast, fast.vigorous)  # vigor ~600: within the Monte Carlo interval
-    err = [abs(f.p - p) for f, p in zip(slow.frequencies, slow.vigorous)]
-    err_fast = [abs(f.p - p) for f, p in zip(fast.frequencies, fast.vigorous)]
+    err = [abs(f.p - p) for f, p in zip(slow.frequencies, slow.vigorous, strict=False)]
+    err_fast = [abs(f.p - p) for f, p in zip(fast.frequencies, fast.vigorous, strict=False)]
     assert max(err_fast) < max(err) / 10
 
 
@@ -517,7 +518,7 @@ def test_vigorous_limit_averages_against_a_plain_quadrature():
 
 
 def test_simulate_is_reproducible_and_streams_the_same_outcomes():
-    kw = dict(xi=FAIR, u="normal:2.4:0.3", omega="normal:38:4", psi=math.pi / 2)
+    kw = {"xi": FAIR, "u": "normal:2.4:0.3", "omega": "normal:38:4", "psi": math.pi / 2}
     a = T.simulate(70_000, 7, **kw)
     b = T.simulate(70_000, 7, **kw)
     assert a.counts == b.counts and sum(a.counts) == 70_000
@@ -599,16 +600,16 @@ def test_dist_scaled_degrees_to_radians():
 
 
 @pytest.mark.parametrize("kw,match", [
-    (dict(u=-1.0), "u must be"), (dict(g=0.0), "g must be"), (dict(g=-9.81), "g must be"),
-    (dict(psi=-0.1), "psi must be"), (dict(psi=3.2), "psi must be"), (dict(omega=-1.0),
+    ({"u": -1.0}, "u must be"), ({"g": 0.0}, "g must be"), ({"g": -9.81}, "g must be"),
+    ({"psi": -0.1}, "psi must be"), ({"psi": 3.2}, "psi must be"), ({"omega": -1.0},
                                                                       "omega must be"),
-    (dict(xi=-1.0), "xi must be"), (dict(diameter=0.0), "diameter must be"),
-    (dict(u=math.nan), "u must be"), (dict(omega=math.inf), "omega must be"),
-    (dict(contact="edge"), "contact must be"), (dict(omega=1e13), "omega \\* t_end"),
-    (dict(u=True), "u must be"),
+    ({"xi": -1.0}, "xi must be"), ({"diameter": 0.0}, "diameter must be"),
+    ({"u": math.nan}, "u must be"), ({"omega": math.inf}, "omega must be"),
+    ({"contact": "edge"}, "contact must be"), ({"omega": 1e13}, "omega \\* t_end"),
+    ({"u": True}, "u must be"),
 ])
 def test_bad_input_raises_naming_the_argument(kw, match):
-    args = dict(xi=0.5, psi=1.0, u=2.0, omega=40.0)
+    args = {"xi": 0.5, "psi": 1.0, "u": 2.0, "omega": 40.0}
     args.update(kw)
     for fn in (T.toss, T.flight_time):
         with pytest.raises(ValueError, match=match):

@@ -304,7 +304,8 @@ def simulate_cmd(
         seed_v = int(s)
     from coincli import toss as T
 
-    kw = dict(xi=xv, u=u_spec, omega=w_spec, psi=psi_spec, diameter=dia, g=gv, contact=ct)
+    kw = {"xi": xv, "u": u_spec, "omega": w_spec, "psi": psi_spec, "diameter": dia, "g": gv,
+          "contact": ct}
     _usage(T.toss_many, xv, 1.0, 1.0, 1.0, diameter=dia, g=gv, contact=ct)  # geometry check
     if stream:
         _stream(T, count, seed_v, kw)
