@@ -67,37 +67,54 @@ _CHUNK = 1 << 21  #: (xi values) x (breakpoints) per pass, to bound memory for l
 _TWO_OVER_PI_HI = 0.6366197723675814
 _TWO_OVER_PI_LO = -3.935735335036497e-17
 
-# Absolute error reached by ``order`` nodes per subinterval, measured over the benchmark and
-# stress cases (docs/work-precision.md; tests/test_marginal.py keeps it honest).  The rate is
-# that of the grading, about 4.4**(-2n); the table adds a margin of a factor 10 or more.
-_ORDER_TABLE = ((2, 3e-3), (3, 3e-4), (4, 3e-5), (5, 3e-6), (6, 3e-7), (7, 3e-8), (8, 3e-9),
-                (9, 3e-10), (10, 3e-11), (11, 3e-12), (12, 3e-13), (13, 3e-14), (14, 1e-14),
-                (16, 2e-15))
+# Absolute error reached by ``order`` nodes per subinterval: the worst over xi from 1e-300 to
+# 1e300 and the density stress cases (paper's densities, normals of sd 1e-6 to 1e3 on and off
+# the regime boundaries, means at 0 and pi and outside, a table), against order 40 (itself
+# checked against mpmath to 40 digits), with a margin of 3 or more.  The rate is the grading's:
+# a branch point at the end of a subinterval 3 times longer than its distance gives 3**(-2n).
+# Measured worst (docs/work-precision.md): n=4 2.4e-5, 6 6.3e-8, 8 3.3e-10, 10 7.7e-12,
+# 11 6.1e-13, 12 2.6e-14; from 13 on, rounding (about 4e-16; 1e-14 for a normal narrower than
+# 1e-3 rad, whose peak of height 1/sd magnifies the rounding of psi).
+_ORDER_TABLE = ((2, 2e-2), (3, 2e-3), (4, 1e-4), (5, 5e-6), (6, 3e-7), (7, 1e-8), (8, 1e-9),
+                (9, 2e-10), (10, 3e-11), (11, 2e-12), (12, 1e-13))
+_FLOOR = 2e-15  #: rounding floor of the quadrature
+_FLOOR_NARROW = 3e-14  #: ... for a normal narrower than _NARROW_SD
+_NARROW_SD = 1e-3
 
 
-def order_for_tol(tol: float) -> int:
+def _floor(density) -> float:
+    if isinstance(density, Normal) and density.sd < _NARROW_SD:
+        return _FLOOR_NARROW
+    return _FLOOR
+
+
+def order_for_tol(tol: float, density: Density | None = None) -> int:
     """The fewest Gauss-Legendre nodes per subinterval whose absolute error is within ``tol``.
 
-    From the calibration in ``_ORDER_TABLE``; tolerances below 2e-15 get ``DEFAULT_ORDER``
-    (double precision is the limit: the answer is within a few ulps there).
+    From the calibration in ``_ORDER_TABLE``; a tolerance below the rounding floor (2e-15, or
+    3e-14 for a normal narrower than 1e-3 rad) gets ``DEFAULT_ORDER``, the best there is.
     """
     if isinstance(tol, bool) or not isinstance(tol, (int, float)) or not tol > 0 \
             or math.isnan(tol):
         raise ValueError(f"tol must be a number > 0, got {tol!r}")
     for n, err in _ORDER_TABLE:
-        if err <= tol:
+        if max(err, _floor(density)) <= tol:
             return n
+    if tol >= _floor(density):
+        return 13 if tol >= 5e-14 else DEFAULT_ORDER
     return DEFAULT_ORDER
 
 
-def error_bound(order: int) -> float:
+def error_bound(order: int, density: Density | None = None) -> float:
     """The calibrated absolute error of :func:`marginal` with ``order`` nodes per subinterval."""
     order = _check_order(order)
     bound = 1.0
     for n, err in _ORDER_TABLE:
         if n <= order:
             bound = err
-    return max(bound, 2e-15)
+    if order >= 13:
+        bound = 5e-14 if order < DEFAULT_ORDER else 0.0
+    return max(bound, _floor(density))
 
 
 def _check_order(order) -> int:
