@@ -22,8 +22,7 @@ import math
 import os
 import sys
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
-from typing import Annotated
+from typing import Annotated, NamedTuple
 
 import typer
 
@@ -114,8 +113,7 @@ def check_format(fmt: str) -> str:
 # --------------------------------------------------------------------------- results
 
 
-@dataclass
-class Column:
+class Column(NamedTuple):
     """A column: machine ``name`` (stable, for csv/json), human ``header`` and number style."""
 
     name: str
@@ -123,23 +121,28 @@ class Column:
     style: str = "g6"  # g6: 6 significant digits; int; text; pct
 
 
-@dataclass
 class Result:
-    """A table of results and what produced it."""
+    """A table of results and what produced it.
 
-    title: str
-    columns: Sequence[Column]
-    rows: list
-    note: str = ""
-    quiet: object = None  # the main number for --quiet (a value or a list, one per row)
-    vertical: bool = False  # a single row shown as "quantity  value" lines on the human table
-    data: list | None = None  # alternatively the columns' values, one list per column
+    ``rows`` (tuples) or ``data`` (the columns' values, one list per column; ``rows`` then reads
+    them on demand).  ``quiet`` is the main number for ``--quiet`` (a value or a list, one per
+    row); ``vertical`` shows a single row as "quantity  value" lines on the human table.
+    A plain class, not a dataclass: creating a dataclass costs most of a millisecond at import.
+    """
 
-    def __post_init__(self):
-        if self.data is not None and not self.rows:
-            if len({len(col) for col in self.data}) > 1:
+    __slots__ = ("title", "columns", "rows", "note", "quiet", "vertical", "data")
+
+    def __init__(self, title: str, columns: Sequence[Column], rows: list, note: str = "",
+                 quiet: object = None, vertical: bool = False, data: list | None = None):
+        self.title, self.columns, self.rows, self.note = title, columns, rows, note
+        self.quiet, self.vertical, self.data = quiet, vertical, data
+        if data is not None and not rows:
+            if len({len(col) for col in data}) > 1:
                 raise ValueError("Result.data: columns of different lengths")
-            self.rows = _RowView(self.data)  # rows on demand: csv of a long batch needs none
+            self.rows = _RowView(data)  # rows on demand: csv of a long batch needs none
+
+    def __repr__(self):
+        return f"Result({self.title!r}, {len(self.columns)} columns, {len(self.rows)} rows)"
 
 
 class _RowView(Sequence):
