@@ -15,7 +15,8 @@ numpy alone reading the same file with ``np.loadtxt`` and writing with ``np.save
 writes), once as many numbers as coin's csv (14 columns).  Aim: <= 2x.
 
 Times are wall-clock medians; CPU time (user + system of the child) is reported beside them
-because a loaded machine stretches wall time but not CPU time.
+because a loaded machine stretches wall time more than CPU time.  The children write their
+bytecode caches to a temporary PYTHONPYCACHEPREFIX (an installed program has its .pyc files).
 """
 
 from __future__ import annotations
@@ -52,12 +53,22 @@ def _cpu_children() -> float:
     return r.ru_utime + r.ru_stime
 
 
+# Children cache their bytecode as an installed program does (pip compiles on install), in a
+# directory of their own: PYTHONDONTWRITEBYTECODE in the caller's environment would otherwise
+# make coin recompile its modules on every run while typer's come from site-packages' .pyc.
+_PYCACHE = tempfile.mkdtemp(prefix="coin-bench-pycache-")
+ENV = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+ENV["PYTHONPYCACHEPREFIX"] = _PYCACHE
+ENV.pop("NO_COLOR", None)
+
+
 def run_once(argv, stdin_path=None, check=True) -> tuple[float, float]:
     """(wall seconds, CPU seconds) of one run, output discarded."""
     stdin = open(stdin_path, "rb") if stdin_path else subprocess.DEVNULL
     try:
         c0, t0 = _cpu_children(), time.perf_counter()
-        p = subprocess.run(argv, stdin=stdin, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+        p = subprocess.run(argv, stdin=stdin, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                           env=ENV)
         wall, cpu = time.perf_counter() - t0, _cpu_children() - c0
     finally:
         if stdin_path:
@@ -128,8 +139,9 @@ def batch(n: int, repeat: int):
             "numpy: read, write as many numbers as coin's csv (14 columns)":
                 [sys.executable, "-c", NUMPY_WIDE],
         }
-        out = subprocess.run([*coin, "design", "--p-sides", "-", "--format", "csv"],
-                             stdin=open(path, "rb"), capture_output=True, check=True).stdout
+        with open(path, "rb") as f:
+            out = subprocess.run([*coin, "design", "--p-sides", "-", "--format", "csv"],
+                                 stdin=f, capture_output=True, check=True, env=ENV).stdout
         sizes = {"input": os.path.getsize(path), "csv": len(out),
                  "rows": out.count(b"\n") - 1}
         del out
@@ -206,6 +218,7 @@ def main(argv=None) -> int:
     print(text)
     if not args.no_write:
         _report.write_section("bench_cli", text)
+    shutil.rmtree(_PYCACHE, ignore_errors=True)
     return 0
 
 
