@@ -45,8 +45,17 @@ def parse_number(text: str, what: str = "value", *, allow_inf: bool = False) -> 
 def parse_probability(text: str, what: str = "probability") -> float:
     """``0.33``, ``1/3`` or ``33%``, in [0, 1].  Fractions are exact before rounding to a float."""
     s = str(text).strip()
+    num, slash, den = s.partition("/")
+    if s.endswith("%") and s[:-1].strip().isdigit() and s.isascii():
+        num, slash, den = s[:-1], "/", "100"
     try:
-        if s.endswith("%"):
+        if slash and num.strip().isdigit() and den.strip().isdigit() and s.isascii():
+            # whole numbers (1/3, 33%): Python's int / int is correctly rounded, as
+            # float(Fraction) is, without importing fractions and decimal (2 ms of start-up)
+            if int(den) == 0:
+                raise ValueError(f"{what} {text!r} divides by zero")
+            v = int(num) / int(den)
+        elif s.endswith("%"):
             v = float(_plain(s[:-1], what) / 100)
         elif "/" in s:
             num, _, den = s.partition("/")
