@@ -282,6 +282,11 @@ def _write_rows(out, cols, sep: str, quote: bool = True) -> None:
         else:  # mixed: cell by cell (a set would merge 0.0 with -0.0 and 1 with True)
             specs.append("%s")
             ready.append([_csv_cell(_machine(v), sep) if quote else _machine(v) for v in col])
+    if len(ready) == 1 and specs[0] == "%r":  # one column of floats (-q of a batch)
+        col = ready[0]
+        for k in range(0, len(col), _CHUNK):
+            out.write("\n".join(map(repr, col[k:k + _CHUNK])) + "\n")
+        return
     template = sep.join(specs)
     rows = zip(*ready, strict=True)
     while chunk := list(itertools.islice(rows, _CHUNK)):
