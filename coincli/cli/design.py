@@ -15,7 +15,7 @@ import typer
 
 from coincli import coins as coin_catalog
 from coincli import models, parse
-from coincli.cli import app
+from coincli.cli import _accuracy, app
 from coincli.cli._common import (
     Column,
     FormatOpt,
@@ -227,6 +227,8 @@ def design(
                      "diameter is computed instead."),
     ] = None,
     coin: CoinOpt = "quarter",
+    tol: _accuracy.TolOpt = None,
+    method: _accuracy.MethodOpt = None,
     fmt: FormatOpt = "table",
     quiet: QuietOpt = False,
 ):
@@ -241,6 +243,8 @@ def design(
     """
     check_format(fmt)
     m = choose_model(model, psi, psi_dist)
+    acc = _accuracy.parse(tol, method, None)
+    m = _accuracy.design_model(acc, m)
     if diameter is not None and thickness is not None:
         raise usage_error("give --diameter or --thickness, not both (the other one is computed)")
     c = _coin(coin)
@@ -294,7 +298,7 @@ def design(
         Column(f"{other.key}_p_sides", f"P(sides), {other.key} model"),
     ]
     note = f"model: {m.label}; vigorous toss caught without bouncing; stack of {c.label} " \
-           f"({c.diameter_mm:g} x {c.thickness_mm:g} mm)"
+           f"({c.diameter_mm:g} x {c.thickness_mm:g} mm)" + _accuracy.design_note(acc, m)
     emit(Result("coin design", columns, [], note=note, quiet=_tolist(xi, n), vertical=True,
                 data=data), fmt, quiet)
 
@@ -357,6 +361,9 @@ def table(
         str | None, typer.Option("--vs", help="psi: tabulate over psi (Table I) for one xi; "
                                  "--psi then takes degrees as a list or range (default 0:180:15).")
     ] = None,
+    tol: _accuracy.TolOpt = None,
+    method: _accuracy.MethodOpt = None,
+    seed: _accuracy.SeedOpt = None,
     fmt: FormatOpt = "table",
     quiet: QuietOpt = False,
 ):
@@ -383,21 +390,28 @@ def table(
     if psi_dist is not None:
         specs += [s for s in psi_dist.split(",") if s.strip()] or [psi_dist]
     extra += [density_model(s) for s in specs]
+    acc = _accuracy.parse(tol, method, seed)
+    _accuracy.require_density(acc, bool(specs))
     x = _vector(xis)
     n = 1 if isinstance(x, float) else len(x)
     blocks = []
     for m in (GEOMETRIC, DYNAMIC, *extra):
+        more = [("closed form", None, None, None)] * n
         try:
-            o = m.forward(x)
+            if acc is not None and m.key == "dist":
+                o, more = _accuracy.run(acc, m.density, x, n)
+            else:
+                o = m.forward(x)
         except ValueError as exc:
             raise compute_error(str(exc)) from None
-        blocks.append((m, _tolist(o.heads, n), _tolist(o.sides, n), _tolist(o.tails, n)))
+        blocks.append((m, _tolist(o.heads, n), _tolist(o.sides, n), _tolist(o.tails, n), more))
     xs = _tolist(x, n)
     rows = []
     for k in range(n):
-        for m, h, s, t in blocks:
+        for m, h, s, t, more in blocks:
             lead = (stack[0].name, stack[1][k]) if stack else ()
-            rows.append((*lead, xs[k], _model_name(m), h[k], s[k], t[k]))
+            rows.append((*lead, xs[k], _model_name(m), h[k], s[k], t[k],
+                         *(more[k] if acc is not None else ())))
     columns = ([Column("coin", "coin", "text"), Column("count", "count", "int")] if stack
                else []) + [
         Column("xi", "xi = h/D"),
@@ -405,11 +419,13 @@ def table(
         Column("p_heads", "P(heads)"),
         Column("p_sides", "P(sides)"),
         Column("p_tails", "P(tails)"),
-    ]
+    ] + (_accuracy.COLUMNS if acc is not None else [])
     note = "vigorous toss starting heads up, caught without bouncing; geometric = eq. 11, " \
-           "dynamic = eq. 12 (psi = 90 deg)" + "".join(f"; {m.label}" for m in extra)
+           "dynamic = eq. 12 (psi = 90 deg)" + "".join(f"; {m.label}" for m in extra) + \
+           (_accuracy.note(acc) if acc is not None else "")
+    k = -3 - (len(_accuracy.COLUMNS) if acc is not None else 0)  # p_sides, from the end
     emit(Result("coin table", columns, rows, note=note,
-                quiet=[r[-3] for r in rows if r[-5 if not stack else -5] is not None]), fmt, quiet)
+                quiet=[r[k] for r in rows if r[k - 2] is not None]), fmt, quiet)
 
 
 def _model_name(m: Model) -> str:

@@ -1,0 +1,258 @@
+"""``--tol``, ``--method`` and ``--seed``: how the psi-averaged rows are computed, and how well.
+
+Shared by ``coin table`` and ``coin design``.  The numbers come from :mod:`coincli.estimators`
+(loaded only when a psi density is used); this module adds the options, their one-line usage
+errors, the error columns and a progress bar for long Monte Carlo runs (rich, on stderr, only
+when stderr is a terminal and a run has taken more than a second).  No numpy, scipy or rich at
+import time.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from typing import Annotated, NamedTuple
+
+import typer
+
+from coincli.cli._common import Column, compute_error, stderr_is_terminal, usage_error
+
+TolOpt = Annotated[
+    str | None,
+    typer.Option("--tol", help="Absolute error wanted on each psi-averaged chance (e.g. 1e-6): "
+                 "the cheapest method that meets it is used (quadrature with the fewest nodes) "
+                 "and the error is shown.", metavar="TOL"),
+]
+MethodOpt = Annotated[
+    str | None,
+    typer.Option("--method", help="How to average over psi: auto (the cheapest that meets "
+                 "--tol), quad (Gauss-Legendre), mc (simulated tosses, the paper's Problem 2) or "
+                 "qmc (scrambled Sobol tosses).", metavar="METHOD"),
+]
+SeedOpt = Annotated[
+    str | None,
+    typer.Option("--seed", help="Seed of --method mc or qmc (a whole number >= 0).  Default: "
+                 "fresh entropy, printed in the note.", metavar="SEED"),
+]
+
+METHODS = ("auto", "quad", "mc", "qmc")
+MAX_SECONDS = 60.0  #: a sampling run that has not met --tol by then stops and says so
+_SEED_MAX_DIGITS = 40
+
+
+class Accuracy(NamedTuple):
+    """The parsed options: a tolerance, a method and (for mc, qmc) a seed."""
+
+    tol: float | None
+    method: str
+    seed: int | None
+
+    @property
+    def sampling(self) -> bool:
+        return self.method in ("mc", "qmc")
+
+
+def parse(tol: str | None, method: str | None, seed: str | None) -> Accuracy | None:
+    """The options as an :class:`Accuracy`, or None when none was given."""
+    if tol is None and method is None and seed is None:
+        return None
+    t = None
+    if tol is not None:
+        from coincli import parse as p
+
+        try:
+            t = p.parse_number(tol, "--tol")
+            _check_tol(t)
+        except ValueError as exc:
+            raise usage_error(str(exc)) from None
+    m = (method or "auto").strip().lower()
+    if m not in METHODS:
+        raise usage_error(f"--method must be one of {', '.join(METHODS)}; got {method!r}")
+    s = None
+    if seed is not None:
+        if m not in ("mc", "qmc"):
+            raise usage_error("--seed goes with --method mc or qmc (quadrature is not random)")
+        txt = seed.strip()
+        if not (txt.isascii() and txt.isdigit()) or len(txt) > _SEED_MAX_DIGITS:
+            raise usage_error(f"--seed must be a whole number >= 0, got {seed!r}")
+        s = int(txt)
+    elif m in ("mc", "qmc"):
+        import secrets
+
+        s = secrets.randbits(63)
+    return Accuracy(t, m, s)
+
+
+def _check_tol(t: float) -> None:
+    # the same range as coincli.estimators.check_tol, without importing numpy to say so
+    if not 1e-16 <= t <= 0.5:
+        raise ValueError(f"--tol must be in [1e-16, 0.5] (an absolute error on a chance), "
+                         f"got {t!r}")
+
+
+def require_density(acc: Accuracy | None, has_density: bool) -> None:
+    if acc is not None and not has_density:
+        raise usage_error("--tol, --method and --seed apply to psi-averaged chances "
+                          "(--psi-dist or --all); the closed forms are exact")
+
+
+# --------------------------------------------------------------------------- coin design
+
+
+class _OrderedModel:
+    """A psi-density model whose quadrature uses ``order`` nodes (what --tol asks for)."""
+
+    def __init__(self, model, order: int):
+        self._m = model
+        self.order = order
+        self.key, self.label, self.psi, self.density = (model.key, model.label, model.psi,
+                                                        model.density)
+        self.closed_form = False
+
+    def forward(self, xi):
+        from coincli.marginal import marginal
+
+        return marginal(xi, self.density, order=self.order)
+
+    def inverse(self, p):
+        from coincli.marginal import marginal_inverse
+
+        return marginal_inverse(p, self.density, order=self.order)
+
+
+def design_model(acc: Accuracy | None, model):
+    """The model ``coin design`` solves with: the quadrature order --tol picks."""
+    if acc is None:
+        return model
+    require_density(acc, model.key == "dist")
+    if acc.sampling:
+        raise usage_error(f"coin design finds xi by root finding, which needs a smooth, "
+                          f"deterministic chance: --method {acc.method} cannot be inverted.  "
+                          f"Simulate the designed coin instead: coin table --xi XI --psi-dist "
+                          f"{model.density.spec} --method {acc.method}")
+    if acc.tol is None:
+        return model
+    from coincli.marginal import order_for_tol
+
+    return _OrderedModel(model, order_for_tol(acc.tol, model.density))
+
+
+def design_note(acc: Accuracy | None, model) -> str:
+    if acc is None or acc.tol is None or not isinstance(model, _OrderedModel):
+        return ""
+    from coincli.marginal import error_bound
+
+    return (f"; quadrature with {model.order} nodes per subinterval for --tol {acc.tol:g} "
+            f"(error <= {error_bound(model.order, model.density):.0e})")
+
+
+# --------------------------------------------------------------------------- coin table
+
+COLUMNS = [
+    Column("method", "method", "text"),
+    Column("err_heads", "+- heads", "g2"),
+    Column("err_sides", "+- sides", "g2"),
+    Column("err_tails", "+- tails", "g2"),
+]
+
+
+def run(acc: Accuracy, density, x, n: int):
+    """(Outcome, per-row extra cells) for one density at x (a float or an array of n xi)."""
+    from coincli import estimators as est
+
+    bar = Progress(f"{acc.method} {density.spec}")
+    try:
+        e = est.estimate(x, density, tol=acc.tol, method=acc.method, seed=acc.seed,
+                         max_samples=1 << 40, progress=bar,
+                         max_seconds=MAX_SECONDS if acc.sampling else None)
+    except ValueError as exc:
+        raise compute_error(str(exc)) from None
+    finally:
+        bar.close()
+    halves = []
+    for v, lo, hi in zip(e.value, e.low, e.high, strict=True):
+        halves.append(_tolist(_max(_sub(hi, v), _sub(v, lo)), n))
+    if e.method == "quad":
+        how = f"quad n={e.n}"
+    elif e.method == "mc":
+        how = f"mc {e.n} tosses"
+    else:
+        how = f"qmc {e.n} points"
+    if acc.tol is not None and not e.met:
+        worst = max(max(h) for h in halves)
+        _warn(f"{density.spec}: {e.method} reached +-{worst:.2g} ({e.detail}), not --tol "
+              f"{acc.tol:g}" + (f", in the {MAX_SECONDS:g} s limit" if acc.sampling else
+                                "; that is the double-precision limit"))
+    extra = [(how, halves[0][k], halves[1][k], halves[2][k]) for k in range(n)]
+    return e.value, extra
+
+
+def note(acc: Accuracy) -> str:
+    parts = ["; +- = half-width of a 95% interval"]
+    if acc.method == "mc":
+        parts.append(f" (Wilson; seed {acc.seed})")
+    elif acc.method == "qmc":
+        parts.append(f" (t over 16 scrambles; seed {acc.seed})")
+    else:
+        parts.append(" or the quadrature's calibrated error bound")
+    if acc.tol is not None:
+        parts.append(f"; --tol {acc.tol:g}")
+    return "".join(parts)
+
+
+def _sub(a, b):
+    return a - b
+
+
+def _max(a, b):
+    if isinstance(a, float):
+        return max(a, b)
+    import numpy as np
+
+    return np.maximum(a, b)
+
+
+def _tolist(v, n):
+    return v.tolist() if hasattr(v, "tolist") and not isinstance(v, float) else [v] * n
+
+
+def _warn(message: str) -> None:
+    try:
+        sys.stderr.write(f"coin: warning: {message}\n")
+        sys.stderr.flush()
+    except (OSError, ValueError):
+        pass
+
+
+class Progress:
+    """``progress(done, total)`` for the estimators: a rich bar on stderr once a run has taken
+    a second, only when stderr is a terminal; nothing otherwise (never on stdout)."""
+
+    def __init__(self, label: str, delay: float = 1.0):
+        self.label = label
+        self.delay = delay
+        self.start = time.monotonic()
+        self.enabled = stderr_is_terminal()
+        self.bar = None
+        self.task = None
+
+    def __call__(self, done: int, total: int) -> None:
+        if not self.enabled:
+            return
+        if self.bar is None:
+            if time.monotonic() - self.start < self.delay or done >= total:
+                return
+            from rich.console import Console
+            from rich.progress import BarColumn, Progress, TimeRemainingColumn
+
+            self.bar = Progress(self.label, BarColumn(), "{task.completed:,}/{task.total:,}",
+                                TimeRemainingColumn(), console=Console(stderr=True),
+                                transient=True)
+            self.bar.start()
+            self.task = self.bar.add_task(self.label, total=total)
+        self.bar.update(self.task, completed=done, total=total)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.stop()
+            self.bar = None
