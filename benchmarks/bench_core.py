@@ -87,6 +87,15 @@ def array_ratios(n: int, repeat: int):
         ("conditional(xi, 1.2)", lambda: models.conditional(xi, 1.2)),
         ("conditional(xi, psi)", lambda: models.conditional(xi, psi)),
     ]
+    primitives = [  # numpy's own ufuncs over the same array: the floor for each formula
+        ("np.arctan2(1, xi)", lambda: np.arctan2(1.0, xi)),
+        ("np.hypot(1, xi)", lambda: np.hypot(1.0, xi)),
+        ("np.sqrt(1 + xi*xi)", lambda: np.sqrt(1.0 + xi * xi)),
+        ("np.tan(xi)", lambda: np.tan(xi)),
+        ("np.sin(xi)", lambda: np.sin(xi)),
+        ("0.5 / xi", lambda: 0.5 / xi),
+    ]
+    cases = primitives + cases
     rows = []
     for name, fn in cases:
         fn()
@@ -142,8 +151,14 @@ def main(argv=None) -> int:
                             f"{r:.1f}x", f"{1e9 * m / k:.1f}",
                             ("yes" if r <= AIM_ARRAY else "**no**")
                             if not n.startswith("marginal") else "(quadrature)"]
-                           for n, k, m, b, r in arrays])]
-    missed = [n for n, _, _, _, r in arrays if r > AIM_ARRAY and not n.startswith("marginal")]
+                           for n, k, m, b, r in arrays if not n.startswith(("np.", "0.5"))]),
+            "numpy's own ufuncs over the same array, for scale (the closed forms are built from "
+            "these):", "",
+            _report.table(["ufunc", "time", "np.arctan", "ratio"],
+                          [[f"`{n}`", _report.fmt_time(m), _report.fmt_time(b), f"{r:.1f}x"]
+                           for n, k, m, b, r in arrays if n.startswith(("np.", "0.5"))])]
+    missed = [n for n, _, _, _, r in arrays
+              if r > AIM_ARRAY and not n.startswith(("marginal", "np.", "0.5"))]
     if missed:
         body += ["Missed: " + ", ".join(f"`{n}`" for n in missed) + " (the code is in "
                  "`coincli/models.py`; where the time goes is in the notes below).", ""]
