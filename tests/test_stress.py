@@ -259,9 +259,6 @@ def test_marginal_across_600_decades(spec):
     _record("marginal max |sum - 1|", float(np.abs(h + s + t - 1).max()), spec)
 
 
-@pytest.mark.xfail(strict=False, reason="coincli/marginal.py: quadrature rounding gives "
-                   "P(sides) = 1 + a few ulps (up to 1.9e-12 for normal:90:0.001) and ulp-level "
-                   "non-monotone steps for a thick coin; reported, not fixed here")
 @pytest.mark.parametrize("spec", DENSITIES)
 def test_marginal_strictly_in_unit_interval_and_monotone(spec):
     h, s, t = _marginal_sweep(spec)
