@@ -145,7 +145,7 @@ def batch(n: int, repeat: int):
         sizes = {"input": os.path.getsize(path), "csv": len(out),
                  "rows": out.count(b"\n") - 1}
         del out
-        res = interleaved(cases, repeat, {k: path for k in cases})
+        res = interleaved(cases, repeat, dict.fromkeys(cases, path))
     return res, sizes
 
 

@@ -293,7 +293,7 @@ def test_quiet_is_a_bare_number_per_row(coin):
                                                models.dynamic_inverse(1 / 3)]
 
 
-# --------------------------------------------------------------------------- table, stack, coins, fair
+# ---------------------------------------------------------------- table, stack, coins, fair
 
 
 def test_table_lists_ranges_and_models(coin):

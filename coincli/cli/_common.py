@@ -156,11 +156,11 @@ class _RowView(Sequence):
 
     def __getitem__(self, k):
         if isinstance(k, slice):
-            return list(zip(*(col[k] for col in self._data)))
+            return list(zip(*(col[k] for col in self._data), strict=True))
         return tuple(col[k] for col in self._data)
 
     def __iter__(self):
-        return zip(*self._data)
+        return zip(*self._data, strict=True)
 
 
 def _machine(v):
