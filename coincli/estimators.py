@@ -262,7 +262,7 @@ def _cosine_table():
 def _normal_ppf(d: Normal, u):
     """Truncated normal on [0, pi]: mean + sd * Phi^-1(Phi(a) + u (Phi(b) - Phi(a))), in the
     tail where it does not cancel (log-space when the whole window is in one tail)."""
-    from scipy.special import log_ndtr, ndtr, ndtri, ndtri_exp
+    from scipy.special import log_ndtr, ndtr, ndtri_exp
 
     a, b = -d.mean / d.sd, (math.pi - d.mean) / d.sd
     flip = a > 0  # the window is right of the mean: reflect, x -> -x
@@ -272,12 +272,16 @@ def _normal_ppf(d: Normal, u):
         la, lb = float(log_ndtr(a)), float(log_ndtr(b))
         r = math.exp(la - lb)
         x = ndtri_exp(lb + np.log(r + u * (1 - r)))
-    else:  # a < 0 < b: Phi(a) + u Z below 1/2, 1 - that from the upper tail otherwise
+    else:  # a < 0 < b: Phi(a) + u Z below 1/2, 1 - that from the upper tail otherwise, each
+        # formed as a log-sum so that u Z keeps its digits next to Phi(a) (u = 1e-12, say)
         pa, qb = float(ndtr(a)), float(ndtr(-b))
-        z = 1.0 - pa - qb
-        p = pa + u * z
-        q = qb + (1.0 - u) * z
-        x = np.where(p < 0.5, ndtri(np.minimum(p, 0.5)), -ndtri(np.minimum(q, 0.5)))
+        lz = math.log(1.0 - pa - qb)
+        with np.errstate(divide="ignore"):
+            lp = np.logaddexp(float(log_ndtr(a)), np.log(u) + lz)
+            lq = np.logaddexp(float(log_ndtr(-b)), np.log1p(-u) + lz)
+        low = lp < -math.log(2.0)
+        x = np.where(low, ndtri_exp(np.where(low, lp, -1.0)),
+                     -ndtri_exp(np.where(low, -1.0, np.minimum(lq, -math.log(2.0)))))
     x = np.clip(x, a, b)
     if flip:
         x = -x

@@ -169,9 +169,11 @@ def run(acc: Accuracy, density, x, n: int):
         raise compute_error(str(exc)) from None
     finally:
         bar.close()
-    halves = []
-    for v, lo, hi in zip(e.value, e.low, e.high, strict=True):
-        halves.append(_tolist(_max(_sub(hi, v), _sub(v, lo)), n))
+    if e.method == "quad":  # the calibrated bound itself
+        halves = [_tolist(v, n) for v in e.error]
+    else:
+        halves = [_tolist(_max(_sub(hi, v), _sub(v, lo)), n)
+                  for v, lo, hi in zip(e.value, e.low, e.high, strict=True)]
     if e.method == "quad":
         how = f"quad n={e.n}"
     elif e.method == "mc":

@@ -423,9 +423,9 @@ def table(
     note = "vigorous toss starting heads up, caught without bouncing; geometric = eq. 11, " \
            "dynamic = eq. 12 (psi = 90 deg)" + "".join(f"; {m.label}" for m in extra) + \
            (_accuracy.note(acc) if acc is not None else "")
-    k = -3 - (len(_accuracy.COLUMNS) if acc is not None else 0)  # p_sides, from the end
+    k = -2 - (len(_accuracy.COLUMNS) if acc is not None else 0)  # p_sides, from the end
     emit(Result("coin table", columns, rows, note=note,
-                quiet=[r[k] for r in rows if r[k - 2] is not None]), fmt, quiet)
+                quiet=[r[k] for r in rows if r[k - 3] is not None]), fmt, quiet)
 
 
 def _model_name(m: Model) -> str:

@@ -1,0 +1,362 @@
+"""coincli.estimators and the --tol/--method/--seed options: Problem 2 of the paper, the three
+estimators agreeing within their stated errors (hypothesis, across sd 1e-6..1e3 rad, means at 0
+and pi, densities on a regime boundary), exact psi sampling, the chooser, errors.  No timing."""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+import sys
+
+import mpmath
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from coincli import estimators as E
+from coincli import models
+from coincli.cli import run
+from coincli.densities import Cosine, Normal, Table, Uniform
+from coincli.marginal import error_bound, marginal, order_for_tol
+
+XI_FAIR = 1 / math.sqrt(3)
+P2 = Normal(math.pi / 2, math.sqrt(0.1))  # Problem 2: mean pi/2, variance 0.1
+TABLE = Table([0.0, 0.3, 0.9, 1.6, 2.2, math.pi], [0.0, 1.0, 0.5, 2.0, 0.25, 0.0], "stress")
+XIS_P2 = np.round(np.arange(1, 21) * 0.1, 10)  # coin table --xi 0.1:2:0.1
+
+
+def _within(est, exact, k):
+    """Each chance within k standard errors (plus a count's worth for a zero s.e., and the
+    quadrature bound when ``exact`` is the quadrature)."""
+    for v, se, x in zip(est.value, est.error, exact, strict=True):
+        v, se, x = (np.asarray(a, dtype=float) for a in (v, se, x))
+        slack = k * se + k / est.n + 2 * error_bound(16)
+        assert (np.abs(v - x) <= slack).all(), (est.detail, v, x, se)
+
+
+# --------------------------------------------------------------------------- Problem 2
+
+
+def test_problem_2_monte_carlo_agrees_with_quadrature_and_sits_above_dynamic():
+    mc = E.monte_carlo(XIS_P2, P2, n=1 << 20, seed=2026)
+    quad = marginal(XIS_P2, P2)
+    dyn = models.dynamic(XIS_P2).sides
+    # within its own 95% interval, for each xi (20 intervals from the same tosses)
+    inside = [(lo <= q <= hi) for lo, q, hi in zip(mc.low.sides, quad.sides, mc.high.sides,
+                                                   strict=True)]
+    assert sum(inside) >= 18, inside  # 95% intervals: one or two of 20 may miss
+    _within(mc, quad, 4.5)  # and every one within 4.5 s.e.
+    assert (mc.low.sides > dyn).all()  # above the dynamic curve, beyond the noise
+
+
+def test_problem_2_command(capsys):
+    code = run(["table", "--xi", "0.1:2:0.1", "--psi-dist", "normal:90:18.12", "--method", "mc",
+                "--seed", "7", "--tol", "2e-3", "-f", "csv"])
+    out, err = capsys.readouterr()
+    assert code == 0 and err == ""
+    rows = list(csv.DictReader(io.StringIO(out)))
+    assert len(rows) == 60
+    dyn = {r["xi"]: float(r["p_sides"]) for r in rows if r["model"] == "dynamic"}
+    mc = [r for r in rows if r["model"] == "normal:90:18.12"]
+    assert len(mc) == 20
+    d = Normal(math.radians(90), math.radians(18.12))
+    for r in mc:
+        xi, p, hw = float(r["xi"]), float(r["p_sides"]), float(r["err_sides"])
+        assert r["method"].startswith("mc ") and hw <= 2e-3
+        assert p - hw > dyn[r["xi"]]  # slightly above the dynamic curve
+        assert abs(p - marginal(xi, d).sides) <= 2.5 * hw  # 95% half-width: 2.5 is ~4 s.e.
+    assert rows[0]["method"] == "closed form" and rows[0]["err_sides"] == ""
+
+
+# --------------------------------------------------------------------------- the estimators
+
+
+@pytest.mark.parametrize("density", [Uniform(), Cosine(), Normal(), P2, TABLE])
+def test_three_estimators_and_scipy_agree_at_the_fair_coin(density):
+    exact = marginal(XI_FAIR, density)
+    _within(E.monte_carlo(XI_FAIR, density, n=1 << 18, seed=1), exact, 5)
+    _within(E.quasi_monte_carlo(XI_FAIR, density, n=1 << 16, seed=1), exact, 8)
+    _within(E.quasi_monte_carlo(XI_FAIR, density, n=1 << 12, seed=1, phase="table1"), exact, 8)
+    sq = E.scipy_quad(XI_FAIR, density, tol=1e-12)
+    assert sq.met
+    for a, b in zip(sq.value, exact, strict=True):
+        assert abs(a - b) <= 1e-12
+
+
+def test_seed_reproduces_and_early_stop_meets_tol():
+    a = E.monte_carlo(0.3, Normal(), tol=3e-3, seed=5)
+    b = E.monte_carlo(0.3, Normal(), tol=3e-3, seed=5)
+    assert a == b and a.met and a.half_width <= 3e-3
+    assert a.n < 1 << 20  # stopped early: ~2e5 tosses give +-3e-3
+    c = E.monte_carlo(0.3, Normal(), n=12345, seed=5)
+    assert c.n == 12345 and c.tol is None and c.met
+    q = E.quasi_monte_carlo(0.3, Normal(), tol=1e-4, seed=5)
+    assert q.met and q.half_width <= 1e-4 and q.n % 16 == 0
+    slow = E.monte_carlo(0.3, Normal(), tol=1e-7, seed=5, max_samples=1 << 16)
+    assert not slow.met and slow.n == 1 << 16
+
+
+def test_array_xi_shares_the_tosses_and_keeps_shape():
+    xs = np.array([[0.1, 1.0], [math.inf, 0.0]])
+    mc = E.monte_carlo(xs, Uniform(), n=1 << 14, seed=3)
+    assert mc.value.sides.shape == (2, 2)
+    assert mc.value.sides[1, 0] == 1.0 and mc.value.sides[1, 1] == 0.0
+    one = E.monte_carlo(1.0, Uniform(), n=1 << 14, seed=3)
+    assert one.value.sides == mc.value.sides[0, 1]  # same seed, same tosses
+    big = E.monte_carlo(np.linspace(0.05, 3, 40), Uniform(), n=1 << 14, seed=3)  # sorted path
+    assert big.value.sides[-1] == pytest.approx(
+        E.monte_carlo(3.0, Uniform(), n=1 << 14, seed=3).value.sides, abs=0)
+
+
+def test_toss_outcomes_are_table_i_in_the_vigorous_limit():
+    rng = np.random.default_rng(9)
+    psi = rng.uniform(0, math.pi, 4000)
+    phase = rng.uniform(0, 2 * math.pi, 4000)
+    out = E.toss_outcomes(XI_FAIR, psi, phase)
+    # a phase grid integrates the indicator: the frequencies tend to Table I for each psi
+    grid = (np.arange(20000) + 0.5) * (2 * math.pi / 20000)
+    for p in (0.3, 0.8, 1.2, math.pi / 2, 2.0):
+        f = np.bincount(E.toss_outcomes(XI_FAIR, np.full(grid.size, p), grid), minlength=3)
+        assert np.allclose(f / grid.size, models.conditional(XI_FAIR, p), atol=2e-4)
+    assert set(np.unique(out)) <= {0, 1, 2}
+
+
+@pytest.mark.parametrize("density", [
+    Uniform(), Cosine(), Normal(), Normal(0.0, 1e-6), Normal(math.pi, 1e-6), Normal(1.0, 1e3),
+    Normal(-0.5, 0.2), Normal(4.0, 0.3), Normal(math.pi / 6, 1e-6), TABLE])
+def test_psi_sampling_is_the_exact_inverse_distribution(density):
+    """F(F^-1(u)) = u to 1e-12 at 40 digits, u from 1e-12 to 1 - 1e-12: the sampled
+    distribution is within 1e-12 of the density in Kolmogorov distance, which no feasible
+    number of tosses could detect.  (In a normal's window that is tiny in sd units the
+    difference Phi(a + h) - Phi(a) limits it to ~1e-13; elsewhere it is ~1e-16.)"""
+    u = np.concatenate([np.geomspace(1e-12, 0.5, 40), 1 - np.geomspace(1e-12, 0.5, 40),
+                        np.linspace(0.01, 0.99, 21)])
+    psi = E.sample_psi(density, u)
+    assert ((psi >= 0) & (psi <= math.pi)).all() and (np.diff(psi[:40]) >= 0).all()
+    cdf = _mp_cdf(density)
+    pdf = _mp_pdf(density)
+    worst = 0.0
+    with mpmath.workdps(40):
+        for ui, p in zip(u.tolist(), psi.tolist(), strict=True):
+            x = mpmath.mpf(p)
+            # a double psi is a multiple of its ulp: a narrow density cannot be sampled finer
+            grain = 2 * pdf(x) * math.ulp(p)
+            worst = max(worst, float(abs(cdf(x) - ui) - grain))
+    assert worst <= 1e-12, (density.spec, worst)
+
+
+def _mp_pdf(d):
+    if isinstance(d, Normal):
+        mu, sd = mpmath.mpf(d.mean), mpmath.mpf(d.sd)
+        z = _mp_norm_z(d)
+        return lambda x: mpmath.npdf(x, mu, sd) / z
+    return lambda x: mpmath.mpf(float(d.pdf(np.array([float(x)]))[0]))
+
+
+def _mp_norm_z(d):
+    mu, sd = mpmath.mpf(d.mean), mpmath.mpf(d.sd)
+    pi = mpmath.mpf(math.pi)  # the density is normalized on [0, math.pi]
+    a, b = -mu / sd, (pi - mu) / sd
+    return mpmath.ncdf(-a) - mpmath.ncdf(-b) if a > 0 else mpmath.ncdf(b) - mpmath.ncdf(a)
+
+
+def _mp_cdf(d):
+    pi = mpmath.mpf(math.pi)
+    if isinstance(d, Uniform):
+        return lambda x: x / pi
+    if isinstance(d, Cosine):
+        return lambda x: (2 * x - mpmath.sin(2 * x)) / (2 * mpmath.pi)
+    if isinstance(d, Normal):
+        mu, sd = mpmath.mpf(d.mean), mpmath.mpf(d.sd)
+        z = _mp_norm_z(d)
+        a = -mu / sd
+        if a > 0:
+            return lambda x: (mpmath.ncdf(-a) - mpmath.ncdf(-(x - mu) / sd)) / z
+        return lambda x: (mpmath.ncdf((x - mu) / sd) - mpmath.ncdf(a)) / z
+    xs = [mpmath.mpf(float(v)) for v in d.psi]
+    ws = [mpmath.mpf(float(v)) for v in d.w]
+    cum = [mpmath.mpf(0)]
+    for i in range(len(xs) - 1):
+        cum.append(cum[-1] + (xs[i + 1] - xs[i]) * (ws[i] + ws[i + 1]) / 2)
+
+    def cdf(x):
+        i = max(j for j in range(len(xs) - 1) if xs[j] <= x) if x > xs[0] else 0
+        dx = x - xs[i]
+        slope = (ws[i + 1] - ws[i]) / (xs[i + 1] - xs[i])
+        return (cum[i] + ws[i] * dx + slope * dx * dx / 2) / cum[-1]
+
+    return cdf
+
+
+# --------------------------------------------------------------------------- stress (hypothesis)
+
+
+@st.composite
+def _densities(draw):
+    kind = draw(st.sampled_from(["normal", "normal", "normal", "uniform", "cosine", "table"]))
+    if kind != "normal":
+        return {"uniform": Uniform(), "cosine": Cosine(), "table": TABLE}[kind], None
+    where = draw(st.sampled_from(["any", "zero", "pi", "boundary1", "boundary2"]))
+    sd = 10 ** draw(st.floats(-6, 3))
+    return where, sd
+
+
+@settings(max_examples=40, deadline=None, derandomize=True,
+          suppress_health_check=[HealthCheck.too_slow])
+@given(spec=_densities(), lxi=st.floats(-3, 3), mean=st.floats(0, math.pi),
+       seed=st.integers(0, 2**32))
+def test_stress_three_estimators_agree_within_their_errors(spec, lxi, mean, seed):
+    """sd from 1e-6 to 1e3 rad, means at 0 and pi, normals centred on a regime boundary."""
+    xi = 10.0**lxi
+    d, sd = spec
+    if sd is not None:
+        t = float(models.theta0(xi)) / 2
+        centre = {"any": mean, "zero": 0.0, "pi": math.pi, "boundary1": t,
+                  "boundary2": math.pi / 2 - t}[d]
+        d = Normal(centre, sd)
+    exact = marginal(xi, d)
+    assert abs(sum(exact) - 1) <= 4e-16
+    quad = E.quad(xi, d, tol=1e-6)
+    for a, b in zip(quad.value, exact, strict=True):
+        assert abs(a - b) <= quad.error[0] <= 1e-6
+    _within(E.monte_carlo(xi, d, n=1 << 14, seed=seed), exact, 5.5)
+    _within(E.quasi_monte_carlo(xi, d, n=1 << 13, seed=seed), exact, 9)
+
+
+@settings(max_examples=30, deadline=None, derandomize=True)
+@given(mean=st.floats(0.01, math.pi - 0.01), lxi=st.floats(-2, 2))
+def test_stress_narrow_normal_converges_to_table_i(mean, lxi):
+    xi = 10.0**lxi
+    t = float(models.theta0(xi)) / 2
+    edge = min(abs(mean - b) for b in (t, math.pi / 2 - t, math.pi / 2 + t, math.pi - t))
+    cond = models.conditional(xi, mean)
+    prev = None
+    for sd in (1e-3, 1e-5, 1e-6):
+        got = marginal(xi, Normal(mean, sd))
+        err = max(abs(g - c) for g, c in zip(got, cond, strict=True))
+        assert err <= (1.5 * math.sqrt(sd) if edge < 8 * sd else 2e-13 + 50 * sd * sd / edge)
+        if prev is not None and prev > 1e-12:
+            assert err <= prev  # closer as the normal narrows
+        prev = err
+
+
+# --------------------------------------------------------------------------- the chooser
+
+
+def test_auto_picks_quadrature_with_the_fewest_nodes():
+    for tol in (0.1, 1e-3, 1e-6, 1e-9, 1e-12):
+        e = E.estimate(XI_FAIR, Normal(), tol=tol)
+        assert e.method == "quad" and e.n == order_for_tol(tol) and e.met
+        assert max(e.error) <= tol
+        assert max(abs(a - b) for a, b in zip(e.value, marginal(XI_FAIR, Normal()),
+                                              strict=True)) <= tol
+    full = E.estimate(XI_FAIR, Normal())
+    assert full.value == marginal(XI_FAIR, Normal()) and full.n == 16
+    deep = E.estimate(XI_FAIR, Normal(), tol=1e-16)
+    assert not deep.met  # below double precision: the best there is, and says so
+
+
+@pytest.mark.parametrize("call, match", [
+    (lambda: E.estimate(0.5, tol=0.0), r"tol must be a number in \[1e-16, 0.5\]"),
+    (lambda: E.estimate(0.5, tol=0.7), r"tol must be a number in \[1e-16, 0.5\]"),
+    (lambda: E.estimate(0.5, method="mcmc"), "method must be one of auto, quad, mc, qmc"),
+    (lambda: E.estimate(0.5, method="quad", n=10), "n .samples. applies to method mc or qmc"),
+    (lambda: E.monte_carlo(0.5, n=0), r"n must be an integer in \[1, 2\^40\]"),
+    (lambda: E.monte_carlo(0.5, n=1.5), r"n must be an integer in \[1, 2\^40\]"),
+    (lambda: E.monte_carlo(-1.0), r"xi must be >= 0"),
+    (lambda: E.monte_carlo(0.5, "normal"), "density must be a coincli.densities.Density"),
+    (lambda: E.monte_carlo(0.5, max_seconds=0), "max_seconds must be a number > 0"),
+    (lambda: E.quasi_monte_carlo(0.5, scrambles=1), r"scrambles must be an integer in \[2, 1024\]"),
+    (lambda: E.quasi_monte_carlo(0.5, phase="x"), "phase must be 'toss' or 'table1'"),
+])
+def test_bad_arguments_name_themselves(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()
+
+
+# --------------------------------------------------------------------------- command line
+
+
+def _run(argv, capsys):
+    code = run(argv)
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_table_tol_adds_error_columns_and_keeps_quiet(capsys):
+    code, out, err = _run(["table", "--xi", "0.577", "--all", "--tol", "1e-9", "-f", "csv"],
+                          capsys)
+    assert code == 0 and err == ""
+    rows = list(csv.DictReader(io.StringIO(out)))
+    quad = [r for r in rows if r["method"].startswith("quad")]
+    assert len(quad) == 3 and all(r["method"] == f"quad n={order_for_tol(1e-9)}" for r in quad)
+    assert all(float(r["err_sides"]) <= 1e-9 for r in quad)
+    code, out, _ = _run(["table", "--xi", "0.577", "--psi-dist", "uniform", "--tol", "1e-9",
+                         "-q"], capsys)
+    assert code == 0
+    assert [float(v) for v in out.split()] == [models.geometric(0.577).sides,
+                                               models.dynamic(0.577).sides,
+                                               pytest.approx(marginal(0.577, Uniform()).sides,
+                                                             abs=1e-9)]
+
+
+def test_design_tol_sets_the_quadrature(capsys):
+    code, out, _ = _run(["design", "-p", "1/3", "--psi-dist", "normal", "--tol", "1e-4", "-q"],
+                        capsys)
+    assert code == 0
+    xi = float(out)
+    assert marginal(xi, Normal()).sides == pytest.approx(1 / 3, abs=1e-4)
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["table", "--xi", "0.5", "--tol", "1e-3"], "apply to psi-averaged chances"),
+    (["table", "--xi", "0.5", "--psi-dist", "uniform", "--seed", "1"], "--seed goes with"),
+    (["table", "--xi", "0.5", "--psi-dist", "uniform", "--method", "mc", "--seed", "-1"],
+     "--seed must be a whole number"),
+    (["table", "--xi", "0.5", "--psi-dist", "uniform", "--tol", "abc"], "--tol must be a number"),
+    (["table", "--xi", "0.5", "--psi-dist", "uniform", "--tol", "1"], r"--tol must be in"),
+    (["table", "--xi", "0.5", "--psi-dist", "uniform", "--method", "x"], "--method must be one"),
+    (["design", "-p", "0.3", "--psi-dist", "uniform", "--method", "mc"], "cannot be inverted"),
+    (["design", "-p", "0.3", "--tol", "1e-3"], "apply to psi-averaged chances"),
+])
+def test_option_errors_are_one_line_usage_errors(argv, message, capsys):
+    code, out, err = _run(argv, capsys)
+    assert code == 2 and out == "" and err.count("\n") == 1 and message in err
+
+
+def test_no_progress_bar_off_a_terminal(capsys, monkeypatch):
+    """A long run with stderr not a terminal: no bar, nothing on stderr, clean stdout."""
+    import coincli.cli._accuracy as acc
+
+    monkeypatch.setattr(acc, "stderr_is_terminal", lambda: False)
+    code, out, err = _run(["table", "--xi", "0.577", "--psi-dist", "uniform", "--method", "mc",
+                           "--seed", "1", "--tol", "1e-3", "-f", "csv"], capsys)
+    assert code == 0 and err == "" and "\x1b" not in out
+
+
+def test_progress_bar_draws_on_stderr_only_after_a_second(monkeypatch):
+    import coincli.cli._accuracy as acc
+
+    monkeypatch.setattr(acc, "stderr_is_terminal", lambda: True)
+    buf = io.StringIO()
+    monkeypatch.setattr(sys, "stderr", buf)
+    bar = acc.Progress("mc test", delay=3600)
+    bar(10, 100)
+    assert bar.bar is None  # not within the delay
+    bar = acc.Progress("mc test", delay=0)
+    bar(10, 100)
+    assert bar.bar is not None
+    bar(100, 100)
+    bar.close()
+
+
+def test_warning_when_the_time_limit_stops_monte_carlo(capsys, monkeypatch):
+    import coincli.cli._accuracy as acc
+
+    monkeypatch.setattr(acc, "MAX_SECONDS", 0.05)
+    code, out, err = _run(["table", "--xi", "0.577", "--psi-dist", "uniform", "--method", "mc",
+                           "--seed", "1", "--tol", "1e-7", "-f", "csv"], capsys)
+    assert code == 0 and out.count("\n") == 4
+    assert err.startswith("coin: warning: uniform: mc reached") and "not --tol 1e-07" in err
