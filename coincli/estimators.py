@@ -135,11 +135,14 @@ def quad(xi, density: Density | None = None, *, tol: float | None = None,
     xi = models.check_xi(xi)
     val = _mg.marginal(xi, density, order=order)
     bound = _mg.error_bound(order, density)
-    err = _outcome(xi, [np.full(np.size(xi), bound)] * 3)
-    low = Outcome(*(np.clip(np.asarray(v) - bound, 0, 1) for v in val))
-    high = Outcome(*(np.clip(np.asarray(v) + bound, 0, 1) for v in val))
-    if isinstance(xi, float):
-        low, high = Outcome(*map(float, low)), Outcome(*map(float, high))
+    if isinstance(xi, float):  # plain floats: this is the path a single --tol answer takes
+        err = Outcome(bound, bound, bound)
+        low = Outcome(*(max(v - bound, 0.0) for v in val))
+        high = Outcome(*(min(v + bound, 1.0) for v in val))
+    else:
+        err = Outcome(*(np.full(np.shape(xi), bound) for _ in range(3)))
+        low = Outcome(*(np.clip(v - bound, 0, 1) for v in val))
+        high = Outcome(*(np.clip(v + bound, 0, 1) for v in val))
     met = tol is None or bound <= tol
     return Estimate(val, err, low, high, "quad", order, tol, met,
                     f"Gauss-Legendre, {order} nodes per subinterval (error <= {bound:.0e})")

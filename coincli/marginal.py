@@ -308,9 +308,10 @@ def _nodes(a, b, n, scale):
 
 
 def _piece_a(a, b, n, p, fold):
+    """psi = t s on [0, t]: heads only; the sum is the mass."""
     t = p[0]
     s, w = _nodes(a, b, n, t)
-    return ((w * fold(t * s)).sum(axis=1),)
+    return (w * fold(t * s)).sum(axis=1)[None, :]
 
 
 def _piece_b(a, b, n, p, fold):
@@ -320,9 +321,12 @@ def _piece_b(a, b, n, p, fold):
     u1 = beta * (s * s)  # psi - t
     # D1 = sin^2 psi - sin^2 t = sin u1 sin(2t + u1): both angles in [0, pi/2], no cancellation
     q1 = np.sqrt(np.sin(u1)) * np.sqrt(np.sin(2 * t + u1))
-    wt = w * s * fold(t + u1)
-    return ((wt * np.arctan2(s0, q1)).sum(axis=1), (wt * np.arctan2(q1, s0)).sum(axis=1),
-            wt.sum(axis=1))
+    out = np.empty((3, *q1.shape))  # theta1/2, its complement, 1 (the mass)
+    np.arctan2(s0, q1, out=out[0])
+    np.arctan2(q1, s0, out=out[1])
+    out[2] = 1.0
+    out *= w * s * fold(t + u1)
+    return out.sum(axis=2)
 
 
 def _piece_c(a, b, n, p, fold):
@@ -334,17 +338,20 @@ def _piece_c(a, b, n, p, fold):
     # and 2t - u2 >= t, so each factor keeps its relative accuracy
     q1 = np.sqrt(np.sin(beta + u2)) * np.sqrt(np.cos(u2))
     q2 = np.sqrt(np.sin(u2)) * np.sqrt(np.sin(2 * t - u2))
-    wt = w * s * fold((HALF_PI - t) + u2)
+    out = np.empty((4, *q1.shape))  # theta1/2, (theta2 - theta1)/2, (pi - theta2)/2, 1
+    np.arctan2(s0, q1, out=out[0])
     # (theta2 - theta1)/2 = atan2(c sin^2 psi, (sqrt(D1 D2) + c0 s0)(c0 sqrt D1 + s0 sqrt D2))
     # with sin^2 psi = D1 + s0^2
-    three = np.arctan2((q1 * q1 + s0 * s0) * c, (q1 * q2 + c0 * s0) * (c0 * q1 + s0 * q2))
-    return ((wt * np.arctan2(s0, q1)).sum(axis=1), (wt * three).sum(axis=1),
-            (wt * np.arctan2(q2, c0)).sum(axis=1), wt.sum(axis=1))
+    np.arctan2((q1 * q1 + s0 * s0) * c, (q1 * q2 + c0 * s0) * (c0 * q1 + s0 * q2), out=out[1])
+    np.arctan2(q2, c0, out=out[2])
+    out[3] = 1.0
+    out *= w * s * fold((HALF_PI - t) + u2)
+    return out.sum(axis=2)
 
 
 _PIECES = (_piece_a, _piece_b, _piece_c)
-# where each piece's sums go: 0 heads in A (= its mass), 1-3 heads, sides, tails as angles,
-# 4 the mass of B and C
+# where each piece's rows of sums go: 0 heads in A (= its mass), 1-3 heads, sides, tails as
+# angles, 4 the mass of B and C
 _SLOTS = ((0,), (1, 2, 4), (1, 2, 3, 4))
 _BLOCK = 1 << 15  #: nodes per numpy pass: the temporaries stay in cache
 
@@ -354,8 +361,8 @@ def _integrate_one(x: float, density: Density, n: int, breaks: list[float]):
     fold = _folded_pdf(density)
     acc = [0.0] * 5
     for fn, slots, (a, b) in zip(_PIECES, _SLOTS, pieces, strict=True):
-        for k, v in zip(slots, fn(a, b, n, p, fold), strict=True):
-            acc[k] += float(v.sum())
+        for k, v in zip(slots, fn(a, b, n, p, fold).sum(axis=1).tolist(), strict=True):
+            acc[k] += v
     return acc
 
 
@@ -368,16 +375,13 @@ def _integrate_many(xi: np.ndarray, density: Density, n: int, breaks: np.ndarray
     for fn, slots, (rows, a, b) in zip(_PIECES, _SLOTS, pieces, strict=True):
         if not rows.size:
             continue
-        sums = [[] for _ in slots]
-        for j in range(0, rows.size, step):
-            p = par[:, rows[j:j + step]][:, :, None]
-            for lst, v in zip(sums, fn(a[j:j + step], b[j:j + step], n, p, fold), strict=True):
-                lst.append(v)
+        sums = [fn(a[j:j + step], b[j:j + step], n, par[:, rows[j:j + step]][:, :, None], fold)
+                for j in range(0, rows.size, step)]
         # rows come sorted (row-major layout): sum each xi's subintervals with reduceat, which
         # adds pairwise like sum() (a thick coin has hundreds of graded subintervals)
         starts = np.flatnonzero(np.concatenate(([True], rows[1:] != rows[:-1])))
-        for k, lst in zip(slots, sums, strict=True):
-            acc[k, rows[starts]] += np.add.reduceat(np.concatenate(lst), starts)
+        acc[np.array(slots)[:, None], rows[starts]] += np.add.reduceat(
+            np.concatenate(sums, axis=1), starts, axis=1)
     return acc
 
 
