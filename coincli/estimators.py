@@ -355,6 +355,14 @@ def _prepare(xi, density):
     return density, xi, flat, cs
 
 
+def _seed_arg(seed):
+    if seed is None:
+        return None
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ValueError(f"seed must be a whole number >= 0 or None, got {seed!r}")
+    return int(seed)
+
+
 def _n_arg(n, name="n"):
     if n is None:
         return None
@@ -389,6 +397,7 @@ def monte_carlo(xi, density: Density | None = None, *, tol: float | None = None,
     tol = check_tol(tol)
     n = _n_arg(n)
     max_samples = _n_arg(max_samples, "max_samples")
+    seed = _seed_arg(seed)
     target = n if n is not None else (max_samples if tol is not None else 1 << 20)
     rng = np.random.default_rng(seed)
     clock = _Clock(max_seconds)
@@ -447,6 +456,7 @@ def quasi_monte_carlo(xi, density: Density | None = None, *, tol: float | None =
     tol = check_tol(tol)
     n = _n_arg(n)
     max_samples = _n_arg(max_samples, "max_samples")
+    seed = _seed_arg(seed)
     if isinstance(scrambles, bool) or not isinstance(scrambles, int) or not 2 <= scrambles <= 1024:
         raise ValueError(f"scrambles must be an integer in [2, 1024], got {scrambles!r}")
     if phase not in ("toss", "table1"):

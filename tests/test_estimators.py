@@ -268,6 +268,8 @@ def test_auto_picks_quadrature_with_the_fewest_nodes():
     (lambda: E.monte_carlo(-1.0), r"xi must be >= 0"),
     (lambda: E.monte_carlo(0.5, "normal"), "density must be a coincli.densities.Density"),
     (lambda: E.monte_carlo(0.5, max_seconds=0), "max_seconds must be a number > 0"),
+    (lambda: E.monte_carlo(0.5, seed=-1), "seed must be a whole number >= 0"),
+    (lambda: E.quasi_monte_carlo(0.5, seed=1.5), "seed must be a whole number >= 0"),
     (lambda: E.quasi_monte_carlo(0.5, scrambles=1), r"scrambles must be an integer in \[2, 1024\]"),
     (lambda: E.quasi_monte_carlo(0.5, phase="x"), "phase must be 'toss' or 'table1'"),
 ])
