@@ -416,8 +416,9 @@ def monte_carlo(xi, density: Density | None = None, *, tol: float | None = None,
         done += m
         total = target
         if tol is not None and n is None:
-            lo, hi = _wilson(np.stack([heads, done - heads - tails, tails]), done)
-            half = float(np.max((hi - lo) / 2))
+            kk = np.stack([heads, done - heads - tails, tails])
+            lo, hi = _wilson(kk, done)
+            half = float(np.max(np.maximum(hi - kk / done, kk / done - lo)))
             met = half <= tol
             if met:
                 break
@@ -431,6 +432,8 @@ def monte_carlo(xi, density: Density | None = None, *, tol: float | None = None,
     p = k / done
     se = np.sqrt(p * (1 - p) / done)
     lo, hi = _wilson(k, done)
+    if tol is not None:
+        met = float(np.max(np.maximum(hi - p, p - lo))) <= tol
     if progress is not None:
         progress(done, done)
     return Estimate(_outcome(xi, p), _outcome(xi, se), _outcome(xi, lo), _outcome(xi, hi),
@@ -502,6 +505,8 @@ def quasi_monte_carlo(xi, density: Density | None = None, *, tol: float | None =
     mean = est.mean(axis=0)
     se = est.std(axis=0, ddof=1) / math.sqrt(r)
     lo, hi = np.clip(mean - tq * se, 0, 1), np.clip(mean + tq * se, 0, 1)
+    if tol is not None:
+        met = float((tq * se).max()) <= tol
     total = per * r
     if progress is not None:
         progress(total, total)
