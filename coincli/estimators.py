@@ -552,8 +552,8 @@ def estimate(xi, density: Density | None = None, *, tol: float | None = None,
 
     ``auto`` is the cheapest method that meets ``tol``: quadrature with the fewest nodes (the
     work-precision benchmark finds it faster than Monte Carlo and quasi-Monte Carlo at every
-    tolerance from 1e-1 down, by orders of magnitude; the sampling methods cannot reach 1e-6
-    in a minute).  Without ``tol``, ``auto`` and ``quad`` give full double precision and the
+    tolerance from 1e-1 down, by orders of magnitude; simulated tosses cannot reach 1e-6 in a
+    minute).  Without ``tol``, ``auto`` and ``quad`` give full double precision and the
     sampling methods 2^20 tosses (``n`` to change it).
     """
     m = str(method).strip().lower()

@@ -304,6 +304,20 @@ def test_table_tol_adds_error_columns_and_keeps_quiet(capsys):
                                                              abs=1e-9)]
 
 
+def test_table_qmc_rows(capsys):
+    code, out, err = _run(["table", "--xi", "0.3,0.577", "--psi-dist", "uniform", "--method",
+                           "qmc", "--seed", "4", "-f", "json"], capsys)
+    assert code == 0 and err == ""
+    import json
+
+    rows = [r for r in json.loads(out) if r["model"] == "uniform"]
+    assert [r["method"] for r in rows] == ["qmc 1048576 points"] * 2
+    for r in rows:
+        exact = marginal(r["xi"], Uniform())
+        assert abs(r["p_sides"] - exact.sides) <= 2 * r["err_sides"] + 1e-6
+    assert json.loads(out)[0]["err_sides"] is None  # closed forms: no error column value
+
+
 def test_design_tol_sets_the_quadrature(capsys):
     code, out, _ = _run(["design", "-p", "1/3", "--psi-dist", "normal", "--tol", "1e-4", "-q"],
                         capsys)
