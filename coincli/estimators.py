@@ -177,7 +177,8 @@ def scipy_quad(xi, density: Density | None = None, *, tol: float = 1e-10) -> Est
                 return models.conditional(x, psi)[k] * fold(psi)
 
             v, e, info = qp(f, 0.0, models.HALF_PI, points=pts or None, epsabs=tol / 4,
-                            epsrel=0.0, limit=400, full_output=True)[:3]
+                            epsrel=0.0, limit=max(400, 2 * len(pts) + 50),
+                            full_output=True)[:3]
             out[k, j], err[k, j] = v, e
             evals += info["neval"]
     val = _outcome(xi, out)

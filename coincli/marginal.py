@@ -61,7 +61,7 @@ MIN_ORDER, MAX_ORDER = 2, 64  #: the range of ``order``
 _RATIO = 4.0  #: geometric grading ratio toward a nearby branch point
 _LAST = 0.9  #: no graded point above this: a sliver [0.9, 1] would cost a subinterval for little
 _S_FLOOR = 1e-18  #: no grading in C toward a branch point closer than this (see module notes)
-_FEATURE_STEPS = np.array([0.0, 0.5, 1.0, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0])
+_FEATURE_STEPS = np.array([0.0, 1.0, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0])
 _CHUNK = 1 << 21  #: (xi values) x (breakpoints) per pass, to bound memory for long tables
 # 2/pi as hi + lo: the sums of angles are scaled once, with one rounding
 _TWO_OVER_PI_HI = 0.6366197723675814
