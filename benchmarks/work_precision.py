@@ -3,7 +3,7 @@
     python benchmarks/work_precision.py           # writes docs/work-precision.md and .png
     python benchmarks/work_precision.py --quick   # ladders to 2^18 and 10 seeds: a smoke run
 
-(about 10 minutes for the full run on one core).  For each case (a psi density and an aspect
+(about 25 minutes for the full run on one core).  For each case (a psi density and an aspect
 ratio) and each method it measures the median CPU time over repeats and the error against a
 40-digit mpmath reference (tests/marginal_reference.py): the largest absolute error of
 P(heads), P(sides), P(tails); for Monte Carlo and quasi-Monte Carlo the RMS error over 20 seeds.

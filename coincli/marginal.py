@@ -54,6 +54,7 @@ __all__ = [
     "MIN_ORDER",
     "MAX_ORDER",
     "order_for_tol",
+    "error_bound",
 ]
 
 DEFAULT_ORDER = 16  #: Gauss-Legendre nodes per subinterval
