@@ -32,7 +32,7 @@ AIM_ARRAY = 3.0
 def scalar_rates(repeat: int) -> list[tuple[str, str, float]]:
     from coincli import models
     from coincli.densities import parse_density
-    from coincli.marginal import conditional_inverse, marginal, marginal_inverse
+    from coincli.averages import conditional_inverse, marginal, marginal_inverse
 
     normal = parse_density("normal")
     cases = [
@@ -72,7 +72,7 @@ def array_ratios(n: int, repeat: int):
 
     from coincli import models
     from coincli.densities import parse_density
-    from coincli.marginal import marginal
+    from coincli.averages import marginal
 
     rng = np.random.default_rng(2024)
     xi = rng.uniform(0.0, 3.0, n)  # every regime of a real coin, thin to very thick

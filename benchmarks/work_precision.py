@@ -8,7 +8,7 @@ ratio) and each method it measures the median CPU time over repeats and the erro
 40-digit mpmath reference (tests/marginal_reference.py): the largest absolute error of
 P(heads), P(sides), P(tails); for Monte Carlo and quasi-Monte Carlo the RMS error over 20 seeds.
 
-- quad: Gauss-Legendre (coincli.marginal) with 2 to 16 nodes per subinterval;
+- quad: Gauss-Legendre (coincli.averages) with 2 to 16 nodes per subinterval;
 - scipy: scipy.integrate.quad (QUADPACK QAGP) with epsabs from 1e-2 to 1e-13;
 - mc: simulated tosses, 2^8 to 2^24 (coincli.estimators.monte_carlo);
 - qmc: the same tosses from 16 scrambled Sobol sequences, 2^8 to 2^24 points in all;
@@ -39,7 +39,7 @@ from marginal_reference import ref_marginal  # noqa: E402
 
 from coincli import estimators as E  # noqa: E402
 from coincli.densities import Cosine, Normal, Table, Uniform  # noqa: E402
-from coincli.marginal import marginal, order_for_tol  # noqa: E402
+from coincli.averages import marginal, order_for_tol  # noqa: E402
 
 DOC = ROOT / "docs" / "work-precision.md"
 PNG = ROOT / "docs" / "work-precision.png"

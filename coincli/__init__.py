@@ -25,10 +25,9 @@ from coincli.models import (  # noqa: E402
 )
 
 _LAZY = {
-    "marginal": "coincli.marginal",
-    "marginal_inverse": "coincli.marginal",
-    "conditional_inverse": "coincli.marginal",
-    "density": "coincli.densities",
+    "marginal": "coincli.averages",
+    "marginal_inverse": "coincli.averages",
+    "conditional_inverse": "coincli.averages",
     "Uniform": "coincli.densities",
     "Cosine": "coincli.densities",
     "Normal": "coincli.densities",

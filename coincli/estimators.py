@@ -1,7 +1,7 @@
 r"""Three ways to average over psi (eq. 15), each with an error estimate, and a chooser.
 
 - :func:`quad`: Gauss-Legendre on the pieces between the integrand's kinks
-  (:func:`coincli.marginal.marginal`) with the fewest nodes whose calibrated error is within the
+  (:func:`coincli.averages.marginal`) with the fewest nodes whose calibrated error is within the
   tolerance; :func:`scipy_quad` is QUADPACK (``scipy.integrate.quad``) on the same
   breakpoints, as an independent check.
 - :func:`monte_carlo`: the paper's Problem 2.  Simulated tosses: psi drawn from the density (by
@@ -32,7 +32,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from coincli import marginal as _mg
+from coincli import averages as _mg
 from coincli import models
 from coincli.densities import Cosine, Density, Normal, Table, Uniform
 from coincli.models import HALF_PI, Outcome
@@ -126,7 +126,7 @@ def quad(xi, density: Density | None = None, *, tol: float | None = None,
 
     ``order`` forces the nodes per subinterval; neither gives the default (double precision).
     The error reported is the calibrated bound of ``order``
-    (:func:`coincli.marginal.error_bound`); ``met`` is whether it is within ``tol``.
+    (:func:`coincli.averages.error_bound`); ``met`` is whether it is within ``tol``.
     """
     density = _check_density(density)
     tol = check_tol(tol)

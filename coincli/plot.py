@@ -3,7 +3,7 @@ r"""The paper's figures, with the user's design and data on them (``coin plot``)
 Two layers:
 
 - *data* functions (:func:`sides_data`, :func:`psi_data`, :func:`map_data`, :func:`phase_data`)
-  evaluate the core (:mod:`coincli.models`, :mod:`coincli.marginal`, :mod:`coincli.toss`) on a
+  evaluate the core (:mod:`coincli.models`, :mod:`coincli.averages`, :mod:`coincli.toss`) on a
   grid and return plain dataclasses of numpy arrays.  They know nothing of drawing, so the
   matplotlib figures and the text plots of :mod:`coincli.textplot` show the same numbers;
 - *figure* builders (:func:`sides_figure`, :func:`psi_figure`, :func:`map_figure`,
@@ -199,7 +199,7 @@ class ModelSpec:
             return models.dynamic(xi)
         if self.key == "psi":
             return models.conditional(xi, self.psi)
-        from coincli.marginal import marginal
+        from coincli.averages import marginal
 
         return marginal(xi, self.density)
 
@@ -209,7 +209,7 @@ class ModelSpec:
             return models.geometric_inverse(p)
         if self.key == "dynamic":
             return models.dynamic_inverse(p)
-        from coincli import marginal as mg
+        from coincli import averages as mg
 
         if self.key == "psi":
             return float(mg.conditional_inverse(p, self.psi))

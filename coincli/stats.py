@@ -44,7 +44,7 @@ Spread of psi (:func:`fit_spread`)
     The tossing style enters through the angle psi between the angular momentum and the normal.
     The model: psi is normal about pi/2 with standard deviation ``sigma``, truncated to [0, pi]
     (:class:`coincli.densities.Normal`); the chances are the psi-averages of Table I
-    (:func:`coincli.marginal.marginal`).  ``sigma = 0`` is the Keller flip, i.e. the dynamic model
+    (:func:`coincli.averages.marginal`).  ``sigma = 0`` is the Keller flip, i.e. the dynamic model
     (eq. 12); ``sigma -> inf`` is psi uniform on [0, pi] (Table II, first column).  ``sigma`` is
     estimated by maximum likelihood over ``[0, inf]`` and given a profile-likelihood interval
     ``{sigma: 2 (l_max - l(sigma)) <= chi2_1(0.95) = 3.84}``.
@@ -578,13 +578,13 @@ def model_chances(xi: float, densities: Mapping[str, object] | None = None
     """The chances under the geometric and dynamic models, and under each psi density given.
 
     ``densities`` maps a name to a :class:`coincli.densities.Density`; its chances are the
-    psi-average :func:`coincli.marginal.marginal`.
+    psi-average :func:`coincli.averages.marginal`.
     """
     from coincli.models import dynamic, geometric
 
     out = {"geometric": geometric(xi), "dynamic": dynamic(xi)}
     for name, dens in (densities or {}).items():
-        from coincli.marginal import marginal
+        from coincli.averages import marginal
 
         out[name] = marginal(xi, dens)
     return out
@@ -665,7 +665,7 @@ def _spread_chances(xi, sigma: float) -> Outcome:
     if sigma == 0:
         return dynamic(xi)
     from coincli.densities import Normal, Uniform
-    from coincli.marginal import marginal
+    from coincli.averages import marginal
 
     return marginal(xi, Uniform() if math.isinf(sigma) else Normal(HALF_PI, sigma))
 
@@ -697,7 +697,7 @@ def fit_spread(xi: Sequence[float], counts: Sequence[Counts], *, confidence: flo
     r"""Maximum-likelihood ``sigma`` of psi ~ Normal(pi/2, sigma) truncated to [0, pi].
 
     All experiments share ``sigma`` (one tossing style); each contributes its multinomial (or
-    binomial) log-likelihood with the chances :func:`coincli.marginal.marginal` gives at its
+    binomial) log-likelihood with the chances :func:`coincli.averages.marginal` gives at its
     ``xi``.  The parameter runs over ``[0, inf]``, mapped to ``u = sigma / (1 + sigma)`` in
     ``[0, 1]``: ``sigma = 0`` is the dynamic model (Keller flip), ``sigma = inf`` uniform psi.
 
@@ -846,7 +846,7 @@ def fit(experiments: Sequence[Experiment], densities: Mapping[str, object] | Non
     per_model["geometric"] = (_rows_of(geometric(xa)), 0)
     per_model["dynamic"] = (_rows_of(dynamic(xa)), 0)
     if densities:
-        from coincli.marginal import marginal
+        from coincli.averages import marginal
 
         for name, dens in densities.items():
             per_model[name] = (_rows_of(marginal(xa, dens)), 0)

@@ -1240,7 +1240,7 @@ def vigorous_limit(xi, psi):
     dist = as_dist(psi, "psi", 0.0, math.pi)
     xi = _check("xi", xi, 0.0, allow_inf=True)
     if dist.kind == "density":
-        from coincli.marginal import marginal
+        from coincli.averages import marginal
 
         return marginal(xi, dist.density)
     if dist.is_fixed:

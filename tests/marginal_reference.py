@@ -1,6 +1,6 @@
 r"""An mpmath reference for the psi-averaged chances (eq. 15), to 40 digits.
 
-Independent of :mod:`coincli.marginal` in everything but the mathematics:
+Independent of :mod:`coincli.averages` in everything but the mathematics:
 
 - the integral is mpmath's tanh-sinh quadrature (not Gauss-Legendre), in the offsets from each
   piece's left end (not the ``s^2`` variable), at ``DPS + 15`` working digits;

@@ -193,7 +193,7 @@ def test_design_fixed_psi_solves_table_one(coin):
 
 def test_design_psi_distribution(coin):
     from coincli.densities import parse_density
-    from coincli.marginal import marginal
+    from coincli.averages import marginal
 
     out = _ok(coin("design", "-p", "1/3", "--psi-dist", "normal:90:18", "-f", "json"))
     (r,) = _strict_json(out)

@@ -85,7 +85,7 @@ def test_check_coin_forms(capsys, coin_args, xi):
 
 def test_check_psi_dist_and_json(capsys):
     from coincli.densities import Normal, Uniform
-    from coincli.marginal import marginal
+    from coincli.averages import marginal
 
     code, out, _ = _run(["check", "--xi", "0.58", "--heads", "45", "--sides", "35", "--tails",
                          "20", "--psi-dist", "uniform,normal:90:20", "--format", "json"], capsys)

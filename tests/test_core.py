@@ -9,7 +9,7 @@ import pytest
 
 from coincli import coins, models, parse
 from coincli.densities import Cosine, Normal, Table, Uniform, parse_density
-from coincli.marginal import conditional_inverse, marginal, marginal_inverse
+from coincli.averages import conditional_inverse, marginal, marginal_inverse
 
 XI_FAIR = 1 / math.sqrt(3)
 

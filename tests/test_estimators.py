@@ -19,7 +19,7 @@ from coincli import estimators as E
 from coincli import models
 from coincli.cli import run
 from coincli.densities import Cosine, Normal, Table, Uniform
-from coincli.marginal import error_bound, marginal, order_for_tol
+from coincli.averages import error_bound, marginal, order_for_tol
 
 XI_FAIR = 1 / math.sqrt(3)
 P2 = Normal(math.pi / 2, math.sqrt(0.1))  # Problem 2: mean pi/2, variance 0.1

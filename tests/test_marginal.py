@@ -1,4 +1,4 @@
-"""coincli.marginal: Table II, the mpmath reference over 600 decades of xi, the calibrated error
+"""coincli.averages: Table II, the mpmath reference over 600 decades of xi, the calibrated error
 of every order, the vectorized path, and the invariants.  No timing here (benchmarks/)."""
 
 from __future__ import annotations
@@ -11,10 +11,10 @@ import mpmath
 import numpy as np
 import pytest
 
-from coincli import marginal as mg
+from coincli import averages as mg
 from coincli import models
 from coincli.densities import Cosine, Normal, Table, Uniform
-from coincli.marginal import error_bound, marginal, order_for_tol
+from coincli.averages import error_bound, marginal, order_for_tol
 
 XI_FAIR = 1 / math.sqrt(3)
 REFERENCE = ref.load()

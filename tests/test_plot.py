@@ -198,7 +198,7 @@ def plotmod():
 
 def test_sides_curves_are_the_cores(plotmod):
     from coincli.densities import Normal
-    from coincli.marginal import marginal
+    from coincli.averages import marginal
 
     dens = Normal(math.pi / 2, math.radians(18))
     specs = [plotmod.GEOMETRIC, plotmod.DYNAMIC, plotmod.psi_spec(math.radians(60)),

@@ -336,7 +336,7 @@ def test_verdict_levels_and_asymptotic():
 
 def test_model_chances_with_a_density():
     from coincli.densities import Uniform
-    from coincli.marginal import marginal
+    from coincli.averages import marginal
 
     ch = stats.model_chances(3**-0.5, {"uniform": Uniform()})
     assert list(ch) == ["geometric", "dynamic", "uniform"]
@@ -361,7 +361,7 @@ QUARTER_STACKS = np.array([k * 1.75 / 24.0 for k in range(1, 9)])  # the paper's
 
 def _simulate(sigma, seed, n=100, faces=True, xi=QUARTER_STACKS):
     from coincli.densities import Normal
-    from coincli.marginal import marginal
+    from coincli.averages import marginal
 
     ch = np.stack(marginal(xi, Normal(math.pi / 2, sigma)), axis=1)
     ch /= ch.sum(axis=1, keepdims=True)

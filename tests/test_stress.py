@@ -233,7 +233,7 @@ DENSITIES = ["uniform", "cosine", "normal", "normal:90:18", "normal:90:0.001", "
 
 def _marginal_sweep(spec):
     from coincli.densities import parse_density
-    from coincli.marginal import marginal
+    from coincli.averages import marginal
 
     d = parse_density(spec)
     o = marginal(np.array(XIS), d)
@@ -270,7 +270,7 @@ def test_marginal_strictly_in_unit_interval_and_monotone(spec):
 @pytest.mark.parametrize("spec", ["uniform", "normal"])
 def test_marginal_inverse_across_magnitudes(spec):
     from coincli.densities import parse_density
-    from coincli.marginal import marginal, marginal_inverse
+    from coincli.averages import marginal, marginal_inverse
 
     d = parse_density(spec)
     for p in [1e-300, 1e-100, 1e-10, 1e-3, 0.1, 1 / 3, 0.5, 0.9, 1 - 1e-9]:
@@ -283,7 +283,7 @@ def test_marginal_inverse_across_magnitudes(spec):
 
 @pytest.mark.parametrize("psi_deg", [1.0, 30.0, 60.0, 90.0, 150.0])
 def test_conditional_inverse_across_magnitudes(psi_deg):
-    from coincli.marginal import conditional_inverse
+    from coincli.averages import conditional_inverse
 
     psi = math.radians(psi_deg)
     for p in [0.0, 1e-300, 1e-100, 1e-10, 1e-3, 0.1, 1 / 3, 0.5, 0.9, 1 - 1e-9]:

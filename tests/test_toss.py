@@ -653,7 +653,7 @@ def test_psi_densities_sample_their_pdf():
 
 def test_psi_density_prediction_is_the_projects_marginal_and_simulation_converges():
     from coincli.densities import Cosine
-    from coincli.marginal import marginal
+    from coincli.averages import marginal
 
     assert T.vigorous_limit(FAIR, Cosine()) == marginal(FAIR, Cosine())
     s = T.simulate(200_000, 1, xi=FAIR, u="normal:153.6:19.2", omega="normal:38:4", psi=Cosine())

@@ -110,12 +110,12 @@ class _OrderedModel:
         self.closed_form = False
 
     def forward(self, xi):
-        from coincli.marginal import marginal
+        from coincli.averages import marginal
 
         return marginal(xi, self.density, order=self.order)
 
     def inverse(self, p):
-        from coincli.marginal import marginal_inverse
+        from coincli.averages import marginal_inverse
 
         return marginal_inverse(p, self.density, order=self.order)
 
@@ -132,7 +132,7 @@ def design_model(acc: Accuracy | None, model):
                           f"{model.density.spec} --method {acc.method}")
     if acc.tol is None:
         return model
-    from coincli.marginal import order_for_tol
+    from coincli.averages import order_for_tol
 
     return _OrderedModel(model, order_for_tol(acc.tol, model.density))
 
@@ -140,7 +140,7 @@ def design_model(acc: Accuracy | None, model):
 def design_note(acc: Accuracy | None, model) -> str:
     if acc is None or acc.tol is None or not isinstance(model, _OrderedModel):
         return ""
-    from coincli.marginal import error_bound
+    from coincli.averages import error_bound
 
     return (f"; quadrature with {model.order} nodes per subinterval for --tol {acc.tol:g} "
             f"(error <= {error_bound(model.order, model.density):.0e})")

@@ -1,6 +1,6 @@
 """``coin design``, ``coin table``, ``coin stack``, ``coin coins``, ``coin fair``.
 
-Thin: parse the options, call :mod:`coincli.models` / :mod:`coincli.marginal`, build a
+Thin: parse the options, call :mod:`coincli.models` / :mod:`coincli.averages`, build a
 :class:`Result`, emit it.  A single value under the geometric or dynamic model stays on Python
 floats (no numpy); lists, ranges and stdin batches of those models go through numpy in one
 vectorized call; psi models use quadrature and root finding (numpy and scipy, loaded then).
@@ -50,7 +50,7 @@ class Model(NamedTuple):
             return models.dynamic(xi)
         if self.key == "psi":
             return models.conditional(xi, self.psi)
-        from coincli.marginal import marginal
+        from coincli.averages import marginal
 
         return marginal(xi, self.density)
 
@@ -59,7 +59,7 @@ class Model(NamedTuple):
             return models.geometric_inverse(p)
         if self.key == "dynamic":
             return models.dynamic_inverse(p)
-        from coincli import marginal as mg
+        from coincli import averages as mg
 
         if self.key == "psi":
             return mg.conditional_inverse(p, self.psi)

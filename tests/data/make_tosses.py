@@ -14,7 +14,7 @@ import numpy as np
 
 from coincli.coins import get_coin, stack_xi
 from coincli.densities import Normal
-from coincli.marginal import marginal
+from coincli.averages import marginal
 
 rng = np.random.default_rng(2024)
 dens = Normal(math.pi / 2, math.radians(18))
