@@ -51,6 +51,8 @@ _PIO2_LO2 = -1.4973849048591698e-33
 _PI_LO2 = -2.9947698097183397e-33
 # Beyond this, xi/hypot(1, xi) is 1.0 in double; clamping keeps xi = inf away from inf/inf.
 _XI_BIG = 2.0**600
+# Beyond this, 1 + xi**2 rounds to xi**2 and sqrt(1 + xi**2) to xi: the geometric chances are flat.
+_XI_FLAT = 2.0**27
 
 FAIR_XI_GEOMETRIC = 1 / (2 * math.sqrt(2))  #: von Neumann's fair three-sided coin, eq. (11)
 FAIR_XI_DYNAMIC = 1 / math.sqrt(3)  #: the Keller-flip fair three-sided coin, eq. (12)
@@ -82,12 +84,13 @@ def _as_input(name, value, lo, hi, *, allow_inf):
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be a number or an array of numbers, got {value!r}") from None
-    bad = np.isnan(arr) | (arr < lo) | (arr > hi)
-    if not allow_inf:
-        bad |= np.isinf(arr)
-    if bad.any():
-        first = arr[bad].flat[0]
-        raise ValueError(_range_message(name, float(first), lo, hi, allow_inf))
+    if arr.size == 0:
+        return arr
+    # Two reductions, not a full-size mask: min and max propagate NaN, which fails both tests.
+    top = hi if allow_inf or hi < math.inf else np.finfo(float).max
+    if not (arr.min() >= lo and arr.max() <= top):
+        bad = ~((arr >= lo) & (arr <= top))  # the slow path, only to name the first bad value
+        raise ValueError(_range_message(name, float(arr[bad].flat[0]), lo, hi, allow_inf))
     return arr
 
 
@@ -181,8 +184,12 @@ def geometric(xi):
 
     Notes
     -----
-    ``(1 - cos theta0)/2 = 1/(2 r (r + xi))`` with ``r = hypot(1, xi)`` (multiply by ``r + xi``),
-    evaluated as ``(0.5/r)/(r + xi)`` so that nothing cancels, overflows or underflows early.
+    ``(1 - cos theta0)/2 = 1/(2 r (r + xi)) = 1/(2 (s + xi r))`` with ``s = 1 + xi^2`` and
+    ``r = sqrt s`` (multiply by ``r + xi``): a sum of positive terms, nothing cancels.
+    ``cos theta0 = 1/sqrt(1 + (1/xi)^2)``: every step is a correctly rounded monotone operation,
+    so the computed chance of a side never decreases as xi grows.  Past ``xi = 2**27``, ``s``
+    rounds to ``xi^2``, so a face is ``1/(4 xi^2)`` (no square to overflow); below ``2**-27``
+    the side is ``xi`` itself.
     Fair (1/3 each) at ``xi = 1/(2 sqrt 2)``.
 
     Examples
@@ -195,10 +202,23 @@ def geometric(xi):
     xi = check_xi(xi)
     xp = namespace(xi)
     with _errstate(xp):
-        x = xp.minimum(xi, _XI_BIG)
-        r = xp.hypot(1.0, x)
-        face = (0.5 / r) / (r + x)
-        return Outcome(face, x / r, face)
+        if xp is M and xi > _XI_FLAT:
+            face = (0.25 / xi) / xi
+            return Outcome(face, 1.0, face)
+        s = 1.0 + xi * xi
+        face = 0.5 / (s + xi * xp.sqrt(s))
+        if xp is M and xi < 1 / _XI_FLAT:
+            return Outcome(face, xi, face)
+        y = 1.0 / xi
+        sides = 1.0 / xp.sqrt(1.0 + y * y)
+        if xp is M:
+            return Outcome(face, sides, face)
+        if xi.size:  # the ends, where a square overflows: rare, so masked
+            if xi.max() > _XI_FLAT:  # s = xi**2 and sqrt(s) = xi in double
+                face = xp.where(xi > _XI_FLAT, (0.25 / xi) / xi, face)
+            if xi.min() < 1 / _XI_FLAT:  # sides = xi (1 - xi**2/2 + ...) = xi in double
+                sides = xp.where(xi < 1 / _XI_FLAT, xi, sides)
+        return Outcome(face, sides, face)
 
 
 def dynamic(xi):
@@ -354,9 +374,14 @@ def conditional(xi, psi):
             if near:
                 args = _near_boundary(M, xi, psi, *args)
         elif near.any():
-            for a, v in zip(args, _near_boundary(xp, xi[near], psi[near],
-                                                 *(a[near] for a in args)), strict=True):
-                a[near] = v
+            band = near & _long_double_band(xp, args[1], args[5], args[6])
+            if band.any():  # most of the near ones: offsets rounded from 64-bit long doubles
+                args[5][band], args[6][band] = _offsets_long_double(xp, xi[band], psi[band])
+                near &= ~band
+            if near.any():
+                for a, v in zip(args, _near_boundary(xp, xi[near], psi[near],
+                                                     *(a[near] for a in args)), strict=True):
+                    a[near] = v
         heads, sides, tails = _from_offsets(xp, *args)
         tails = xp.minimum(tails, heads)  # theta1 + theta2 >= pi; rounding near psi = pi/2 aside
         if xp is not M:
@@ -371,6 +396,40 @@ _NEAR = 0.5
 # psi/t, and scaling keeps u1 and the low part of t out of the subnormal range.
 _PLANAR_T = 2.0**-900
 _PLANAR_SCALE = 2.0**840
+
+
+# Long-double band (numpy path, where long double has a 64-bit significand, as on x86): offsets
+# at least _BAND_REL t from both boundaries, with t above _BAND_T_MIN, are formed in long double;
+# their relative error is then below 2**-63 t/|u| <= 2**-55, a quarter of an ulp before the
+# square root halves it.  Closer offsets (and every offset where long double is a plain double)
+# take the double-double path of _near_boundary.
+_BAND_REL = 2.0**-8
+_BAND_T_MIN = 2.0**-40
+_LONG_DOUBLE_BITS = 64  # significand bits the band needs
+
+
+def _long_double_band(xp, t, u1, u2):
+    """Mask of the elements whose offsets long double computes to full double accuracy."""
+    if xp.finfo(xp.longdouble).nmant + 1 < _LONG_DOUBLE_BITS:
+        return xp.zeros(xp.shape(t), dtype=bool)
+    return (xp.minimum(xp.abs(u1), xp.abs(u2)) >= _BAND_REL * t) & (t >= _BAND_T_MIN)
+
+
+def _offsets_long_double(xp, xi, psi):
+    """(u1, u2) of :func:`_from_offsets` computed in long double and rounded to double.
+
+    ``pi - psi`` and ``pi/2 - psi`` are formed as (hi - psi) + lo + lo2: the first difference is
+    exact in double (Sterbenz), the constants' parts carry pi to 2**-160, and each long-double
+    sum rounds once, to 2**-64 of the (small) result; theta0/2 is long double's own atan2.
+    """
+    L = xp.longdouble
+    upper = psi > _PIO2_HI
+    # psi_m = pi - psi (upper half) or psi; e = |pi/2 - psi|
+    psi_m = xp.where(upper, (_PI_HI - psi).astype(L) + L(_PI_LO) + L(_PI_LO2), psi.astype(L))
+    e = xp.where(upper, (psi - _PIO2_HI).astype(L) - L(_PIO2_LO) - L(_PIO2_LO2),
+                 (_PIO2_HI - psi).astype(L) + L(_PIO2_LO) + L(_PIO2_LO2))
+    t = xp.arctan2(L(1), xi.astype(L)) / 2
+    return (psi_m - t).astype(float), (t - xp.abs(e)).astype(float)
 
 
 def _near_boundary(xp, xi, psi, sigma, t, s0, c0, c, u1, u2):
@@ -450,7 +509,7 @@ def geometric_inverse(p_sides):
         den = xp.sqrt((1.0 - p) * (1.0 + p))
         if xp is M:
             return math.inf if den == 0 else p / den
-        return xp.where(den == 0, xp.inf, p / xp.where(den == 0, 1.0, den))
+        return p / den  # den = 0 only at p = 1: 1/0 = inf (warning silenced by _errstate)
 
 
 def dynamic_inverse(p_sides):

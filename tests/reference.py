@@ -207,16 +207,24 @@ def ulp_error(computed: float, ref) -> float:
 # tests measure the same kind of inputs.
 
 BOUNDARY_OFFSETS = (1e-12, 1e-9, 1e-6)  #: relative and absolute distances from each boundary
+#: relative distances farther out: where conditional() rounds its offsets in long double
+BAND_OFFSETS = (1e-4, 1e-3, 4e-3, 1e-2, 0.1, 0.3, 0.49)
 
 
-def xi_grid(n_log: int = 121, n_random: int = 200, seed: int = 0) -> list[float]:
-    """0, inf, log-spaced and log-uniform random xi in [1e-300, 1e300], and the fair coins."""
+def xi_grid(n_log: int = 121, n_random: int = 200, n_coin: int = 2000, seed: int = 0) -> list[float]:
+    """0, inf, log-spaced and log-uniform random xi in [1e-300, 1e300], and the fair coins.
+
+    Plus ``n_coin`` random xi where real coins and stacks live (uniform on [0, 3] and log-uniform
+    on [1e-3, 1e3]): 600 decades at a few points each would leave that band almost unvisited.
+    """
     import random
 
     rng = random.Random(seed)
     out = [0.0, math.inf, 1 / (2 * math.sqrt(2)), 1 / math.sqrt(3), 1.0, 1e-8, 1e8]
     out += [10.0 ** (-300 + 600 * k / (n_log - 1)) for k in range(n_log)]
     out += [10.0 ** rng.uniform(-300, 300) for _ in range(n_random)]
+    out += [rng.uniform(0, 3) for _ in range(n_coin // 2)]
+    out += [10.0 ** rng.uniform(-3, 3) for _ in range(n_coin - n_coin // 2)]
     return out
 
 
@@ -238,6 +246,7 @@ def boundary_psis(xi: float) -> list[tuple[float, str]]:
     """(psi, kind) near the four regime boundaries of Table I for this xi.
 
     kind is ``"boundary"`` for points 1e-12, 1e-9, 1e-6 away (relative and absolute) and
+    ``BAND_OFFSETS`` times theta0/2 away, and
     ``"adjacent"`` for the doubles nearest to the boundary and their neighbours (closer still).
     """
     out = []
@@ -245,6 +254,9 @@ def boundary_psis(xi: float) -> list[tuple[float, str]]:
         for d in BOUNDARY_OFFSETS:
             out += [(b * (1 + d), "boundary"), (b * (1 - d), "boundary"),
                     (b + d, "boundary"), (b - d, "boundary")]
+        t = float(ref_boundaries(xi)[0])  # offsets relative to theta0/2, the scale of the band
+        for d in BAND_OFFSETS:
+            out += [(b + d * t, "boundary"), (b - d * t, "boundary")]
         p = b
         q = b
         for _ in range(3):
