@@ -21,6 +21,7 @@ mpmath are in ``docs/accuracy.md``.
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import NamedTuple
 
@@ -186,8 +187,9 @@ def geometric(xi):
     -----
     ``(1 - cos theta0)/2 = 1/(2 r (r + xi)) = 1/(2 (s + xi r))`` with ``s = 1 + xi^2`` and
     ``r = sqrt s`` (multiply by ``r + xi``): a sum of positive terms, nothing cancels.
-    ``cos theta0 = 1/sqrt(1 + (1/xi)^2)``: every step is a correctly rounded monotone operation,
-    so the computed chance of a side never decreases as xi grows.  Past ``xi = 2**27``, ``s``
+    ``cos theta0 = 1/sqrt(1 + 1/xi^2)``: every step is a correctly rounded monotone operation,
+    so the computed chance of a side never decreases as xi grows (``xi/hypot(1, xi)`` does, by
+    an ulp, on a tenth of consecutive doubles).  Past ``xi = 2**27``, ``s``
     rounds to ``xi^2``, so a face is ``1/(4 xi^2)`` (no square to overflow); below ``2**-27``
     the side is ``xi`` itself.
     Fair (1/3 each) at ``xi = 1/(2 sqrt 2)``.
@@ -209,8 +211,7 @@ def geometric(xi):
         face = 0.5 / (s + xi * xp.sqrt(s))
         if xp is M and xi < 1 / _XI_FLAT:
             return Outcome(face, xi, face)
-        y = 1.0 / xi
-        sides = 1.0 / xp.sqrt(1.0 + y * y)
+        sides = 1.0 / xp.sqrt(1.0 + 1.0 / (xi * xi))
         if xp is M:
             return Outcome(face, sides, face)
         if xi.size:  # the ends, where a square overflows: rare, so masked
@@ -345,11 +346,11 @@ def conditional(xi, psi):
     -----
     The half-angle forms of :func:`_from_offsets` keep every output's relative accuracy given
     accurate offsets ``u`` from psi to the regime boundaries.  Near a boundary (``|u| < theta0/4``)
-    the offsets are formed from ``theta0/2``, ``pi - psi`` and ``pi/2 - psi`` as double-doubles
-    (:func:`_near_boundary`), since the chance of the rarer outcome there goes like ``sqrt(u)``.
-    Measured against mpmath: within 4 ulps everywhere, including 1e-12 from every boundary; at
-    the doubles closest to a boundary (``|u|`` below ~1e-17 ``theta0/2``) about
-    ``2**-52 theta0/(2|u|)`` ulps (docs/accuracy.md).
+    the chance of the rarer outcome goes like ``sqrt(u)``, so the offsets are recomputed: in long
+    double where it has 64 bits (numpy path, ``|u| >= 2**-8 theta0/2``), else as double-doubles
+    (:func:`_near_boundary`), and below ``2**-40 theta0/2`` exactly (:func:`_offsets_exact`).
+    Measured against mpmath: within 4 ulps everywhere, the doubles adjacent to a boundary
+    included (docs/accuracy.md).
 
     Examples
     --------
@@ -458,9 +459,91 @@ def _near_boundary(xp, xi, psi, sigma, t, s0, c0, c, u1, u2):
     planar = t < _PLANAR_T
     ms, msl = mh * _PLANAR_SCALE, ml * _PLANAR_SCALE
     us = _dd_add(ms, msl, -ts, -tsl)[0]
+    # Closer than _EXACT_REL t, the 2**-104 of the double-double shows: exact arithmetic instead.
+    exact = xp.where(planar, xp.abs(us) < _EXACT_REL * ts,
+                     (xp.abs(u1) < _EXACT_REL * t) | (xp.abs(u2) < _EXACT_REL * t)) & (xi < xp.inf)
+    if xp is M:
+        if exact and planar:
+            us = _offsets_exact(xi, psi, _PLANAR_EXP)[0]
+        elif exact:
+            u1, u2 = _offsets_exact(xi, psi)
+    elif exact.any():
+        u1, u2, us = u1.copy(), u2.copy(), us.copy()
+        for i in xp.flatnonzero(exact):
+            if planar[i]:
+                us[i] = _offsets_exact(float(xi[i]), float(psi[i]), _PLANAR_EXP)[0]
+            else:
+                u1[i], u2[i] = _offsets_exact(float(xi[i]), float(psi[i]))
     return (xp.where(planar, ms, sigma), xp.where(planar, ts, t), xp.where(planar, ts, s0),
             xp.where(planar, 1.0, c0), xp.where(planar, 1.0, c), xp.where(planar, us, u1),
             xp.where(planar, -1.0, u2))
+
+
+# Offsets below this fraction of t are computed exactly (_offsets_exact): at most a handful of
+# inputs, the doubles nearest a boundary.  2**-40: the double-double's 2**-104 then leaves u
+# good to 2**-64, far more than needed, so the switch itself costs no accuracy.
+_EXACT_REL = 2.0**-40
+_PLANAR_EXP = 840  # log2 of _PLANAR_SCALE
+
+
+def _offsets_exact(xi, psi, scale_exp=0):
+    """(u1, u2) times 2**scale_exp for one finite xi and psi, correctly rounded to doubles.
+
+    Fixed-point integers with F fractional bits, F ample for the scale of theta0/2 (about
+    2**-exponent(xi)) plus 200 bits: every input double is exact there, and atan and pi
+    (Machin's formula) are summed from their series with truncation errors of a few units of
+    2**-F.  A double psi lies at least ~2**-120 t from the irrational boundary t (the
+    table-maker's bound for such functions), so u comes out correct to the last bit.
+    Pure Python (big integers): slow, for the rare inputs that need it.
+    """
+    bits = 230 + max(0, math.frexp(xi)[1]) + scale_exp
+    pi = _fixed_pi(bits)
+    a, b = xi.as_integer_ratio()
+    if a <= b:  # theta0 = pi/2 - atan(xi)
+        theta = pi // 2 - _fixed_atan((a << bits) // b, bits)
+    else:  # theta0 = atan(1/xi)
+        theta = _fixed_atan((b << bits) // a, bits)
+    t = theta // 2
+    pa, pb = psi.as_integer_ratio()
+    p = (pa << bits) // pb
+    psi_m = pi - p if 2 * p > pi else p
+    e = abs(pi // 2 - p)
+    scale = 1 << (bits - scale_exp)
+    return (psi_m - t) / scale, (t - e) / scale
+
+
+def _fixed_atan(x, bits):
+    """atan(x / 2**bits) * 2**bits for 0 <= x <= 2**bits: three half-angle steps, then the series.
+
+    ``atan x = 2 atan(x / (1 + sqrt(1 + x^2)))`` takes x below tan(pi/32) < 0.1, where the series
+    ``x - x^3/3 + x^5/5 - ...`` gains more than 6 bits a term.
+    """
+    one = 1 << bits
+    for _ in range(3):
+        x = (x << bits) // (one + math.isqrt(one * one + x * x))
+    x2 = (x * x) >> bits
+    total, power, k = 0, x, 1
+    while power:
+        total += power // k if k % 4 == 1 else -(power // k)
+        power = (power * x2) >> bits
+        k += 2
+    return total << 3
+
+
+@functools.lru_cache(maxsize=16)
+def _fixed_pi(bits):
+    """pi * 2**bits by Machin: pi = 16 atan(1/5) - 4 atan(1/239), with 20 guard bits."""
+    g = bits + 20
+
+    def acot(n):  # atan(1/n) * 2**g, the series directly (1/n is small)
+        total, power, k, n2 = 0, (1 << g) // n, 1, n * n
+        while power:
+            total += power // k if k % 4 == 1 else -(power // k)
+            power //= n2
+            k += 2
+        return total
+
+    return (16 * acot(5) - 4 * acot(239)) >> 20
 
 
 def _half_theta0_dd(xp, xi):

@@ -29,6 +29,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from coincli import models
+from coincli.modelspec import ModelSpec
 
 __all__ = [
     "OKABE_ITO",
@@ -174,61 +175,19 @@ def save_figure(fig, path: str, dpi: float = 150.0) -> int:
 # --------------------------------------------------------------------------- models
 
 
-@dataclass(frozen=True)
-class ModelSpec:
-    """A curve of P(sides) against xi: geometric, dynamic, fixed psi or a psi density."""
-
-    key: str  #: geometric | dynamic | psi | dist
-    label: str
-    psi: float | None = None  #: radians, for key "psi"
-    density: object = None  #: a :class:`coincli.densities.Density`, for key "dist"
-
-    @property
-    def gid(self) -> str:
-        if self.key == "psi":
-            return f"psi={math.degrees(self.psi):.10g}"
-        if self.key == "dist":
-            return self.density.spec
-        return self.key
-
-    def outcome(self, xi):
-        """The core's chances at ``xi`` (float or array)."""
-        if self.key == "geometric":
-            return models.geometric(xi)
-        if self.key == "dynamic":
-            return models.dynamic(xi)
-        if self.key == "psi":
-            return models.conditional(xi, self.psi)
-        from coincli.averages import marginal
-
-        return marginal(xi, self.density)
-
-    def inverse(self, p: float) -> float:
-        """The xi at which this model's P(sides) is ``p``."""
-        if self.key == "geometric":
-            return models.geometric_inverse(p)
-        if self.key == "dynamic":
-            return models.dynamic_inverse(p)
-        from coincli import averages as mg
-
-        if self.key == "psi":
-            return float(mg.conditional_inverse(p, self.psi))
-        return float(mg.marginal_inverse(p, self.density))
-
-
-GEOMETRIC = ModelSpec("geometric", "geometric (uniform orientations, eq. 11)")
-DYNAMIC = ModelSpec("dynamic", "dynamic (Keller flip, ψ = 90°, eq. 12)")
+GEOMETRIC = ModelSpec.geometric()
+DYNAMIC = ModelSpec.dynamic("dynamic (Keller flip, ψ = 90°, eq. 12)")
 
 
 def psi_spec(psi_rad: float) -> ModelSpec:
     """Table I at a fixed angle (radians)."""
     models.check_psi(psi_rad)
-    return ModelSpec("psi", f"ψ = {math.degrees(psi_rad):.6g}° (Table I)", psi=float(psi_rad))
+    return ModelSpec.fixed_psi(float(psi_rad), f"ψ = {math.degrees(psi_rad):.6g}° (Table I)")
 
 
 def density_spec(density) -> ModelSpec:
     """psi averaged over a :class:`coincli.densities.Density` (eq. 15)."""
-    return ModelSpec("dist", f"{density_label(density)} (averaged, eq. 15)", density=density)
+    return ModelSpec.psi_density(density, f"{density_label(density)} (averaged, eq. 15)")
 
 
 def density_label(density) -> str:
@@ -376,12 +335,12 @@ def sides_data(specs: Sequence[ModelSpec] = (GEOMETRIC, DYNAMIC), *, xi_marks=()
         lo, hi = xi_range
     lo, hi = _check_range(lo, hi, log)
     xi = _xi_grid(lo, hi, log, int(points))
-    curves = [Curve(s, np.asarray(s.outcome(xi).sides, dtype=float)) for s in specs]
+    curves = [Curve(s, np.asarray(s.forward(xi).sides, dtype=float)) for s in specs]
     fair = [Mark("geometric", models.FAIR_XI_GEOMETRIC, models.geometric(
                 models.FAIR_XI_GEOMETRIC).sides),
             Mark("dynamic", models.FAIR_XI_DYNAMIC, models.dynamic(models.FAIR_XI_DYNAMIC).sides)]
     fair = [m for m in fair if any(c.spec.gid == m.gid for c in curves)]
-    xm = [(x, [Mark(s.gid, x, float(s.outcome(x).sides)) for s in specs]) for x in xi_marks]
+    xm = [(x, [Mark(s.gid, x, float(s.forward(x).sides)) for s in specs]) for x in xi_marks]
     for x in xi_marks:
         if not lo <= x <= hi:
             skipped.append(f"xi = {x:g} is outside the plotted range {lo:g} to {hi:g}")
@@ -398,7 +357,7 @@ def sse(data: SidesData, gid: str) -> float | None:
     if not data.experiments:
         return None
     spec = next(c.spec for c in data.curves if c.spec.gid == gid)
-    return math.fsum((e.frequency - float(spec.outcome(e.xi).sides)) ** 2
+    return math.fsum((e.frequency - float(spec.forward(e.xi).sides)) ** 2
                      for e in data.experiments)
 
 

@@ -495,6 +495,39 @@ def test_errors_are_one_line_with_exit_code(coin, argv, code, words):
     _error(coin(*argv), code, *words)
 
 
+COIN_CONTRADICTIONS = [
+    (["stack", "--coin", "dime", "--diameter", "24", "--thickness", "1.75", "--count", "8"],
+     ["--coin", "--diameter D --thickness H", "not both"]),
+    # typing the default is still a choice of coin
+    (["stack", "-c", "quarter", "-d", "24", "-t", "1.75", "--count", "8"],
+     ["--coin", "--diameter", "not both"]),
+    # named before the custom coin is checked for its other half
+    (["stack", "--coin=dime", "--thickness", "2", "--p-sides", "1/3"],
+     ["--coin", "--thickness", "not both"]),
+    (["table", "--quarters", "8", "--coin", "dime"], ["--coin", "--count", "--quarters"]),
+    (["table", "--quarters", "8", "--coin", "quarter", "--vs", "psi"],
+     ["--coin", "--count", "--quarters"]),
+]
+
+
+@pytest.mark.parametrize("argv, words", COIN_CONTRADICTIONS,
+                         ids=[" ".join(a)[:50] for a, _ in COIN_CONTRADICTIONS])
+def test_contradictory_coin_options_are_usage_errors(coin, argv, words):
+    _error(coin(*argv), 2, *words)  # exit 2, nothing on stdout, one line naming both options
+
+
+def test_coin_left_at_its_default_is_no_contradiction(coin):
+    out = _ok(coin("stack", "--diameter", "24", "--thickness", "1.75", "--count", "8", "-f", "csv"))
+    (r,) = rows_csv(out)
+    assert r["coin"] == "custom" and float(r["xi"]) == 8 * (1.75 / 24)
+    # design and fair use both: the diameter sizes the design, the coin makes the stack column
+    out = _ok(coin("design", "-p", "0.4", "--coin", "dime", "--diameter", "24", "-f", "csv"))
+    (r,) = rows_csv(out)
+    dime = coins.CATALOG["dime"]
+    assert float(r["diameter_mm"]) == 24.0 and r["coin"] == "dime"
+    assert int(r["stack_n"]) == coins.nearest_stack(dime, 0.4).count
+
+
 def test_unknown_coin_suggests_the_nearest_names(coin):
     err = _error(coin("design", "-p", "1/3", "--coin", "quater"), 2, "--coin", "'quater'")
     assert "did you mean 'quarter'" in err and "coin coins" in err

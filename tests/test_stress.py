@@ -303,3 +303,17 @@ def test_zz_print_worst_errors(capsys):
         print("\nworst errors against mpmath (50 digits):")
         for key, (err, case) in sorted(WORST.items()):
             print(f"  {key:32s} {err:.3e}  at {case}")
+
+
+@pytest.mark.parametrize("start", [1e-300, 1e-5, 1 / (2 * math.sqrt(2)), 1 / math.sqrt(3), 0.999,
+                                   3.0, 1e5, 1e20])
+def test_monotone_over_consecutive_doubles(start):
+    """P(sides) never decreases and P(heads) never increases from one double xi to the next:
+    the finest grid there is (geometric's cos theta0 is 1/sqrt(1 + 1/xi^2) for this reason)."""
+    x = start + np.arange(100_000) * np.spacing(start)
+    for fn in (models.geometric, models.dynamic):
+        o = fn(x)
+        assert (np.diff(o.sides) >= 0).all(), (fn.__name__, start)
+        assert (np.diff(o.heads) <= 0).all(), (fn.__name__, start)
+        scalar = [fn(float(v)).sides for v in x[:2000]]
+        assert all(a <= b for a, b in zip(scalar, scalar[1:], strict=False)), (fn.__name__, start)

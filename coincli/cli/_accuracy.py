@@ -16,6 +16,7 @@ from typing import Annotated, NamedTuple
 import typer
 
 from coincli.cli._common import Column, compute_error, stderr_is_terminal, usage_error
+from coincli.modelspec import ModelSpec
 
 TolOpt = Annotated[
     str | None,
@@ -99,28 +100,7 @@ def require_density(acc: Accuracy | None, has_density: bool) -> None:
 # --------------------------------------------------------------------------- coin design
 
 
-class _OrderedModel:
-    """A psi-density model whose quadrature uses ``order`` nodes (what --tol asks for)."""
-
-    def __init__(self, model, order: int):
-        self._m = model
-        self.order = order
-        self.key, self.label, self.psi, self.density = (model.key, model.label, model.psi,
-                                                        model.density)
-        self.closed_form = False
-
-    def forward(self, xi):
-        from coincli.averages import marginal
-
-        return marginal(xi, self.density, order=self.order)
-
-    def inverse(self, p):
-        from coincli.averages import marginal_inverse
-
-        return marginal_inverse(p, self.density, order=self.order)
-
-
-def design_model(acc: Accuracy | None, model):
+def design_model(acc: Accuracy | None, model: ModelSpec) -> ModelSpec:
     """The model ``coin design`` solves with: the quadrature order --tol picks."""
     if acc is None:
         return model
@@ -134,11 +114,11 @@ def design_model(acc: Accuracy | None, model):
         return model
     from coincli.averages import order_for_tol
 
-    return _OrderedModel(model, order_for_tol(acc.tol, model.density))
+    return model.with_order(order_for_tol(acc.tol, model.density))
 
 
-def design_note(acc: Accuracy | None, model) -> str:
-    if acc is None or acc.tol is None or not isinstance(model, _OrderedModel):
+def design_note(acc: Accuracy | None, model: ModelSpec) -> str:
+    if acc is None or acc.tol is None or model.order is None:
         return ""
     from coincli.averages import error_bound
 

@@ -9,7 +9,7 @@ vectorized call; psi models use quadrature and root finding (numpy and scipy, lo
 from __future__ import annotations
 
 import math
-from typing import Annotated, NamedTuple
+from typing import Annotated
 
 import typer
 
@@ -27,72 +27,30 @@ from coincli.cli._common import (
     usage_error,
     values_option,
 )
+from coincli.modelspec import DYNAMIC, GEOMETRIC, ModelSpec
 
 # --------------------------------------------------------------------------- models as options
 
 
-class Model(NamedTuple):
-    """A model chosen on the command line: a forward map xi -> Outcome and its inverse.
-
-    A NamedTuple: a dataclass costs ~1 ms of import (dataclasses itself and the class), paid
-    by every closed-form run.
-    """
-
-    key: str  # geometric | dynamic | psi | dist
-    label: str
-    psi: float | None = None
-    density: object = None
-
-    def forward(self, xi):
-        if self.key == "geometric":
-            return models.geometric(xi)
-        if self.key == "dynamic":
-            return models.dynamic(xi)
-        if self.key == "psi":
-            return models.conditional(xi, self.psi)
-        from coincli.averages import marginal
-
-        return marginal(xi, self.density)
-
-    def inverse(self, p):
-        if self.key == "geometric":
-            return models.geometric_inverse(p)
-        if self.key == "dynamic":
-            return models.dynamic_inverse(p)
-        from coincli import averages as mg
-
-        if self.key == "psi":
-            return mg.conditional_inverse(p, self.psi)
-        return mg.marginal_inverse(p, self.density)
-
-    @property
-    def closed_form(self) -> bool:
-        return self.key in ("geometric", "dynamic", "psi")
-
-
-GEOMETRIC = Model("geometric", "geometric (uniform orientations, eq. 11)")
-DYNAMIC = Model("dynamic", "dynamic (Keller flip, psi = 90 deg, eq. 12)")
-
-
-def psi_model(psi_deg_text: str) -> Model:
+def psi_model(psi_deg_text: str) -> ModelSpec:
     try:
         psi = parse.parse_angle_deg(psi_deg_text, "--psi")
     except ValueError as exc:
         raise usage_error(str(exc)) from None
-    return Model("psi", f"psi = {psi_deg_text.strip()} deg (Table I)", psi=psi)
+    return ModelSpec.fixed_psi(psi, f"psi = {psi_deg_text.strip()} deg (Table I)")
 
 
-def density_model(spec: str) -> Model:
+def density_model(spec: str) -> ModelSpec:
     from coincli.densities import parse_density
 
     try:
         d = parse_density(spec)
     except ValueError as exc:
         raise usage_error(f"--psi-dist: {exc}") from None
-    return Model("dist", f"psi ~ {d.spec} (deg; averaged, eq. 15)", density=d)
+    return ModelSpec.psi_density(d)
 
 
-def choose_model(model: str | None, psi: str | None, psi_dist: str | None) -> Model:
+def choose_model(model: str | None, psi: str | None, psi_dist: str | None) -> ModelSpec:
     """The model from --model, --psi and --psi-dist; contradictions are usage errors."""
     m = (model or "").strip().lower()
     if m not in ("", "geometric", "dynamic", "psi"):
@@ -147,6 +105,12 @@ def _length(text: str | None, what: str) -> float | None:
         raise usage_error(str(exc)) from None
 
 
+def _given(ctx: typer.Context, name: str) -> bool:
+    """Whether the option ``name`` was typed, rather than left at its default."""
+    source = ctx.get_parameter_source(name)  # click's ParameterSource (typer may vendor click)
+    return source is not None and source.name != "DEFAULT"
+
+
 def _vector(values):
     """numpy array for a batch (several values), a float for one."""
     if not isinstance(values, list):
@@ -165,7 +129,7 @@ def _tolist(v, n):
 # --------------------------------------------------------------------------- design
 
 
-def _stack_columns(coin, xi, p, model: Model):
+def _stack_columns(coin, xi, p, model: ModelSpec):
     """Nearest stack of ``coin`` to each target: (n, xi_n, p_n, p_n-1, p_n+1) columns."""
     per = coin.xi
     if model.key in ("geometric", "dynamic") and not isinstance(xi, float):
@@ -317,6 +281,8 @@ def _xi_values(xi_text, quarters, coin_name, count):
             raise usage_error("--coin goes with --count, not with --xi")
         vals = values_option(xi_text, "--xi", lambda s, w: _xi_item(s, w), bounds=(0.0, math.inf))
         return vals, None
+    if quarters is not None and coin_name is not None:
+        raise usage_error("--coin goes with --count, not with --quarters (a stack of US quarters)")
     c = _coin("quarter" if quarters is not None else (coin_name or "quarter"))
     text = quarters if quarters is not None else count
     counts = values_option(text, "--count" if quarters is None else "--quarters",
@@ -381,7 +347,7 @@ def table(
             raise usage_error(f"--vs takes psi, got {vs!r}")
         return _table_vs_psi(xi, quarters, coin, count, psi, fmt, quiet)
     xis, stack = _xi_values(xi, quarters, coin, count)
-    extra: list[Model] = []
+    extra: list[ModelSpec] = []
     if psi is not None:
         extra.append(psi_model(psi))
     specs = []
@@ -410,7 +376,7 @@ def table(
     for k in range(n):
         for m, h, s, t, more in blocks:
             lead = (stack[0].name, stack[1][k]) if stack else ()
-            rows.append((*lead, xs[k], _model_name(m), h[k], s[k], t[k],
+            rows.append((*lead, xs[k], m.name, h[k], s[k], t[k],
                          *(more[k] if acc is not None else ())))
     columns = ([Column("coin", "coin", "text"), Column("count", "count", "int")] if stack
                else []) + [
@@ -426,14 +392,6 @@ def table(
     k = -2 - (len(_accuracy.COLUMNS) if acc is not None else 0)  # p_sides, from the end
     emit(Result("coin table", columns, rows, note=note,
                 quiet=[r[k] for r in rows if r[k - 3] is not None]), fmt, quiet)
-
-
-def _model_name(m: Model) -> str:
-    if m.key == "psi":
-        return f"psi={math.degrees(m.psi):.10g}"
-    if m.key == "dist":
-        return m.density.spec
-    return m.key
 
 
 def _deg_item(s, w):
@@ -471,6 +429,7 @@ def _table_vs_psi(xi_text, quarters, coin_name, count, psi_text, fmt, quiet):
 
 @app.command()
 def stack(
+    ctx: typer.Context,
     coin: Annotated[str, typer.Option("--coin", "-c", help="Catalog coin (see `coin coins`).")
                     ] = "quarter",
     count: Annotated[
@@ -481,9 +440,11 @@ def stack(
                                  "of a side instead (0.33, 1/3, 33%).")
     ] = None,
     diameter: Annotated[str | None, typer.Option("--diameter", "-d", help="A custom coin's "
-                                                 "diameter (mm or with unit).")] = None,
+                                                 "diameter (mm or with unit), instead of "
+                                                 "--coin.")] = None,
     thickness: Annotated[str | None, typer.Option("--thickness", "-t", help="A custom coin's "
-                                                  "thickness (mm or with unit).")] = None,
+                                                  "thickness (mm or with unit), instead of "
+                                                  "--coin.")] = None,
     model: ModelOpt = None,
     psi: PsiOpt = None,
     psi_dist: PsiDistOpt = None,
@@ -497,6 +458,9 @@ def stack(
     """
     check_format(fmt)
     m = choose_model(model, psi, psi_dist)
+    if _given(ctx, "coin") and (diameter is not None or thickness is not None):
+        raise usage_error("give --coin NAME (a catalog coin) or --diameter D --thickness H "
+                          "(a custom coin), not both")
     if (diameter is None) != (thickness is None):
         raise usage_error("a custom coin needs both --diameter and --thickness")
     if diameter is not None:
@@ -593,7 +557,7 @@ def fair(
             raise compute_error(str(exc)) from None
         ch = coin_catalog.nearest_stack(c, 1 / 3, lambda v, m=m: float(m.forward(v).sides))
         own, g, d = m.forward(x), GEOMETRIC.forward(x), DYNAMIC.forward(x)
-        rows.append((_model_name(m), x, 1 / x, dia * x, own.heads, own.sides, own.tails,
+        rows.append((m.name, x, 1 / x, dia * x, own.heads, own.sides, own.tails,
                      ch.count, ch.xi, float(m.forward(ch.xi).sides), g.sides, d.sides))
     columns = [Column("model", "model", "text"), Column("xi", "xi = h/D"),
                Column("d_over_h", "D/h"), Column("thickness_mm", f"thickness for D = {dia:g} mm"),
