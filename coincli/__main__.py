@@ -1,3 +1,3 @@
-from coincli.cli import main
+from coincli._entry import main
 
 main()

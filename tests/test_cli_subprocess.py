@@ -172,6 +172,38 @@ def test_ctrl_c_exits_130_without_a_traceback():
         p.stdin.close()
 
 
+_INTERRUPT_WHILE_IMPORTING = """
+import builtins
+real_import = builtins.__import__
+
+def interrupted(name, *args, **kwargs):
+    if name == "coincli.cli":  # Ctrl-C lands while typer and click are still being imported
+        raise KeyboardInterrupt
+    return real_import(name, *args, **kwargs)
+
+builtins.__import__ = interrupted
+from coincli._entry import main
+main()
+"""
+
+
+def test_ctrl_c_during_start_up_exits_130_without_a_traceback():
+    r = subprocess.run([sys.executable, "-c", _INTERRUPT_WHILE_IMPORTING], capture_output=True,
+                       timeout=60)
+    assert r.returncode == 130
+    assert r.stderr == b"coin: error: interrupted\n" and r.stdout == b""
+
+
+def test_the_console_script_and_python_m_share_the_guarded_entry_point():
+    import tomllib
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    scripts = tomllib.loads((root / "pyproject.toml").read_text())["project"]["scripts"]
+    assert scripts["coin"] == "coincli._entry:main"
+    assert "from coincli._entry import main" in (root / "coincli" / "__main__.py").read_text()
+
+
 @pytest.mark.skipif(not hasattr(os, "openpty"), reason="needs a pseudo-terminal")
 def test_terminal_gets_a_rich_table_and_no_color_removes_every_escape():
     def on_a_terminal(extra_env):
