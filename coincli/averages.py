@@ -188,22 +188,27 @@ def _folded_pdf(density: Density):
         # P(psi) + P(pi - psi) = E (1 + exp(-k (pi - 2 psi)(pi - 2 mu))) with E the normal at
         # mu = min(mean, pi - mean) (the fold is symmetric in mu -> pi - mu): the second term
         # never exceeds the first, so nothing overflows where E underflows.
+        # In units of sd (never sd**2, which underflows for sd below 1e-154): the exponent of
+        # the mirror term is (pi - 2 mu)(psi - pi/2)/sd**2 = ((pi - 2 mu)/sd) ((psi - pi/2)/sd).
         mu = min(density.mean, math.pi - density.mean)
-        k = 0.5 / density.sd**2
+        sd = density.sd
         ln = density._log_norm
-        kk = 2 * k * (math.pi - 2 * mu)
+        gap = (math.pi - 2 * mu) / sd
 
         if mu == HALF_PI:
             ln2 = ln + math.log(2.0)
 
             def keller(psi):
-                d = psi - mu
-                return np.exp(ln2 - k * (d * d))
+                with np.errstate(over="ignore"):
+                    z = (psi - mu) / sd
+                    return np.exp(ln2 - 0.5 * (z * z))
             return keller
 
         def normal(psi):
-            d = psi - mu
-            return np.exp(ln - k * (d * d)) * (1.0 + np.exp(kk * (psi - HALF_PI)))
+            with np.errstate(over="ignore"):  # z**2 -> inf, exp(-inf) = 0: the right limit
+                z = (psi - mu) / sd
+                mirror = np.exp(np.fmax(gap * ((psi - HALF_PI) / sd), -1e300))  # fmax: inf*0
+                return np.exp(ln - 0.5 * (z * z)) * (1.0 + mirror)
         return normal
     return lambda psi: density.pdf(psi) + density.pdf(math.pi - psi)
 
@@ -283,7 +288,7 @@ def _layout_many(xi: np.ndarray, breaks: np.ndarray):
                     np.cos(beta / 2)])
     nb = breaks.size
     lo = HALF_PI - t
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         pa = [np.clip(breaks[None, :] / t[:, None], 0.0, 1.0)] if nb else []
         bpos = np.where(beta > 0, beta, np.inf)
         pb = [_graded(np.where(beta > 0, np.sqrt(2 * t / bpos), 1.0))]

@@ -103,7 +103,8 @@ class Normal(Density):
                 f"normal:{math.degrees(mean):g}:{math.degrees(sd):g} puts no measurable mass "
                 "on [0, 180] degrees; move the mean into the range or widen it"
             )
-        self._log_norm = -math.log(z * self.sd * math.sqrt(2 * math.pi))
+        # a sum of logs: z * sd underflows for a subnormal sd
+        self._log_norm = -(math.log(z) + math.log(self.sd) + 0.5 * math.log(2 * math.pi))
 
     name = "normal"
 

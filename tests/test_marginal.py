@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from coincli import averages as mg
+from coincli import marginal
 from coincli import models
 from coincli.densities import Cosine, Normal, Table, Uniform
 from coincli.averages import error_bound, marginal, order_for_tol
@@ -192,3 +193,30 @@ def test_narrow_normal_tends_to_table_i_at_its_mean():
                     assert abs(g - c) <= bound, (psi, xi, sd, g, c)
     # too narrow for any quadrature (mean +- sd/2 rounds to the mean): Table I itself
     assert marginal(0.5, Normal(1.0, 1e-300)) == models.conditional(0.5, 1.0)
+
+
+def test_a_normal_too_narrow_to_square_its_sd_scales_like_a_wide_one():
+    """sd below 1e-154 (sd**2 underflows): the density is evaluated in units of sd.  Far in the
+    planar regime (xi > 1e20) Table I depends on psi/theta0 alone, so scaling xi up and sd down
+    by the same power of 2 must leave the chances unchanged.  The unscaled case, a half-normal
+    at psi = 0 with sd = 1e-20 rad and xi = 1e20 (theta0/2 = sd/2), is checked against
+    tests/marginal_reference.py (ref_marginal at 20 digits, 23 s, hence its value here)."""
+    ref = (0.61163703519808669, 0.38836296480191331)
+    for k in (0, 300, 600, 900):
+        got = marginal(1e20 * 2.0**k, Normal(0.0, 1e-20 * 2.0**-k))
+        assert got.tails == 0.0
+        for g, r in zip(got[:2], ref, strict=True):
+            assert abs(g - r) <= 4e-15 * r, (k, got)
+
+
+def test_narrow_normals_at_the_poles_never_give_nan_or_warnings(recwarn):
+    for sd in (1e-150, 1e-160, 1e-300, 5e-324):
+        for mean in (0.0, 1e-300, math.pi):
+            d = Normal(mean, sd)
+            for xi in (0.0, 1e-320, 0.5, 3.0, 1e300):
+                o = marginal(xi, d)
+                assert all(0.0 <= v <= 1.0 for v in o), (sd, mean, xi, o)
+                assert abs(sum(o) - 1.0) <= 4e-16, (sd, mean, xi, o)
+            arr = marginal(np.array([0.0, 1e-320, 0.5, 3.0, 1e300]), d)
+            assert np.isfinite(np.array(arr)).all()
+    assert not [w for w in recwarn if issubclass(w.category, RuntimeWarning)]
