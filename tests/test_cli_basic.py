@@ -105,3 +105,18 @@ def test_closed_pipe_exits_quietly():
                        shell=True, capture_output=True, text=True, timeout=120)
     assert p.stdout.count("\n") == 3
     assert p.stderr == ""
+
+
+@pytest.mark.parametrize("argv", [["table", "--xi", "0.5"], ["design", "-p", "0.3"],
+                                  ["check", "--xi", "0.583", "--heads", "35", "--sides", "33",
+                                   "--tails", "32"]])
+def test_ctrl_c_inside_a_command_says_interrupted(argv, capsys, monkeypatch):
+    """typer turns KeyboardInterrupt into a silent Exit(130); coin still says what happened."""
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(models, "dynamic", interrupted)
+    monkeypatch.setattr(models, "dynamic_inverse", interrupted)
+    assert run(argv) == 130
+    out, err = capsys.readouterr()
+    assert out == "" and err == "coin: error: interrupted\n"

@@ -88,6 +88,8 @@ def _run(argv) -> int:
         argv = list(sys.argv[1:] if argv is None else argv)
         command = _click_command(argv)
         rv = command.main(argv, prog_name="coin", standalone_mode=False)
+        if rv == ExitCode.INTERRUPTED:  # typer turns Ctrl-C into a silent Exit(130)
+            return _fail("interrupted", ExitCode.INTERRUPTED)
         _flush_stdout()
         return int(rv) if isinstance(rv, int) else 0
     except CoinError as exc:
