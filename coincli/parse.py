@@ -56,16 +56,16 @@ def parse_probability(text: str, what: str = "probability") -> float:
                 raise ValueError(f"{what} {text!r} divides by zero")
             v = int(num) / int(den)
         elif s.endswith("%"):
-            v = float(_plain(s[:-1], what) / 100)
+            v = float(_plain(s[:-1], what, text) / 100)
         elif "/" in s:
             num, _, den = s.partition("/")
-            d = _plain(den, what)
+            d = _plain(den, what, text)
             if d == 0:
                 raise ValueError(f"{what} {text!r} divides by zero")
-            v = float(_plain(num, what) / d)
+            v = float(_plain(num, what, text) / d)
         else:  # a plain decimal: float() rounds correctly, as float(Fraction(s)) would
             if not _NUM.match(s):
-                _plain(s, what)
+                _plain(s, what, text)
             v = float(s) + 0.0  # -0 -> 0.0
     except OverflowError:  # beyond the double range: certainly not in [0, 1]
         v = math.inf
@@ -79,18 +79,21 @@ def parse_probability(text: str, what: str = "probability") -> float:
     return v
 
 
-def _plain(s: str, what: str):
+def _plain(s: str, what: str, shown: str | None = None):
     """The exact value of a plain decimal, its exponent clamped to +-(1000 + its length).
 
     ``Fraction('1e-99999999')`` builds a hundred-million-digit integer (minutes); clamped, the
     value is still far outside the double range, so it rounds (or fails a range check) the same.
+    An error quotes ``shown``, the whole text the user typed (``'1/3%'``, not the ``'1/3'`` of
+    it that is not a decimal); ``s`` itself by default.
     """
     from fractions import Fraction  # imported when needed: it costs a millisecond
 
     s = s.strip()
     m = _NUM.match(s)
     if not m:
-        raise ValueError(f"{what} must be a number like 0.33, 1/3 or 33%, got {s!r}")
+        typed = s if shown is None else shown
+        raise ValueError(f"{what} must be a number like 0.33, 1/3 or 33%, got {typed!r}")
     if m.group(3):
         mant, _, exp = s.partition("e") if "e" in s else s.partition("E")
         lim = 1000 + len(s)
@@ -163,9 +166,11 @@ def parse_values(text: str, what: str, item=parse_number, *, max_rows: int = MAX
         if stop < start:
             raise ValueError(f"{what} range must have start <= stop, got {text!r}")
         span = (stop - start) / step + 1e-6  # inf when the range is absurdly long
-        if not span + 1 <= max_rows:
+        if not span < max_rows:  # then it has more than max_rows values (or nan, inf)
+            # the exact count it would have, floor(span) + 1, while that is a sane number
+            has = f"{math.floor(span) + 1}" if span < 1e18 else f"more than {max_rows}"
             raise ValueError(
-                f"{what} range {text!r} has {span + 1:.3g} values; at most {max_rows} are allowed"
+                f"{what} range {text!r} has {has} values; at most {max_rows} are allowed"
             )
         n = math.floor(span)
         if all(_INT.match(p.strip()) for p in parts):

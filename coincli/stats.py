@@ -1043,7 +1043,10 @@ def _experiment(line: int, row: dict, parse_number, parse_length_mm) -> Experime
         except ValueError as exc:
             raise _err(line, "thickness", str(exc)) from None
         k = count or 1
-        xi = k * h / d
+        try:
+            xi = coins.stack_xi(coins.custom_coin(d, h), k)
+        except ValueError as exc:
+            raise _err(line, "thickness", str(exc)) from None
         if not (math.isfinite(xi) and xi > 0):
             raise _err(line, "thickness", f"thickness / diameter = {xi!r} is not a usable ratio")
         desc = f"{row['diameter']}x{row['thickness']}" + (f" x{k}" if k > 1 else "")

@@ -122,16 +122,17 @@ def test_design_every_column_is_the_core_value(coin, model):
             continue
         n = coins.nearest_stack(QUARTER, p, lambda x: forward(x).sides).count
         assert int(r["stack_n"]) == n
-        assert float(r["stack_xi"]) == n * QUARTER.xi
-        assert float(r["stack_p_sides"]) == pytest.approx(forward(n * QUARTER.xi).sides,
-                                                          rel=1e-15, abs=0)
+        assert float(r["stack_xi"]) == coins.stack_xi(QUARTER, n)
+        assert float(r["stack_p_sides"]) == pytest.approx(
+            forward(coins.stack_xi(QUARTER, n)).sides, rel=1e-15, abs=0)
         minus = num(r["stack_p_sides_minus1"])
         if n == 1:
             assert minus is None
         else:
-            assert minus == pytest.approx(forward((n - 1) * QUARTER.xi).sides, rel=1e-15)
+            assert minus == pytest.approx(forward(coins.stack_xi(QUARTER, n - 1)).sides,
+                                          rel=1e-15)
         assert float(r["stack_p_sides_plus1"]) == pytest.approx(
-            forward((n + 1) * QUARTER.xi).sides, rel=1e-15)
+            forward(coins.stack_xi(QUARTER, n + 1)).sides, rel=1e-15)
 
 
 def test_design_single_value_is_the_scalar_core_bit_for_bit(coin):
@@ -287,7 +288,7 @@ def test_quiet_is_a_bare_number_per_row(coin):
     # stack --p-sides: the count, as a whole number (was '8.0')
     assert _ok(coin("stack", "--coin", "quarter", "--p-sides", "1/3", "-q")) == "8\n"
     out = _ok(coin("stack", "--coin", "quarter", "--count", "8", "-q"))
-    assert float(out) == models.dynamic(8 * QUARTER.xi).sides
+    assert float(out) == models.dynamic(coins.stack_xi(QUARTER, 8)).sides
     out = _ok(coin("fair", "-q"))
     assert [float(v) for v in out.split()] == [models.FAIR_XI_GEOMETRIC,
                                                models.dynamic_inverse(1 / 3)]
@@ -328,19 +329,19 @@ def test_table_stacks_of_coins(coin):
     rows = rows_csv(out)
     assert [r["coin"] for r in rows] == ["quarter", "quarter"]
     assert [r["count"] for r in rows] == ["8", "8"]
-    assert float(rows[0]["xi"]) == 8 * QUARTER.thickness_mm / QUARTER.diameter_mm
+    assert float(rows[0]["xi"]) == coins.stack_xi(QUARTER, 8)
     out = _ok(coin("table", "--coin", "nickel", "--count", "3", "-f", "csv"))
     nickel = coins.CATALOG["nickel"]
     r = rows_csv(out)[1]
     assert (r["coin"], r["count"]) == ("nickel", "3")
-    assert float(r["p_sides"]) == models.dynamic(3 * nickel.thickness_mm / nickel.diameter_mm).sides
+    assert float(r["p_sides"]) == models.dynamic(coins.stack_xi(nickel, 3)).sides
 
 
 def test_stack_count_list_range_and_nearest(coin):
     out = _ok(coin("stack", "--coin", "quarter", "--count", "8", "-f", "csv"))
     (r,) = rows_csv(out)
     assert list(r) == ["coin", "count", "height_mm", "xi", "p_heads", "p_sides", "p_tails", "mark"]
-    assert float(r["xi"]) == 8 * QUARTER.xi and float(r["height_mm"]) == 8 * 1.75
+    assert float(r["xi"]) == coins.stack_xi(QUARTER, 8) and float(r["height_mm"]) == 8 * 1.75
     out = _ok(coin("stack", "--count", "1:12:1", "-f", "csv"))  # whole-number range
     assert [int(r["count"]) for r in rows_csv(out)] == list(range(1, 13))
     out = _ok(coin("stack", "--coin", "quarter", "--p-sides", "1/3", "-f", "csv"))
@@ -349,7 +350,7 @@ def test_stack_count_list_range_and_nearest(coin):
     assert [r["mark"] for r in rows] == ["", "nearest", ""]
     out = _ok(coin("stack", "--diameter", "25", "--thickness", "2", "--count", "3", "-f", "csv"))
     (r,) = rows_csv(out)
-    assert r["coin"] == "custom" and float(r["xi"]) == 3 * (2 / 25)
+    assert r["coin"] == "custom" and float(r["xi"]) == 3 * 2 / 25  # 6 / 25, rounded once
 
 
 def test_fair_is_both_models_fair_points(coin):
@@ -588,3 +589,201 @@ def test_output_is_written_only_after_everything_is_computed(coin, monkeypatch):
 
     monkeypatch.setattr(models, "dynamic", fails_late)
     _error(coin("table", "--xi", "0.1,0.2", "-f", "csv"), 1, "late failure")
+
+
+# --------------------------------------------------------------------------- review fixes
+
+
+def test_design_past_the_stack_cap_still_designs_the_coin(coin):
+    from coincli.averages import conditional_inverse
+
+    psi = math.radians(1e-10)
+    out = _ok(coin("design", "-p", "0.5", "--model", "psi", "--psi", "1e-10", "-f", "csv"))
+    (r,) = rows_csv(out)
+    xi = conditional_inverse(0.5, psi)
+    assert float(r["xi"]) == xi and xi > coins.MAX_STACK * QUARTER.xi  # ~4e11: past the cap
+    assert float(r["d_over_h"]) == 1 / xi
+    assert float(r["thickness_mm"]) == QUARTER.diameter_mm * xi
+    o = models.conditional(xi, psi)
+    assert (float(r["p_heads"]), float(r["p_tails"])) == (o.heads, o.tails)
+    assert r["coin"] == "quarter"
+    assert all(r[k] == "" for k in DESIGN_COLUMNS[8:])  # no stack: empty, as at p = 1
+    # the human table shows them as '-' and the run succeeds; a list keeps one row per target
+    human = _ok(coin("design", "-p", "0.5", "--psi", "1e-10"))
+    assert "coins in nearest stack     -" in human
+    rows = rows_csv(_ok(coin("design", "-p", "0.5,0", "--psi", "1e-10", "-f", "csv")))
+    assert [r["stack_n"] for r in rows] == ["", "1"]
+    # within the cap the stack is still found
+    (r,) = rows_csv(_ok(coin("design", "-p", "0.5", "--psi", "0.001", "-f", "csv")))
+    assert int(r["stack_n"]) > 1 and float(r["stack_xi"]) == coins.stack_xi(
+        QUARTER, int(r["stack_n"]))
+    # coin stack has nothing to show there: still a computation error, one line
+    _error(coin("stack", "-p", "0.5", "--psi", "1e-10"), 1, "no stack", str(coins.MAX_STACK))
+
+
+def test_psi_180_is_psi_0_the_coin_never_precesses(coin):
+    at0 = coin("design", "-p", "0.5", "--model", "psi", "--psi", "0")
+    err = _error(at0, 1, "never precesses", "p_sides = 0")
+    assert coin("design", "-p", "0.5", "--model", "psi", "--psi", "180") == at0
+    assert _error(coin("design", "-p", "0.5", "--psi", "180.0"), 1) == err
+    assert _ok(coin("design", "-p", "0", "--psi", "180", "-q")) == "0.0\n"
+    # Table I at 180 deg is the table at 0 deg for every coin, the thickest included
+    for xi in ("0.577", "1e16", "1e300", "inf"):
+        r180 = rows_csv(_ok(coin("table", "--xi", xi, "--psi", "180", "-f", "csv")))[-1]
+        r0 = rows_csv(_ok(coin("table", "--xi", xi, "--psi", "0", "-f", "csv")))[-1]
+        assert r180["model"] == "psi=180" and r0["model"] == "psi=0"
+        assert [r180[k] for k in ("p_heads", "p_sides", "p_tails")] == ["1.0", "0.0", "0.0"]
+        assert [r180[k] for k in ("p_heads", "p_sides", "p_tails")] == [
+            r0[k] for k in ("p_heads", "p_sides", "p_tails")]
+    rows = rows_csv(_ok(coin("table", "--xi", "1e17", "--vs", "psi", "--psi", "0,180", "-f",
+                             "csv")))
+    assert [(r["regime"], r["p_sides"]) for r in rows] == [("heads only", "0.0")] * 2
+    _error(coin("stack", "-p", "0.5", "--psi", "180"), 1, "no stack")
+    # just short of 180 the coin precesses, as just past 0 does
+    out = _ok(coin("design", "-p", "0.5", "--psi", "179", "-q"))
+    assert float(out) == pytest.approx(float(_ok(coin("design", "-p", "0.5", "--psi", "1", "-q"))),
+                                       rel=1e-12)
+
+
+def _stack_q(coin, p, *extra):
+    """The count `coin stack --p-sides p` marks nearest, as a single value."""
+    return int(_ok(coin("stack", "--p-sides", p, *extra, "-q")))
+
+
+STACK_BATCH_COLUMNS = ["target_p_sides", "coin", "count", "height_mm", "xi", "p_heads", "p_sides",
+                       "p_tails"]
+
+
+def test_stack_p_sides_from_stdin_one_row_per_line(coin):
+    lines = ["0.05", "1/3", "# a comment", "", "33%", "0.5", "0", "0.9"]
+    data = "\n".join(lines) + "\n"
+    targets = [t for t in lines if t and not t.startswith("#")]
+    rows = rows_csv(_ok(coin("stack", "--coin", "nickel", "--p-sides", "-", "-f", "csv",
+                             stdin=data)))
+    assert list(rows[0]) == STACK_BATCH_COLUMNS
+    assert len(rows) == len(targets)
+    nickel = coins.CATALOG["nickel"]
+    from coincli.parse import parse_probability
+
+    for r, t in zip(rows, targets, strict=True):
+        p = parse_probability(t)
+        assert float(r["target_p_sides"]) == p and r["coin"] == "nickel"
+        n = _stack_q(coin, t, "--coin", "nickel")  # the same count as the single value
+        assert int(r["count"]) == n == coins.nearest_stack(nickel, p).count
+        assert float(r["xi"]) == coins.stack_xi(nickel, n)
+        assert float(r["height_mm"]) == n * nickel.thickness_mm
+    # several lines take the vectorized path; the chances are the model's at that xi
+    xs = [float(r["xi"]) for r in rows]
+    got = [(float(r["p_heads"]), float(r["p_sides"]), float(r["p_tails"])) for r in rows]
+    assert got == [tuple(o) for o in core(models.dynamic, xs)]
+    # -q: one count per target; P(sides) = 1 (no finite stack) is an empty line, not an error
+    out = _ok(coin("stack", "-p", "-", "-q", stdin="0.2\n1\n0.4\n"))
+    assert out == f"{_stack_q(coin, '0.2')}\n\n{_stack_q(coin, '0.4')}\n"
+    (one,) = rows_csv(_ok(coin("stack", "-p", "-", "-f", "csv", stdin="100%\n")))
+    assert [one[k] for k in STACK_BATCH_COLUMNS[2:]] == [""] * 6
+    # one line from stdin is still a batch of one: one row, the closed-form scalar path
+    (r,) = rows_csv(_ok(coin("stack", "-p", "-", "-f", "csv", stdin="1/3\n")))
+    assert int(r["count"]) == 8 and float(r["xi"]) == coins.stack_xi(QUARTER, 8)
+
+
+@pytest.mark.parametrize("extra", [("--model", "geometric"), ("--psi", "70"),
+                                   ("--psi", "1e-10")])
+def test_stack_p_sides_batch_agrees_with_single_values_under_every_model(coin, extra):
+    targets = ["0.01", "0.2", "0.45", "0.7"]
+    rows = rows_csv(_ok(coin("stack", "-p", "-", *extra, "-f", "csv",
+                             stdin="\n".join(targets) + "\n")))
+    assert [r["target_p_sides"] for r in rows] == [repr(float(t)) for t in targets]
+    for r, t in zip(rows, targets, strict=True):
+        code, out, _ = coin("stack", "-p", t, *extra, "-q")
+        if code == 1:  # no stack reaches it (psi = 1e-10): an empty row in a batch
+            assert r["count"] == "" and r["xi"] == ""
+            continue
+        assert int(r["count"]) == int(out)
+        assert float(r["xi"]) == coins.stack_xi(QUARTER, int(out))
+    # a list and a range are batches too
+    lst = rows_csv(_ok(coin("stack", "-p", ",".join(targets), *extra, "-f", "csv")))
+    assert lst == rows
+    rng = rows_csv(_ok(coin("stack", "-p", "0.1:0.3:0.1", *extra, "-f", "csv")))
+    assert len(rng) == 3
+
+
+def test_stack_p_sides_long_batch_is_vectorized_and_exact(coin):
+    values = [repr(float(v)) for v in _big_batch(3000)]
+    data = "\n".join(values) + "\n"
+    assert len(data) >= FAST_MIN_BYTES
+    rows = rows_csv(_ok(coin("stack", "--coin", "cent", "-p", "-", "-f", "csv", stdin=data)))
+    assert [r["target_p_sides"] for r in rows] == values
+    cent = coins.CATALOG["cent"]
+    for r, v in list(zip(rows, values, strict=True))[::97]:
+        ch = coins.nearest_stack(cent, float(v))
+        assert (int(r["count"]), float(r["xi"])) == (ch.count, ch.xi)
+    slow = _ok(coin("stack", "--coin", "cent", "-p", "-", "-f", "csv", stdin="#\n" + data))
+    assert rows_csv(slow) == rows
+
+
+@pytest.mark.parametrize("data, line, words", [
+    ("0.2\nx\n0.3\n", 2, ["'x'"]),
+    ("0.2\n\n# c\n1.5\n", 4, ["'1.5'", "[0, 1]"]),
+    ("0.2\n1/3%\n", 2, ["'1/3%'"]),
+])
+def test_stack_p_sides_bad_line_stops_with_its_number(coin, data, line, words):
+    _error(coin("stack", "-p", "-", "-f", "csv", stdin=data), 2, f"stdin line {line}",
+           "--p-sides", *words)
+
+
+def test_every_command_agrees_on_a_stacks_xi(coin):
+    from fractions import Fraction
+
+    for name, n in (("quarter", 9), ("quarter", 8), ("cent", 7), ("nickel", 3), ("euro-2", 11),
+                    ("dime", 13)):
+        c = coins.CATALOG[name]
+        exact = float(Fraction(n) * Fraction(c.thickness_mm) / Fraction(c.diameter_mm))
+        assert coins.stack_xi(c, n) == exact
+        (s,) = rows_csv(_ok(coin("stack", "--coin", name, "--count", n, "-f", "csv")))
+        t = rows_csv(_ok(coin("table", "--coin", name, "--count", n, "-f", "csv")))[0]
+        chk = rows_csv(_ok(coin("check", "--coin", name, "--count", n, "--sides", "3", "-n", "10",
+                                "-f", "csv")))[0]
+        # design: a target that n coins reach exactly, so its nearest stack is n
+        p = repr(models.dynamic(exact).sides)
+        (d,) = rows_csv(_ok(coin("design", "-p", p, "--coin", name, "-f", "csv")))
+        d2 = rows_csv(_ok(coin("design", "-p", f"{p},0.5", "--coin", name, "-f", "csv")))[0]
+        assert int(d["stack_n"]) == int(d2["stack_n"]) == n
+        assert {s["xi"], t["xi"], chk["xi"], d["stack_xi"], d2["stack_xi"]} == {repr(exact)}
+    # the reviewer's case: 9 quarters, 9 * 1.75 / 24.26 correctly rounded
+    assert coins.stack_xi(QUARTER, 9) == 0.6492168178070898
+
+
+def _help_words(out: str) -> str:
+    """--help text as one line of words, the box drawing of rich's panels taken out."""
+    return " ".join(w for w in out.split() if not set(w) <= set("│╭╮╰╯─"))
+
+
+def test_coins_help_has_an_example_like_every_command(coin):
+    for cmd in ("design", "table", "stack", "coins", "fair"):
+        assert "Examples: coin " + cmd in _help_words(_ok(coin(cmd, "--help"))), cmd
+
+
+def test_a_bad_target_quotes_what_the_user_typed(coin):
+    for bad in ("1/3%", "1/3/4", "%", "x%", "1/x"):
+        err = _error(coin("design", "-p", bad), 2, "--p-sides")
+        assert err == (f"coin: error: --p-sides must be a number like 0.33, 1/3 or 33%, "
+                       f"got {bad!r}\n")
+
+
+def test_a_too_long_range_states_its_exact_count(coin):
+    err = _error(coin("table", "--xi", "0.5", "--vs", "psi", "--psi", "0:100:0.0001"), 2)
+    assert err == ("coin: error: --psi range '0:100:0.0001' has 1000001 values; at most 1000000 "
+                   "are allowed\n")
+    _error(coin("table", "--xi", "0:1e12:1"), 2, "has 1000000000001 values", "at most 1000000")
+    _error(coin("table", "--xi", "0:1e308:1e-308"), 2, "more than 1000000 values")
+    # exactly the limit is allowed (it was refused as '1e+06 values')
+    out = _ok(coin("stack", "--count", "1:1000000:1", "-q"))
+    assert out.count("\n") == 1_000_000
+
+
+def test_table_quiet_is_p_sides_of_every_row_in_table_order(coin):
+    argv = ("table", "--xi", "0.3,0.577", "--psi", "60")
+    rows = rows_csv(_ok(coin(*argv, "-f", "csv")))
+    assert [r["model"] for r in rows] == ["geometric", "dynamic", "psi=60"] * 2
+    assert _ok(coin(*argv, "-q")).split() == [r["p_sides"] for r in rows]
+    assert "geometric, then dynamic" in _help_words(_ok(coin("table", "--help")))

@@ -171,3 +171,51 @@ def test_parse_forms():
     assert parse_density("normal:90:18").spec == "normal:90:18"
     with pytest.raises(ValueError, match="normal:MEAN:SD"):
         parse_density("normal:90")
+
+
+def _exact_stack_xi(coin, n):
+    from fractions import Fraction
+
+    try:
+        return float(Fraction(n) * Fraction(coin.thickness_mm) / Fraction(coin.diameter_mm))
+    except OverflowError:
+        return math.inf
+
+
+def test_stack_xi_is_correctly_rounded_scalar_and_vectorized(monkeypatch):
+    import random
+
+    import numpy as np
+
+    rng = random.Random(5)
+    cs = list(coins.CATALOG.values())
+    cs += [coins.custom_coin(rng.uniform(1, 100), rng.uniform(0.01, 10)) for _ in range(20)]
+    cs += [coins.custom_coin(1e-300, 1e300), coins.custom_coin(1e300, 1e-300),
+           coins.custom_coin(3.0, 1.0), coins.custom_coin(0.1, 0.3)]
+    counts = [1, 2, 3, 7, 9, 10, 2**26 + 1, 2**52 + 1, 2**53]
+    counts += [rng.randint(1, 10 ** rng.randint(1, 15)) for _ in range(300)]
+    for c in cs:
+        want = [_exact_stack_xi(c, n) for n in counts]
+        assert [coins.stack_xi(c, n) for n in counts] == want, c
+        assert coins.stack_xis(c, np.array(counts, dtype=float)).tolist() == want, c
+        assert c.xi == coins.stack_xi(c, 1) == c.thickness_mm / c.diameter_mm
+    q = coins.CATALOG["quarter"]
+    assert coins.stack_xi(q, 9) == 9 * 1.75 / 24.26 != 9 * q.xi  # one rounding, not two
+    # the exact fallback (taken when the double arithmetic cannot decide) gives the same doubles
+    monkeypatch.setattr(coins, "_MARGIN", 0.0)
+    cent = coins.CATALOG["cent"]
+    assert coins.stack_xis(cent, np.array(counts, dtype=float)).tolist() == [
+        _exact_stack_xi(cent, n) for n in counts]
+    for bad in (0, -1, 2.0, True):
+        with pytest.raises(ValueError, match="whole number >= 1"):
+            coins.stack_xi(q, bad)
+
+
+def test_nearest_stack_past_the_cap_is_a_no_stack_error():
+    q = coins.CATALOG["quarter"]
+    with pytest.raises(coins.NoStackError, match="no stack of up to 1099511627776"):
+        coins.nearest_stack(q, 0.5, lambda x: models.conditional(x, math.radians(1e-10)).sides)
+    assert issubclass(coins.NoStackError, ValueError)
+    ch = coins.nearest_stack(q, 0.5, lambda x: models.conditional(x, math.radians(0.001)).sides)
+    assert ch.xi == coins.stack_xi(q, ch.count)
+    assert [x for _, x, _ in ch.neighbours] == [coins.stack_xi(q, k) for k, _, _ in ch.neighbours]

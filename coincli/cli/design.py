@@ -32,12 +32,33 @@ from coincli.modelspec import DYNAMIC, GEOMETRIC, ModelSpec
 # --------------------------------------------------------------------------- models as options
 
 
+class _Psi180(ModelSpec):
+    """Table I at psi = 180 deg, computed at its mirror image psi = 0 and named ``psi=180``."""
+
+    __slots__ = ()
+
+    @property
+    def name(self) -> str:
+        return "psi=180"
+
+
+def _table_i_angle(psi: float) -> float:
+    """The angle to evaluate Table I at for ``psi`` (radians) as :func:`parse.parse_angle_deg`
+    gives it: 180 deg arrives as ``math.pi``, 1.2e-16 rad short of pi, which the model takes at
+    its word (such a coin precesses, and lands on a side once xi > 4e15).  Table I is symmetric,
+    P(i | psi) = P(i | 180 deg - psi), so 180 deg is exactly 0 deg: the coin never precesses.
+    """
+    return 0.0 if psi == math.pi else psi
+
+
 def psi_model(psi_deg_text: str) -> ModelSpec:
     try:
         psi = parse.parse_angle_deg(psi_deg_text, "--psi")
     except ValueError as exc:
         raise usage_error(str(exc)) from None
-    return ModelSpec.fixed_psi(psi, f"psi = {psi_deg_text.strip()} deg (Table I)")
+    label = f"psi = {psi_deg_text.strip()} deg (Table I)"
+    at = _table_i_angle(psi)
+    return (ModelSpec if at == psi else _Psi180).fixed_psi(at, label)
 
 
 def density_model(spec: str) -> ModelSpec:
@@ -129,41 +150,27 @@ def _tolist(v, n):
 # --------------------------------------------------------------------------- design
 
 
-def _stack_columns(coin, xi, p, model: ModelSpec):
-    """Nearest stack of ``coin`` to each target: (n, xi_n, p_n, p_n-1, p_n+1) columns."""
-    per = coin.xi
-    if model.key in ("geometric", "dynamic") and not isinstance(xi, float):
-        import numpy as np
+def _stack_columns(coin, p, model: ModelSpec, xi=None):
+    """Nearest stack of ``coin`` to each target ``p``: (n, xi_n, p_n, p_n-1, p_n+1) columns.
 
-        with np.errstate(all="ignore"):
-            cont = xi / per
-            finite = np.isfinite(cont)
-            c = np.where(finite, cont, 1.0)
-            lo = np.maximum(1.0, np.floor(c))
-            hi = np.maximum(1.0, np.ceil(c))
-            slo, shi = model.forward(lo * per).sides, model.forward(hi * per).sides
-            n = np.where(np.abs(slo - p) <= np.abs(shi - p), lo, hi)
-            sn = model.forward(n * per).sides
-            sm = np.where(n > 1, model.forward(np.maximum(n - 1, 1) * per).sides, np.nan)
-            sp = model.forward((n + 1) * per).sides
-        cols = [n.astype(int).tolist(), (n * per).tolist(), sn.tolist(), sm.tolist(), sp.tolist()]
-        bad = (~finite).nonzero()[0].tolist()
-        for k in bad:
-            for col in cols:
-                col[k] = None
-        for k, v in enumerate(cols[3]):
-            if isinstance(v, float) and math.isnan(v):
-                cols[3][k] = None
-        return cols
+    Vectorized (given the targets' ``xi``) under the geometric and dynamic models; otherwise
+    :func:`coincli.coins.nearest_stack` per target.  Cells are None where there is no stack:
+    ``p = 1`` (infinitely tall), past :data:`coincli.coins.MAX_STACK` coins, and n - 1 = 0.
+    """
+    if model.key in ("geometric", "dynamic") and xi is not None and not isinstance(xi, float):
+        return coin_catalog.nearest_stacks(coin, p, xi, lambda x: model.forward(x).sides)
     ps = _tolist(p, 1) if not isinstance(p, float) else [p]
     cols = [[], [], [], [], []]
     for pk in ps:
-        if pk >= 1.0:
-            vals = (None,) * 5
-        else:
-            ch = coin_catalog.nearest_stack(coin, pk, lambda x: float(model.forward(x).sides))
-            nb = {k: s for k, _, s in ch.neighbours}
-            vals = (ch.count, ch.xi, ch.p_sides, nb.get(ch.count - 1), nb.get(ch.count + 1))
+        vals = (None,) * 5
+        if pk < 1.0:
+            try:
+                ch = coin_catalog.nearest_stack(coin, pk, lambda x: float(model.forward(x).sides))
+            except coin_catalog.NoStackError:
+                pass
+            else:
+                nb = {k: s for k, _, s in ch.neighbours}
+                vals = (ch.count, ch.xi, ch.p_sides, nb.get(ch.count - 1), nb.get(ch.count + 1))
         for col, v in zip(cols, vals, strict=True):
             col.append(v)
     return cols
@@ -200,7 +207,8 @@ def design(
 
     Reports xi, D/h, the thickness for a diameter (or the diameter for a thickness), the nearest
     stack of a catalog coin with the chances reached by N-1, N and N+1 coins, and what the other
-    model predicts for the same coin.
+    model predicts for the same coin.  The stack cells are empty when no stack gets there: at
+    P(sides) = 1, or past 2^40 coins (a fixed psi near 0 or 180 degrees).
 
     Examples: coin design --p-sides 1/3 ;  coin design -p 25% --model geometric --diameter 30 ;
     seq 0.05 0.05 0.95 | coin design -p - --format csv ;  xi=$(coin design -p 1/3 -q)
@@ -239,7 +247,8 @@ def design(
             else:
                 thick_col = np.full(xi.shape, thick)
                 dia_col = np.where(xi == 0, np.inf, thick / np.where(xi == 0, 1, xi))
-    stack = _stack_columns(c, xi, p, m)
+    # -q prints xi alone: no stack search (it is most of the time of a long -q batch)
+    stack = [[None] * n] * 5 if quiet else _stack_columns(c, p, m, xi)
     data = [
         _tolist(p, n), _tolist(xi, n), _tolist(d_over_h, n), _tolist(dia_col, n),
         _tolist(thick_col, n), _tolist(out.heads, n), _tolist(out.tails, n),
@@ -287,7 +296,8 @@ def _xi_values(xi_text, quarters, coin_name, count):
     text = quarters if quarters is not None else count
     counts = values_option(text, "--count" if quarters is None else "--quarters",
                            lambda s, w: float(parse.parse_count(s, w)))
-    return [k * c.thickness_mm / c.diameter_mm for k in counts], (c, [int(k) for k in counts])
+    ns = [int(k) for k in counts]
+    return [coin_catalog.stack_xi(c, k) for k in ns], (c, ns)
 
 
 def _xi_item(s, w):
@@ -331,7 +341,12 @@ def table(
     method: _accuracy.MethodOpt = None,
     seed: _accuracy.SeedOpt = None,
     fmt: FormatOpt = "table",
-    quiet: QuietOpt = False,
+    quiet: Annotated[
+        bool, typer.Option("--quiet", "-q", help="Print only P(sides), one line per row of the "
+                           "table: for each coin in turn, geometric, then dynamic, then --psi, "
+                           "then each density (--all, --psi-dist), unlabelled; with --vs psi, "
+                           "one line per angle.")
+    ] = False,
 ):
     """Chances of heads, sides and tails under every model, for one or more coins.
 
@@ -410,7 +425,7 @@ def _table_vs_psi(xi_text, quarters, coin_name, count, psi_text, fmt, quiet):
     rows = []
     t = math.degrees(models.theta0(x)) / 2
     for d in degs:
-        rad = math.pi if d == 180.0 else math.radians(d)
+        rad = _table_i_angle(math.pi if d == 180.0 else math.radians(d))
         o = models.conditional(x, rad)
         fold = min(d, 180.0 - d)
         regime = "heads only" if fold < t else ("heads/sides" if fold < 90 - t else "all three")
@@ -437,7 +452,10 @@ def stack(
     ] = None,
     p_sides: Annotated[
         str | None, typer.Option("--p-sides", "-p", help="Find the stack nearest this chance "
-                                 "of a side instead (0.33, 1/3, 33%).")
+                                 "of a side instead (0.33, 1/3, 33%): it and its neighbours.  "
+                                 "A list a,b, a range start:stop:step or - (one per line from "
+                                 "stdin) gives one row per target, its nearest stack (empty "
+                                 "cells where none reaches it, e.g. P(sides) = 1).")
     ] = None,
     diameter: Annotated[str | None, typer.Option("--diameter", "-d", help="A custom coin's "
                                                  "diameter (mm or with unit), instead of "
@@ -454,7 +472,8 @@ def stack(
     """Stacks of real coins glued together: their xi = N h / D and chances.
 
     Examples: coin stack --coin quarter --count 8 ;  coin stack --coin quarter --p-sides 1/3 ;
-    coin stack --diameter 25 --thickness 2 --count 1:12:1
+    coin stack --diameter 25 --thickness 2 --count 1:12:1 ;
+    seq 0.1 0.1 0.9 | coin stack --coin nickel --p-sides - --format csv
     """
     check_format(fmt)
     m = choose_model(model, psi, psi_dist)
@@ -474,6 +493,8 @@ def stack(
     if (count is None) == (p_sides is None):
         raise usage_error("give --count N (how many coins) or --p-sides P (find the count), "
                           "one of them")
+    if p_sides is not None and _is_batch(p_sides):
+        return _stack_batch(c, p_sides, m, fmt, quiet)
     if p_sides is not None:
         try:
             p = parse.parse_probability(p_sides, "--p-sides")
@@ -493,7 +514,7 @@ def stack(
         best = None
     rows = []
     for k in counts:
-        x = k * c.xi
+        x = coin_catalog.stack_xi(c, k)
         o = m.forward(x)
         mark = ("nearest" if k == best else "") if best is not None else ""
         rows.append((c.name, k, k * c.thickness_mm, x, o.heads, o.sides, o.tails, mark))
@@ -506,9 +527,47 @@ def stack(
     emit(Result("coin stack", columns, rows, note=note, quiet=quiet_val), fmt, quiet)
 
 
+def _is_batch(text: str) -> bool:
+    """Whether --p-sides asks for several targets: '-' (stdin), a list or a range."""
+    s = text.strip()
+    return s == "-" or "," in s or ":" in s
+
+
+def _stack_batch(c, p_text: str, m: ModelSpec, fmt: str, quiet: bool) -> None:
+    """``coin stack --p-sides`` for several targets: one row each, the nearest stack."""
+    ps = values_option(p_text, "--p-sides", parse.parse_probability, bounds=(0.0, 1.0))
+    p = _vector(ps)
+    n = 1 if isinstance(p, float) else len(p)
+    xi = m.inverse(p) if m.key in ("geometric", "dynamic") and n > 1 else None  # closed forms
+    counts, xis = _stack_columns(c, p, m, xi)[:2]
+    known = [k for k, x in enumerate(xis) if x is not None]
+    chances = [[None] * n for _ in range(3)]
+    if known:
+        try:
+            o = m.forward(_vector([xis[k] for k in known]))
+        except ValueError as exc:
+            raise compute_error(str(exc)) from None
+        for col, vals in zip(chances, o, strict=True):
+            for k, v in zip(known, _tolist(vals, len(known)), strict=True):
+                col[k] = v
+    heights = [None if k is None else k * c.thickness_mm for k in counts]
+    columns = [Column("target_p_sides", "target"), Column("coin", "coin", "text"),
+               Column("count", "count", "int"), Column("height_mm", "height (mm)"),
+               Column("xi", "xi = h/D"), Column("p_heads", "P(heads)"),
+               Column("p_sides", "P(sides)"), Column("p_tails", "P(tails)")]
+    data = [_tolist(p, n), [c.name] * n, counts, heights, xis, *chances]
+    note = (f"{c.label}: {c.diameter_mm:g} x {c.thickness_mm:g} mm; model: {m.label}; the "
+            f"stack nearest each target (empty where no stack of up to {coin_catalog.MAX_STACK} "
+            "coins reaches it)")
+    emit(Result("coin stack", columns, [], note=note, quiet=counts, data=data), fmt, quiet)
+
+
 @app.command()
 def coins(fmt: FormatOpt = "table", quiet: QuietOpt = False):
-    """The catalog of real coins, with their dimensions and sources."""
+    """The catalog of real coins, with their dimensions and sources.
+
+    Examples: coin coins ;  coin coins --format csv ;  coin coins -q
+    """
     check_format(fmt)
     rows = []
     for c in coin_catalog.CATALOG.values():
