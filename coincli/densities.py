@@ -164,24 +164,27 @@ class Table(Density):
     def from_text(cls, text: str, label: str = "table", degrees: bool = True) -> Table:
         """Parse lines ``psi,weight`` (or whitespace-separated); ``#`` comments; psi in degrees."""
         pts = []
+        where = _shown(label)[1:-1]  # error messages repeat at most 60 characters of user text
         for n, raw in enumerate(text.splitlines(), start=1):
             line = raw.split("#", 1)[0].strip()
             if not line:
                 continue
             parts = [p for p in line.replace(",", " ").replace(";", " ").split() if p]
             if len(parts) != 2:
-                raise ValueError(f"{label} line {n}: expected 'psi,weight', got {raw.strip()!r}")
+                raise ValueError(f"{where} line {n}: expected 'psi,weight', got "
+                                 f"{_shown(raw.strip())}")
             try:
                 a, b = float(parts[0]), float(parts[1])
             except ValueError:
                 if not pts:  # a header line
                     continue
-                raise ValueError(f"{label} line {n}: not two numbers: {raw.strip()!r}") from None
+                raise ValueError(f"{where} line {n}: not two numbers: "
+                                 f"{_shown(raw.strip())}") from None
             pts.append((math.radians(a) if degrees else a, b))
             if len(pts) > MAX_TABLE_POINTS:
-                raise ValueError(f"{label}: more than {MAX_TABLE_POINTS} points")
+                raise ValueError(f"{where}: more than {MAX_TABLE_POINTS} points")
         if not pts:
-            raise ValueError(f"{label}: no (psi, weight) points found")
+            raise ValueError(f"{where}: no (psi, weight) points found")
         psi, w = zip(*pts, strict=True)
         return cls(psi, w, label)
 
@@ -211,20 +214,51 @@ def parse_density(text: str) -> Density:
             raise ValueError(f"normal sd must be > 0 degrees, got {parts[1]!r}")
         return Normal(math.radians(mean), math.radians(sd))
     if kind == "table" and rest:
-        import os
-
-        try:
-            size = os.path.getsize(rest)
-            if size > MAX_TABLE_BYTES:
-                raise ValueError(f"psi table {rest!r} is larger than {MAX_TABLE_BYTES} bytes")
-            with open(rest, encoding="utf-8") as fh:
-                content = fh.read()
-        except OSError as exc:
-            raise ValueError(f"cannot read psi table {rest!r}: {exc.strerror}") from None
-        except UnicodeDecodeError:
-            raise ValueError(f"psi table {rest!r} is not UTF-8 text") from None
-        return Table.from_text(content, label=rest)
+        return Table.from_text(_read_table_file(rest), label=rest)
     raise ValueError(
         "psi density must be uniform, cosine, normal, normal:MEAN:SD (degrees) or table:FILE; "
         f"got {text!r}"
     )
+
+
+def _shown(text: str, limit: int = 60) -> str:
+    """``repr(text)`` for an error message, cut to about ``limit`` characters with '...'."""
+    import re
+
+    r = repr(text)
+    if len(r) <= limit + 2:
+        return r
+    body = ""
+    for tok in re.findall(r"\\(?:x..|u....|U........|.)|.", r[1:limit + 10], re.S):
+        if len(body) + len(tok) > limit - 3:  # never end inside an escape such as \x00
+            break
+        body += tok
+    return f"{r[0]}{body}...{r[0]}"
+
+
+def _read_table_file(path: str) -> str:
+    """The text of a psi table file, read in chunks and never more than ``MAX_TABLE_BYTES + 1``
+    bytes (a device such as /dev/zero, or a pipe, has no size to check first); a NUL byte stops
+    it at once.  UTF-8, a leading byte-order mark dropped."""
+    name = _shown(path)
+    parts, total = [], 0
+    try:
+        with open(path, "rb") as fh:
+            while total <= MAX_TABLE_BYTES:
+                chunk = fh.read(min(1 << 20, MAX_TABLE_BYTES + 1 - total))
+                if not chunk:
+                    break
+                if b"\0" in chunk:
+                    raise ValueError(f"psi table {name} contains a NUL byte; expected a text file "
+                                     "of psi,weight lines")
+                parts.append(chunk)
+                total += len(chunk)
+    except OSError as exc:
+        raise ValueError(f"cannot read psi table {name}: {exc.strerror or exc}") from None
+    if total > MAX_TABLE_BYTES:
+        raise ValueError(f"psi table {name} is larger than {MAX_TABLE_BYTES} bytes; a table is at "
+                         f"most {MAX_TABLE_BYTES // 10**6} MB and {MAX_TABLE_POINTS} points")
+    try:
+        return b"".join(parts).decode("utf-8-sig")
+    except UnicodeDecodeError:
+        raise ValueError(f"psi table {name} is not UTF-8 text") from None

@@ -121,6 +121,10 @@ def _check_level(value, name: str) -> float:
     return v
 
 
+#: The largest count of tosses (every count is exact in a double up to here)
+MAX_COUNT = 2**53
+
+
 def _whole(value, name: str) -> int | None:
     """A count: None, or a whole number >= 0 (int, or a float/numpy number with no fraction)."""
     if value is None:
@@ -143,6 +147,9 @@ def _whole(value, name: str) -> int | None:
         v = int(f)
     if v < 0:
         raise ValueError(f"{name} must be a whole number >= 0, got {value!r}")
+    if v > MAX_COUNT:
+        raise ValueError(f"{name} must be a whole number from 0 to {MAX_COUNT} (2**53), "
+                         f"got {value!r}")
     return int(v)
 
 
@@ -218,6 +225,9 @@ def make_counts(heads=None, sides=None, tails=None, n=None) -> Counts:
         h, t = (h, other) if t is None else (other, t)
     if h is not None:
         total = h + s + t
+        if total > MAX_COUNT:
+            raise CountsError(f"heads + sides + tails = {total}; at most {MAX_COUNT} (2**53) "
+                              "tosses are allowed", "n")
         if m is not None and m != total:
             raise CountsError(f"heads + sides + tails = {total} but n = {m}", "n")
         m = total
@@ -919,9 +929,12 @@ _WHOLE = re.compile(r"^\+?\d+(\.0*)?$")
 
 def _csv_count(text: str, name: str) -> int:
     s = text.strip()
-    if not _WHOLE.match(s):
-        raise ValueError(f"{name} must be a whole number >= 0, got {text!r}")
-    return int(s.split(".")[0].lstrip("+"))
+    digits = s.split(".")[0].lstrip("+").lstrip("0")
+    if not _WHOLE.match(s) or len(digits) > 16 or int(digits or "0") > MAX_COUNT:
+        shown = text if len(text) <= 40 else text[:37] + "..."
+        raise ValueError(f"{name} must be a whole number from 0 to {MAX_COUNT} (2**53), "
+                         f"got {shown!r}")
+    return int(digits or "0")
 
 
 def parse_experiments(text: str, *, max_rows: int = 100_000) -> list[Experiment]:

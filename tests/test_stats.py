@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import re
 
 import numpy as np
 import pytest
@@ -544,3 +545,21 @@ def test_parse_errors_name_line_and_column(text, expected):
 def test_parse_trailing_empty_fields_are_fine():
     rows = stats.parse_experiments("xi,sides,n\n0.5,1,10,,\n")
     assert rows[0].counts == Counts(10, 1)
+
+
+@pytest.mark.parametrize("kwargs,words", [
+    ({"heads": 3, "sides": 2**53, "tails": 2**53}, "at most 9007199254740992 (2**53) tosses"),
+    ({"sides": 2**54, "n": 2**54 + 3}, "sides must be a whole number from 0 to 9007199254740992"),
+    ({"sides": 1, "n": 10**30}, "n must be a whole number from 0 to 9007199254740992"),
+])
+def test_counts_past_2_53_are_refused_not_computed(kwargs, words):
+    """Beyond 2**53 a count is not exact in a double, and the exact tests would run for hours."""
+    with pytest.raises(stats.CountsError, match=re.escape(words)):
+        stats.make_counts(**kwargs)
+
+
+def test_csv_counts_past_2_53_name_their_line_and_column():
+    with pytest.raises(ValueError, match=r"line 2.*'heads'.*from 0 to 9007199254740992"):
+        stats.parse_experiments("xi,heads,sides,tails\n0.5,9007199254740993,1,1\n")
+    with pytest.raises(ValueError, match=r"got '9{37}\.\.\.'"):
+        stats.parse_experiments("xi,heads,sides,tails\n0.5," + "9" * 5000 + ",1,1\n")

@@ -61,8 +61,10 @@ for _name in ("toss", "check", "plot", "methods"):
 
 
 def _fail(message: str, code: int) -> int:
+    from coincli.cli._common import clip_message
+
     try:
-        sys.stderr.write(f"coin: error: {message}\n")
+        sys.stderr.write(f"coin: error: {clip_message(message)}\n")
         sys.stderr.flush()
     except (BrokenPipeError, ValueError, OSError):
         pass

@@ -39,6 +39,10 @@ __all__ = [
     "FORMATS",
     "values_option",
     "read_stdin_lines",
+    "read_capped",
+    "stream_reader",
+    "shown",
+    "clip_message",
     "stdout_is_terminal",
     "stderr_is_terminal",
 ]
@@ -54,12 +58,65 @@ class ExitCode(enum.IntEnum):
 
 
 class CoinError(Exception):
-    """An error to print as one line on stderr, with its exit code."""
+    """An error to print as one line on stderr, with its exit code.
+
+    The message is passed through :func:`clip_message`: a quoted value longer than
+    :data:`MAX_SHOWN_CHARS` (a 10,000-character option, a 5 MB stdin line) is cut short.
+    """
 
     def __init__(self, message: str, code: ExitCode = ExitCode.USAGE):
+        message = clip_message(str(message))
         super().__init__(message)
         self.message = message
         self.code = code
+
+
+MAX_SHOWN_CHARS = 60  #: the most characters of a user's value that an error message repeats
+MAX_MESSAGE_CHARS = 1000  #: an error line longer than this is cut in the middle
+_ESCAPE = r"\\(?:x[0-9a-fA-F]{2}|u[0-9a-fA-F]{4}|U[0-9a-fA-F]{8}|N\{[^}]*\}|.)"
+_QUOTED = None  # compiled on first use: `re` costs nothing at start-up this way
+
+
+def _clip_repr(r: str, limit: int) -> str:
+    """The repr ``r`` (quotes included) cut to about ``limit`` characters, ending in '...'."""
+    import re
+
+    q, body = r[0], r[1:-1]
+    keep, n = [], 0
+    for m in re.finditer(_ESCAPE + "|.", body, re.S):  # never split an escape like \x00
+        tok = m.group()
+        if n + len(tok) > limit - 3:
+            break
+        keep.append(tok)
+        n += len(tok)
+    return f"{q}{''.join(keep)}...{q}"
+
+
+def shown(text: str, limit: int = MAX_SHOWN_CHARS) -> str:
+    """``repr(text)`` for an error message, cut to about ``limit`` characters with '...'."""
+    r = repr(str(text))
+    return r if len(r) <= limit + 2 else _clip_repr(r, limit)
+
+
+def clip_message(message: str) -> str:
+    """``message`` with every quoted value ('...' or "...", as repr writes them) longer than
+    :data:`MAX_SHOWN_CHARS` cut short with '...', and the whole line held to
+    :data:`MAX_MESSAGE_CHARS` (its start and end kept: what was wrong, what is allowed)."""
+    global _QUOTED
+    if len(message) <= MAX_SHOWN_CHARS + 2:
+        return message
+    if _QUOTED is None:
+        import re
+
+        _QUOTED = re.compile(
+            rf"""(?<!\w)(?:'(?:[^'\\\n]|{_ESCAPE})*'|"(?:[^"\\\n]|{_ESCAPE})*")""", re.S)
+    message = _QUOTED.sub(
+        lambda m: m.group() if len(m.group()) <= MAX_SHOWN_CHARS + 2
+        else _clip_repr(m.group(), MAX_SHOWN_CHARS), message)
+    if len(message) > MAX_MESSAGE_CHARS:
+        head = MAX_MESSAGE_CHARS * 2 // 3
+        message = message[:head] + " ... " + message[-(MAX_MESSAGE_CHARS - head - 5):]
+    return message
 
 
 def usage_error(message: str) -> CoinError:
@@ -344,41 +401,202 @@ def _rich_table(result: Result) -> None:
 
 # --------------------------------------------------------------------------- values and batches
 
-MAX_STDIN_LINES = 10_000_000
-MAX_LINE_CHARS = 1000
+MAX_STDIN_LINES = 10_000_000  #: the most values a stdin batch may hold
+MAX_LINE_CHARS = 1000  #: the longest stdin line, in bytes (line end included)
+#: the most bytes read from stdin: 10^7 full-precision doubles ('-2.2250738585072014e-308'),
+#: one a line with CRLF ends, are 260 MB
+MAX_STDIN_BYTES = 300_000_000
+READ_CHUNK = 1 << 20  #: bytes read at a time
+_BOM = b"\xef\xbb\xbf"
+
+
+def stream_reader(stream) -> Callable[[int], bytes]:
+    """``read(n) -> bytes`` for a binary or text stream (stdin, or a file opened ``"rb"``)."""
+    buf = getattr(stream, "buffer", None)
+    read = (buf if buf is not None else stream).read
+
+    def read_bytes(n: int) -> bytes:
+        chunk = read(n)
+        return chunk.encode("utf-8", "surrogateescape") if isinstance(chunk, str) else chunk
+
+    return read_bytes
+
+
+def read_capped(read: Callable[[int], bytes], limit: int,
+                max_line: int | None = None) -> tuple[bytes, str | None]:
+    """Read chunks of ``read(n)`` until the end, never more than ``limit + 1`` bytes in all.
+
+    Returns ``(data, why)``, a leading UTF-8 byte-order mark dropped.  ``why`` is None when all
+    was read; ``"size"`` when there are more than ``limit`` bytes (``data`` is then empty);
+    ``"nul"`` at a NUL byte, ``"line"`` when a line runs past ``max_line`` bytes: reading stops
+    there and ``data`` ends just past the bad byte, so a line-by-line check of ``data`` finds the
+    first bad line (the long-line watch only sees lines that cross a chunk boundary; a shorter
+    one is the line check's).  /dev/zero, or a pipe that never ends, costs one chunk.
+    """
+    parts: list[bytes] = []
+    total = run = 0  # run: bytes since the last newline
+    while total <= limit:
+        chunk = read(min(READ_CHUNK, limit + 1 - total))
+        if not chunk:
+            break
+        total += len(chunk)
+        if not parts and chunk.startswith(_BOM):
+            chunk = chunk[len(_BOM):]
+        why = None
+        nul = chunk.find(b"\0")
+        if nul >= 0:
+            chunk, why = chunk[:nul + 1], "nul"
+        if max_line is not None:
+            first = chunk.find(b"\n")
+            if run + (len(chunk) if first < 0 else first) > max_line:  # the open line runs on
+                chunk, why = chunk[:max_line - run + 1], "line"
+            elif first >= 0:
+                last = chunk.rfind(b"\n")
+                run = len(chunk) - last - 1
+                if run > max_line:
+                    chunk, why = chunk[:last + max_line + 2], "line"
+            else:
+                run += len(chunk)
+        parts.append(chunk)
+        if why is not None:
+            return b"".join(parts), why
+    if total > limit:
+        return b"", "size"
+    return b"".join(parts), None
+
+
+def _megabytes(n: int) -> str:
+    return f"{n / 10**6:g} MB"
 
 
 def _stdin_bytes(what: str, stdin=None) -> bytes:
+    """All of stdin (at most :data:`MAX_STDIN_BYTES`), its byte-order mark dropped.
+
+    Reading stops at the first NUL byte or over-long line, and the error names that line.
+    """
     stream = stdin if stdin is not None else sys.stdin
     if stream is None:
         raise usage_error(f"{what}: '-' reads values from standard input, but there is none")
-    buf = getattr(stream, "buffer", None)
-    return buf.read() if buf is not None else stream.read().encode("utf-8", "surrogateescape")
+    data, why = read_capped(stream_reader(stream), MAX_STDIN_BYTES, MAX_LINE_CHARS)
+    if why == "size":
+        raise usage_error(
+            f"{what}: stdin is larger than {_megabytes(MAX_STDIN_BYTES)}; a batch is at most "
+            f"{MAX_STDIN_LINES} values, one a line, in at most {MAX_STDIN_BYTES} bytes")
+    if why is not None:
+        newlines = data.count(b"\n")
+        _stdin_lines(what, data, newlines)  # raises, naming the first bad line
+        problem = ("contains a NUL byte" if why == "nul" else
+                   f"is longer than {MAX_LINE_CHARS} characters")
+        raise usage_error(f"{what}: stdin line {newlines + 1} {problem}")  # not reached
+    return data
+
+
+# Bytes that may begin a line that is not a value: blanks (bytes.strip and str.strip), '#',
+# and every non-ASCII byte (a Unicode space).  Any other first byte begins a value (or an error).
+_MAYBE_BLANK = bytes([*b" \t\r\x0b\x0c\x1c\x1d\x1e\x1f#", *range(0x80, 0x100)])
+_LINE_STARTS = bytes(10 if b == 10 else 32 if b in _MAYBE_BLANK else 118 for b in range(256))
+
+
+def _check_value_count(data: bytes, what: str, newlines: int) -> None:
+    """Refuse more than :data:`MAX_STDIN_LINES` values before splitting ``data`` into lines.
+
+    Fewer lines than the limit need nothing more; otherwise the lines that surely hold a value
+    (their first byte is neither blank nor '#') are counted in one pass of C, a lower bound.
+    """
+    if newlines < MAX_STDIN_LINES:
+        return
+    values, before = 0, b"\n"  # before: the mark of the byte before the slice
+    for k in range(0, len(data), 16 * READ_CHUNK):  # slices: no second copy of 300 MB
+        marks = data[k:k + 16 * READ_CHUNK].translate(_LINE_STARTS)
+        values += marks.count(b"\nv") + (before == b"\n" and marks.startswith(b"v"))
+        before = marks[-1:]
+    if values > MAX_STDIN_LINES:
+        raise usage_error(f"{what}: stdin has more than {MAX_STDIN_LINES} values; split the "
+                          f"batch (at most {MAX_STDIN_LINES} values, one a line)")
+
+
+def _pieces(data: bytes):
+    """``data`` about a chunk at a time, each piece whole lines (the newline between two pieces
+    belongs to neither): never a list of every line (10^8 one-byte lines would take gigabytes)."""
+    pos, size = 0, len(data)
+    while True:
+        end = data.find(b"\n", pos + READ_CHUNK) if pos + READ_CHUNK < size else -1
+        if end < 0:
+            yield data[pos:]
+            return
+        yield data[pos:end]
+        pos = end + 1
+
+
+_RUN_MARKS = bytes(10 if b == 10 else 120 for b in range(256))  # newline stays, the rest 'x'
+_LONG_RUN = b"x" * (MAX_LINE_CHARS + 1)
+_VALUE_LINE = None  # a newline, then a line whose first non-blank character is not '#'
+
+
+def _piece_text(what: str, piece: bytes, first: int) -> str:
+    """``piece`` (lines ``first``, ``first + 1``, ...) decoded, or the error for its first line
+    that is too long, holds a NUL byte or is not UTF-8 (checked in that order, as whole-piece
+    scans: a flood of blank or comment lines costs no Python per line)."""
+    bad = []
+    run = piece.translate(_RUN_MARKS).find(_LONG_RUN)  # the first run lies in the first long line
+    if run >= 0:
+        bad.append((piece.count(b"\n", 0, run), 0, f"is longer than {MAX_LINE_CHARS} characters"))
+    nul = piece.find(b"\0")
+    if nul >= 0:
+        bad.append((piece.count(b"\n", 0, nul), 1, "contains a NUL byte"))
+    text = None
+    try:
+        text = piece.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        bad.append((piece.count(b"\n", 0, exc.start), 2, "is not UTF-8 text"))
+    if bad:
+        k, _, problem = min(bad)
+        raise usage_error(f"{what}: stdin line {first + k} {problem}")
+    return text
 
 
 def read_stdin_lines(what: str, stdin=None, data: bytes | None = None) -> list[tuple[int, str]]:
     """Non-blank, non-comment lines of stdin as (line number, text); CRLF and spaces stripped.
 
-    Limits: at most 10^7 values and 1000 characters a line; a NUL byte or undecodable text is an
-    error naming the line.
+    Limits: at most 10^7 values, 1000 characters a line and :data:`MAX_STDIN_BYTES` bytes; a
+    NUL byte or undecodable text is an error naming the line.  A leading byte-order mark is
+    ignored.
     """
     if data is None:
         data = _stdin_bytes(what, stdin)
-    out = []
-    for n, raw in enumerate(data.split(b"\n"), start=1):
-        if len(raw) > MAX_LINE_CHARS:
-            raise usage_error(f"{what}: stdin line {n} is longer than {MAX_LINE_CHARS} characters")
-        if b"\0" in raw:
-            raise usage_error(f"{what}: stdin line {n} contains a NUL byte")
-        try:
-            text = raw.decode("utf-8").strip()
-        except UnicodeDecodeError:
-            raise usage_error(f"{what}: stdin line {n} is not UTF-8 text") from None
-        if not text or text.startswith("#"):
-            continue
-        out.append((n, text))
+    return _stdin_lines(what, data, data.count(b"\n"))
+
+
+def _stdin_lines(what: str, data: bytes, newlines: int) -> list[tuple[int, str]]:
+    global _VALUE_LINE
+    if _VALUE_LINE is None:
+        import re
+
+        _VALUE_LINE = re.compile(r"\n[^\S\n]*+[^\s#]")  # str.strip's blanks: \s, Unicode
+    _check_value_count(data, what, newlines)
+    out: list[tuple[int, str]] = []
+    first = 1  # the number of the piece's first line
+    for piece in _pieces(data):
+        text = _piece_text(what, piece, first)
+        nl = piece.count(b"\n")
+        marks = piece.translate(_LINE_STARTS)
+        if marks.count(b"\nv") == nl and marks.startswith(b"v"):  # every line a value
+            out.extend(zip(range(first, first + nl + 1), map(str.strip, text.split("\n")),
+                           strict=True))
+        elif piece.translate(None, b" \t\r\x0b\x0c\n"):  # not only blank lines
+            # The value lines, found by the regex: blank and comment lines cost no Python.
+            text = "\n" + text  # line k (from 0) follows the k-th newline
+            k = at = 0
+            for m in _VALUE_LINE.finditer(text):
+                pos = m.start()
+                k += text.count("\n", at, pos)
+                at = pos
+                end = text.find("\n", pos + 1)
+                out.append((first + k, text[pos + 1:end if end >= 0 else None].strip()))
         if len(out) > MAX_STDIN_LINES:
-            raise usage_error(f"{what}: stdin has more than {MAX_STDIN_LINES} values")
+            raise usage_error(f"{what}: stdin has more than {MAX_STDIN_LINES} values; split the "
+                              f"batch (at most {MAX_STDIN_LINES} values, one a line)")
+        first += nl + 1
     if not out:
         raise usage_error(f"{what}: '-' read no values from standard input")
     return out
@@ -396,11 +614,13 @@ def values_option(text: str, what: str, item: Callable, *, bounds=None, stdin=No
 
     if text.strip() == "-":
         data = _stdin_bytes(what, stdin)
+        newlines = data.count(b"\n")
+        _check_value_count(data, what, newlines)
         if bounds is not None and len(data) >= FAST_MIN_BYTES:
-            fast = _fast_floats(data, what, bounds, item)
+            fast = _fast_floats(data, what, bounds, item, newlines)
             if fast is not None:
                 return fast
-        lines = read_stdin_lines(what, data=data)
+        lines = _stdin_lines(what, data, newlines)
         vals = []
         for n, t in lines:
             try:
@@ -418,21 +638,26 @@ FAST_MIN_BYTES = 20_000  # below this (a few thousand values), per-line parsing 
 _PLAIN_BYTES = b"0123456789.eE+-\r\n"
 
 
-def _fast_floats(data: bytes, what: str, bounds, item):
+def _fast_floats(data: bytes, what: str, bounds, item, newlines: int | None = None):
     """Plain decimals, exactly one per line, as an ndarray; None (use the per-line path) otherwise.
 
     The text must use only digits, ``.``, ``eE+-`` and line ends (``\\r`` only before ``\\n``):
-    no blanks, comments, spaces, ``inf``, ``nan``, ``%`` or ``/``.  Then every line holds one
-    token, Python's ``float`` parses each (the grammar of ``float`` on this alphabet is the plain
-    decimal one; a malformed token sends the whole batch to the per-line path, which names its
-    line), and a value out of ``bounds`` is reported with its line number by ``item`` itself.
+    no blanks, comments, spaces, ``inf``, ``nan``, ``%`` or ``/``, and no line may pass the
+    1000-character limit.  Then every line holds one token, Python's ``float`` parses each (the
+    grammar of ``float`` on this alphabet is the plain decimal one; a malformed token sends the
+    whole batch to the per-line path, which names its line), and a value out of ``bounds`` is
+    reported with its line number by ``item`` itself.
     """
     if data.translate(None, _PLAIN_BYTES) or data.count(b"\r") != data.count(b"\r\n"):
         return None
+    if newlines is None:
+        newlines = data.count(b"\n")
+    lines = newlines + (0 if data.endswith(b"\n") else 1)
+    if lines > MAX_STDIN_LINES:
+        return None  # too many values: the per-line path says so before splitting anything
     tokens = data.split()
-    lines = data.count(b"\n") + (0 if data.endswith(b"\n") else 1)
-    if len(tokens) != lines or len(tokens) > MAX_STDIN_LINES:
-        return None  # blank lines, or too many values: the per-line path says which
+    if len(tokens) != lines or max(map(len, tokens)) > MAX_LINE_CHARS:
+        return None  # blank or over-long lines: the per-line path says which
     try:
         floats = list(map(float, tokens))
     except ValueError:

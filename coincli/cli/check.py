@@ -25,6 +25,9 @@ from coincli.cli._common import (
     check_format,
     compute_error,
     emit,
+    read_capped,
+    shown,
+    stream_reader,
     usage_error,
 )
 
@@ -75,12 +78,24 @@ def _densities(specs: str | None) -> dict:
 
 
 def _whole(text: str | None, what: str) -> int | None:
+    """A count of tosses: a whole number from 0 to :data:`parse.MAX_COUNT` (2**53)."""
     if text is None:
         return None
-    s = text.strip()
-    if not s.lstrip("+").isdigit():
-        raise usage_error(f"{what} must be a whole number >= 0, got {text!r}")
-    return int(s)
+    digits = text.strip().removeprefix("+")
+    if not (digits.isascii() and digits.isdigit()):
+        raise usage_error(f"{what} must be a whole number >= 0, got {shown(text)}")
+    digits = digits.lstrip("0") or "0"
+    if len(digits) > 16 or int(digits) > parse.MAX_COUNT:  # and no int() of 5000 digits
+        raise usage_error(f"{what} must be a whole number from 0 to {parse.MAX_COUNT} (2**53), "
+                          f"got {shown(text)}")
+    return int(digits)
+
+
+def _check_total(counts, where: str = "") -> None:
+    """Every count below 2**53 can still add up to more: the total is held to it too."""
+    if counts.n > parse.MAX_COUNT:
+        raise usage_error(f"{where}heads + sides + tails = {counts.n}; at most {parse.MAX_COUNT} "
+                          "(2**53) tosses are allowed")
 
 
 def _deg(v: float | None) -> float | None:
@@ -247,11 +262,12 @@ def _xi_from_options(xi, quarters, coin, count, diameter, thickness) -> tuple[fl
                           "or --diameter D --thickness H")
     if xi is not None:
         try:
-            v = parse.parse_number(xi, "--xi")
-        except ValueError as exc:
-            raise usage_error(str(exc)) from None
-        if not (math.isfinite(v) and v > 0):
-            raise usage_error(f"--xi must be a finite number > 0 (a coin you tossed), got {xi!r}")
+            v = parse.parse_number(xi, "--xi", allow_inf=True)
+        except ValueError:
+            v = math.nan
+        if not (math.isfinite(v) and v > 0):  # inf (no faces) or 0 (no rim) was never tossed
+            raise usage_error("--xi must be a finite number > 0 (the aspect ratio h/D of the coin "
+                              f"you tossed), got {shown(xi)}")
         return v, f"xi={xi.strip()}"
     if diameter is not None or thickness is not None:
         if diameter is None or thickness is None:
@@ -327,6 +343,7 @@ def check(
         counts = stats.make_counts(**vals)
     except ValueError as exc:
         raise usage_error(str(exc)) from None
+    _check_total(counts)
     dens = _densities(psi_dist)
     try:
         chances = stats.model_chances(x, dens)
@@ -352,29 +369,72 @@ def _models_note(dens) -> str:
 # --------------------------------------------------------------------------- fit
 
 
-def _read_text(path: str) -> tuple[str, str]:
-    if path.strip() == "-":
-        data = sys.stdin.buffer.read() if hasattr(sys.stdin, "buffer") else sys.stdin.read()
-        name = "stdin"
-    else:
-        import os
+MAX_FILE_BYTES = 50_000_000  #: the largest experiments file (coin fit FILE or -)
 
-        try:
-            if os.path.getsize(path) > 50_000_000:
-                raise usage_error(f"{path}: larger than 50 MB; is this an experiments file?")
-            with open(path, "rb") as fh:
-                data = fh.read()
-        except OSError as exc:
-            raise usage_error(f"cannot read {path}: {exc.strerror or exc}") from None
+
+def _read_text(path: str) -> tuple[str, str]:
+    """The text of an experiments file, or of stdin for '-', and the name to call it by.
+
+    At most :data:`MAX_FILE_BYTES` are read, in chunks, whatever the file claims to be
+    (/dev/zero and pipes have no size); reading stops at a NUL byte.
+    """
+    if path.strip() == "-":
+        if sys.stdin is None:
+            raise usage_error("FILE '-' reads the experiments from standard input, but there "
+                              "is none")
+        name = "stdin"
+        data, why = read_capped(stream_reader(sys.stdin), MAX_FILE_BYTES)
+    else:
         name = path
-    if isinstance(data, bytes):
-        if b"\0" in data:
-            raise usage_error(f"{name}: contains a NUL byte; expected a CSV text file")
         try:
-            data = data.decode("utf-8")
-        except UnicodeDecodeError:
-            raise usage_error(f"{name}: not UTF-8 text") from None
-    return data, name
+            with open(path, "rb") as fh:
+                data, why = read_capped(fh.read, MAX_FILE_BYTES)
+        except OSError as exc:
+            raise usage_error(f"cannot read {_clipped(path)}: {exc.strerror or exc}") from None
+    if why == "size":
+        raise usage_error(f"{_file_name(name)}: larger than {MAX_FILE_BYTES // 10**6} MB; is this "
+                          f"an experiments file? (at most {MAX_FILE_BYTES} bytes)")
+    if why == "nul":
+        raise usage_error(f"{_file_name(name)}: contains a NUL byte; expected a CSV text file")
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError:
+        raise usage_error(f"{_file_name(name)}: not UTF-8 text") from None
+    return text, name
+
+
+def _clipped(text: str, limit: int = 60) -> str:
+    """User text (a path, a number) for an error message: unquoted unless it holds control
+    characters (then as repr writes it: one line), cut to about ``limit`` characters."""
+    if not text.isprintable():
+        return shown(text, limit)
+    return text if len(text) <= limit + 2 else text[:limit - 3] + "..."
+
+
+def _file_name(path: str) -> str:
+    """A file that opened: its whole name (at most PATH_MAX), on one line."""
+    return _clipped(path, 4096)
+
+
+def _experiments(text: str, name: str) -> list:
+    """The experiments of ``text``; each count, and each row's total, at most 2**53."""
+    from coincli import stats
+
+    name = _file_name(name)
+    try:
+        exps = stats.parse_experiments(text)
+    except ValueError as exc:
+        raise usage_error(f"{name} {exc}") from None
+    for e in exps:
+        c = e.counts
+        for column in ("heads", "sides", "tails", "n"):
+            v = getattr(c, column)
+            if v is not None and v > parse.MAX_COUNT and (column != "n" or c.heads is None):
+                raise usage_error(f"{name} line {e.line}, column {column!r}: {column} must be a "
+                                  f"whole number from 0 to {parse.MAX_COUNT} (2**53), got "
+                                  f"{_clipped(str(v))}")
+        _check_total(c, f"{name} line {e.line}: ")
+    return exps
 
 
 @app.command()
@@ -410,10 +470,7 @@ def fit(
     if quiet and no_spread:
         raise usage_error("--quiet prints the fitted spread of psi; it cannot go with --no-spread")
     text, name = _read_text(file)
-    try:
-        exps = stats.parse_experiments(text)
-    except ValueError as exc:
-        raise usage_error(f"{name} {exc}") from None
+    exps = _experiments(text, name)
     try:
         res = stats.fit(exps, dens, confidence=conf, alpha=a, spread=not no_spread)
     except ValueError as exc:
