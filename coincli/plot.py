@@ -60,6 +60,18 @@ __all__ = [
     "ternary_colours",
     "save_figure",
     "figure_format",
+    "check_figure_size",
+    "FigureTooSmall",
+    "xi_range_rule",
+    "short_g",
+    "XI_AXIS_MAX",
+    "XI_LOG_MIN",
+    "MIN_SPAN",
+    "U_AXIS_MAX",
+    "OMEGA_AXIS_MAX",
+    "FIGURE_INCHES",
+    "DPI_RANGE",
+    "MAX_PIXELS",
 ]
 
 #: Okabe & Ito (2008), "Color Universal Design": safe for protan, deutan and tritan vision.
@@ -88,6 +100,23 @@ _EXTRA_STYLES = ("-.", (0, (1, 1.5)), (0, (5, 1, 1, 1, 1, 1)), (0, (3, 1, 1, 1))
 
 FORMATS = {".png": "png", ".svg": "svg", ".pdf": "pdf"}  #: file extension -> format
 INSTALL_HINT = "pip install 'coincli[plot]'"
+
+#: Figure size limits: inches on a side, dots per inch, and pixels in all (width x dpi times
+#: height x dpi, the PNG or a rasterized map inside an SVG/PDF).  50 million pixels is about
+#: 300 MB and a few seconds to draw; beyond that a figure could exhaust the machine's memory.
+FIGURE_INCHES = (1.0, 100.0)
+DPI_RANGE = (10.0, 2000.0)
+MAX_PIXELS = 50_000_000
+#: Axis limits: matplotlib's tick arithmetic overflows (and warns) near the double range, and an
+#: axis narrower than a millionth has no ticks to label.  xi = h/D of a million is a wire a
+#: kilometre long per millimetre of diameter; the launch speed is capped as the toss engine's
+#: (:data:`coincli.toss.U_MAX`); 1e12 rad/s is past any toss the engine can follow.
+XI_AXIS_MAX = 1e6
+XI_LOG_MIN = 1e-6  #: the lowest low end of a log xi axis
+MIN_SPAN = 1e-6  #: the narrowest axis: HIGH - LOW, in the axis' units
+U_AXIS_MAX = 1e8  #: m/s
+OMEGA_AXIS_MAX = 1e12  #: rad/s
+MAP_SIZES = {"panels": (12.0, 4.4), "ternary": (8.0, 5.0)}  #: default inches of map_figure
 
 _RC = {
     "svg.hashsalt": "coincli",  # ids in SVG output do not change from run to run
@@ -138,6 +167,10 @@ def _new_figure(width: float, height: float):
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
+    lo, hi = FIGURE_INCHES
+    for name, v in (("width", width), ("height", height)):
+        if not (isinstance(v, (int, float)) and lo <= v <= hi):  # False for nan
+            raise ValueError(f"figure {name} must be {lo:g} to {hi:g} inches, got {v!r}")
     fig = Figure(figsize=(float(width), float(height)), layout="constrained")
     FigureCanvasAgg(fig)
     return fig
@@ -156,20 +189,54 @@ def figure_format(path: str) -> str:
     return FORMATS[ext]
 
 
+def check_figure_size(width: float, height: float, dpi: float) -> None:
+    """ValueError unless the size (inches) and ``dpi`` are within :data:`FIGURE_INCHES`,
+    :data:`DPI_RANGE` and :data:`MAX_PIXELS` (width x dpi times height x dpi)."""
+    (wlo, whi), (dlo, dhi) = FIGURE_INCHES, DPI_RANGE
+    for name, v, lo, hi, unit in (("width", width, wlo, whi, "inches"),
+                                  ("height", height, wlo, whi, "inches"),
+                                  ("dpi", dpi, dlo, dhi, "dots per inch")):
+        if not (isinstance(v, (int, float)) and lo <= v <= hi):  # False for nan
+            raise ValueError(f"{name} must be {lo:g} to {hi:g} {unit}, got {v!r}")
+    if width * dpi * height * dpi > MAX_PIXELS:
+        raise ValueError(f"a {width:g} x {height:g} inch figure at {dpi:g} dpi has "
+                         f"{round(width * dpi):,} x {round(height * dpi):,} pixels; at most "
+                         f"{MAX_PIXELS:,} pixels in all")
+
+
+class FigureTooSmall(ValueError):
+    """The figure is too small for its titles, labels and legend (nothing was written)."""
+
+
 def save_figure(fig, path: str, dpi: float = 150.0) -> int:
     """Write ``fig`` to ``path`` as PNG, SVG or PDF (by extension); return the bytes written.
 
     The output is reproducible: the same figure gives the same bytes (SVG ids are salted with a
-    constant, and no creation date is recorded).
+    constant, and no creation date is recorded).  The size must pass :func:`check_figure_size`.
+    The figure is rendered in memory first: if matplotlib's constrained layout gives up (its
+    warning "axes sizes collapsed to zero": the figure is too small for its titles, labels and
+    legend, which would be drawn over the axes), :class:`FigureTooSmall` is raised and no file
+    is written.  Any other warning is passed on.
     """
-    import os
+    import io
+    import warnings
 
     fmt = figure_format(path)
-    if not (isinstance(dpi, (int, float)) and math.isfinite(dpi) and 10 <= dpi <= 2000):
-        raise ValueError(f"dpi must be between 10 and 2000, got {dpi!r}")
-    with _style():
-        fig.savefig(path, format=fmt, dpi=float(dpi), metadata=_METADATA[fmt])
-    return os.path.getsize(path)
+    width, height = (float(v) for v in fig.get_size_inches())
+    check_figure_size(width, height, dpi)
+    buf = io.BytesIO()
+    with _style(), warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        fig.savefig(buf, format=fmt, dpi=float(dpi), metadata=_METADATA[fmt])
+    if any("collapsed" in str(w.message) for w in caught):
+        raise FigureTooSmall(f"a {width:g} x {height:g} inch figure is too small for its "
+                             "titles, labels and legend")
+    for w in caught:
+        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    data = buf.getvalue()
+    with open(path, "wb") as fh:
+        fh.write(data)
+    return len(data)
 
 
 # --------------------------------------------------------------------------- models
@@ -264,11 +331,24 @@ class SidesData:
     skipped: list[str] = field(default_factory=list)  #: designs that could not be marked
 
 
+def short_g(v: float) -> str:
+    """``1e6`` and ``1e-6`` rather than ``1e+06`` and ``1e-06`` (limits in messages)."""
+    m, e, x = f"{v:g}".partition("e")
+    return f"{m}e{int(x)}" if e else m
+
+
+def xi_range_rule(log: bool) -> str:
+    """The allowed xi axis, in words (for error messages)."""
+    low = f"{short_g(XI_LOG_MIN)} <= LOW" if log else "0 <= LOW"
+    return f"{low} < HIGH <= {short_g(XI_AXIS_MAX)} and HIGH - LOW >= {short_g(MIN_SPAN)}"
+
+
 def _check_range(lo: float, hi: float, log: bool) -> tuple[float, float]:
-    if not (math.isfinite(lo) and math.isfinite(hi)) or not hi > lo or lo < 0:
-        raise ValueError(f"the xi range must be finite with 0 <= low < high, got {lo:g}:{hi:g}")
-    if log and lo <= 0:
-        raise ValueError(f"a log xi axis needs a low end > 0, got {lo:g}")
+    """The xi axis within :data:`XI_AXIS_MAX`, :data:`XI_LOG_MIN` and :data:`MIN_SPAN`."""
+    floor = XI_LOG_MIN if log else 0.0
+    if not (floor <= lo < hi <= XI_AXIS_MAX and hi - lo >= MIN_SPAN):  # False for nan
+        raise ValueError(f"the xi axis{' (log)' if log else ''} needs {xi_range_rule(log)}, "
+                         f"got {lo:g}:{hi:g}")
     return float(lo), float(hi)
 
 
@@ -281,15 +361,17 @@ def _xi_grid(lo: float, hi: float, log: bool, points: int):
 
 
 def _auto_range(values, log: bool, default: tuple[float, float]) -> tuple[float, float]:
-    """The default range widened to show every finite value (xi > 0 on a log axis)."""
+    """The default range widened to show every finite value (xi > 0 on a log axis), but not
+    beyond :data:`XI_LOG_MIN` and :data:`XI_AXIS_MAX` (a value further out is left off the
+    axis, with a note)."""
     lo, hi = default
     vals = [v for v in values if math.isfinite(v) and (v > 0 or not log)]
     if vals:
         if log:
             lo, hi = min(lo, min(vals) / 1.5), max(hi, max(vals) * 1.5)
         elif max(vals) * 1.05 > hi:
-            hi = _nice_ceil(max(vals) * 1.05)
-    return lo, hi
+            hi = _nice_ceil(min(max(vals) * 1.05, XI_AXIS_MAX))
+    return max(lo, XI_LOG_MIN) if log else lo, min(hi, XI_AXIS_MAX)
 
 
 def _nice_ceil(v: float) -> float:
@@ -349,6 +431,10 @@ def sides_data(specs: Sequence[ModelSpec] = (GEOMETRIC, DYNAMIC), *, xi_marks=()
             if not lo <= m.xi <= hi:
                 skipped.append(f"P(sides) = {m.p:g} under {m.gid} needs xi = {m.xi:g}, outside "
                                f"the plotted range {lo:g} to {hi:g}")
+    for e in experiments:
+        if not lo <= e.xi <= hi:
+            skipped.append(f"the tosses {e.label!r} at xi = {e.xi:g} are outside the plotted "
+                           f"range {lo:g} to {hi:g}")
     return SidesData(xi, curves, log, (lo, hi), fair, xm, p_found, list(experiments), skipped)
 
 
@@ -660,7 +746,7 @@ def map_figure(data: MapData, *, style: str = "panels", width: float | None = No
     """Fig. 2a-c: the chances over (xi, psi), as three panels or one ternary colour map."""
     if style not in ("panels", "ternary"):
         raise ValueError(f"map style must be panels or ternary, got {style!r}")
-    default = (12.0, 4.4) if style == "panels" else (8.0, 5.0)
+    default = MAP_SIZES[style]
     width = default[0] if width is None else width
     height = default[1] if height is None else height
     with _style():

@@ -166,9 +166,16 @@ def plot_size(width: int | None = None, height: int | None = None,
 
 def emit(text, out=None) -> None:
     """Print a rendered plot (colour on a terminal, plain text in a pipe or with NO_COLOR)."""
+    import os
+
     from rich.console import Console
 
-    console = Console(file=out, highlight=False, soft_wrap=True, emoji=False, markup=False)
+    # NO_COLOR (no-color.org, set to anything non-empty): rich drops colours by itself but keeps
+    # bold, italic, dim and reverse; no colour system at all means no escape codes at all, as
+    # the tables do (coincli.cli._common).
+    plain = bool(os.environ.get("NO_COLOR"))
+    console = Console(file=out, highlight=False, soft_wrap=True, emoji=False, markup=False,
+                      color_system=None if plain else "auto")
     console.print(text, end="")
 
 
@@ -183,10 +190,14 @@ def _ascii(text: str) -> str:
 def _ticks(lo: float, hi: float, log: bool, n: int = 6):
     """Tick positions and labels: decades on a log axis, round steps (1, 2, 2.5, 5 x 10^k)
     giving about ``n`` ticks on a linear one."""
+    if not (math.isfinite(lo) and math.isfinite(hi) and hi > lo and (lo > 0 or not log)):
+        return []  # no axis to divide (the data functions refuse such ranges; no crash here)
     if log:
         a, b = math.ceil(math.log10(lo) - 1e-9), math.floor(math.log10(hi) + 1e-9)
         return [(10.0**k, f"{10.0**k:g}") for k in range(a, b + 1)]
     raw = (hi - lo) / max(n - 1, 1)
+    if not raw > 0:  # a span of a few subnormals
+        return [(lo, f"{lo:g}"), (hi, f"{hi:g}")]
     e = math.floor(math.log10(raw))
     step = next(m * 10.0**e for m in (1.0, 2.0, 2.5, 5.0, 10.0) if m * 10.0**e >= raw * 0.999)
     out = []

@@ -6,9 +6,13 @@ No pixel comparisons: the tests read the data back from the figure objects (foun
 
 from __future__ import annotations
 
+import io
 import math
+import os
 import subprocess
 import sys
+import threading
+import warnings
 
 import numpy as np
 import pytest
@@ -123,7 +127,7 @@ def test_missing_matplotlib_is_one_line_with_the_hint(capsys, no_matplotlib, tmp
     (["plot", "sides", "--psi-dist", "normal:90"], 2, "--psi-dist"),
     (["plot", "sides", "--data", "/nonexistent/t.csv"], 2, "--data"),
     (["plot", "sides", "--xi-range", "1:0.5"], 2, "--xi-range"),
-    (["plot", "sides", "--log", "--xi-range", "0:2"], 2, "LOW > 0"),
+    (["plot", "sides", "--log", "--xi-range", "0:2"], 2, "1e-6 <= LOW"),
     (["plot", "psi", "--xi", "abc"], 2, "--xi"),
     (["plot", "psi", "--psi", "200"], 2, "[0, 180]"),
     (["plot", "map", "--style", "pie"], 2, "--style"),
@@ -197,8 +201,8 @@ def plotmod():
 
 
 def test_sides_curves_are_the_cores(plotmod):
-    from coincli.densities import Normal
     from coincli.averages import marginal
+    from coincli.densities import Normal
 
     dens = Normal(math.pi / 2, math.radians(18))
     specs = [plotmod.GEOMETRIC, plotmod.DYNAMIC, plotmod.psi_spec(math.radians(60)),
@@ -391,3 +395,275 @@ def test_title_option(capsys, tmp_path, plotmod):
 
     fig = psi_figure(psi_data(0.3, points=11), title="My coin")
     assert fig.axes[0].get_title() == "My coin"
+
+
+# --------------------------------------------------------------------------- sizes, ranges
+
+
+def _one_error(code, out, err, option, *words):
+    """Exit 2, nothing on stdout, one stderr line that names the option and what is allowed."""
+    assert code == 2, err
+    assert out == ""
+    assert err.startswith("coin: error: ") and err.count("\n") == 1, err
+    assert option in err, err
+    for w in words:
+        assert w in err, err
+    assert "Traceback" not in err and "Warning" not in err
+
+
+@pytest.mark.parametrize("option, allowed", [("--width", "from 1 to 100"),
+                                             ("--height", "from 1 to 100"),
+                                             ("--dpi", "from 10 to 2000")])
+@pytest.mark.parametrize("value", ["nan", "NaN", "inf", "-inf", "0", "-1", "1e9", "1e400", "abc",
+                                   ""])
+@pytest.mark.parametrize("sub", ["sides", "psi", "map", "phase"])
+def test_bad_figure_size_is_exit_2_naming_the_option(capsys, tmp_path, sub, option, allowed,
+                                                     value):
+    """nan passed click's FloatRange (nan < 1 is False) and reached matplotlib: exit 1 with
+    "figure size must be positive finite not (nan, 4.5)"."""
+    path = tmp_path / "f.png"
+    code, out, err = _run(["plot", sub, "--out", str(path), option, value], capsys)
+    _one_error(code, out, err, option, allowed)
+    assert not path.exists()
+
+
+def test_bad_figure_size_is_refused_for_a_text_plot_too(capsys):
+    code, out, err = _run(["plot", "psi", "--terminal", "--width", "nan"], capsys)
+    _one_error(code, out, err, "--width", "from 1 to 100")
+
+
+@pytest.mark.parametrize("argv", [
+    ["plot", "sides", "--width", "100", "--dpi", "2000"],  # was 1.8e9 pixels: 7 GB, 90 s
+    ["plot", "psi", "--width", "100", "--height", "100", "--dpi", "100"],
+    ["plot", "map", "--dpi", "1000"],  # the map's default 12 x 4.4 inches
+    ["plot", "phase", "--height", "60", "--dpi", "300"],  # 9.5 x 60 inches: 51 million
+])
+def test_too_many_pixels_is_exit_2_before_computing(capsys, tmp_path, argv):
+    path = tmp_path / "f.png"
+    code, out, err = _run([*argv, "--out", str(path)], capsys)
+    _one_error(code, out, err, "--dpi", "--width", "50,000,000")
+    assert not path.exists()
+
+
+def test_pixel_cap_is_not_applied_to_a_text_plot(capsys):
+    code, out, err = _run(["plot", "psi", "--terminal", "--width", "100", "--dpi", "2000"],
+                          capsys)
+    assert code == 0 and err == "" and "P(sides)" in out
+
+
+def test_check_figure_size_limits():
+    from coincli.plot import MAX_PIXELS, check_figure_size
+
+    check_figure_size(10.0, 5.0, 1000.0)  # exactly MAX_PIXELS
+    assert 10.0 * 5.0 * 1000.0**2 == MAX_PIXELS
+    for w, h, dpi in [(10.0, 5.0, 1000.5), (math.nan, 4.5, 150.0), (7.0, math.inf, 150.0),
+                      (7.0, 4.5, math.nan), (0.5, 4.5, 150.0), (7.0, 4.5, 5.0)]:
+        with pytest.raises(ValueError):
+            check_figure_size(w, h, dpi)
+
+
+def test_figure_too_small_for_its_labels_is_exit_2_and_writes_nothing(capsys, tmp_path, plotmod):
+    """matplotlib printed "UserWarning: constrained_layout not applied because axes sizes
+    collapsed to zero" and wrote a figure with its axes over the labels."""
+    path = tmp_path / "f.png"
+    code, out, err = _run(["plot", "psi", "--width", "1", "--height", "1", "--out", str(path)],
+                          capsys)
+    _one_error(code, out, err, "--width", "too small")
+    assert not path.exists()
+    with pytest.raises(plotmod.FigureTooSmall):
+        plotmod.save_figure(plotmod.psi_figure(plotmod.psi_data(0.5, points=11), width=1,
+                                               height=1), str(path))
+    assert not path.exists()
+
+
+@pytest.mark.parametrize("argv, option, allowed", [
+    (["plot", "sides", "--xi-range", "0:1e308"], "--xi-range", "HIGH <= 1e6"),
+    (["plot", "sides", "--xi-range", "1e300:1e308"], "--xi-range", "HIGH <= 1e6"),
+    (["plot", "sides", "--xi-range", "0:inf"], "--xi-range", "HIGH <= 1e6"),
+    (["plot", "sides", "--xi-range", "nan:1"], "--xi-range", "0 <= LOW"),
+    (["plot", "sides", "--xi-range", "0:5e-324"], "--xi-range", "HIGH - LOW >= 1e-6"),
+    (["plot", "sides", "--xi-range", "1:1.0000000000000002"], "--xi-range", "HIGH - LOW"),
+    (["plot", "sides", "--log", "--xi-range", "1e-300:1e300"], "--log", "1e-6 <= LOW"),
+    (["plot", "sides", "--log", "--xi-range", "1:1e300"], "--log", "HIGH <= 1e6"),
+    (["plot", "map", "--xi-range", "0:1e308"], "--xi-range", "HIGH <= 1e6"),
+    (["plot", "map", "--log", "--xi-range", "1e-300:1"], "--log", "1e-6 <= LOW"),
+    (["plot", "phase", "--u-range", "0:1e308"], "--u-range", "HIGH <= 1e8"),
+    (["plot", "phase", "--u-range", "0:5e-324"], "--u-range", "HIGH - LOW >= 1e-6"),
+    (["plot", "phase", "--omega-range", "0:1e300"], "--omega-range", "HIGH <= 1e12"),
+    (["plot", "phase", "--omega-range", "0:inf"], "--omega-range", "rad/s"),
+])
+@pytest.mark.parametrize("where", ["file", "terminal"])
+def test_axis_ranges_beyond_the_limits_are_exit_2(capsys, tmp_path, argv, option, allowed,
+                                                  where):
+    """--xi-range 0:1e308 wrote the figure but printed matplotlib's RuntimeWarning (overflow in
+    the tick arithmetic) on stderr; --log 1:1e300 failed with exit 1 after five warning lines;
+    tiny spans crashed the text plot (math domain error)."""
+    dest = ["--out", str(tmp_path / "f.png")] if where == "file" else ["--terminal"]
+    code, out, err = _run([*argv, *dest], capsys)
+    _one_error(code, out, err, option, allowed, "LOW:HIGH")
+
+
+@pytest.mark.parametrize("argv, option, allowed", [
+    (["plot", "psi", "--xi", "inf"], "--xi", "finite number >= 0"),
+    (["plot", "psi", "--xi", "nan"], "--xi", "finite number >= 0"),
+    (["plot", "psi", "--xi", "1e400"], "--xi", "finite number >= 0"),
+    (["plot", "sides", "--xi", "0.5,inf"], "--xi", "finite number >= 0"),
+    (["plot", "map", "--xi", "-inf"], "--xi", "finite number >= 0"),
+    (["plot", "phase", "--xi", "inf"], "--xi", "finite number >= 0"),
+    (["plot", "psi", "--psi", "inf"], "--psi", "[0, 180] degrees"),
+    (["plot", "phase", "--psi", "nan"], "--psi", "[0, 180] degrees"),
+    (["plot", "phase", "--toss", "inf:1"], "--toss", "finite numbers >= 0"),
+    (["plot", "phase", "--toss", "1:nan"], "--toss", "finite numbers >= 0"),
+    (["plot", "phase", "--diameter", "1e300"], "--diameter", "at most 1e100 m"),
+    (["plot", "phase", "--xi", "1e300", "--contact", "thick"], "--xi", "at most 1e100"),
+])
+def test_non_finite_values_say_what_is_allowed(capsys, argv, option, allowed):
+    """--xi inf said "--xi must be a number, got 'inf'", which does not say what is allowed."""
+    code, out, err = _run([*argv, "--terminal"], capsys)
+    _one_error(code, out, err, option, allowed)
+    assert "must be a number, got" not in err
+
+
+# --------------------------------------------------------------------------- no warnings on stderr
+
+
+@pytest.mark.parametrize("argv", [
+    ["plot", "sides", "--xi-range", "0:1e6", "--xi", "1e6", "-p", "0.999"],
+    ["plot", "sides", "--log", "--xi-range", "1e-6:1e6", "--psi", "0,180", "--psi-dist",
+     "normal:0:0.001,uniform"],
+    ["plot", "sides", "--xi-range", "0:1e-6"],
+    ["plot", "sides", "--xi-range", "999999.999999:1e6"],
+    ["plot", "map", "--log", "--xi-range", "1e-6:1e6", "--style", "ternary"],
+    ["plot", "map", "--xi-range", "999999.999999:1e6", "--psi", "0,180"],
+    ["plot", "psi", "--xi", "1e300", "--psi", "0,180"],
+    ["plot", "psi", "--xi", "5e-324"],
+    ["plot", "phase", "--u-range", "0:1e8", "--resolution", "20"],
+    ["plot", "phase", "--u-range", "0:1e-6", "--omega-range", "0:1e-6", "--resolution", "20"],
+    ["plot", "phase", "--omega-range", "999999999999.9999:1e12", "--resolution", "20"],
+])
+@pytest.mark.parametrize("where", ["png", "svg", "terminal"])
+def test_extreme_allowed_ranges_draw_without_warnings(capsys, tmp_path, argv, where):
+    if where != "terminal":
+        pytest.importorskip("matplotlib")
+    path = tmp_path / f"f.{where}"
+    dest = ["--terminal"] if where == "terminal" else ["--out", str(path), "--dpi", "40"]
+    code, out, err = _run([*argv, *dest], capsys)
+    assert code == 0, err
+    assert err == ""
+    if where != "terminal":
+        assert out == "" and path.stat().st_size > 1000
+
+
+@pytest.mark.parametrize("log, xi_range", [(False, (0.0, 1e6)), (True, (1e-6, 1e6)),
+                                           (False, (0.0, 1e-6)), (True, (1e6 - 1e-6, 1e6))])
+def test_figures_at_the_axis_limits_raise_no_warning(plotmod, tmp_path, log, xi_range):
+    """Not only hidden by the command: at the limits matplotlib and numpy do not warn at all."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        d = plotmod.sides_data(xi_range=xi_range, log=log, points=51, xi_marks=[xi_range[1]],
+                               p_marks=[0.3])
+        plotmod.save_figure(plotmod.sides_figure(d), str(tmp_path / "s.png"), 40)
+        m = plotmod.map_data(xi_range=xi_range, log=log, nx=21, ny=21, psi_marks_deg=[0, 180])
+        plotmod.save_figure(plotmod.map_figure(m), str(tmp_path / "m.svg"), 40)
+
+
+def test_marks_beyond_the_axis_limits_are_notes(capsys, tmp_path, plotmod):
+    """--xi 1.7e308 widened the axis to infinity: exit 1, "the xi range must be finite"."""
+    d = plotmod.sides_data(xi_marks=[1.7e308, 0.5], points=11)
+    assert d.xlim == (0.0, plotmod.XI_AXIS_MAX)
+    assert any("1.7e+308 is outside the plotted range" in n for n in d.skipped)
+    d = plotmod.sides_data(xi_marks=[1e-320], log=True, points=11)
+    assert d.xlim[0] == plotmod.XI_LOG_MIN
+    code, out, err = _run(["plot", "sides", "--xi", "1.7e308", "--out", str(tmp_path / "f.png"),
+                           "--dpi", "40"], capsys)
+    assert code == 0 and out == ""
+    assert err.startswith("coin: note: xi = 1.7e+308 is outside") and err.count("\n") == 1
+    code, out, err = _run(["plot", "map", "--xi", "1.7e308", "--terminal"], capsys)
+    assert code == 0 and err == ""
+
+
+def test_tosses_off_the_axis_are_a_note(plotmod):
+    from coincli.stats import parse_experiments
+
+    pts = plotmod.experiment_points(parse_experiments(TOSSES))
+    d = plotmod.sides_data(experiments=pts, xi_range=(0.0, 1.0), points=11)
+    assert [n for n in d.skipped if "tosses" in n] == [
+        "the tosses 'rod' at xi = 1.2 are outside the plotted range 0 to 1"]
+
+
+def test_text_plot_ticks_survive_degenerate_axes():
+    from coincli.textplot import _ticks
+
+    assert _ticks(0.0, 5e-324, False) == [(0.0, "0"), (5e-324, "4.94066e-324")]
+    assert _ticks(1.0, 1.0, False) == []
+    assert _ticks(0.0, 1.0, True) == []
+    assert _ticks(0.0, math.nan, False) == []
+
+
+# --------------------------------------------------------------------------- NO_COLOR
+
+
+class _Tty(io.StringIO):
+    def isatty(self):
+        return True
+
+
+@pytest.mark.parametrize("no_color, escapes", [(None, True), ("", True), ("1", False)])
+def test_text_plot_emit_honours_no_color(monkeypatch, no_color, escapes):
+    from coincli.plot import psi_data
+    from coincli.textplot import emit, text_psi
+
+    for k in ("NO_COLOR", "FORCE_COLOR", "TTY_COMPATIBLE", "TTY_INTERACTIVE"):
+        monkeypatch.delenv(k, raising=False)
+    monkeypatch.setenv("TERM", "xterm-256color")
+    if no_color is not None:
+        monkeypatch.setenv("NO_COLOR", no_color)
+    out = _Tty()
+    emit(text_psi(psi_data(0.577, [70.0], points=70), 70, 21), out)
+    text = out.getvalue()
+    assert "P(heads)" in text
+    assert ("\x1b[" in text) is escapes
+
+
+def _on_a_terminal(argv, extra_env):
+    """Run ``coin argv`` with stdout on a pseudo-terminal; return (exit code, stdout, stderr)."""
+    master, slave = os.openpty()
+    env = {k: v for k, v in os.environ.items() if k not in ("NO_COLOR", "FORCE_COLOR")}
+    env.update({"TERM": "xterm-256color", "COLUMNS": "100", **extra_env})
+    chunks = []
+
+    def drain():  # read while the child writes: a full pty buffer would block it
+        while True:
+            try:
+                data = os.read(master, 65536)
+            except OSError:  # EIO: the terminal has no more writers
+                return
+            if not data:
+                return
+            chunks.append(data)
+
+    reader = threading.Thread(target=drain, daemon=True)
+    reader.start()
+    try:
+        p = subprocess.run([sys.executable, "-m", "coincli", *argv], stdout=slave,
+                           stderr=subprocess.PIPE, env=env, timeout=120)
+    finally:
+        os.close(slave)
+    reader.join(30)
+    os.close(master)
+    return p.returncode, b"".join(chunks).decode(), p.stderr.decode()
+
+
+@pytest.mark.skipif(not hasattr(os, "openpty"), reason="needs a pseudo-terminal")
+@pytest.mark.parametrize("sub", [["psi", "--xi", "0.577", "--psi", "70"], ["map", "--xi", "0.5"],
+                                 ["sides", "-p", "1/3"]])
+def test_no_color_on_a_terminal_removes_every_escape(sub):
+    """NO_COLOR=1 coin plot psi --terminal on a terminal still wrote bold and italic codes."""
+    argv = ["plot", *sub, "--terminal"]
+    code, styled, err = _on_a_terminal(argv, {})
+    assert code == 0 and err == "", err
+    assert "\x1b[" in styled  # colour on a terminal
+    code, plain, err = _on_a_terminal(argv, {"NO_COLOR": "1"})
+    assert code == 0 and err == "", err
+    assert "\x1b" not in plain
+    assert "coin plot" in plain and "your" in plain

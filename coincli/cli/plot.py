@@ -8,6 +8,7 @@ imported at module level: numpy, scipy, matplotlib and rich load only when a plo
 
 from __future__ import annotations
 
+import contextlib
 import math
 import sys
 from typing import Annotated
@@ -31,6 +32,7 @@ app.add_typer(plot_app, name="plot")
 
 MAX_MARKS = 20  # designs marked on one figure
 MAX_DATA_BYTES = 10_000_000
+MAX_DIAMETER_M = 1e100  # the toss engine's largest diameter
 
 # --------------------------------------------------------------------------- shared options
 
@@ -43,14 +45,19 @@ TerminalOpt = Annotated[
     bool, typer.Option("--terminal", help="Draw a text plot in the terminal (no matplotlib "
                        "needed).")
 ]
-DpiOpt = Annotated[float, typer.Option("--dpi", help="Resolution of a PNG (dots per inch; also "
-                                       "rasterized parts of SVG/PDF).", min=10, max=2000)]
+# Sizes are parsed here, not by click: click's FloatRange lets nan through (nan < 1 is False) and
+# its messages do not say what is allowed.  Limits: coincli.plot.FIGURE_INCHES, DPI_RANGE and
+# MAX_PIXELS (width x dpi times height x dpi, so a figure cannot exhaust the memory).
+DpiOpt = Annotated[str, typer.Option("--dpi", help="Resolution of a PNG, 10 to 2000 dots per "
+                                     "inch (also rasterized parts of SVG/PDF); at most 50 "
+                                     "million pixels in all.", metavar="DPI")]
 WidthOpt = Annotated[
-    float | None, typer.Option("--width", help="Figure width in inches (default depends on the "
-                               "figure).", min=1, max=100)
+    str | None, typer.Option("--width", help="Figure width in inches, 1 to 100 (default depends "
+                             "on the figure).", metavar="INCHES")
 ]
 HeightOpt = Annotated[
-    float | None, typer.Option("--height", help="Figure height in inches.", min=1, max=100)
+    str | None, typer.Option("--height", help="Figure height in inches, 1 to 100.",
+                             metavar="INCHES")
 ]
 TitleOpt = Annotated[str | None, typer.Option("--title", help="Replace the figure's title.")]
 LogOpt = Annotated[bool, typer.Option("--log", help="Logarithmic xi axis (0.01 to 100 unless "
@@ -76,34 +83,84 @@ def _marks(text: str | None, what: str, item) -> list[float]:
     return [float(v) for v in vals]
 
 
+def _number_or(text: str, what: str, allowed: str) -> float:
+    """A finite decimal number; anything else (nan, inf, words) is ``what must be allowed``."""
+    try:
+        return parse.parse_number(text, what)
+    except ValueError:
+        raise ValueError(f"{what} must be {allowed}, got {text!r}") from None
+
+
 def _xi_item(s: str, what: str) -> float:
-    v = parse.parse_number(s, what, allow_inf=False)
+    allowed = "a finite number >= 0 (the aspect ratio h/D)"
+    v = _number_or(s, what, allowed)
     if not v >= 0:
-        raise ValueError(f"{what} must be a number >= 0, got {s!r}")
+        raise ValueError(f"{what} must be {allowed}, got {s!r}")
     return v
 
 
 def _deg_item(s: str, what: str) -> float:
-    v = parse.parse_number(s, what)
+    allowed = "an angle in [0, 180] degrees"
+    v = _number_or(s, what, allowed)
     if not 0.0 <= v <= 180.0:
-        raise ValueError(f"{what} must be an angle in [0, 180] degrees, got {s!r}")
+        raise ValueError(f"{what} must be {allowed}, got {s!r}")
     return v
 
 
-def _xi_range(text: str | None, log: bool):
-    if text is None:
-        return None
-    parts = text.split(":")
-    if len(parts) != 2:
-        raise usage_error(f"--xi-range must be LOW:HIGH, got {text!r}")
+def _bounded(text: str, what: str, limits: tuple[float, float], unit: str) -> float:
+    lo, hi = limits
+    allowed = f"a number of {unit} from {lo:g} to {hi:g}"
     try:
-        lo, hi = (parse.parse_number(p, "--xi-range") for p in parts)
+        v = _number_or(text, what, allowed)
     except ValueError as exc:
         raise usage_error(str(exc)) from None
-    if not 0 <= lo < hi:
-        raise usage_error(f"--xi-range needs 0 <= LOW < HIGH, got {text!r}")
-    if log and lo == 0:
-        raise usage_error(f"--xi-range with --log needs LOW > 0, got {text!r}")
+    if not lo <= v <= hi:
+        raise usage_error(f"{what} must be {allowed}, got {text!r}")
+    return v
+
+
+def _figure_size(target, width: str | None, height: str | None, dpi: str,
+                 default: tuple[float, float]) -> tuple[float, float, float]:
+    """--width, --height (inches; ``default`` when not given) and --dpi, checked before any
+    computing: each in its range and, for a figure file, at most MAX_PIXELS in all."""
+    from coincli.plot import DPI_RANGE, FIGURE_INCHES, MAX_PIXELS
+
+    w = default[0] if width is None else _bounded(width, "--width", FIGURE_INCHES, "inches")
+    h = default[1] if height is None else _bounded(height, "--height", FIGURE_INCHES, "inches")
+    d = _bounded(dpi, "--dpi", DPI_RANGE, "dots per inch")
+    if not target.text and w * d * h * d > MAX_PIXELS:
+        raise usage_error(
+            f"a {w:g} x {h:g} inch figure (--width x --height) at --dpi {d:g} has "
+            f"{round(w * d):,} x {round(h * d):,} pixels; at most {MAX_PIXELS:,} are allowed in "
+            "all: lower --dpi, --width or --height")
+    return w, h, d
+
+
+def _range_of(text: str, what: str, rule: str, unit: str = ""):
+    """LOW:HIGH as two finite numbers; any other text is one error stating ``rule``."""
+    in_unit = f" ({unit})" if unit else ""
+    bad = usage_error(f"{what} must be LOW:HIGH with {rule}{in_unit}, got {text!r}")
+    parts = text.split(":")
+    if len(parts) != 2:
+        raise bad
+    try:
+        lo, hi = (parse.parse_number(p, what) for p in parts)
+    except ValueError:
+        raise bad from None
+    return lo, hi, bad
+
+
+def _xi_range(text: str | None, log: bool):
+    """--xi-range within coincli.plot's axis limits (matplotlib's tick arithmetic overflows,
+    with warnings, near the double range)."""
+    if text is None:
+        return None
+    from coincli.plot import MIN_SPAN, XI_AXIS_MAX, XI_LOG_MIN, xi_range_rule
+
+    what = "--xi-range with --log" if log else "--xi-range"
+    lo, hi, bad = _range_of(text, what, xi_range_rule(log))
+    if not ((XI_LOG_MIN if log else 0.0) <= lo < hi <= XI_AXIS_MAX and hi - lo >= MIN_SPAN):
+        raise bad
     return lo, hi
 
 
@@ -135,12 +192,17 @@ class _Target:
             raise compute_error(str(exc)) from None
 
     def save(self, fig, dpi: float) -> None:
-        from coincli.plot import save_figure
+        from coincli.plot import FigureTooSmall, save_figure
 
         try:
             size = save_figure(fig, self.path, dpi)
+        except FigureTooSmall as exc:
+            raise usage_error(f"{exc}: give a larger --width or --height") from None
         except OSError as exc:
             raise compute_error(f"cannot write {self.path!r}: {exc.strerror or exc}") from None
+        except MemoryError:
+            raise compute_error(f"not enough memory to draw {self.path!r}: lower --dpi, "
+                                "--width or --height") from None
         if stderr_is_terminal():
             sys.stderr.write(f"coin: wrote {self.path} ({self.fmt.upper()}, {size:,} bytes)\n")
 
@@ -149,6 +211,30 @@ class _Target:
 
         cols, rows = plot_size()
         emit(build(cols, rows))
+
+
+@contextlib.contextmanager
+def _quiet():
+    """No library warning reaches stderr (the rule: nothing but the result on success).
+
+    The options are checked up front so that the figure is right without them (matplotlib's
+    tick arithmetic overflows near the double range, numpy warns on an overflow inside the core
+    before the core refuses the value); this is the belt to those braces: Python warnings are
+    dropped and matplotlib's logger, which prints through logging's last-resort handler when
+    nothing is configured, is silenced below CRITICAL.
+    """
+    import logging
+    import warnings
+
+    log = logging.getLogger("matplotlib")
+    level = log.level
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        log.setLevel(logging.CRITICAL)
+        try:
+            yield
+        finally:
+            log.setLevel(level)
 
 
 def _compute(fn, *args, **kwargs):
@@ -212,7 +298,7 @@ def sides(
     xi_range: XiRangeOpt = None,
     out: OutOpt = None,
     terminal: TerminalOpt = False,
-    dpi: DpiOpt = 150.0,
+    dpi: DpiOpt = "150",
     width: WidthOpt = None,
     height: HeightOpt = None,
     title: TitleOpt = None,
@@ -238,8 +324,13 @@ def sides(
     dens = [density_model(s).density for s in specs]
     rng = _xi_range(xi_range, log)
     exps = _read_data(data) if data is not None else []
+    w, h, d = _figure_size(target, width, height, dpi, (7.0, 4.5))
     target.check_matplotlib()
+    with _quiet():
+        _sides(target, xi_marks, p_marks, psi_curves, dens, rng, exps, log, (w, h, d), title)
 
+
+def _sides(target, xi_marks, p_marks, psi_curves, dens, rng, exps, log, size, title):
     from coincli import plot as P
 
     models = [P.GEOMETRIC, P.DYNAMIC]
@@ -257,7 +348,8 @@ def sides(
         target.text_plot(lambda c, r: text_sides(build(c), c, r))
         return
     data = build(401)
-    fig = P.sides_figure(data, width=width or 7.0, height=height or 4.5, title=title)
+    w, h, dpi = size
+    fig = P.sides_figure(data, width=w, height=h, title=title)
     target.save(fig, dpi)
     _notes(data.skipped)
 
@@ -280,7 +372,7 @@ def psi_cmd(
     psi: PsiMarkOpt = None,
     out: OutOpt = None,
     terminal: TerminalOpt = False,
-    dpi: DpiOpt = 150.0,
+    dpi: DpiOpt = "150",
     width: WidthOpt = None,
     height: HeightOpt = None,
     title: TitleOpt = None,
@@ -302,17 +394,19 @@ def psi_cmd(
         except ValueError as exc:
             raise usage_error(str(exc)) from None
     marks = _marks(psi, "--psi", _deg_item)
+    w, h, d = _figure_size(target, width, height, dpi, (7.0, 4.5))
     target.check_matplotlib()
-    from coincli import plot as P
+    with _quiet():
+        from coincli import plot as P
 
-    if target.text:
-        from coincli.textplot import text_psi
+        if target.text:
+            from coincli.textplot import text_psi
 
-        target.text_plot(lambda c, r: text_psi(_compute(P.psi_data, x, marks, points=c), c, r))
-        return
-    fig = P.psi_figure(_compute(P.psi_data, x, marks), width=width or 7.0,
-                       height=height or 4.5, title=title)
-    target.save(fig, dpi)
+            target.text_plot(lambda c, r: text_psi(_compute(P.psi_data, x, marks, points=c), c,
+                                                   r))
+            return
+        fig = P.psi_figure(_compute(P.psi_data, x, marks), width=w, height=h, title=title)
+        target.save(fig, d)
 
 
 # --------------------------------------------------------------------------- map
@@ -332,7 +426,7 @@ def map_cmd(
     xi_range: XiRangeOpt = None,
     out: OutOpt = None,
     terminal: TerminalOpt = False,
-    dpi: DpiOpt = 150.0,
+    dpi: DpiOpt = "150",
     width: WidthOpt = None,
     height: HeightOpt = None,
     title: TitleOpt = None,
@@ -352,39 +446,42 @@ def map_cmd(
     xi_marks = _marks(xi, "--xi", _xi_item)
     psi_marks = _marks(psi, "--psi", _deg_item)
     rng = _xi_range(xi_range, log)
+    from coincli.plot import MAP_SIZES
+
+    w, h, dots = _figure_size(target, width, height, dpi, MAP_SIZES[st])
     target.check_matplotlib()
-    from coincli import plot as P
+    with _quiet():
+        from coincli import plot as P
 
-    if target.text:
-        from coincli.textplot import text_map
+        if target.text:
+            from coincli.textplot import text_map
 
-        def build(c, r):
-            d = _compute(P.map_data, xi_range=rng, log=log, nx=c, ny=r, xi_marks=xi_marks,
-                         psi_marks_deg=psi_marks)
-            return text_map(d, c, r)
+            def build(c, r):
+                d = _compute(P.map_data, xi_range=rng, log=log, nx=c, ny=r, xi_marks=xi_marks,
+                             psi_marks_deg=psi_marks)
+                return text_map(d, c, r)
 
-        target.text_plot(build)
-        return
-    d = _compute(P.map_data, xi_range=rng, log=log, xi_marks=xi_marks, psi_marks_deg=psi_marks)
-    fig = P.map_figure(d, style=st, width=width, height=height, title=title)
-    target.save(fig, dpi)
+            target.text_plot(build)
+            return
+        d = _compute(P.map_data, xi_range=rng, log=log, xi_marks=xi_marks,
+                     psi_marks_deg=psi_marks)
+        fig = P.map_figure(d, style=st, width=w, height=h, title=title)
+        target.save(fig, dots)
 
 
 # --------------------------------------------------------------------------- phase
 
 
-def _pair(text: str | None, what: str, default, unit: str):
+def _pair(text: str | None, what: str, default, unit: str, top: float):
+    """A phase axis LOW:HIGH up to ``top`` and at least coincli.plot.MIN_SPAN wide."""
     if text is None:
         return default
-    parts = text.split(":")
-    if len(parts) != 2:
-        raise usage_error(f"{what} must be LOW:HIGH in {unit}, got {text!r}")
-    try:
-        lo, hi = (parse.parse_number(p, what) for p in parts)
-    except ValueError as exc:
-        raise usage_error(str(exc)) from None
-    if not 0 <= lo < hi:
-        raise usage_error(f"{what} needs 0 <= LOW < HIGH ({unit}), got {text!r}")
+    from coincli.plot import MIN_SPAN, short_g
+
+    rule = f"0 <= LOW < HIGH <= {short_g(top)} and HIGH - LOW >= {short_g(MIN_SPAN)}"
+    lo, hi, bad = _range_of(text, what, rule, unit)
+    if not (0 <= lo < hi <= top and hi - lo >= MIN_SPAN):
+        raise bad
     return lo, hi
 
 
@@ -393,15 +490,17 @@ def _tosses(text: str | None) -> list[tuple[float, float]]:
         return []
     out = []
     for item in text.split(","):
+        bad = usage_error("--toss must be U:OMEGA, finite numbers >= 0 in m/s and rad/s (a list "
+                          f"a:b,c:d for several); got {item!r}")
         parts = item.split(":")
         if len(parts) != 2:
-            raise usage_error(f"--toss must be U:OMEGA (m/s:rad/s), a list a:b,c:d; got {item!r}")
+            raise bad
         try:
             u, w = (parse.parse_number(p, "--toss") for p in parts)
-        except ValueError as exc:
-            raise usage_error(str(exc)) from None
+        except ValueError:
+            raise bad from None
         if u < 0 or w < 0:
-            raise usage_error(f"--toss needs u >= 0 and omega >= 0, got {item!r}")
+            raise bad
         out.append((u, w))
     if len(out) > MAX_MARKS:
         raise usage_error(f"--toss marks at most {MAX_MARKS} tosses")
@@ -448,7 +547,7 @@ def phase_cmd(
     ] = 400,
     out: OutOpt = None,
     terminal: TerminalOpt = False,
-    dpi: DpiOpt = 150.0,
+    dpi: DpiOpt = "150",
     width: WidthOpt = None,
     height: HeightOpt = None,
     title: TitleOpt = None,
@@ -478,27 +577,35 @@ def phase_cmd(
     ct = contact.strip().lower()
     if ct not in ("rim", "thick"):
         raise usage_error(f"--contact must be rim or thick, got {contact!r}")
-    ur = _pair(u_range, "--u-range", (0.0, 2.0), "m/s")
-    wr = _pair(omega_range, "--omega-range", (0.0, 60.0), "rad/s")
+    if ct == "thick" and not x <= 1e100:  # the toss engine's limit for a thick coin
+        raise usage_error(f"--xi with --contact thick must be at most 1e100, got {xi!r}")
+    from coincli.plot import OMEGA_AXIS_MAX, U_AXIS_MAX
+
+    ur = _pair(u_range, "--u-range", (0.0, 2.0), "m/s", U_AXIS_MAX)
+    wr = _pair(omega_range, "--omega-range", (0.0, 60.0), "rad/s", OMEGA_AXIS_MAX)
     dia_m = 0.02426
     if diameter is not None:
         try:
             dia_m = parse.parse_length_mm(diameter, "--diameter") / 1000.0
         except ValueError as exc:
             raise usage_error(str(exc)) from None
+        if not dia_m <= MAX_DIAMETER_M:
+            raise usage_error("--diameter must be a length > 0 and at most 1e100 m, got "
+                              f"{diameter!r}")
     marks = _tosses(toss)
+    w, h, d = _figure_size(target, width, height, dpi, (9.5, 5.5))
     target.check_matplotlib()
-    from coincli import plot as P
+    with _quiet():
+        from coincli import plot as P
 
-    def build(nu, nw):
-        return _compute(P.phase_data, x, psi_deg, u_range=ur, omega_range=wr, nu=nu, nw=nw,
-                        marks=marks, exact_curves=exact_curves, diameter=dia_m, contact=ct)
+        def build(nu, nw):
+            return _compute(P.phase_data, x, psi_deg, u_range=ur, omega_range=wr, nu=nu, nw=nw,
+                            marks=marks, exact_curves=exact_curves, diameter=dia_m, contact=ct)
 
-    if target.text:
-        from coincli.textplot import text_phase
+        if target.text:
+            from coincli.textplot import text_phase
 
-        target.text_plot(lambda c, r: text_phase(build(c, r), c, r))
-        return
-    fig = P.phase_figure(build(resolution, resolution), width=width or 9.5,
-                         height=height or 5.5, title=title)
-    target.save(fig, dpi)
+            target.text_plot(lambda c, r: text_phase(build(c, r), c, r))
+            return
+        fig = P.phase_figure(build(resolution, resolution), width=w, height=h, title=title)
+        target.save(fig, d)
