@@ -49,7 +49,9 @@ Root finding (never skipping an earlier crossing)
     Contact happens within about one precession period after ``z`` drops below ``Lmax`` (``L``
     reaches ``Lmax`` once a period), so the cost does not grow with the number of turns in the
     air; tosses of millions of turns cost the same as one.  The phase ``omega t`` must stay below
-    ``1e12`` rad, beyond which a double no longer holds it to ``1e-4`` rad.
+    ``1e12`` rad, beyond which a double no longer holds it to ``1e-4`` rad, and the curvature
+    bound ``K2 ~ omega^2 a`` must be a finite double (an infinite one would exclude no cell, and
+    the scan would never end); :func:`flight_limits` says whether a toss can be followed.
 
 Vectorized tosses
     :func:`toss_many` runs the same three steps on arrays: a ragged scan round moves each toss's
@@ -80,6 +82,7 @@ __all__ = [
     "NAMES",
     "LETTERS",
     "MAX_PHASE",
+    "MAX_TOSSES",
     "U_MAX",
     "Toss",
     "Tosses",
@@ -93,6 +96,7 @@ __all__ = [
     "alpha_at",
     "classify",
     "flight_time",
+    "flight_limits",
     "toss",
     "toss_many",
     "hyperbolae",
@@ -113,6 +117,7 @@ HEADS, SIDES, TAILS = 0, 1, 2  #: outcome codes
 NAMES = ("heads", "sides", "tails")
 LETTERS = ("H", "S", "T")
 MAX_PHASE = 1e12  #: rad; omega * t_end beyond this is refused (the phase would be noise)
+MAX_TOSSES = 10**8  #: the most tosses one simulate run makes (~1.5 min at ~1e6 tosses/s)
 U_MAX = 1e8  #: m/s, the largest launch speed accepted
 
 _TWO_PI = 2.0 * math.pi
@@ -290,7 +295,8 @@ def _setup(xp, xi, psi, u, om, diameter, g, thick, z0):
     w1 = xp.where(d > 0, 2.0 * d / xp.maximum(u + root, 1e-300), -1.0)
     w1 = xp.where(inside, -1.0, w1)
     w2s = xp.where(inside, 0.0, xp.minimum((u + root) / g, t_end))
-    k2 = om * om * sp * (a + hh * sp) - g
+    # psi = 0 (sp = 0) has no curvature term even when omega^2 overflows (inf * 0 would be NaN).
+    k2 = xp.where(sp > 0, om * om * sp * (a + hh * sp), 0.0) - g
     # The launch window [0, w1] often needs no look: z >= z0 there (the centre is rising) and
     # alpha <= omega t sin psi (|d alpha / d theta| <= sin psi), so L <= L(min(omega w1 sin psi,
     # amax)) while L(alpha) increases (up to pi/2 for the rim, theta0 for a thick coin).
@@ -424,15 +430,64 @@ def _scalar_setup(xi, psi, u, omega, diameter, g, contact, z0):
     xi, psi, u, omega, diameter, g, thick = _check_all(xi, psi, u, omega, diameter, g, contact)
     z0 = _check_z0(z0, xi, diameter, thick)
     s = _setup(_M(), xi, psi, u, omega, diameter, g, thick, z0)
-    if not math.isfinite(s.t_end):
-        raise ValueError(f"the flight is too long to represent (g = {g:g} m/s^2, u = {u:g} m/s); "
-                         "raise g or lower u")
-    phase = omega * s.t_end
-    if phase > MAX_PHASE:
-        raise ValueError(
-            f"omega * t_end = {phase:.3g} rad exceeds {MAX_PHASE:g} rad, where a double no longer "
-            f"holds the phase; lower omega (got {omega:g} rad/s) or u (got {u:g} m/s)")
+    problem = _problem(_M(), s)
+    if problem:
+        raise ValueError(_problem_message(problem, omega, u, g, s.z0, omega * s.t_end))
     return s
+
+
+def _problem(xp, s: _Setup):
+    """0 when the scan can follow the toss, else why not: 1 ``t_end`` overflows a double,
+    2 ``omega t_end > MAX_PHASE``, 3 the curvature bound ``K2`` (``omega^2 a``) or the slope
+    tolerance overflows.  Per toss for arrays (int8)."""
+    phase = s.om * s.t_end
+    curv = xp.isfinite(s.k2) & xp.isfinite(s.stol)
+    if xp is not _M():
+        import numpy as np
+
+        with np.errstate(invalid="ignore"):
+            return np.select([~np.isfinite(s.t_end), phase > MAX_PHASE, ~curv], [1, 2, 3],
+                             0).astype(np.int8)
+    if not math.isfinite(s.t_end):
+        return 1
+    return 2 if phase > MAX_PHASE else (0 if curv else 3)
+
+
+def _problem_message(problem, omega, u, g, z0, phase):
+    if problem == 1:
+        return (f"the flight is too long to represent (g = {g:g} m/s^2, u = {u:g} m/s, z0 = "
+                f"{z0:g} m); raise g or lower u or z0")
+    if problem == 2:
+        return (f"omega * t_end = {phase:.3g} rad exceeds {MAX_PHASE:g} rad, where a double no "
+                f"longer holds the phase; lower omega (got {omega:g} rad/s) or u (got {u:g} m/s)")
+    return (f"omega = {omega:g} rad/s is too fast to follow: omega^2 * a overflows a double; "
+            "lower omega")
+
+
+def flight_limits(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, contact="rim",
+                  z0=None):
+    """Whether :func:`toss` / :func:`toss_many` can follow these tosses, as they check it.
+
+    Returns ``(t_end, phase, problem)``: ``t_end`` (s) is the latest possible contact (the
+    centre reaches the catch plane), ``phase = omega * t_end`` (rad), and ``problem`` 0 when
+    the toss can be followed, else 1 (``t_end`` overflows a double), 2 (``phase > MAX_PHASE``)
+    or 3 (``omega^2 a`` overflows: the scan's curvature bound is not finite).  Scalars give
+    floats and an int, arrays (broadcast) arrays.  The arguments must already be in range.
+    """
+    thick = _check_contact(contact)
+    M = _M()
+    if all(isinstance(v, (int, float)) for v in (xi, psi, u, omega, diameter, g)) and (
+            z0 is None or isinstance(z0, (int, float))):
+        s = _setup(M, float(xi), float(psi), float(u), float(omega), float(diameter), float(g),
+                   thick, None if z0 is None else float(z0))
+        return s.t_end, omega * s.t_end, _problem(M, s)
+    import numpy as np
+
+    arrs = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (
+        xi, psi, u, omega, diameter, g, 0.0 if z0 is None else z0)))
+    with np.errstate(over="ignore", invalid="ignore"):
+        s = _setup(np, *arrs[:6], thick, None if z0 is None else arrs[6])
+        return s.t_end, arrs[3] * s.t_end, _problem(np, s)
 
 
 def _check_z0(z0, xi, diameter, thick):
@@ -578,17 +633,16 @@ def toss_many(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, con
     t_f = np.empty(n)
     for lo in range(0, n, _CHUNK):
         sl = slice(lo, min(n, lo + _CHUNK))
-        s = _setup(np, xi[sl], psi[sl], u[sl], omega[sl], diameter[sl], g[sl], thick,
-                   None if z0 is None else z0v[sl])
-        if not np.all(np.isfinite(s.t_end)):
-            raise ValueError("the flight is too long to represent; raise g or lower u")
-        phase = omega[sl] * s.t_end
-        if np.any(phase > MAX_PHASE):
-            k = int(np.argmax(phase > MAX_PHASE))
-            raise ValueError(
-                f"omega * t_end = {phase[k]:.3g} rad exceeds {MAX_PHASE:g} rad, where a double no "
-                f"longer holds the phase; lower omega (got {omega[sl][k]:g} rad/s) or u "
-                f"(got {u[sl][k]:g} m/s)")
+        with np.errstate(over="ignore", invalid="ignore"):  # refused below, not warned about
+            s = _setup(np, xi[sl], psi[sl], u[sl], omega[sl], diameter[sl], g[sl], thick,
+                       None if z0 is None else z0v[sl])
+            problem = _problem(np, s)
+        if problem.any():
+            k = int(np.argmax(problem != 0))
+            raise ValueError(_problem_message(
+                int(problem[k]), float(omega[sl][k]), float(u[sl][k]), float(g[sl][k]),
+                float(np.broadcast_to(s.z0, problem.shape)[k]),
+                float(omega[sl][k] * s.t_end[k])))
         t_f[sl] = _first_root_np(np, s, thick)
     with np.errstate(invalid="ignore"):
         alpha_f = alpha_at(psi, omega * t_f)
@@ -1127,8 +1181,9 @@ def _count(n):
             isinstance(n, float) and n.is_integer()):
         raise ValueError(f"n must be a whole number >= 1, got {n!r}")
     n = int(n)
-    if not 1 <= n <= 10**10:
-        raise ValueError(f"n must be in [1, 1e10], got {n}")
+    if not 1 <= n <= MAX_TOSSES:
+        raise ValueError(f"n must be a whole number from 1 to {MAX_TOSSES} (1e8), got {n}; for "
+                         "more tosses, run again with another seed and add the counts")
     return n
 
 
@@ -1205,7 +1260,8 @@ class Simulation:
 
 def simulate(n, seed, *, xi, u, omega, psi, diameter=DEFAULT_DIAMETER, g=STANDARD_G,
              contact="rim", level=0.95, progress: Callable[[int], None] | None = None):
-    """Toss ``n`` coins with seeded random initial conditions; count the outcomes.
+    """Toss ``n`` coins (at most :data:`MAX_TOSSES`, about a minute and a half of ordinary
+    tosses) with seeded random initial conditions; count the outcomes.
 
     Returns a :class:`Simulation` with Wilson intervals and :func:`vigorous_limit` for the same
     psi distribution.  ``progress(done)`` is called after each batch.

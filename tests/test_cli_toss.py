@@ -331,6 +331,165 @@ def test_phase_bad_input_is_one_line_exit_2(coin, argv, words):
     _error(coin("phase", *argv, "--format", "csv"), 2, *words)
 
 
+# --------------------------------------------------------------------------- limits, messages
+
+
+BASE = ["--xi", "0.577", "--psi", "90", "--u", "2", "--omega", "38"]
+
+
+def _error_without(result, code, words, absent=()):
+    """_error, and none of ``absent`` in the message (a wrong value, unit or interval)."""
+    _error(result, code, *words)
+    for w in absent:
+        assert w not in result[2], (w, result[2])
+
+
+def test_simulate_n_is_capped_and_the_message_names_the_cap_and_the_way_out(coin, monkeypatch):
+    import time
+
+    import coincli.cli.toss as C
+
+    assert C.MAX_TOSSES == T.MAX_TOSSES == 10**8
+    # was: no cap; 10^10 tosses ran for about 3 hours (and --stream as long)
+    for extra in ([], ["--stream"]):
+        start = time.monotonic()
+        _error(coin("simulate", "-n", "10000000000", "--seed", "7", *BASE, *extra), 2,
+               "-n 10000000000", "100000000", "--seed")
+        assert time.monotonic() - start < 5
+    _error(coin("simulate", "-n", "100000001", *BASE), 2, "-n 100000001", "100000000")
+    _error(coin("simulate", "-n", "9" * 5000, *BASE), 2, "-n", "(5000 digits)")
+    _error(coin("simulate", "-n", "0", *BASE), 2, "-n", "from 1 to 100000000")
+    _error(coin("simulate", "-n", "1e5", *BASE), 2, "-n", "whole number")
+    # the cap itself is allowed (the run is not made: the core is stubbed)
+    seen, real = [], T.simulate
+    monkeypatch.setattr(T, "simulate", lambda n, *a, **k: seen.append(n) or real(3, *a, **k))
+    _ok(coin("simulate", "-n", "100000000", "--seed", "1", *BASE, "-q"))
+    assert seen == [10**8]
+    with pytest.raises(ValueError, match="n must be"):
+        T.simulate_chunks(10**8 + 1, 1, xi=FAIR, u=2.0, omega=38.0, psi=1.0).__next__()
+
+
+@pytest.mark.parametrize("cmd", ["toss", "simulate"])
+def test_a_too_long_flight_blames_the_option_at_fault_with_the_users_values(coin, cmd):
+    # was (simulate): "lower omega (got 1 rad/s) or u (got 1 m/s)", a geometry check's values
+    _error_without(coin(cmd, *BASE, "--g", "1e-300"), 2,
+                   ["raise --g (got 1e-300 m/s^2)", "1e+12 rad"], ["got 1 rad/s", "--omega"])
+    # was (toss): "lower omega (got 38 rad/s) or u (got 2 m/s)" for a launch height of 1e300 mm
+    if cmd == "toss":
+        _error_without(coin(cmd, *BASE, "--z0", "1e300"), 2, ["lower --z0 (got 1e300 mm)"],
+                       ["--omega", "--u"])
+        _error(coin(cmd, *BASE, "--z0", "1e300", "--g", "1e-300"), 2,
+               "raise --g (got 1e-300 m/s^2) and lower --z0 (got 1e300 mm)")
+    _error_without(coin(cmd, *BASE, "--diameter", "1e50"), 2, ["lower --diameter (got 1e50 mm)"],
+                   ["--omega"])
+    _error(coin(cmd, *BASE[:6], "--omega", "1e300"), 2,
+           "lower --omega (got 1e", "rad/s) or --u (got 2 m/s)")
+    _error(coin(cmd, *BASE, "--xi", "1e90", "--contact", "thick"), 2, "lower --xi")
+
+
+def test_toss_names_the_row_of_a_list_that_cannot_be_followed(coin):
+    _error(coin("toss", *BASE[:6], "--omega", "1,2,1e300"), 2, "(row 3)", "--omega",
+           "1e+300 rad/s")
+
+
+def test_simulate_checks_the_top_of_a_normal_before_tossing(coin):
+    # a draw beyond the limit would have failed a batch halfway through a --stream
+    _error(coin("simulate", "--xi", "0.577", "--psi", "90", "--u", "2", "--omega",
+                "normal:1e13:1e11", "--stream"), 2,
+           "--omega (got normal:1e13:1e11 rad/s, which reaches 1.1e+13 at MEAN + 10 SD)")
+
+
+def test_a_spin_whose_square_overflows_is_refused_not_a_hang():
+    # was: omega^2 * a overflowed to inf, no cell was ever excluded and the scan ran forever
+    p = subprocess.run([sys.executable, "-m", "coincli", "toss", "--xi", "0.577", "--psi", "90",
+                        "--u", "0", "--omega", "5e158", "--z0", "1e-290"], capture_output=True,
+                       text=True, timeout=60)
+    assert p.returncode == 2 and p.stdout == ""
+    assert p.stderr == ("coin: error: the spin is too fast to follow: omega^2 * a overflows a "
+                        "double; lower --omega (got 5e+158 rad/s)\n")
+
+
+def test_simulate_refuses_a_huge_omega_in_one_line_without_warnings(coin):
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # was: two numpy RuntimeWarnings (overflow) on stderr
+        _error(coin("simulate", *BASE[:6], "--omega", "1e300"), 2, "--omega (got 1e300 rad/s)")
+
+
+@pytest.mark.parametrize("cmd", ["toss", "simulate", "phase"])
+def test_g_states_its_open_interval(coin, cmd):
+    args = BASE if cmd != "phase" else ["--format", "csv"]
+    # was: "--g must be in [0, 1e+100], got '0'", though 0 is refused
+    _error_without(coin(cmd, *args, "--g", "0"), 2,
+                   ["--g must be a number > 0 and <= 1e+100 m/s^2, got '0'"], ["[0,"])
+
+
+@pytest.mark.parametrize("cmd", ["toss", "simulate", "phase"])
+def test_diameter_out_of_range_speaks_mm(coin, cmd):
+    args = BASE if cmd != "phase" else ["--format", "csv"]
+    # was: "diameter must be in (0, 1e+100] m, got 1e+297"
+    _error_without(coin(cmd, *args, "--diameter", "1e300"), 2,
+                   ["--diameter must be a length from 1e-300 mm to 1e+103 mm, got '1e300'"],
+                   ["1e+297", "] m"])
+    _error(coin(cmd, *args, "--diameter", "5e-324"), 2, "--diameter", "1e-300 mm")
+
+
+def test_thick_z0_and_xi_messages_name_the_option_in_mm(coin):
+    # was: "z0 must be > h/2 = 0.01213 m ..., got 0.001" (metres, no option name)
+    _error(coin("toss", *BASE[2:], "--xi", "1", "--contact", "thick", "--z0", "1"), 2,
+           "--z0 must be above h/2 = 12.13 mm", "got 1 mm")
+    _error(coin("toss", *BASE[2:], "--xi", "1,2", "--contact", "thick", "--z0", "1cm"), 2,
+           "h/2 = 24.26 mm", "--xi 2", "got 1cm")
+    # was: "xi must be in [0, 1e+100], got 1e+200"
+    for cmd in ("toss", "simulate"):
+        _error(coin(cmd, *BASE[2:], "--xi", "1e200", "--contact", "thick"), 2,
+               "--xi must be from 0 to 1e+100 with --contact thick", "'1e200'")
+
+
+def test_phase_range_errors_name_the_option_and_the_typed_range(coin):
+    # was: "u must be in [0, 1e+08] m/s, got 105633802.81690142" (a grid cell's value)
+    _error_without(coin("phase", "--xi", "0.577", "--psi", "90", "--u", "0:1e9", "--omega",
+                        "0:1e9"), 2, ["--u must be LOW:HIGH", "<= 1e+08", "'0:1e9'"],
+                   ["105633802"])
+    _error_without(coin("phase", "--u", "0:3", "--omega", "0:1e14", "--format", "csv"), 2,
+                   ["--omega (got 0:1e14 rad/s) or --u (got 0:3 m/s)",
+                    "top of the --u and --omega ranges"], ["2.94118e+12"])
+
+
+def test_a_range_over_the_row_limit_reports_its_exact_count(coin):
+    # was: "has 1e+06 values" for 1,000,001
+    _error(coin("toss", *BASE[:4], "--u", "0:100:0.0001", "--omega", "38"), 2,
+           "--u range '0:100:0.0001' has 1000001 values")
+
+
+@pytest.mark.parametrize("cmd", ["toss", "simulate", "phase"])
+@pytest.mark.parametrize("xi", ["inf", "nan", "-1", "1e400"])
+def test_xi_says_what_is_allowed(coin, cmd, xi):
+    args = ["--psi", "90", "--u", "2", "--omega", "38"] if cmd != "phase" else []
+    # was: "--xi must be a number, got 'inf'"
+    _error(coin(cmd, "--xi", xi, *args), 2, f"--xi must be a finite number >= 0 (h/D), got "
+           f"{xi!r}")
+
+
+def test_toss_stdin_of_an_overflowing_number_is_refused_by_name(coin):
+    vals = "".join(f"{0.5 + k / 1e4}\n" for k in range(5000)) + "1e400\n"  # the fast path
+    _error(coin("toss", "--xi", "-", *BASE[2:], stdin=vals), 2, "stdin line 5001",
+           "--xi must be a finite number >= 0")
+
+
+@pytest.mark.parametrize("stream", [False, True])
+def test_ctrl_c_in_simulate_says_interrupted(coin, monkeypatch, stream):
+    def interrupted(*args, **kwargs):
+        yield np.zeros(3, dtype=np.int8)
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(T, "simulate_chunks", interrupted)
+    rc, out, err = coin("simulate", "-n", "1000", *BASE, *(["--stream"] if stream else []))
+    assert rc == 130 and err == "coin: error: interrupted\n"
+    assert out == ("H\nH\nH\n" if stream else "")
+
+
 # --------------------------------------------------------------------------- start-up budget
 
 

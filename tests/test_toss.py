@@ -652,11 +652,47 @@ def test_psi_densities_sample_their_pdf():
 
 
 def test_psi_density_prediction_is_the_projects_marginal_and_simulation_converges():
-    from coincli.densities import Cosine
     from coincli.averages import marginal
+    from coincli.densities import Cosine
 
     assert T.vigorous_limit(FAIR, Cosine()) == marginal(FAIR, Cosine())
     s = T.simulate(200_000, 1, xi=FAIR, u="normal:153.6:19.2", omega="normal:38:4", psi=Cosine())
     assert _within(s, s.vigorous)
     with pytest.raises(ValueError, match="cannot be rescaled"):
         T.Dist.from_density(Cosine()).scaled(2.0)
+
+
+# --------------------------------------------------------------------------- what can be followed
+
+
+def test_flight_limits_is_the_check_of_toss_and_toss_many():
+    import warnings
+
+    cases = [  # (kwargs, problem)
+        ({}, 0), ({"omega": 1e13}, 2), ({"g": 1e-320}, 1), ({"g": 1e-300}, 2),
+        ({"z0": 1e297}, 2), ({"u": 0.0, "omega": 5e158, "z0": 1e-293}, 3),
+        ({"u": 0.0, "omega": 5e158, "z0": 1e-293, "psi": 0.0}, 0),  # no tilt: no curvature
+        ({"u": 0.0, "omega": 1e160, "g": 1e100, "diameter": 1e-293}, 3),
+    ]
+    for kw, problem in cases:
+        args = {"xi": FAIR, "psi": math.pi / 2, "u": 2.0, "omega": 38.0, **kw}
+        t_end, phase, got = T.flight_limits(**args)
+        assert got == problem, (kw, got)
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")  # no overflow warnings on the way to the refusal
+            for fn in (T.toss, T.toss_many):
+                if problem:
+                    with pytest.raises(ValueError, match=("flight is too long", "omega \\* t_end",
+                                                          "too fast to follow")[problem - 1]):
+                        fn(**args)
+                else:
+                    fn(**args)
+    arr = T.flight_limits(FAIR, 1.0, np.array([1.0, 2.0, 1e8]), np.array([1.0, 1e6, 1e6]))
+    assert arr[2].tolist() == [0, 0, 2]
+
+
+def test_simulate_counts_are_capped():
+    assert T.MAX_TOSSES == 10**8
+    for n in (0, T.MAX_TOSSES + 1, 10**10):
+        with pytest.raises(ValueError, match="n must be a whole number from 1 to 100000000"):
+            next(T.simulate_chunks(n, 1, xi=FAIR, u=2.0, omega=40.0, psi=1.0))

@@ -9,6 +9,7 @@ inside the commands.
 from __future__ import annotations
 
 import math
+import re
 import shutil
 import sys
 from typing import Annotated
@@ -35,7 +36,14 @@ from coincli.cli._common import (
 FAIR_XI = 1 / math.sqrt(3)
 DEFAULT_DIAMETER_MM = 24.26  # a US quarter, the paper's coin
 DEG = math.pi / 180
-U_MAX = 1e8  # m/s, as coincli.toss.U_MAX (kept here so the module needs no numpy to load)
+# Limits, as in coincli.toss (kept here so that this module needs no numpy to load).
+U_MAX = 1e8  # m/s, coincli.toss.U_MAX
+MAX_TOSSES = 10**8  # coincli.toss.MAX_TOSSES: simulate -n; ~1.5 minutes of ordinary tosses
+G_MAX = 1e100  # m/s^2
+XI_THICK_MAX = 1e100  # h/D with --contact thick (an infinite thickness has no launch height)
+LENGTH_MM_MIN = 1e-300  # mm; smaller would underflow on the way to metres
+DIAMETER_MM_MAX = 1e103  # mm: coincli.toss takes diameters up to 1e100 m
+NORMAL_REACH = 10  # simulate checks a normal up to MEAN + 10 SD (never drawn: P < 1e-23)
 
 # --------------------------------------------------------------------------- shared options
 
@@ -68,44 +76,157 @@ def _contact(text: str) -> str:
     return c
 
 
-def _number(text: str, what: str, lo: float, hi: float = math.inf, *, lo_open=False) -> float:
-    v = _usage(parse.parse_number, text, what)
-    if v < lo or v > hi or (lo_open and v == lo):
-        rng = (f"> {lo:g}" if lo_open else f">= {lo:g}") if hi == math.inf else f"[{lo:g}, {hi:g}]"
-        raise usage_error(f"{what} must be {'in ' if hi != math.inf else ''}{rng}, got {text!r}")
+def _num(v: float) -> str:
+    """A number as short as it reads back exactly: 38, 2.5, 0.1, 1e+300."""
+    short = f"{v:g}"
+    return short if float(short) == v else repr(float(v))
+
+
+def _mm(text: str) -> str:
+    """A length as the user typed it, with its unit: '20' -> '20 mm', '2cm' stays."""
+    t = text.strip()
+    return f"{t} mm" if _plain_number(t) else t
+
+
+def _allowed(lo: float, hi: float, unit: str, lo_open: bool = False) -> str:
+    u = f" {unit}" if unit else ""
+    low = f"> {lo:g}" if lo_open else f">= {lo:g}"
+    if hi == math.inf:
+        return f"a finite number {low}{u}"
+    if lo_open:
+        return f"a number {low} and <= {hi:g}{u}"
+    return f"a number from {lo:g} to {hi:g}{u}"
+
+
+def _number(text: str, what: str, lo: float, hi: float = math.inf, *, lo_open=False,
+            unit: str = "") -> float:
+    try:
+        v = parse.parse_number(text, what)
+    except ValueError:
+        v = math.nan
+    if not (lo < v if lo_open else lo <= v) or not v <= hi:  # NaN fails both
+        raise usage_error(f"{what} must be {_allowed(lo, hi, unit, lo_open)}, got {text!r}")
+    return v
+
+
+def _g(text: str) -> float:
+    return _number(text, "--g", 0.0, G_MAX, lo_open=True, unit="m/s^2")
+
+
+def _length_mm(text: str, what: str) -> float:
+    v = _usage(parse.parse_length_mm, text, what)
+    if v < LENGTH_MM_MIN:
+        raise usage_error(f"{what} must be a length of at least {LENGTH_MM_MIN:g} mm, got "
+                          f"{text!r}")
     return v
 
 
 def _diameter_m(text: str) -> float:
-    return _usage(parse.parse_length_mm, text, "--diameter") / 1000.0
+    v = _length_mm(text, "--diameter")
+    if v > DIAMETER_MM_MAX:
+        raise usage_error(f"--diameter must be a length from {LENGTH_MM_MIN:g} mm to "
+                          f"{DIAMETER_MM_MAX:g} mm, got {text!r}")
+    return v / 1000.0
 
 
-def _xi_item(text: str, what: str) -> float:
-    v = parse.parse_number(text, what)
-    if v < 0:
-        raise ValueError(f"{what} must be >= 0, got {text!r}")
-    return v
+def _z0_m(text: str | None, xi_max: float, dia: float, thick: bool) -> float | None:
+    """--z0 in metres; for thick contact above h/2, or the coin would start below the plane."""
+    if text is None:
+        return None
+    z0 = _length_mm(text, "--z0") / 1000.0
+    floor = xi_max * dia / 2 if thick else 0.0
+    if z0 <= floor:
+        raise usage_error(f"--z0 must be above h/2 = {floor * 1000:g} mm with --contact thick "
+                          f"(--xi {_num(xi_max)}: the coin would start below the catch plane), "
+                          f"got {_mm(text)}")
+    return z0
 
 
-def _nonneg_item(limit):
+def _item(lo: float, hi: float, unit: str, kind: str = "a number"):
+    """A values_option item: a finite number in [lo, hi] (hi = inf: any finite number >= lo)."""
+
     def item(text: str, what: str) -> float:
-        v = parse.parse_number(text, what)
-        if not 0 <= v <= limit:
-            raise ValueError(f"{what} must be in [0, {limit:g}], got {text!r}")
+        try:
+            v = parse.parse_number(text, what)
+        except ValueError:
+            v = math.nan
+        if not lo <= v <= hi:  # NaN fails
+            rng = (f"a finite number >= {lo:g} {unit}" if hi == math.inf else
+                   f"{kind} from {lo:g} to {hi:g} {unit}")
+            raise ValueError(f"{what} must be {rng}, got {text!r}")
         return v
 
     return item
 
 
-def _deg_item(text: str, what: str) -> float:
-    v = parse.parse_number(text, what)
-    if not 0 <= v <= 180:
-        raise ValueError(f"{what} must be an angle in [0, 180] degrees, got {text!r}")
-    return v
+_xi_item = _item(0.0, math.inf, "(h/D)")
+_u_item = _item(0.0, U_MAX, "m/s")
+_omega_item = _item(0.0, math.inf, "rad/s")
+_deg_item = _item(0.0, 180.0, "degrees", "an angle")
+_FINITE = (0.0, sys.float_info.max)  # stdin bounds: 1e400 (inf) goes to the item's message
+
+
+def _xi_for_contact(xi_max: float, xi_text: str, thick: bool):
+    if thick and xi_max > XI_THICK_MAX:
+        raise usage_error(f"--xi must be from 0 to {XI_THICK_MAX:g} with --contact thick (the "
+                          f"launch height rises by h/2), got {xi_text.strip()!r}")
 
 
 def _rad(deg: float) -> float:
     return math.pi if deg == 180.0 else math.radians(deg)
+
+
+def _follow(T, xi, psi, u, omega, *, dia, g, ct, z0, got, where=""):
+    """Refuse, naming the option at fault, a toss the core cannot follow (T.flight_limits): a
+    flight whose length overflows, a phase omega * t beyond T.MAX_PHASE, or omega^2 * a beyond
+    a double.  ``got`` holds the user's text of each option (with units); the option blamed is
+    the first whose default alone would make the toss followable (--g, --z0, --diameter, --xi
+    of a thick coin), else --omega (and --u)."""
+    _, phase, problem = T.flight_limits(xi, psi, u, omega, diameter=dia, g=g, contact=ct, z0=z0)
+    if not problem:
+        return
+    kw = {"diameter": dia, "g": g, "contact": ct, "z0": z0}
+    alts = []
+    if g != T.STANDARD_G:
+        alts.append((f"{'raise' if g < T.STANDARD_G else 'lower'} --g (got {got['g']})",
+                     {**kw, "g": T.STANDARD_G}))
+    if z0 is not None:
+        z0_default = T.default_z0(xi, dia, ct)
+        alts.append((f"{'lower' if z0 > z0_default else 'raise'} --z0 (got {got['z0']})",
+                     {**kw, "z0": None}))
+    if dia != T.DEFAULT_DIAMETER:
+        alts.append((f"{'lower' if dia > T.DEFAULT_DIAMETER else 'raise'} --diameter (got "
+                     f"{got['diameter']})", {**kw, "diameter": T.DEFAULT_DIAMETER}))
+    if ct == "thick" and xi > 0:
+        alts.append((f"lower --xi (got {got['xi']}: a thick coin is launched h/2 higher)",
+                     {**kw, "contact": "rim", "z0": z0 if z0 is not None else
+                      T.default_z0(xi, dia, "rim")}))
+    # The first option whose default alone makes the toss one the core can follow; else the
+    # spin (and the launch speed), which have no default.
+    fix = next((f for f, alt in alts if not T.flight_limits(xi, psi, u, omega, **alt)[2]), None)
+    if fix is None and len(alts) > 1:  # several at once (--g 1e-300 --z0 1e300)?
+        both = dict(kw)
+        for _, alt in alts:
+            both.update({k: v for k, v in alt.items() if v != kw[k]})
+        if not T.flight_limits(xi, psi, u, omega, **both)[2]:
+            fix = " and ".join(f for f, _ in alts)
+    if fix is None:
+        fix = (f"lower --omega (got {got['omega']})" if problem == 3 else
+               f"lower --omega (got {got['omega']}) or --u (got {got['u']})")
+    if problem == 1:
+        what = f"the time of flight{where} overflows a double"
+    elif problem == 2:
+        what = (f"the coin would turn up to omega * t = {phase:.3g} rad in the air{where}, "
+                f"beyond the {T.MAX_PHASE:g} rad where a double no longer holds the phase")
+    else:
+        what = f"the spin{where} is too fast to follow: omega^2 * a overflows a double"
+    raise usage_error(f"{what}; {fix}")
+
+
+def _got(*, xi, u, omega, g, diameter, z0=None):
+    """The user's text of each option, with its unit, for the messages of _follow."""
+    return {"xi": xi.strip(), "u": u, "omega": omega, "g": f"{g.strip()} m/s^2",
+            "diameter": _mm(diameter), "z0": None if z0 is None else _mm(z0)}
 
 
 # --------------------------------------------------------------------------- coin toss
@@ -146,23 +267,32 @@ def toss_cmd(
     check_format(fmt)
     ct = _contact(contact)
     dia = _diameter_m(diameter)
-    gv = _number(g, "--g", 0.0, 1e100, lo_open=True)
-    z0_m = None if z0 is None else _usage(parse.parse_length_mm, z0, "--z0") / 1000.0
+    gv = _g(g)
     cols = {
-        "xi": values_option(xi, "--xi", _xi_item, bounds=(0.0, math.inf)),
+        "xi": values_option(xi, "--xi", _xi_item, bounds=_FINITE),
         "psi": values_option(psi, "--psi", _deg_item, bounds=(0.0, 180.0)),
-        "u": values_option(u, "--u", _nonneg_item(U_MAX), bounds=(0.0, U_MAX)),
-        "omega": values_option(omega, "--omega", _nonneg_item(math.inf), bounds=(0.0, math.inf)),
+        "u": values_option(u, "--u", _u_item, bounds=(0.0, U_MAX)),
+        "omega": values_option(omega, "--omega", _omega_item, bounds=_FINITE),
     }
     lens = {k: len(v) for k, v in cols.items()}
     n = max(lens.values())
     bad = [f"--{k} ({m})" for k, m in lens.items() if m not in (1, n)]
     if bad:
         raise usage_error(f"lists must have one value or {n} values; got {', '.join(bad)}")
+    xs = cols["xi"]
+    xi_max = float(xs.max() if hasattr(xs, "max") else max(xs))
+    _xi_for_contact(xi_max, xi if len(cols["xi"]) == 1 else _num(xi_max), ct == "thick")
+    z0_m = _z0_m(z0, xi_max, dia, ct == "thick")
     from coincli import toss as T
+
+    def follow(x, p, uu, w, where=""):
+        got = _got(xi=_num(x), u=f"{_num(uu)} m/s", omega=f"{_num(w)} rad/s", g=g,
+                   diameter=diameter, z0=z0)
+        _follow(T, x, p, uu, w, dia=dia, g=gv, ct=ct, z0=z0_m, got=got, where=where)
 
     if n == 1:
         x, p, uu, w = (float(cols[k][0]) for k in ("xi", "psi", "u", "omega"))
+        follow(x, _rad(p), uu, w)
         r = _usage(T.toss, x, _rad(p), uu, w, diameter=dia, g=gv, contact=ct, z0=z0_m)
         data = [[x], [p], [uu], [w], [r.t_f], [r.turns], [math.degrees(r.alpha_f)],
                 [math.degrees(r.theta0)], [r.vigor], [r.outcome], [r.z0 * 1000], [ct]]
@@ -172,6 +302,10 @@ def toss_cmd(
         x, p, uu, w = (np.broadcast_to(np.asarray(cols[k], dtype=float), (n,))
                        for k in ("xi", "psi", "u", "omega"))
         psi_rad = np.where(p == 180.0, math.pi, np.radians(p))
+        problem = T.flight_limits(x, psi_rad, uu, w, diameter=dia, g=gv, contact=ct, z0=z0_m)[2]
+        if problem.any():
+            k = int(np.argmax(problem != 0))
+            follow(float(x[k]), float(psi_rad[k]), float(uu[k]), float(w[k]), f" (row {k + 1})")
         res = _usage(T.toss_many, x, psi_rad, uu, w, diameter=dia, g=gv, contact=ct, z0=z0_m)
         z0_mm = (np.full(n, z0_m * 1000) if z0_m is not None else
                  (math.sqrt(3) / 2 * dia / 2 + (x * dia / 2 if ct == "thick" else 0.0)) * 1000)
@@ -245,7 +379,9 @@ def simulate_cmd(
                                  "the densities of coin design: uniform, cosine, normal, "
                                  "table:FILE.", metavar="SPEC")
     ] = None,
-    n: Annotated[str, typer.Option("-n", "--n", help="Number of tosses.", metavar="N")] = "10000",
+    n: Annotated[str, typer.Option("-n", "--n", help="Number of tosses, 1 to 10^8 (about a "
+                                   "minute and a half; for more, run again with another "
+                                   "--seed).", metavar="N")] = "10000",
     seed: Annotated[str | None, typer.Option("--seed", help="Seed of the random initial "
                                              "conditions (a whole number >= 0).  Default: fresh "
                                              "entropy, printed in the note.",
@@ -277,14 +413,13 @@ def simulate_cmd(
         raise usage_error("--stream prints one letter a line; it takes no --format or --quiet")
     ct = _contact(contact)
     dia = _diameter_m(diameter)
-    gv = _number(g, "--g", 0.0, 1e100, lo_open=True)
-    count = _usage(parse.parse_count, n, "-n")
-    if count > 10**10:
-        raise usage_error(f"-n must be at most 1e10, got {n!r}")
+    gv = _g(g)
+    count = _tosses(n)
     xs = values_option(xi, "--xi", _xi_item)
     if len(xs) != 1:
         raise usage_error("simulate takes one --xi (run it once per coin)")
     xv = float(xs[0])
+    _xi_for_contact(xv, xi, ct == "thick")
     if (psi is None) == (psi_dist is None):
         raise usage_error("give --psi DEG (a fixed angle) or --psi-dist SPEC (a distribution)")
     if psi is not None:
@@ -306,7 +441,14 @@ def simulate_cmd(
 
     kw = {"xi": xv, "u": u_spec, "omega": w_spec, "psi": psi_spec, "diameter": dia, "g": gv,
           "contact": ct}
-    _usage(T.toss_many, xv, 1.0, 1.0, 1.0, diameter=dia, g=gv, contact=ct)  # geometry check
+    # Every toss must be one the core can follow, checked at the top of the distributions (the
+    # flight and the phase grow with u and omega), so that no batch fails halfway through.
+    u_hi, w_hi = _reach(u_spec, U_MAX), _reach(w_spec, math.inf)
+    psi_hi = psi_spec if isinstance(psi_spec, float) else math.pi / 2  # the largest omega^2 a
+    got = _got(xi=xi, u=_spec_text(u, u_spec, u_hi, "m/s"),
+               omega=_spec_text(omega, w_spec, w_hi, "rad/s"), g=g, diameter=diameter)
+    _follow(T, xv, psi_hi, u_hi, w_hi, dia=dia, g=gv, ct=ct, z0=None, got=got)
+    _usage(T.toss_many, xv, psi_hi, u_hi, w_hi, diameter=dia, g=gv, contact=ct)  # the same, core
     if stream:
         _stream(T, count, seed_v, kw)
         return
@@ -328,6 +470,38 @@ def simulate_cmd(
             "  95% Wilson intervals.  The vigorous limit is Table I averaged over psi; it holds "
             "when u*omega/g >> 1 and omega*a/u << 1.")
     emit(Result("coin simulate", columns, rows, note, quiet=[r[2] for r in rows]), fmt, quiet)
+
+
+def _tosses(text: str) -> int:
+    """-n: a whole number from 1 to MAX_TOSSES."""
+    s = text.strip()
+    digits = s.removeprefix("+").lstrip("0")
+    if not (s.isascii() and re.fullmatch(r"\+?\d+", s)) or not digits:
+        raise usage_error(f"-n must be a whole number from 1 to {MAX_TOSSES} (10^8), got "
+                          f"{text!r}")
+    if len(digits) > len(str(MAX_TOSSES)) or int(digits) > MAX_TOSSES:
+        shown = digits if len(digits) <= 30 else f"{digits[:12]}... ({len(digits)} digits)"
+        raise usage_error(f"-n {shown} is more than the {MAX_TOSSES} (10^8) tosses of one run "
+                          "(about a minute and a half); for more, run several times with "
+                          "different --seed values and add the counts")
+    return int(digits)
+
+
+def _reach(dist, hi: float) -> float:
+    """The largest value a distribution of simulate draws: a fixed value, a uniform's HIGH, a
+    normal's MEAN + 10 SD (truncated to ``hi``; beyond it the chance is below 1e-23 a draw)."""
+    if dist.kind == "fixed" or dist.p2 == 0:
+        return dist.p1
+    if dist.kind == "uniform":
+        return dist.p2
+    return min(max(dist.p1 + NORMAL_REACH * dist.p2, 0.0), hi)
+
+
+def _spec_text(text: str, dist, reach: float, unit: str) -> str:
+    t = text.strip()
+    if dist.kind == "normal" and dist.p2 > 0:
+        return f"{t} {unit}, which reaches {reach:g} at MEAN + {NORMAL_REACH} SD"
+    return f"{t} {unit}"
 
 
 def _stream(T, count, seed_v, kw):
@@ -380,13 +554,14 @@ class _progress:
 # --------------------------------------------------------------------------- coin phase
 
 
-def _pair(text: str, what: str, unit: str) -> tuple[float, float]:
+def _pair(text: str, what: str, unit: str, top: float = math.inf) -> tuple[float, float]:
     parts = text.split(":")
+    rule = "0 <= LOW < HIGH" + (f" <= {top:g}" if top < math.inf else "")
     if len(parts) != 2:
-        raise usage_error(f"{what} must be LOW:HIGH ({unit}), got {text!r}")
+        raise usage_error(f"{what} must be LOW:HIGH with {rule} ({unit}), got {text!r}")
     lo, hi = (_usage(parse.parse_number, p, what) for p in parts)
-    if not 0 <= lo < hi:
-        raise usage_error(f"{what} must satisfy 0 <= LOW < HIGH ({unit}), got {text!r}")
+    if not 0 <= lo < hi <= top:
+        raise usage_error(f"{what} must be LOW:HIGH with {rule} ({unit}), got {text!r}")
     return lo, hi
 
 
@@ -448,11 +623,19 @@ def phase_cmd(
         raise usage_error("--out writes a figure; it takes no --format")
     ct = _contact(contact)
     dia = _diameter_m(diameter)
-    gv = _number(g, "--g", 0.0, 1e100, lo_open=True)
-    xv = _number(xi, "--xi", 0.0, 1e100)
+    gv = _g(g)
+    xv = _usage(_xi_item, xi, "--xi")
+    _xi_for_contact(xv, xi, ct == "thick")
     psi_deg = _usage(_deg_item, psi, "--psi")
-    ur = _pair(u, "--u", "m/s")
+    ur = _pair(u, "--u", "m/s", U_MAX)
     wr = _pair(omega, "--omega", "rad/s")
+    from coincli import toss as T
+
+    # Every cell must be a toss the core can follow: check the top corner of the ranges.
+    got = _got(xi=xi, u=f"{u.strip()} m/s", omega=f"{omega.strip()} rad/s", g=g,
+               diameter=diameter)
+    _follow(T, xv, _rad(psi_deg), ur[1], wr[1], dia=dia, g=gv, ct=ct, z0=None, got=got,
+            where=" at the top of the --u and --omega ranges")
     if out is not None:
         return _phase_figure(out, xv, psi_deg, ur, wr, _size(cols, "--cols", 400, 4000),
                              _size(rows, "--rows", 400, 4000), exact, no_curves, dia, gv, ct)
@@ -464,7 +647,6 @@ def phase_cmd(
     else:
         nu = _size(cols, "--cols", 100, 2000)
         nw = _size(rows, "--rows", 100, 2000)
-    from coincli import toss as T
 
     pm = _usage(T.phase_map, xv, _rad(psi_deg), ur, wr, (nu, nw), diameter=dia, g=gv, contact=ct,
                 exact_curves=exact)
