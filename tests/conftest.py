@@ -1,6 +1,10 @@
-"""Shared pytest plumbing: a report that tests add lines to, printed in the terminal summary."""
+"""Shared pytest plumbing: a report that tests add lines to, printed in the terminal summary,
+and ``coin``, the command run in-process."""
 
 from __future__ import annotations
+
+import io
+import sys
 
 import pytest
 
@@ -15,6 +19,25 @@ def report():
         _REPORT.setdefault(section, []).append(line)
 
     return add
+
+
+@pytest.fixture
+def coin(capsys, monkeypatch):
+    """``coin(*argv, stdin=None) -> (exit code, stdout, stderr)``, in-process through
+    :func:`coincli.cli.run`; ``stdin`` is text, bytes or a file object."""
+    from coincli.cli import run
+
+    def call(*argv, stdin=None):
+        if isinstance(stdin, (str, bytes)):
+            data = stdin.encode() if isinstance(stdin, str) else stdin
+            stdin = io.TextIOWrapper(io.BytesIO(data))
+        if stdin is not None:
+            monkeypatch.setattr(sys, "stdin", stdin)
+        code = run([str(a) for a in argv])
+        out, err = capsys.readouterr()
+        return code, out, err
+
+    return call
 
 
 def pytest_terminal_summary(terminalreporter):

@@ -12,9 +12,10 @@ import csv
 import io
 import json
 import math
-import sys
 
 import pytest
+from cli_helpers import error as _error
+from cli_helpers import ok as _ok
 
 from coincli import coins, models
 from coincli.cli import run
@@ -23,25 +24,7 @@ from coincli.cli._common import FAST_MIN_BYTES
 QUARTER = coins.CATALOG["quarter"]
 
 
-@pytest.fixture
-def coin(capsys, monkeypatch):
-    """``coin(*argv, stdin=None) -> (exit code, stdout, stderr)``."""
 
-    def call(*argv, stdin: str | bytes | None = None):
-        if stdin is not None:
-            data = stdin.encode() if isinstance(stdin, str) else stdin
-            monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(data)))
-        code = run([str(a) for a in argv])
-        out, err = capsys.readouterr()
-        return code, out, err
-
-    return call
-
-
-def _ok(result):
-    code, out, err = result
-    assert (code, err) == (0, ""), err
-    return out
 
 
 def rows_csv(out: str, sep: str = ",") -> list[dict]:
@@ -58,19 +41,6 @@ def _strict_json(text: str):
         raise AssertionError(f"non-standard JSON constant {name}")
 
     return json.loads(text, parse_constant=no_constants)
-
-
-def _error(result, code: int, *words: str):
-    """Assert a one-line error with ``code`` that mentions every word; return the line."""
-    rc, out, err = result
-    assert rc == code, (rc, out, err)
-    assert out == ""
-    assert err.startswith("coin: error: ") and err.endswith("\n")
-    assert err.count("\n") == 1, err
-    assert "Traceback" not in err
-    for w in words:
-        assert w in err, (w, err)
-    return err
 
 
 DESIGN_COLUMNS = [
@@ -193,8 +163,8 @@ def test_design_fixed_psi_solves_table_one(coin):
 
 
 def test_design_psi_distribution(coin):
-    from coincli.densities import parse_density
     from coincli.averages import marginal
+    from coincli.densities import parse_density
 
     out = _ok(coin("design", "-p", "1/3", "--psi-dist", "normal:90:18", "-f", "json"))
     (r,) = _strict_json(out)

@@ -20,9 +20,18 @@ import subprocess
 import sys
 
 import pytest
+from cli_helpers import error
+from cli_helpers import ok as _ok
 
-from coincli.cli import _common, run
+from coincli.cli import _common
 from coincli.cli._common import MAX_LINE_CHARS, MAX_STDIN_BYTES, MAX_STDIN_LINES
+
+
+def _error(result, code: int, *words: str, longest: int = 300) -> str:
+    """:func:`cli_helpers.error`, at most 300 characters unless told otherwise, and no bug."""
+    err = error(result, code, *words, longest=longest)
+    assert "internal error" not in err
+    return err
 
 COIN = [sys.executable, "-m", "coincli"]
 MAX_COUNT = 2**53
@@ -43,43 +52,6 @@ def _process(argv, stdin=subprocess.DEVNULL, shell_input: str | None = None, tim
         p = subprocess.run([*COIN, *argv], stdin=stdin, capture_output=True, timeout=timeout,
                            preexec_fn=_limited)
     return p.returncode, p.stdout.decode(), p.stderr.decode("utf-8", "replace")
-
-
-@pytest.fixture
-def coin(capsys, monkeypatch):
-    """``coin(*argv, stdin=None) -> (exit code, stdout, stderr)``, in-process."""
-
-    def call(*argv, stdin: str | bytes | object | None = None):
-        if isinstance(stdin, (str, bytes)):
-            data = stdin.encode() if isinstance(stdin, str) else stdin
-            stdin = io.TextIOWrapper(io.BytesIO(data))
-        if stdin is not None:
-            monkeypatch.setattr(sys, "stdin", stdin)
-        code = run([str(a) for a in argv])
-        out, err = capsys.readouterr()
-        return code, out, err
-
-    return call
-
-
-def _error(result, code: int, *words: str, longest: int = 300) -> str:
-    """One error line with ``code`` naming every word, nothing on stdout, no traceback."""
-    rc, out, err = result
-    assert rc == code, (rc, out[:200], err[:500])
-    assert out == ""
-    assert err.startswith("coin: error: ") and err.endswith("\n"), err[:500]
-    assert err.count("\n") == 1, err[:500]
-    assert "Traceback" not in err and "internal error" not in err
-    for w in words:
-        assert w in err, (w, err[:500])
-    assert len(err) <= longest, f"{len(err)} characters: {err[:300]}..."
-    return err
-
-
-def _ok(result) -> str:
-    rc, out, err = result
-    assert (rc, err) == (0, ""), err
-    return out
 
 
 class _Endless(io.RawIOBase):
@@ -338,8 +310,10 @@ def test_check_takes_counts_up_to_2_53(coin):
 
 
 @pytest.mark.parametrize("row, words", [
-    ("0.5,99999999999999999999,5,10", ["line 2, column 'heads'", "from 0 to 9007199254740992", "got '99999999999999999999'"]),
-    ("0.5," + "9" * 5000 + ",5,10", ["line 2, column 'heads'", "from 0 to 9007199254740992", "got '999", "...'"]),
+    ("0.5,99999999999999999999,5,10",
+     ["line 2, column 'heads'", "from 0 to 9007199254740992", "got '99999999999999999999'"]),
+    ("0.5," + "9" * 5000 + ",5,10",
+     ["line 2, column 'heads'", "from 0 to 9007199254740992", "got '999", "...'"]),
     ("0.5,1,2,3\n0.5,9007199254740992,9007199254740992,1",
      ["line 3", f"heads + sides + tails = {2 * MAX_COUNT + 1}", "at most 9007199254740992"]),
 ])

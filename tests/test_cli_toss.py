@@ -15,38 +15,12 @@ import sys
 
 import numpy as np
 import pytest
+from cli_helpers import error as _error
+from cli_helpers import ok as _ok
 
 from coincli import toss as T
-from coincli.cli import run
 
 FAIR = 0.577
-
-
-@pytest.fixture
-def coin(capsys, monkeypatch):
-    def call(*argv, stdin: str | None = None):
-        if stdin is not None:
-            monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(stdin.encode())))
-        code = run([str(a) for a in argv])
-        out, err = capsys.readouterr()
-        return code, out, err
-
-    return call
-
-
-def _ok(result):
-    code, out, err = result
-    assert (code, err) == (0, ""), err
-    return out
-
-
-def _error(result, code, *words):
-    rc, out, err = result
-    assert rc == code, (rc, out, err)
-    assert out == ""
-    assert err.startswith("coin: error: ") and err.count("\n") == 1, err
-    for w in words:
-        assert w in err, (w, err)
 
 
 # --------------------------------------------------------------------------- coin toss
