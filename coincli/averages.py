@@ -63,9 +63,9 @@ _RATIO = 4.0  #: geometric grading ratio toward a nearby branch point
 _LAST = 0.9  #: no graded point above this: a sliver [0.9, 1] would cost a subinterval for little
 _S_FLOOR = 1e-18  #: no grading in C toward a branch point closer than this (see module notes)
 _FEATURE_STEPS = np.array([0.0, 1.0, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0])
-#: a regime boundary more than _TAIL_SD (and less than _TAIL_FAR) sd from a normal's centre
-#: gets breakpoints on its far side, at these multiples of the tail's decay length; beyond
-#: _TAIL_FAR sd the tail is below 1e-340 of the mass and rounds to 0 whatever the breakpoints
+#: a regime boundary where a normal is below exp(-_TAIL_SD**2/2) of its peak (and above
+#: exp(-_TAIL_FAR**2/2): smaller tails are below 1e-340 of the mass and round to 0) gets
+#: breakpoints on its far side, at these multiples of the tail's decay length
 _TAIL_SD, _TAIL_FAR = 4.0, 40.0
 _TAIL_STEPS = 2.0 ** np.arange(-2, 7)
 _CHUNK = 1 << 21  #: (xi values) x (breakpoints) per pass, to bound memory for long tables
@@ -156,13 +156,23 @@ def _features(density: Density) -> list[tuple[float, float]]:
 def _tail_centres(density: Density) -> list[tuple[float, float]]:
     """(centre, sd) of a normal whose far tail a regime boundary can cut (see _tail_points):
     the folded mean ``min(mean, pi - mean)`` (the nearer of the two centres to every point of
-    [0, pi/2]), when some point of [0, pi/2] lies more than ``_TAIL_SD`` sd from it."""
+    [0, pi/2]), when the density falls below exp(-_TAIL_SD**2/2) of its peak somewhere there."""
     if not isinstance(density, Normal):
         return []
     mu = min(density.mean, math.pi - density.mean)
-    if max(abs(mu), abs(HALF_PI - mu)) <= _TAIL_SD * density.sd:
+    if max(_tail_exponent(0.0, mu, density.sd), _tail_exponent(HALF_PI, mu, density.sd)) \
+            <= 0.5 * _TAIL_SD**2:
         return []
     return [(mu, density.sd)]
+
+
+def _tail_exponent(b, mu, sd):
+    """-log of the normal (folded centre ``mu``) at ``b`` relative to its peak on [0, pi/2],
+    ``max(mu, 0)``: ``z**2/2`` for a centre inside, ``x (x + 2 |mu|/sd)/2`` (x = b/sd) beyond 0."""
+    peak, beyond = max(mu, 0.0), min(max(-mu, 0.0) / sd, 1e300)
+    with np.errstate(over="ignore", invalid="ignore"):
+        x = np.abs(b - peak) / sd
+        return 0.5 * (x * (x + 2 * beyond))
 
 
 _BREAKS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
@@ -207,10 +217,13 @@ def _folded_pdf(density: Density):
         # never exceeds the first, so nothing overflows where E underflows.
         # In units of sd (never sd**2, which underflows for sd below 1e-154): the exponent of
         # the mirror term is (pi - 2 mu)(psi - pi/2)/sd**2 = ((pi - 2 mu)/sd) ((psi - pi/2)/sd).
+        # E relative to its value at the peak max(mu, 0) (Normal.log_shape): a mean far beyond
+        # psi = 0 would overflow z**2 - z0**2 term by term.
         mu = min(density.mean, math.pi - density.mean)
         sd = density.sd
-        ln = density._log_norm
+        ln = density._log_peak
         gap = (math.pi - 2 * mu) / sd
+        peak, beyond = max(mu, 0.0), min(max(-mu, 0.0) / sd, 1e300)
 
         if mu == HALF_PI:
             ln2 = ln + math.log(2.0)
@@ -223,9 +236,9 @@ def _folded_pdf(density: Density):
 
         def normal(psi):
             with np.errstate(over="ignore"):  # z**2 -> inf, exp(-inf) = 0: the right limit
-                z = (psi - mu) / sd
+                z = (psi - peak) / sd
                 mirror = np.exp(np.fmax(gap * ((psi - HALF_PI) / sd), -1e300))  # fmax: inf*0
-                return np.exp(ln - 0.5 * (z * z)) * (1.0 + mirror)
+                return np.exp(ln - 0.5 * (z * (z + 2 * beyond))) * (1.0 + mirror)
         return normal
     return lambda psi: density.pdf(psi) + density.pdf(math.pi - psi)
 
@@ -293,7 +306,8 @@ def _layout_one(x: float, breaks: list[float], tails=()):
     pc = _graded_one(sstar) if sstar >= _S_FLOOR else []
     pc += [math.sqrt((p - lo) / t) for p in breaks if p > lo]
     for mu, sd in tails:
-        if any(_TAIL_SD * sd < abs(b - mu) < _TAIL_FAR * sd for b in (t, lo)):
+        if any(0.5 * _TAIL_SD**2 < _tail_exponent(b, mu, sd) < 0.5 * _TAIL_FAR**2
+               for b in (t, lo)):
             for into, v in zip((pa, pb, pb, pc), _tail_points(np.array([t]), np.array([beta]),
                                                               mu, sd), strict=True):
                 into.extend(v[0].tolist())
@@ -305,18 +319,20 @@ def _tail_points(t, beta, mu, sd):
     boundary: rows (one per xi) for pieces A, B (two sets) and C; 1.0 where there are none.
 
     Where a boundary ``b`` (``t`` or ``pi/2 - t``) lies more than ``_TAIL_SD`` sd from the
-    centre, the density on its far side decays like ``exp(-(psi - b)/w)`` with
+    centre (or as far down a mean's tail beyond psi = 0), the density on its far side decays like ``exp(-(psi - b)/w)`` with
     ``w = sd^2/|b - mu|``, and the chance of the outcome that starts there is a tail of the
     density (1e-60, 1e-300) that breakpoints placed about the mean do not resolve.  Points at
     ``b -+ w 2^k`` (k = -2 .. 6, formed from the offsets, never from ``b`` itself) resolve it to
     the same relative accuracy as the bulk.  Past ``_TAIL_FAR`` sd the tail underflows.
+    ``w`` is the exact decay length of the normal at ``b`` for a centre beyond 0 too.
     """
     out = []
     steps = _TAIL_STEPS[None, :]
     with np.errstate(divide="ignore", invalid="ignore", over="ignore", under="ignore"):
         for b, piece_lo, piece_hi in ((t, "A", "B"), (HALF_PI - t, "B", "C")):
             d = b - mu
-            far = (np.abs(d) > _TAIL_SD * sd) & (np.abs(d) < _TAIL_FAR * sd)
+            far = _tail_exponent(b, mu, sd)
+            far = (far > 0.5 * _TAIL_SD**2) & (far < 0.5 * _TAIL_FAR**2)
             w = sd * (sd / np.where(far, np.abs(d), 1.0))[:, None] * steps  # offsets from b
             if piece_lo == "A":  # below t: piece A, s = (t - w)/t; above: piece B, s^2 = w/beta
                 below = 1.0 - w / t[:, None]
@@ -482,21 +498,60 @@ def _finish(acc):
 
 
 def _delta(density: Density) -> float | None:
-    """The angle of a normal too narrow for any quadrature (mean +- sd/2 round to the mean)."""
+    """The angle of a normal too narrow for any quadrature (mean +- sd/2 round to the mean),
+    folded onto [0, pi/2] as the quadrature folds it: ``min(mean, pi - mean)``, so that a mean
+    of the double nearest pi is 0 (the coin never precesses) and ``HALF_PI`` is the Keller flip,
+    psi = pi/2 exactly (:func:`_table_i`)."""
     if isinstance(density, Normal) and density.mean + 0.5 * density.sd == density.mean \
             and density.mean - 0.5 * density.sd == density.mean:
-        return min(max(density.mean, 0.0), math.pi)
+        return max(min(density.mean, math.pi - density.mean), 0.0)
     return None
+
+
+def _table_i(xi, psi: float):
+    """Table I at the folded angle of :func:`_delta`: eq. (12) itself at ``HALF_PI``."""
+    return models.dynamic(xi) if psi == HALF_PI else models.conditional(xi, psi)
+
+
+# A normal whose mass lies within _PLANAR_REACH of psi = 0 (folded; a subnormal sd, a mean of
+# 1e-300) is below what the quadrature's nodes resolve.  Every coin with theta0/2 beyond its
+# reach lands heads (exactly: no mass reaches a boundary); for the others (xi above 1e180) all
+# angles are so small that sin x = x and cos x = 1 in double, Table I depends on psi/theta0
+# alone, and the average is the one of the density scaled up by 2**k with xi scaled down by 2**k.
+_PLANAR_REACH = 2.0**-600
+_PLANAR_EXP = -30  #: the scaled reach lies in [2**-31, 2**-30)
+_REACH_SD = 40.0  #: a normal's mass beyond this many sd from its peak underflows
+
+
+def _planar(density: Density):
+    """(reach, k, the scaled density) for such a normal, else None."""
+    if not isinstance(density, Normal):
+        return None
+    mu = min(density.mean, math.pi - density.mean)
+    reach = max(mu, 0.0) + _REACH_SD * density.sd
+    if not reach < _PLANAR_REACH:
+        return None
+    k = _PLANAR_EXP - math.frexp(reach)[1]
+    return reach, k, Normal(math.ldexp(mu, k), math.ldexp(density.sd, k))
 
 
 def _marginal_flat(xi: np.ndarray, density: Density, n: int) -> np.ndarray:
     """(3, len(xi)) chances for a 1-D array of xi in [0, inf]; chunked to bound memory."""
     psi = _delta(density)
     if psi is not None:  # the limit sd -> 0: Table I at the mean
-        return np.array(models.conditional(xi, np.full(xi.shape, psi)), dtype=float)
+        return np.array(_table_i(xi, psi), dtype=float).reshape(3, xi.size)
     out = np.empty((3, xi.size))
     inf = np.isinf(xi)
     out[:, inf] = np.array([[0.0], [1.0], [0.0]])  # every precessing toss lands on a side
+    planar = _planar(density)
+    if planar is not None:
+        reach, k, scaled = planar
+        heads = ~inf & (np.arctan2(1.0, xi) / 2 >= reach)
+        out[:, heads] = np.array([[1.0], [0.0], [0.0]])
+        rest = np.flatnonzero(~inf & ~heads)
+        if rest.size:
+            out[:, rest] = _marginal_flat(np.ldexp(xi[rest], -k), scaled, n)
+        return out
     fin = np.nonzero(~inf)[0]
     if fin.size:
         breaks = _psi_breaks(density)
@@ -512,7 +567,13 @@ def _marginal_scalar(x: float, density: Density, n: int, breaks=None):
         return 0.0, 1.0, 0.0  # every precessing toss lands on a side; psi = 0, pi has no mass
     psi = _delta(density)
     if psi is not None:  # the limit sd -> 0: Table I at the mean
-        return tuple(models.conditional(x, psi))
+        return tuple(_table_i(x, psi))
+    planar = _planar(density)
+    if planar is not None:
+        reach, k, scaled = planar
+        if math.atan2(1.0, x) / 2 >= reach:
+            return 1.0, 0.0, 0.0
+        return _marginal_scalar(math.ldexp(x, -k), scaled, n)
     if breaks is None:
         breaks = _psi_breaks(density).tolist()
     return _finish(_integrate_one(x, density, n, breaks))
