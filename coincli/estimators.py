@@ -263,9 +263,32 @@ def _cosine_table():
     return _COSINE_TABLE
 
 
+def normal_is_exponential(d: Normal) -> bool:
+    """True when the normal truncated to [0, pi] is an exponential from the end nearest its
+    mean, to 1e-8 relative or better (a mean more than 1e4 sd beyond an end), or flat to within
+    one (the window [0, pi] narrower than 1e-8 sd).  There ``mean + sd Phi^-1(...)`` cancels
+    (to 1e-16 |mean| absolute, as much as the whole spread past 1e8 sd) or fails, and
+    :func:`_normal_ppf` inverts the exponential instead."""
+    return max(-d.mean, d.mean - math.pi) > 1e4 * d.sd or math.pi < 1e-8 * d.sd
+
+
 def _normal_ppf(d: Normal, u):
     """Truncated normal on [0, pi]: mean + sd * Phi^-1(Phi(a) + u (Phi(b) - Phi(a))), in the
-    tail where it does not cancel (log-space when the whole window is in one tail)."""
+    tail where it does not cancel (log-space when the whole window is in one tail).  Where
+    :func:`normal_is_exponential`, the density is ``exp(-r y - y^2/2)`` in ``y`` (sd units from
+    the end nearest the mean, ``r`` the mean's distance beyond it) with ``y^2/2`` below 1e-8
+    relative (``1/(2 r^2)``, or ``L^2/2``): ``y = -log1p(u expm1(-r L))/r`` over the window
+    ``L = pi/sd``."""
+    if normal_is_exponential(d):
+        r = min(max(-d.mean, d.mean - math.pi, 0.0) / d.sd, 1.7976931348623157e308)
+        span = min(math.pi / d.sd, 1.7976931348623157e308)
+        with np.errstate(over="ignore", under="ignore"):
+            if r * span < 1e-300 or r == 0:
+                y = u * span
+            else:
+                y = -np.log1p(u * math.expm1(-r * span)) / r
+            off = np.minimum(d.sd * y, math.pi)
+        return np.clip(off if d.mean < HALF_PI else math.pi - off, 0.0, math.pi)
     from scipy.special import log_ndtr, ndtr, ndtri_exp
 
     a, b = -d.mean / d.sd, (math.pi - d.mean) / d.sd

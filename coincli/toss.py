@@ -1022,6 +1022,10 @@ def _sample_density(np, rng, density, n):
     if name == "Uniform":
         return rng.uniform(0.0, math.pi, n)
     if name == "Normal":
+        from coincli.estimators import normal_is_exponential, sample_psi
+
+        if normal_is_exponential(density):  # beyond what Phi resolves: exact by its own inverse
+            return sample_psi(density, rng.random(n))
         return _truncnorm(np, rng, density.mean, density.sd, 0.0, math.pi, n)
     grid = np.linspace(0.0, math.pi, (1 << 16) + 1)
     kinks = [k for k in density.kinks() if 0.0 < k < math.pi]
