@@ -262,9 +262,11 @@ def density_label(density) -> str:
     from coincli.densities import Normal, Table
 
     if isinstance(density, Normal):
+        if density.is_paper:
+            return "ψ ~ normal (paper)"
         return (f"ψ ~ normal, mean {math.degrees(density.mean):.4g}°, "
                 f"sd {math.degrees(density.sd):.3g}°")
-    if isinstance(density, Table):
+    if isinstance(density, Table) and density.spec.startswith("table:"):
         return f"ψ ~ table {density.label}"
     return f"ψ ~ {density.spec}"
 
