@@ -26,6 +26,8 @@ from typing import Annotated, NamedTuple
 
 import typer
 
+from coincli._files import READ_CHUNK, read_capped
+
 __all__ = [
     "ExitCode",
     "CoinError",
@@ -743,7 +745,6 @@ MAX_LINE_CHARS = 1000  #: the longest stdin line, in bytes (line end included)
 #: the most bytes read from stdin: 10^7 full-precision doubles ('-2.2250738585072014e-308'),
 #: one a line with CRLF ends, are 260 MB
 MAX_STDIN_BYTES = 300_000_000
-READ_CHUNK = 1 << 20  #: bytes read at a time
 _BOM = b"\xef\xbb\xbf"
 
 
@@ -757,49 +758,6 @@ def stream_reader(stream) -> Callable[[int], bytes]:
         return chunk.encode("utf-8", "surrogateescape") if isinstance(chunk, str) else chunk
 
     return read_bytes
-
-
-def read_capped(read: Callable[[int], bytes], limit: int,
-                max_line: int | None = None) -> tuple[bytes, str | None]:
-    """Read chunks of ``read(n)`` until the end, never more than ``limit + 1`` bytes in all.
-
-    Returns ``(data, why)``, a leading UTF-8 byte-order mark dropped.  ``why`` is None when all
-    was read; ``"size"`` when there are more than ``limit`` bytes (``data`` is then empty);
-    ``"nul"`` at a NUL byte, ``"line"`` when a line runs past ``max_line`` bytes: reading stops
-    there and ``data`` ends just past the bad byte, so a line-by-line check of ``data`` finds the
-    first bad line (the long-line watch only sees lines that cross a chunk boundary; a shorter
-    one is the line check's).  /dev/zero, or a pipe that never ends, costs one chunk.
-    """
-    parts: list[bytes] = []
-    total = run = 0  # run: bytes since the last newline
-    while total <= limit:
-        chunk = read(min(READ_CHUNK, limit + 1 - total))
-        if not chunk:
-            break
-        total += len(chunk)
-        if not parts and chunk.startswith(_BOM):
-            chunk = chunk[len(_BOM):]
-        why = None
-        nul = chunk.find(b"\0")
-        if nul >= 0:
-            chunk, why = chunk[:nul + 1], "nul"
-        if max_line is not None:
-            first = chunk.find(b"\n")
-            if run + (len(chunk) if first < 0 else first) > max_line:  # the open line runs on
-                chunk, why = chunk[:max_line - run + 1], "line"
-            elif first >= 0:
-                last = chunk.rfind(b"\n")
-                run = len(chunk) - last - 1
-                if run > max_line:
-                    chunk, why = chunk[:last + max_line + 2], "line"
-            else:
-                run += len(chunk)
-        parts.append(chunk)
-        if why is not None:
-            return b"".join(parts), why
-    if total > limit:
-        return b"", "size"
-    return b"".join(parts), None
 
 
 def _megabytes(n: int) -> str:
