@@ -286,27 +286,26 @@ def _shown(text: str, limit: int = 60) -> str:
 
 def _read_table_file(path: str) -> str:
     """The text of a psi table file, read in chunks and never more than ``MAX_TABLE_BYTES + 1``
-    bytes (a device such as /dev/zero, or a pipe, has no size to check first); a NUL byte stops
-    it at once.  UTF-8, a leading byte-order mark dropped."""
+    bytes (a device such as /dev/zero has no size to check first); a NUL byte stops it at once.
+    Only a regular file is read (:func:`coincli._files.read_regular`: a FIFO or a device is
+    refused without blocking).  UTF-8, a leading byte-order mark dropped."""
+    from coincli._files import FileKindError, read_regular
+
     name = _shown(path)
-    parts, total = [], 0
     try:
-        with open(path, "rb") as fh:
-            while total <= MAX_TABLE_BYTES:
-                chunk = fh.read(min(1 << 20, MAX_TABLE_BYTES + 1 - total))
-                if not chunk:
-                    break
-                if b"\0" in chunk:
-                    raise ValueError(f"psi table {name} contains a NUL byte; expected a text file "
-                                     "of psi,weight lines")
-                parts.append(chunk)
-                total += len(chunk)
+        data, why = read_regular(path, MAX_TABLE_BYTES)
+    except FileKindError as exc:
+        raise ValueError(f"psi table {name} is {exc.kind}, not a regular file; expected a "
+                         "text file of psi,weight lines") from None
     except OSError as exc:
         raise ValueError(f"cannot read psi table {name}: {exc.strerror or exc}") from None
-    if total > MAX_TABLE_BYTES:
+    if why == "nul":
+        raise ValueError(f"psi table {name} contains a NUL byte; expected a text file "
+                         "of psi,weight lines")
+    if why == "size":
         raise ValueError(f"psi table {name} is larger than {MAX_TABLE_BYTES} bytes; a table is at "
                          f"most {MAX_TABLE_BYTES // 10**6} MB and {MAX_TABLE_POINTS} points")
     try:
-        return b"".join(parts).decode("utf-8-sig")
+        return data.decode("utf-8")
     except UnicodeDecodeError:
         raise ValueError(f"psi table {name} is not UTF-8 text") from None
