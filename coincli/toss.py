@@ -1153,26 +1153,46 @@ def _sample_density(np, rng, density, n):
 
 
 def _truncnorm(np, rng, mu, sd, lo, hi, n):
-    """Normal(mu, sd) truncated to [lo, hi], exact: rejection when the mass is large, else the
-    inverse CDF of scipy.stats.truncnorm."""
+    """Normal(mu, sd) truncated to [lo, hi], exact, by rejection (numpy only).
+
+    With a mass above 0.2 the normal itself is the proposal.  Otherwise (Robert, Statistics and
+    Computing 5 (1995) 121), in standard units ``[a, b]`` reflected so that ``b > 0`` and
+    ``a >= 0`` unless the window straddles the mean: a uniform proposal on a window where the
+    density varies by less than a factor e, else the exponential proposal of rate
+    ``(a + sqrt(a^2 + 4))/2`` above ``a``, both accepted at least a third of the time.
+    """
     from statistics import NormalDist
 
+    a, b = (lo - mu) / sd, (hi - mu) / sd
     nd = NormalDist()
-    mass = nd.cdf((hi - mu) / sd) - nd.cdf((lo - mu) / sd) if math.isfinite(hi) or math.isfinite(
-        lo) else 1.0
+    mass = nd.cdf(b) - nd.cdf(a) if math.isfinite(hi) or math.isfinite(lo) else 1.0
+    out = np.empty(n)
+    filled = 0
     if mass > 0.2:
-        out = np.empty(n)
-        filled = 0
         while filled < n:
             draw = rng.normal(mu, sd, max(64, int((n - filled) / mass * 1.1) + 16))
             draw = draw[(draw >= lo) & (draw <= hi)][: n - filled]
             out[filled:filled + draw.size] = draw
             filled += draw.size
         return out
-    from scipy.stats import truncnorm
-
-    return truncnorm.rvs((lo - mu) / sd, (hi - mu) / sd, loc=mu, scale=sd, size=n,
-                         random_state=rng)
+    flip = b <= 0  # the window is below the mean: reflect it above
+    if flip:
+        a, b = -b, -a
+    lo_sq = 0.0 if a < 0 else a * a  # the density's largest value is exp(-lo_sq / 2)
+    uniform = a < 0 or b * b - a * a <= 2.0  # (a < 0: a narrow window around the mean)
+    lam = 0.5 * (a + math.sqrt(a * a + 4.0))
+    while filled < n:
+        m = max(64, 2 * (n - filled) + 16)
+        if uniform:
+            z = rng.uniform(a, b, m)
+            keep = rng.random(m) <= np.exp(0.5 * (lo_sq - z * z))
+        else:
+            z = a + rng.standard_exponential(m) / lam
+            keep = (z <= b) & (rng.random(m) <= np.exp(-0.5 * (z - lam) ** 2))
+        z = z[keep][: n - filled]
+        out[filled:filled + z.size] = z
+        filled += z.size
+    return mu + sd * (-out if flip else out)
 
 
 _KINDS = {"normal": "normal", "norm": "normal", "gauss": "normal", "uniform": "uniform",
@@ -1394,40 +1414,26 @@ def simulate(n, seed, *, xi, u, omega, psi, diameter=DEFAULT_DIAMETER, g=STANDAR
 def vigorous_limit(xi, psi):
     """The vigorous-toss chances (Table I) averaged over a psi distribution (radians).
 
-    ``psi`` is a number, a spec string or a :class:`Dist` on [0, pi].  A fixed value gives
-    :func:`coincli.models.conditional`; otherwise the average is integrated by adaptive
-    quadrature with the regime boundaries ``theta0/2``, ``pi/2 -+ theta0/2``, ... as breakpoints
-    (the chances have square-root corners there).
+    ``psi`` is a number, a spec string, a :class:`Dist` on [0, pi] or a density.  A fixed value
+    gives :func:`coincli.models.conditional`; otherwise :func:`coincli.averages.marginal` (Gauss-
+    Legendre between the regime boundaries, double precision): a normal is the density
+    :class:`coincli.densities.Normal` truncated to [0, pi], as it is sampled, and
+    ``uniform:LOW:HIGH`` the two-point table of equal weights.
     """
     dist = as_dist(psi, "psi", 0.0, math.pi)
     xi = _check("xi", xi, 0.0, allow_inf=True)
-    if dist.kind == "density":
-        from coincli.averages import marginal
-
-        return marginal(xi, dist.density)
     if dist.is_fixed:
         return conditional(xi, min(max(dist.p1, 0.0), math.pi))
-    from scipy.integrate import quad
+    from coincli.averages import marginal
 
-    lo, hi = dist.pdf_interval()
-    lo, hi = max(lo, 0.0), min(hi, math.pi)
-    t = math.atan2(1.0, xi) / 2
-    pts = sorted(p for p in (t, math.pi / 2 - t, math.pi / 2, math.pi / 2 + t, math.pi - t)
-                 if lo < p < hi)
-    if dist.kind == "uniform":
-        def w(x):
-            return 1.0 / (hi - lo)
-        norm = 1.0
+    if dist.kind == "density":
+        density = dist.density
+    elif dist.kind == "uniform":
+        from coincli.densities import Table
+
+        density = Table([max(dist.p1, 0.0), min(dist.p2, math.pi)], [1.0, 1.0], "uniform")
     else:
-        mu, sd = dist.p1, dist.p2
-        if lo < mu < hi:
-            pts = sorted({*pts, mu})
+        from coincli.densities import Normal
 
-        def w(x):
-            return math.exp(-0.5 * ((x - mu) / sd) ** 2)
-        norm = quad(w, lo, hi, points=pts or None, limit=200, epsabs=0, epsrel=1e-12)[0]
-    vals = []
-    for i in (0, 1, 2):
-        vals.append(quad(lambda x, i=i: conditional(xi, x)[i] * w(x), lo, hi, points=pts or None,
-                         limit=200, epsabs=1e-14, epsrel=1e-11)[0] / norm)
-    return Outcome(*vals)
+        density = Normal(dist.p1, dist.p2)
+    return marginal(xi, density)
