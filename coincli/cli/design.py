@@ -376,23 +376,25 @@ def table(
     x = _vector(xis)
     n = 1 if isinstance(x, float) else len(x)
     blocks = []
+    budget = _accuracy.Budget(len(specs))  # one limit of simulated tosses per run
     for m in (GEOMETRIC, DYNAMIC, *extra):
-        more = [("closed form", None, None, None)] * n
+        more = [("closed form", None, None, None) + ((None,) if acc is not None and
+                                                      acc.sampling else ())] * n
         try:
             if acc is not None and m.key == "dist":
-                o, more = _accuracy.run(acc, m.density, x, n)
+                o, more = _accuracy.run(acc, m.density, x, n, budget)
             else:
                 o = m.forward(x)
         except ValueError as exc:
             raise compute_error(str(exc)) from None
         blocks.append((m, _tolist(o.heads, n), _tolist(o.sides, n), _tolist(o.tails, n), more))
     xs = _tolist(x, n)
+    acc_cols = _accuracy.columns(acc, fmt != "table") if acc is not None else []
     rows = []
     for k in range(n):
         for m, h, s, t, more in blocks:
             lead = (stack[0].name, stack[1][k]) if stack else ()
-            rows.append((*lead, xs[k], m.name, h[k], s[k], t[k],
-                         *(more[k] if acc is not None else ())))
+            rows.append((*lead, xs[k], m.name, h[k], s[k], t[k], *more[k][:len(acc_cols)]))
     columns = ([Column("coin", "coin", "text"), Column("count", "count", "int")] if stack
                else []) + [
         Column("xi", "xi = h/D"),
@@ -400,11 +402,11 @@ def table(
         Column("p_heads", "P(heads)"),
         Column("p_sides", "P(sides)"),
         Column("p_tails", "P(tails)"),
-    ] + (_accuracy.COLUMNS if acc is not None else [])
+    ] + acc_cols
     note = "vigorous toss starting heads up, caught without bouncing; geometric = eq. 11, " \
            "dynamic = eq. 12 (psi = 90 deg)" + "".join(f"; {m.label}" for m in extra) + \
            (_accuracy.note(acc) if acc is not None else "")
-    k = -2 - (len(_accuracy.COLUMNS) if acc is not None else 0)  # p_sides, from the end
+    k = -2 - len(acc_cols)  # p_sides, from the end
     emit(Result("coin table", columns, rows, note=note,
                 quiet=[r[k] for r in rows if r[k - 3] is not None]), fmt, quiet)
 
