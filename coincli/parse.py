@@ -16,6 +16,8 @@ __all__ = [
     "parse_angle_deg",
     "parse_values",
     "parse_count",
+    "parse_ratio",
+    "parse_seed",
     "MAX_ROWS",
     "MAX_COUNT",
     "parse_speed_ms",
@@ -27,6 +29,7 @@ __all__ = [
 
 MAX_ROWS = 1_000_000  #: the most rows a range or list may expand to
 MAX_COUNT = 2**53  #: the largest count (of coins) that a double still holds exactly
+MAX_SEED_DIGITS = 40  #: the longest seed, in decimal digits
 
 _NUM = re.compile(r"^[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?$")
 _INT = re.compile(r"^[+-]?\d+$")
@@ -106,6 +109,52 @@ def _plain(s: str, what: str, shown: str | None = None):
         if abs(e) > lim:
             s = f"{mant}e{lim if e > 0 else -lim}"
     return Fraction(s)
+
+
+def parse_ratio(text: str, what: str = "xi", *, allow_inf: bool = False) -> float:
+    """A ratio >= 0: a decimal (``0.577``, ``1e-3``) or a fraction (``17/30``, ``1/3.5``).
+
+    A fraction is exact before its one rounding to a float (``17/30`` is the double nearest
+    17/30, as ``parse_probability`` gives ``1/3``); ``inf`` only if allowed.  No NaN, no
+    negative value.
+    """
+    s = str(text).strip()
+    allowed = f"a number >= 0 like 0.577 or 17/30{' (or inf)' if allow_inf else ''}"
+    if allow_inf and s.lower() in ("inf", "+inf", "infinity"):
+        return math.inf
+    num, slash, den = s.partition("/")
+    try:
+        if not slash:
+            if not _NUM.match(s):
+                raise ValueError
+            v = float(s) + 0.0
+        elif num.strip().isdigit() and den.strip().isdigit() and s.isascii():
+            if int(den) == 0:
+                raise ZeroDivisionError
+            v = int(num) / int(den)  # correctly rounded, as float(Fraction) is
+        else:
+            d = _plain(den, what, text)
+            if d == 0:
+                raise ZeroDivisionError
+            v = float(_plain(num, what, text) / d)
+    except ZeroDivisionError:
+        raise ValueError(f"{what} {text!r} divides by zero") from None
+    except OverflowError:
+        v = math.inf
+    except ValueError:
+        raise ValueError(f"{what} must be {allowed}, got {text!r}") from None
+    if not v >= 0 or (math.isinf(v) and not allow_inf):
+        raise ValueError(f"{what} must be {allowed}, got {text!r}")
+    return v
+
+
+def parse_seed(text: str, what: str = "--seed") -> int:
+    """A seed: a whole number >= 0 of at most 40 digits (numpy's SeedSequence takes any)."""
+    s = str(text).strip()
+    if not (s.isascii() and s.isdigit()) or len(s) > MAX_SEED_DIGITS:
+        raise ValueError(f"{what} must be a whole number >= 0 (at most {MAX_SEED_DIGITS} digits), "
+                         f"got {text!r}")
+    return int(s)
 
 
 def parse_length_mm(text: str, what: str = "length") -> float:

@@ -16,6 +16,7 @@ from typing import Annotated, NamedTuple
 import typer
 
 from coincli.cli._common import Column, compute_error, stderr_is_terminal, usage_error
+from coincli.cli._options import seed_value
 from coincli.modelspec import ModelSpec
 
 TolOpt = Annotated[
@@ -30,18 +31,22 @@ MethodOpt = Annotated[
                  "--tol), quad (Gauss-Legendre), mc (simulated tosses, the paper's Problem 2) or "
                  "qmc (scrambled Sobol tosses).", metavar="METHOD"),
 ]
+DesignMethodOpt = Annotated[
+    str | None,
+    typer.Option("--method", help="How to average over psi: auto (the fewest nodes that meet "
+                 "--tol) or quad (Gauss-Legendre).", metavar="auto|quad"),
+]
 SeedOpt = Annotated[
     str | None,
-    typer.Option("--seed", help="Seed of --method mc or qmc (a whole number >= 0).  Default: "
-                 "fresh entropy, printed in the note.", metavar="SEED"),
-]
+    typer.Option("--seed", help="Seed of --method mc or qmc, a whole number >= 0 (default: "
+                 "drawn, and reported).", metavar="SEED"),
+]  # the shared --seed (coincli.cli._options.SeedOpt), with what it seeds here
 
 METHODS = ("auto", "quad", "mc", "qmc")
 #: the most tosses (mc) or Sobol points (qmc) one command run simulates for --tol, shared by
 #: its densities: a run that has not met --tol by then stops, at a point that depends on the
 #: inputs and the seed alone, and says so (about 10 to 40 seconds of CPU)
 RUN_BUDGET = 1 << 28
-_SEED_MAX_DIGITS = 40
 
 
 class Accuracy(NamedTuple):
@@ -76,14 +81,9 @@ def parse(tol: str | None, method: str | None, seed: str | None) -> Accuracy | N
     if seed is not None:
         if m not in ("mc", "qmc"):
             raise usage_error("--seed goes with --method mc or qmc (quadrature is not random)")
-        txt = seed.strip()
-        if not (txt.isascii() and txt.isdigit()) or len(txt) > _SEED_MAX_DIGITS:
-            raise usage_error(f"--seed must be a whole number >= 0, got {seed!r}")
-        s = int(txt)
+        s = seed_value(seed)
     elif m in ("mc", "qmc"):
-        import secrets
-
-        s = secrets.randbits(63)
+        s = seed_value(None)
     return Accuracy(t, m, s)
 
 
@@ -94,10 +94,12 @@ def _check_tol(t: float) -> None:
                          f"got {t!r}")
 
 
-def require_density(acc: Accuracy | None, has_density: bool) -> None:
+def require_density(acc: Accuracy | None, has_density: bool,
+                    options: str = "--tol, --method and --seed",
+                    sources: str = "--psi-dist or --all") -> None:
     if acc is not None and not has_density:
-        raise usage_error("--tol, --method and --seed apply to psi-averaged chances "
-                          "(--psi-dist or --all); the closed forms are exact")
+        raise usage_error(f"{options} apply to psi-averaged chances ({sources}); the closed "
+                          "forms are exact")
 
 
 # --------------------------------------------------------------------------- coin design
@@ -107,7 +109,7 @@ def design_model(acc: Accuracy | None, model: ModelSpec) -> ModelSpec:
     """The model ``coin design`` solves with: the quadrature order --tol picks."""
     if acc is None:
         return model
-    require_density(acc, model.key == "dist")
+    require_density(acc, model.key == "dist", "--tol and --method", "--psi-dist")
     if acc.sampling:
         raise usage_error(f"coin design finds xi by root finding, which needs a smooth, "
                           f"deterministic chance: --method {acc.method} cannot be inverted.  "
