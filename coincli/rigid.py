@@ -702,3 +702,341 @@ def _Gfun(o, s, c, d, q, nper, tau, np):
             g = np.where(sep, g_sep, g)
         g = np.where(np.asarray(o.stationary), 0.0, g)
     return g
+
+
+# --------------------------------------------------------------------------- the paper's exercise
+
+
+def _roles(moments):
+    """'smallest', 'middle', 'largest' for each axis, or 'tied' when it equals another."""
+    out = []
+    for i in range(3):
+        others = [moments[j] for j in range(3) if j != i]
+        if moments[i] in others:
+            out.append("tied")
+        elif moments[i] < min(others):
+            out.append("smallest")
+        elif moments[i] > max(others):
+            out.append("largest")
+        else:
+            out.append("middle")
+    return out
+
+
+def gamma(moments, omega0: float, axis: int):
+    """The paper's linearized rate for a spin ``omega0`` about body ``axis`` (0, 1 or 2):
+    :math:`\\Gamma^2 = \\omega_0^2 (I_x - I_y)(I_x - I_z) / (I_y I_z)`.
+
+    Returns ``(kind, value)``: ``("oscillation", Gamma)`` about the largest or the smallest
+    axis (:math:`\\Gamma^2 > 0`; for ``axis = 2`` the largest this is the paper's
+    :math:`\\Gamma^2 = (I_3 - I_1)(I_3 - I_2)\\omega_0^2 / (I_1 I_2)`), ``("growth", lambda)``
+    about the middle one (:math:`\\Gamma^2 = -\\lambda^2`,
+    :math:`\\lambda = \\omega_0\\sqrt{(I_3 - I_2)(I_2 - I_1)/(I_1 I_3)}`), ``("neutral", 0.0)``
+    when the axis's moment equals another's.
+    """
+    I = _positive3(moments, "moments")
+    top = max(I)
+    x, y, z = I[axis] / top, I[(axis + 1) % 3] / top, I[(axis + 2) % 3] / top
+    prod = (x - y) * (x - z)
+    val = abs(float(omega0)) * math.sqrt(abs(prod) / (y * z))
+    if prod > 0:
+        return "oscillation", val
+    if prod < 0:
+        return "growth", val
+    return "neutral", 0.0
+
+
+def _extreme_frame(moments, axis):
+    """(Ia, Ib, Ic, ia, ib) for a spin about ``axis`` = c, an extreme axis: b the middle."""
+    I = moments
+    j, k = (axis + 1) % 3, (axis + 2) % 3
+    # b is the other axis whose moment is nearer I_c's... the middle one of the three
+    ib, ia = (j, k) if abs(I[j] - I[axis]) < abs(I[k] - I[axis]) else (k, j)
+    if min(I[j], I[k]) <= I[axis] <= max(I[j], I[k]):
+        raise ValueError("the axis must be the largest or the smallest moment")
+    return I[ia], I[ib], I[axis], ia, ib
+
+
+def paper_frequency_shift(moments, omega):
+    """The exact expansion of the paper's exercise: for ``omega`` near an extreme axis ``c``
+    (the largest or the smallest moment; ``b`` the middle axis, ``a`` the other extreme), the
+    relative difference between the exact frequency of omega_a, omega_b and the paper's
+    :math:`\\Gamma` (with :math:`\\omega_0 = \\omega_c(0)`) is
+
+    .. math:: \\frac{\\Omega}{\\Gamma} - 1 = \\frac{q}{4 I_c}\\Bigl(I_b\\,\\varepsilon_b^2
+       - \\frac{I_a}{p}\\,\\varepsilon_a^2\\Bigr) + O(\\varepsilon^4), \\qquad
+       \\varepsilon_a = \\frac{\\omega_a(0)}{\\omega_c(0)},\\;
+       \\varepsilon_b = \\frac{\\omega_b(0)}{\\omega_c(0)},
+
+    :math:`p = (I_c - I_b)/(I_c - I_a)`, :math:`q = (I_b - I_a)/(I_c - I_a)`: second order in
+    the perturbation, of either sign, and 0 for a symmetric top (``q = 0``: the regular
+    precession's frequency is exactly Gamma).  For the largest axis (the paper's case, with
+    ``I1 < I2 < I3``) the coefficient reads
+    :math:`\\frac{I_2 - I_1}{4 I_3 (I_3 - I_1)}\\bigl(I_2\\varepsilon_2^2 - \\frac{I_1 (I_3 - I_1)}
+    {I_3 - I_2}\\varepsilon_1^2\\bigr)`.
+
+    Derivation: :math:`\\Omega = \\pi |r| / (2K(m))`, :math:`|r| = \\Gamma\\,A_{dn}/|\\omega_c(0)|
+    = \\Gamma (1 + \\frac{I_b q}{2 I_c}\\varepsilon_b^2 + \\dots)`,
+    :math:`K = \\frac{\\pi}{2}(1 + \\frac m4 + \\dots)`, :math:`m = \\frac{q I_a}{p I_c}
+    (\\varepsilon_a^2 + \\frac{I_b}{I_a} p\\,\\varepsilon_b^2) + \\dots`.
+
+    Returns the second-order term (a float).  ``omega`` is given in the user's axes; the spin
+    axis is the one with the largest :math:`|I_i \\omega_i|`, and must be an extreme one.
+    """
+    I = _positive3(moments, "moments")
+    w = [float(v) for v in omega]
+    top = max(I)
+    I = tuple(v / top for v in I)
+    axis = max(range(3), key=lambda i: abs(I[i] * w[i]))
+    Ia, Ib, Ic, ia, ib = _extreme_frame(I, axis)
+    p, q = (Ic - Ib) / (Ic - Ia), (Ib - Ia) / (Ic - Ia)
+    ea, eb = w[ia] / w[axis], w[ib] / w[axis]
+    return q / (4 * Ic) * (Ib * eb * eb - Ia / p * ea * ea)
+
+
+def flip_asymptote(moments, omega):
+    """The time between flips for a spin near the middle axis, from the separatrix asymptotics:
+    with ``omega = omega_0 (eps_a, 1, eps_c)`` about the middle axis ``b``,
+
+    .. math:: T_{flip} \\approx \\frac{1}{\\lambda} \\ln \\frac{16 I_b (I_c - I_b)(I_b - I_a)}
+       {(I_c - I_a)\\,\\lvert I_c (I_c - I_b)\\varepsilon_c^2 - I_a (I_b - I_a)\\varepsilon_a^2
+       \\rvert}, \\qquad \\lambda = \\omega_0 \\sqrt{\\frac{(I_c - I_b)(I_b - I_a)}{I_a I_c}},
+
+    (a the smallest moment, c the largest), from :math:`T_{flip} = 2K(m)/|r|`,
+    :math:`K = \\frac12 \\ln(16/m_1) + O(m_1 \\ln m_1)`, :math:`|r| = \\lambda(1 + O(\\varepsilon^2))`
+    and :math:`m_1 = (I_c - I_a)\\lvert\\dots\\rvert / (I_b (I_c - I_b)(I_b - I_a)) +
+    O(\\varepsilon^4)`.  Relative error :math:`O(\\varepsilon^2)`; the flips are
+    :math:`\\ln(1/\\varepsilon)/\\lambda` apart, the time a perturbation growing like
+    :math:`e^{\\lambda t}` takes to become of order 1.  Returns seconds (inf when the
+    perturbation lies on the separatrix to this order, or is 0).
+    """
+    I = _positive3(moments, "moments")
+    w = [float(v) for v in omega]
+    top = max(I)
+    I = tuple(v / top for v in I)
+    order = sorted(range(3), key=lambda k: I[k])
+    ia, ib, ic = order
+    Ia, Ib, Ic = I[ia], I[ib], I[ic]
+    if not Ia < Ib < Ic:
+        raise ValueError("the flip needs three different moments")
+    kind, lam = gamma(I, w[ib], ib)
+    ea, ec = w[ia] / w[ib], w[ic] / w[ib]
+    den = (Ic - Ia) * abs(Ic * (Ic - Ib) * ec * ec - Ia * (Ib - Ia) * ea * ea)
+    if den == 0 or lam == 0:
+        return math.inf
+    return math.log(16 * Ib * (Ic - Ib) * (Ib - Ia) / den) / lam
+
+
+# --------------------------------------------------------------------------- the summary
+
+
+class Motion:
+    """What :func:`motion` finds: plain floats (seconds, rad/s, the user's axes).
+
+    ``kind``: 'rest' (omega = 0), 'steady' (a spin about a principal axis, or any spin of a
+    body with three equal moments: omega stays constant), 'periodic', or 'separatrix' (exactly
+    on it: one flip, never back).  ``axis``: the body axis omega circulates about (its
+    component never changes sign); ``spin_axis``: the axis nearest the angular momentum at
+    launch (largest :math:`|I_i\\omega_i|`), ``role`` that axis's moment (smallest, middle,
+    largest, tied).  ``period``: of the angular velocity (inf on the separatrix, None when
+    steady); ``half_period``: between successive reversals of the middle-axis component (the
+    flips, when the spin is near the middle axis); ``first_flip``: the first such reversal
+    after launch.  ``omega_min``, ``omega_max``: each component's range over the motion.
+    ``gamma_kind``, ``gamma``: :func:`gamma` about ``spin_axis``; ``frequency`` the exact
+    2 pi / period; ``gamma_shift`` its relative difference to Gamma and ``gamma_shift_2`` the
+    second-order prediction (:func:`paper_frequency_shift`); ``flip_asymptote``
+    (:func:`flip_asymptote`) for a spin near the middle axis.
+    """
+
+    __slots__ = ("moments", "omega0", "kind", "axis", "spin_axis", "role", "m", "m1", "rate",
+                 "period", "half_period", "first_flip", "omega_min", "omega_max", "gamma_kind",
+                 "gamma", "frequency", "gamma_shift", "gamma_shift_2", "flip_asymptote",
+                 "energy", "momentum")
+
+    def __init__(self, **kw):
+        for k in self.__slots__:
+            setattr(self, k, kw.get(k))
+
+    def __repr__(self):
+        return "Motion(" + ", ".join(f"{k}={getattr(self, k)!r}" for k in self.__slots__) + ")"
+
+
+def motion(moments, omega) -> Motion:
+    """The summary of the free motion started with body angular velocity ``omega`` (rad/s
+    about the axes of ``moments``): scalars only, computed with :mod:`math` (no numpy)."""
+    o = orbit(moments, omega)
+    I = o.moments
+    w = tuple(float(v) for v in omega)
+    s = o.scale
+    roles = _roles(I)
+    spin_axis = max(range(3), key=lambda i: (abs(I[i] * w[i]), -i))
+    energy = sum(I[i] * (w[i] / s) ** 2 for i in range(3)) * s * s / 2 if s else 0.0
+    momentum = math.sqrt(sum((I[i] * w[i] / s) ** 2 for i in range(3))) * s if s else 0.0
+    out = Motion(moments=I, omega0=w, spin_axis=spin_axis, role=roles[spin_axis], m=o.m,
+                 m1=o.m1, energy=energy, momentum=momentum)
+    if s == 0:
+        out.kind = "rest"
+    elif o.stationary:
+        out.kind = "steady"
+    elif o.separatrix:
+        out.kind = "separatrix"
+    else:
+        out.kind = "periodic"
+    if out.kind in ("rest", "steady"):
+        out.omega_min = out.omega_max = w
+        out.rate = 0.0
+        out.axis = spin_axis
+    else:
+        rate = abs(o.r) * s
+        out.rate = rate
+        perm, sign = (o.perm_a, o.sign_a) if o.rev else (o.perm_c, o.sign_c)
+        out.axis = perm[2]
+        kp = math.sqrt(o.m1)
+        sep = out.kind == "separatrix"
+        ranges = [
+            (0.0, o.acn) if sep and o.sa > 0 else (-o.acn, 0.0) if sep else (-o.acn, o.acn),
+            (-o.asn, o.asn),
+            (o.adn * kp, o.adn) if o.sc > 0 else (-o.adn, -o.adn * kp),
+        ]
+        lo, hi = [0.0] * 3, [0.0] * 3
+        for k in range(3):
+            a, b = ranges[k]
+            if sign[k] < 0:
+                a, b = -b, -a
+            lo[perm[k]], hi[perm[k]] = a * s, b * s
+        out.omega_min, out.omega_max = tuple(lo), tuple(hi)
+        K = o.K
+        out.period = 4 * K / rate if not sep else math.inf
+        out.half_period = 2 * K / rate if not sep else math.inf
+        tau0, fwd = o.tau0, o.r > 0
+        if sep:
+            ahead = (fwd and tau0 < 0) or (not fwd and tau0 > 0)
+            out.first_flip = abs(tau0) / rate if ahead else math.inf
+        elif fwd:
+            out.first_flip = (-tau0 if tau0 < 0 else 2 * K - tau0) / rate
+        else:
+            out.first_flip = (tau0 if tau0 > 0 else 2 * K + tau0) / rate
+        out.frequency = 2 * math.pi / out.period if not sep else 0.0
+    out.gamma_kind, out.gamma = gamma(I, w[spin_axis], spin_axis)
+    if out.gamma_kind == "oscillation" and out.kind in ("periodic", "steady"):
+        if out.kind == "steady":  # the limit of a vanishing perturbation
+            out.frequency = out.gamma
+            out.gamma_shift = 0.0
+        elif out.axis == spin_axis:
+            out.gamma_shift = out.frequency / out.gamma - 1
+        out.gamma_shift_2 = paper_frequency_shift(I, w)
+    if out.gamma_kind == "growth":
+        out.flip_asymptote = flip_asymptote(I, w)
+    return out
+
+
+# --------------------------------------------------------------------------- the catch
+
+
+def start_quaternion(face: str):
+    """A unit quaternion (w, x, y, z) for a box launched with ``face`` (one of :data:`FACES`)
+    up: its outward normal along the lab's +z.  (Which way the box points about the vertical
+    does not matter for which face is up later: the whole motion turns with it.)"""
+    h = math.sqrt(0.5)
+    table = {"+3": (1.0, 0.0, 0.0, 0.0), "-3": (0.0, 1.0, 0.0, 0.0),
+             "+1": (h, 0.0, -h, 0.0), "-1": (h, 0.0, h, 0.0),
+             "+2": (h, h, 0.0, 0.0), "-2": (h, -h, 0.0, 0.0)}
+    if face not in table:
+        raise ValueError(f"face must be one of {', '.join(FACES)}, got {face!r}")
+    return table[face]
+
+
+def up_vector(quat):
+    """The lab's vertical (+z) in body axes for attitudes ``quat`` (array ``(..., 4)``, body to
+    lab): the third row of the rotation matrix."""
+    import numpy as np
+
+    q = np.asarray(quat, dtype=float)
+    w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    return np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], axis=-1)
+
+
+def face_up(up, sides, rule: str = "centre"):
+    """Index into :data:`FACES` of the face up for lab verticals ``up`` (body axes, array
+    ``(..., 3)``): under ``centre`` the largest :math:`|v_i| / s_i` (compared as
+    :math:`|v_i| s_j s_k`, so a side of 0 is allowed), under ``normal`` the largest
+    :math:`|v_i|`; ``2 i`` when :math:`v_i > 0` (face +i), ``2 i + 1`` otherwise."""
+    import numpy as np
+
+    if rule not in RULES:
+        raise ValueError(f"rule must be one of {', '.join(RULES)}, got {rule!r}")
+    v = np.asarray(up, dtype=float)
+    s = [float(x) for x in sides]
+    top = max(s)
+    s = [x / top for x in s]
+    if rule == "centre":
+        weight = np.array([s[1] * s[2], s[2] * s[0], s[0] * s[1]])
+    else:
+        weight = np.ones(3)
+    i = np.argmax(np.abs(v) * weight, axis=-1)
+    comp = np.take_along_axis(v, i[..., None], axis=-1)[..., 0]
+    return 2 * i + (comp < 0)
+
+
+_CHUNK = 1 << 16  # tosses per vectorized batch (also fixes the random stream)
+
+
+def toss_chunks(n: int, seed: int, *, moments, sides, spin, flight, start="+3",
+                rule="centre"):
+    """Face codes (indices into :data:`FACES`) of ``n`` boxes caught after their flight, in
+    batches (numpy int8 arrays), from ``numpy.random.default_rng(seed)``.
+
+    ``spin``: three distributions of omega_1, omega_2, omega_3 (rad/s, body axes), ``flight``
+    one of the flight time (s), each an object with ``sample(rng, k)`` (a float for a fixed
+    value, else an array), like :class:`coincli.toss.Dist`.  ``start``: a face of
+    :data:`FACES` up at launch, or 'random' (a uniformly random attitude: Haar measure, from
+    four normals).  Each batch draws a full :data:`_CHUNK` of every quantity in a fixed order
+    (omega_1, omega_2, omega_3, flight time, then the start attitude), so a seed gives the same
+    tosses on every machine and a shorter run is a prefix of a longer one.
+    """
+    import numpy as np
+
+    rng = np.random.default_rng(seed)
+    q0 = None if start == "random" else start_quaternion(start)
+    done = 0
+    while done < n:
+        k = min(_CHUNK, n - done)
+        w = np.empty((_CHUNK, 3))
+        for i in range(3):
+            w[:, i] = spin[i].sample(rng, _CHUNK)
+        tf = np.broadcast_to(np.asarray(flight.sample(rng, _CHUNK), dtype=float), (_CHUNK,))
+        if q0 is None:
+            qs = rng.normal(size=(_CHUNK, 4))
+            qs /= np.linalg.norm(qs, axis=1, keepdims=True)
+        else:
+            qs = q0
+        w, tf = w[:k], tf[:k]
+        qs = qs if q0 is not None else qs[:k]
+        codes = catch(moments, sides, w, tf, qs, rule)
+        yield codes.astype(np.int8)
+        done += k
+
+
+def catch(moments, sides, omega, t, start, rule="centre"):
+    """Faces up (indices into :data:`FACES`) of boxes launched with body angular velocities
+    ``omega`` (``(..., 3)``, rad/s) from attitudes ``start`` (quaternions) and caught after
+    ``t`` seconds.  ValueError when some |omega| t exceeds :data:`MAX_PHASE`."""
+    import numpy as np
+
+    w = np.asarray(omega, dtype=float)
+    tt = np.asarray(t, dtype=float)
+    check_phase(np.abs(w).max(axis=-1) * np.sqrt(3) * tt)
+    o = orbit(moments, w)
+    q = attitude_at(o, tt, start)
+    return face_up(up_vector(q), sides, rule)
+
+
+def check_phase(phase):
+    """ValueError when some |omega| t (rad) is beyond :data:`MAX_PHASE`, or not finite."""
+    import numpy as np
+
+    ph = np.asarray(phase, dtype=float)
+    if ph.size and not (np.all(np.isfinite(ph)) and ph.max() <= MAX_PHASE):
+        top = float(np.nanmax(np.where(np.isfinite(ph), ph, np.inf)))
+        raise ValueError(f"the body would turn {top:.3g} rad; at most {MAX_PHASE:.0e} rad "
+                         "(|omega| t) can be followed before rounding makes the attitude noise")
