@@ -431,7 +431,9 @@ def orbit(moments, omega) -> Orbit:
     else:
         p, q = (Ic - Ib) / dca, (Ib - Ia) / dca
     # which extreme axis omega circulates about: the sign of L^2 - 2 E Ib (the separatrix at 0)
-    d = Ic * p * wc * wc - Ia * q * wa * wa
+    big = xp.maximum(xp.abs(wa), xp.abs(wc))
+    bs = xp.where(big > 0, big, 1.0)
+    d = Ic * p * (wc / bs) ** 2 - Ia * q * (wa / bs) ** 2  # the sign of L^2 - 2 E Ib
     if Ia == Ib:
         rev = d != d  # False, shaped like d
     elif Ib == Ic:
@@ -459,32 +461,34 @@ def orbit(moments, omega) -> Orbit:
         stationary = stationary | True if xp is not _Py else True
     o.stationary = stationary
     Psafe = xp.where(P_ > 0, P_, 1.0)
-    acn2 = wa * wa + (Ib / Ia_) * P_ * wb * wb
-    adn2 = (Ib / Ic_) * Q_ * wb * wb + wc * wc
-    asn2 = acn2 * Ia_ / (Ib * Psafe)
-    adn2s = xp.where(adn2 > 0, adn2, 1.0)
-    m = xp.where(adn2 > 0, Q_ * Ia_ * acn2 / (Psafe * Ic_ * adn2s), 0.0)
-    m1 = xp.where(adn2 > 0, (wc * wc - (Q_ * Ia_ / (Psafe * Ic_)) * wa * wa) / adn2s, 1.0)
+    # amplitudes as scaled hypotenuses, ratios of them: no square underflows (a perturbation
+    # of 1e-200 of the spin still counts)
+    kab = (Ib / Ia_) * P_
+    acn = _hypot(xp, wa, wb, kab)
+    adn = _hypot(xp, wc, wb, (Ib / Ic_) * Q_)
+    asn = acn * xp.sqrt(Ia_ / (Ib * Psafe))
+    adn_s = xp.where(adn > 0, adn, 1.0)
+    m = xp.where(adn > 0, Q_ * Ia_ / (Psafe * Ic_) * (acn / adn_s) ** 2, 0.0)
+    m1 = xp.where(adn > 0, (wc / adn_s) ** 2 - (Q_ * Ia_ / (Psafe * Ic_)) * (wa / adn_s) ** 2,
+                  1.0)
     m1 = xp.maximum(m1, 0.0)
     m = xp.minimum(m, 1.0)
     if o.sphere:
         m, m1 = m * 0.0, m1 * 0.0 + 1.0
     o.m, o.m1 = m, m1
-    o.acn, o.asn, o.adn = xp.sqrt(acn2), xp.sqrt(asn2), xp.sqrt(adn2)
+    o.acn, o.asn, o.adn = acn, asn, adn
     o.sa = xp.where(wa < 0, -1.0, 1.0)
     o.sc = xp.where(wc < 0, -1.0, 1.0)
     o.sb = o.sa * o.sc
     rr = (Ic_ - Ib) * (Ic_ - Ia_) / (Ia_ * Ib)
-    o.r = xp.where(Ic_ > Ia_, 1.0, -1.0) * xp.sqrt(adn2 * xp.maximum(rr, 0.0))
+    o.r = xp.where(Ic_ > Ia_, 1.0, -1.0) * adn * xp.sqrt(xp.maximum(rr, 0.0))
     o.n = xp.where(Psafe > 0, -(Ic_ * Q_) / (Ia_ * Psafe), 0.0)
-    # the phase at t = 0: cn0 >= 0, so |tau0| <= K
-    x = wa * wa
-    y = (Ib / Ia_) * P_ * wb * wb
-    sxy = x + y
-    good = sxy > 0
-    sxy = xp.where(good, sxy, 1.0)
-    o.cn0 = xp.where(good, xp.sqrt(x / sxy), 1.0)
-    o.sn0 = xp.where(good, o.sb * xp.where(wb < 0, -1.0, 1.0) * xp.sqrt(y / sxy), 0.0)
+    # the phase at t = 0: cn0 = |wa| / acn >= 0 (so |tau0| <= K), sn0 = sb * wb / asn
+    acn_s = xp.where(acn > 0, acn, 1.0)
+    good = acn > 0
+    o.cn0 = xp.where(good, xp.minimum(xp.abs(wa) / acn_s, 1.0), 1.0)
+    o.sn0 = xp.where(good, o.sb * xp.minimum(
+        xp.abs(wb) * xp.sqrt(kab) / acn_s, 1.0) * xp.where(wb < 0, -1.0, 1.0), 0.0)
     o.dn0 = xp.sqrt(o.cn0 * o.cn0 + m1 * o.sn0 * o.sn0)
     o.separatrix = (m1 == 0) & ~stationary if xp is not _Py else (m1 == 0 and not stationary)
     m1_agm = xp.where(m1 > 0, m1, 1.0)
@@ -502,6 +506,13 @@ def orbit(moments, omega) -> Orbit:
     o.tau0 = xp.where(stationary, 0.0, tau0)
     o.L = xp.sqrt((Ia * ws[0]) ** 2 + (Ib * ws[1]) ** 2 + (Ic * ws[2]) ** 2)
     return o
+
+
+def _hypot(xp, x, y, k):
+    """sqrt(x^2 + k y^2), k >= 0, scaled so that no square underflows or overflows."""
+    big = xp.maximum(xp.abs(x), xp.abs(y))
+    bs = xp.where(big > 0, big, 1.0)
+    return big * xp.sqrt((x / bs) ** 2 + k * (y / bs) ** 2)
 
 
 def _parity(order) -> float:
@@ -757,7 +768,7 @@ def _extreme_frame(moments, axis):
     return I[ia], I[ib], I[axis], ia, ib
 
 
-def paper_frequency_shift(moments, omega):
+def paper_frequency_shift(moments, omega, axis=None):
     """The exact expansion of the paper's exercise: for ``omega`` near an extreme axis ``c``
     (the largest or the smallest moment; ``b`` the middle axis, ``a`` the other extreme), the
     relative difference between the exact frequency of omega_a, omega_b and the paper's
@@ -781,17 +792,19 @@ def paper_frequency_shift(moments, omega):
     (\\varepsilon_a^2 + \\frac{I_b}{I_a} p\\,\\varepsilon_b^2) + \\dots`.
 
     Returns the second-order term (a float).  ``omega`` is given in the user's axes; the spin
-    axis is the one with the largest :math:`|I_i \\omega_i|`, and must be an extreme one.
+    axis ``axis`` (default: the one with the largest :math:`|I_i \\omega_i|`) must be an
+    extreme one.
     """
     I = _positive3(moments, "moments")
     w = [float(v) for v in omega]
     top = max(I)
     I = tuple(v / top for v in I)
-    axis = max(range(3), key=lambda i: abs(I[i] * w[i]))
+    if axis is None:
+        axis = max(range(3), key=lambda i: abs(I[i] * w[i]))
     Ia, Ib, Ic, ia, ib = _extreme_frame(I, axis)
     p, q = (Ic - Ib) / (Ic - Ia), (Ib - Ia) / (Ic - Ia)
     ea, eb = w[ia] / w[axis], w[ib] / w[axis]
-    return q / (4 * Ic) * (Ib * eb * eb - Ia / p * ea * ea)
+    return q / (4 * Ic) * (Ib * eb * eb - Ia / p * ea * ea) + 0.0  # no -0.0
 
 
 def flip_asymptote(moments, omega):
@@ -903,7 +916,7 @@ def motion(moments, omega) -> Motion:
             a, b = ranges[k]
             if sign[k] < 0:
                 a, b = -b, -a
-            lo[perm[k]], hi[perm[k]] = a * s, b * s
+            lo[perm[k]], hi[perm[k]] = a * s + 0.0, b * s + 0.0  # no -0.0
         out.omega_min, out.omega_max = tuple(lo), tuple(hi)
         K = o.K
         out.period = 4 * K / rate if not sep else math.inf
@@ -917,6 +930,11 @@ def motion(moments, omega) -> Motion:
         else:
             out.first_flip = (tau0 if tau0 > 0 else 2 * K + tau0) / rate
         out.frequency = 2 * math.pi / out.period if not sep else 0.0
+    if roles[spin_axis] == "tied" and out.kind in ("periodic", "separatrix") and \
+            roles[out.axis] != "tied":
+        # a symmetric top: the paper's question is about its symmetry axis (regular precession)
+        spin_axis = out.spin_axis = out.axis
+        out.role = roles[spin_axis]
     out.gamma_kind, out.gamma = gamma(I, w[spin_axis], spin_axis)
     if out.gamma_kind == "oscillation" and out.kind in ("periodic", "steady"):
         if out.kind == "steady":  # the limit of a vanishing perturbation
@@ -924,7 +942,7 @@ def motion(moments, omega) -> Motion:
             out.gamma_shift = 0.0
         elif out.axis == spin_axis:
             out.gamma_shift = out.frequency / out.gamma - 1
-        out.gamma_shift_2 = paper_frequency_shift(I, w)
+        out.gamma_shift_2 = paper_frequency_shift(I, w, spin_axis)
     if out.gamma_kind == "growth":
         out.flip_asymptote = flip_asymptote(I, w)
     return out

@@ -99,7 +99,10 @@ def _dist(text: str, what: str, units: dict, default: str, lo: float):
             raise usage_error(f"{what}: cannot read {text!r}; expected a value, normal:MEAN:SD "
                               "or uniform:LOW:HIGH")
         spec = repr(_with_unit(parts[0], what, units, default))
-    return _usage(T.parse_dist, spec, what, lo, math.inf, default)
+    try:
+        return T.parse_dist(spec, what, lo, math.inf, default)
+    except ValueError as exc:
+        raise usage_error(str(exc).replace(repr(spec), repr(text.strip()))) from None
 
 
 def _three(text: str, what: str) -> list[str]:
