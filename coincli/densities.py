@@ -7,12 +7,14 @@ Each density is normalized exactly on ``[0, pi]`` and evaluates on numpy arrays 
 - :class:`Normal`: a normal of any mean and standard deviation truncated to ``[0, pi]``; the
   paper's "normal" ``0.58 exp(-(psi - pi/2)^2)`` is ``Normal(pi/2, 1/sqrt 2)`` (its 0.58 is the
   normalizing constant ``1/(sqrt(pi) erf(pi/2)) = 0.5795...`` rounded);
-- :class:`Table`: points ``(psi, weight)`` joined linearly and renormalized.
+- :class:`Table`: points ``(psi, weight)`` joined linearly and renormalized; ``uniform:LOW:HIGH``
+  is the table of two equal weights at LOW and HIGH.
 
 ``features()`` tells the quadrature where a density changes quickly (a narrow normal) or has
 kinks (a table), so that it can place breakpoints there.  :func:`parse_density` reads the
-command-line syntax (``uniform``, ``cosine``, ``normal``, ``normal:MEAN:SD`` in degrees,
-``table:FILE``).
+command-line syntax (``uniform``, ``uniform:LOW:HIGH``, ``cosine``, ``normal``,
+``normal:MEAN:SD`` in degrees, ``table:FILE``): the one parser of ``--psi-dist`` for every
+command.
 """
 
 from __future__ import annotations
@@ -48,7 +50,13 @@ class Density:
 
     @property
     def spec(self) -> str:
+        """The text that :func:`parse_density` reads back to this density (machine output)."""
         return self.name
+
+    @property
+    def title(self) -> str:
+        """A human name for tables and legends (the paper's normal is ``normal (paper)``)."""
+        return self.spec
 
 
 class Uniform(Density):
@@ -106,8 +114,19 @@ class Normal(Density):
     name = "normal"
 
     @property
+    def is_paper(self) -> bool:
+        """The paper's normal, 0.58 exp(-(psi - pi/2)^2): mean pi/2, sd 1/sqrt 2."""
+        return self.mean == math.pi / 2 and self.sd == 1 / math.sqrt(2)
+
+    @property
     def spec(self) -> str:
+        if self.is_paper:
+            return "normal"
         return f"normal:{math.degrees(self.mean):.10g}:{math.degrees(self.sd):.10g}"
+
+    @property
+    def title(self) -> str:
+        return "normal (paper)" if self.is_paper else self.spec
 
     @property
     def width(self) -> float:
@@ -200,7 +219,7 @@ class Table(Density):
 
     name = "table"
 
-    def __init__(self, psi, weight, label: str = "table"):
+    def __init__(self, psi, weight, label: str = "table", spec: str | None = None):
         import numpy as np
 
         psi = np.asarray(psi, dtype=float)
@@ -232,10 +251,11 @@ class Table(Density):
                 f"at least {math.degrees(MIN_TABLE_SPAN):.0e} deg; for a fixed angle use --psi")
         self.psi, self.w = np.minimum(psi, math.pi), rel / area
         self.label = label
+        self._spec = spec
 
     @property
     def spec(self) -> str:
-        return f"table:{self.label}"
+        return self._spec if self._spec is not None else f"table:{self.label}"
 
     def pdf(self, psi):
         import numpy as np
@@ -290,14 +310,20 @@ class Table(Density):
 PAPER_DENSITIES = {"uniform": Uniform, "cosine": Cosine, "normal": Normal}
 
 
+DENSITY_FORMS = ("uniform, uniform:LOW:HIGH, cosine, normal (the paper's), normal:MEAN:SD "
+                 "(degrees) or table:FILE")
+
+
 def parse_density(text: str) -> Density:
-    """``uniform``, ``cosine``, ``normal`` (the paper's), ``normal:MEAN:SD`` (degrees) or
-    ``table:FILE`` (lines ``psi_degrees,weight``)."""
+    """``uniform``, ``uniform:LOW:HIGH``, ``cosine``, ``normal`` (the paper's),
+    ``normal:MEAN:SD`` (degrees) or ``table:FILE`` (lines ``psi_degrees,weight``)."""
     s = str(text).strip()
     kind, _, rest = s.partition(":")
     kind = kind.lower()
     if kind in ("uniform", "cosine") and not rest:
         return PAPER_DENSITIES[kind]()
+    if kind == "uniform":
+        return _uniform_on(rest, text)
     if kind == "normal":
         if not rest:
             return Normal()
@@ -313,10 +339,32 @@ def parse_density(text: str) -> Density:
         return Normal(math.radians(mean), math.radians(sd))
     if kind == "table" and rest:
         return Table.from_text(_read_table_file(rest), label=rest)
-    raise ValueError(
-        "psi density must be uniform, cosine, normal, normal:MEAN:SD (degrees) or table:FILE; "
-        f"got {text!r}"
-    )
+    raise ValueError(f"psi density must be {DENSITY_FORMS}; got {_shown(str(text))}")
+
+
+def _uniform_on(rest: str, text: str) -> Density:
+    """``uniform:LOW:HIGH`` (degrees, 0 <= LOW < HIGH <= 180): the two-point table of equal
+    weights, sampled and integrated exactly; ``uniform:0:180`` is :class:`Uniform` itself."""
+    from coincli.parse import parse_number
+
+    parts = rest.split(":")
+    rule = "uniform:LOW:HIGH in degrees with 0 <= LOW < HIGH <= 180"
+    if len(parts) != 2:
+        raise ValueError(f"psi density must be {rule}, got {_shown(str(text))}")
+    try:
+        lo, hi = (parse_number(p, "uniform bound (degrees)") for p in parts)
+    except ValueError:
+        raise ValueError(f"psi density must be {rule}, got {_shown(str(text))}") from None
+    if lo == hi and 0 <= lo <= 180:
+        raise ValueError(f"psi density {_shown(str(text))} is a single angle; give it as "
+                         f"--psi {parts[0].strip()}, or make LOW < HIGH")
+    if not 0 <= lo < hi <= 180:
+        raise ValueError(f"psi density must be {rule}, got {_shown(str(text))}")
+    if lo == 0 and hi == 180:
+        return Uniform()
+    rad = [math.pi if v == 180 else math.radians(v) for v in (lo, hi)]
+    return Table(rad, [1.0, 1.0], label=f"uniform {lo:g} to {hi:g} deg",
+                 spec=f"uniform:{lo + 0.0:.10g}:{hi:.10g}")
 
 
 def _shown(text: str, limit: int = 60) -> str:
@@ -336,27 +384,26 @@ def _shown(text: str, limit: int = 60) -> str:
 
 def _read_table_file(path: str) -> str:
     """The text of a psi table file, read in chunks and never more than ``MAX_TABLE_BYTES + 1``
-    bytes (a device such as /dev/zero, or a pipe, has no size to check first); a NUL byte stops
-    it at once.  UTF-8, a leading byte-order mark dropped."""
+    bytes (a device such as /dev/zero has no size to check first); a NUL byte stops it at once.
+    Only a regular file is read (:func:`coincli._files.read_regular`: a FIFO or a device is
+    refused without blocking).  UTF-8, a leading byte-order mark dropped."""
+    from coincli._files import FileKindError, read_regular
+
     name = _shown(path)
-    parts, total = [], 0
     try:
-        with open(path, "rb") as fh:
-            while total <= MAX_TABLE_BYTES:
-                chunk = fh.read(min(1 << 20, MAX_TABLE_BYTES + 1 - total))
-                if not chunk:
-                    break
-                if b"\0" in chunk:
-                    raise ValueError(f"psi table {name} contains a NUL byte; expected a text file "
-                                     "of psi,weight lines")
-                parts.append(chunk)
-                total += len(chunk)
+        data, why = read_regular(path, MAX_TABLE_BYTES)
+    except FileKindError as exc:
+        raise ValueError(f"psi table {name} is {exc.kind}, not a regular file; expected a "
+                         "text file of psi,weight lines") from None
     except OSError as exc:
         raise ValueError(f"cannot read psi table {name}: {exc.strerror or exc}") from None
-    if total > MAX_TABLE_BYTES:
+    if why == "nul":
+        raise ValueError(f"psi table {name} contains a NUL byte; expected a text file "
+                         "of psi,weight lines")
+    if why == "size":
         raise ValueError(f"psi table {name} is larger than {MAX_TABLE_BYTES} bytes; a table is at "
                          f"most {MAX_TABLE_BYTES // 10**6} MB and {MAX_TABLE_POINTS} points")
     try:
-        return b"".join(parts).decode("utf-8-sig")
+        return data.decode("utf-8")
     except UnicodeDecodeError:
         raise ValueError(f"psi table {name} is not UTF-8 text") from None
