@@ -53,7 +53,13 @@ class ModelSpec(NamedTuple):
 
     @classmethod
     def fixed_psi(cls, psi: float, label: str | None = None) -> ModelSpec:
-        """Table I at the fixed angle ``psi`` (radians; checked when evaluated)."""
+        """Table I at the fixed angle ``psi`` (radians; checked when evaluated).
+
+        ``psi`` is the double it is, except that the double nearest pi/2 stands for pi/2: the
+        Keller flip, eq. (12), so that ``--psi 90`` and the dynamic model give the same chances
+        and the same xi to the last bit.  (The 6e-17 rad between them decides, for a coin thicker
+        than 1e16, whether it can land tails at all, and shifts heads + tails by (6e-17/theta0)^2
+        relative before that: 1e-13 at xi = 6e9.)"""
         if label is None:
             label = f"psi = {math.degrees(psi):.6g} deg (Table I)"
         return cls("psi", label, psi=psi)
@@ -106,6 +112,8 @@ class ModelSpec(NamedTuple):
         if self.key == "dynamic":
             return models.dynamic(xi)
         if self.key == "psi":
+            if self.psi == models.HALF_PI:
+                return models.dynamic(xi)
             return models.conditional(xi, self.psi)
         from coincli.averages import marginal
 
@@ -115,7 +123,7 @@ class ModelSpec(NamedTuple):
         """The xi at which this model's P(sides) is ``p`` (a float or an array)."""
         if self.key == "geometric":
             return models.geometric_inverse(p)
-        if self.key == "dynamic":
+        if self.key == "dynamic" or (self.key == "psi" and self.psi == models.HALF_PI):
             return models.dynamic_inverse(p)
         from coincli import averages as mg
 

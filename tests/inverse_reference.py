@@ -117,6 +117,11 @@ def ref_marginal_inverse(p, d, xi_computed, dps=MR.DPS):
     else:
         slope = -((hi.heads + hi.tails) - (lo.heads + lo.tails)) / (2 * hstep)
     with mp.workdps(dps + 20):
+        if not abs(slope) > 1e-250:  # a subnormal target: the doubles cannot see the slope
+            hstep = mpf(10) ** -8
+            up, down = (MR.ref_marginal(mpf(xi_computed) * mpmath.exp(k * hstep), d, dps=dps)[0]
+                        for k in (1, -1))
+            slope = (equation(up) - equation(down)) / (2 * hstep)
         xi_ref = mpf(xi_computed)
         for _ in range(4):  # Newton in log xi until the step is far below a double's rounding
             vals, _ = MR.ref_marginal(xi_ref, d, dps=dps)
@@ -182,7 +187,8 @@ def write(path=DATA, which=("conditional", "marginal")):
                          "computed_at_write": got.hex(), "kappa": mpmath.nstr(kappa, 6)})
             print(f"marginal {label:16s} p={p:<10.4g} {time.time() - t0:6.1f}s "
                   f"xi={mpmath.nstr(ref, 17)} got={got!r}", file=sys.stderr, flush=True)
-        data["marginal"] = rows
+            data["marginal"] = rows
+            path.write_text(json.dumps(data, indent=1) + "\n")  # as it goes: it takes long
     path.parent.mkdir(exist_ok=True)
     path.write_text(json.dumps(data, indent=1) + "\n")
 

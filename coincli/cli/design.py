@@ -401,8 +401,7 @@ def _table_vs_psi(coins: _options.Coins, psi_text, fmt, quiet):
     rows = []
     t = math.degrees(models.theta0(x)) / 2
     for d in degs:
-        rad = _table_i_angle(_options.radians(d))
-        o = models.conditional(x, rad)
+        o = ModelSpec.fixed_psi(_table_i_angle(_options.radians(d))).forward(x)
         fold = min(d, 180.0 - d)
         regime = "heads only" if fold < t else ("heads/sides" if fold < 90 - t else "all three")
         rows.append((x, d, regime, o.heads, o.sides, o.tails))
