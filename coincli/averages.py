@@ -498,13 +498,13 @@ def _finish(acc):
 
 
 def _delta(density: Density) -> float | None:
-    """The angle of a normal too narrow for any quadrature (mean +- sd/2 round to the mean),
-    folded onto [0, pi/2] as the quadrature folds it: ``min(mean, pi - mean)``, so that a mean
-    of the double nearest pi is 0 (the coin never precesses) and ``HALF_PI`` is the Keller flip,
-    psi = pi/2 exactly (:func:`_table_i`)."""
+    """The angle of a normal too narrow for any quadrature (mean +- sd/2 round to the mean):
+    the mean itself (Table I folds it exactly), except that the ends and the double nearest pi
+    stand for 0 (the coin never precesses), as the quadrature's fold ``pi - mean`` has them,
+    and ``HALF_PI`` for pi/2 exactly, the Keller flip (:func:`_table_i`)."""
     if isinstance(density, Normal) and density.mean + 0.5 * density.sd == density.mean \
             and density.mean - 0.5 * density.sd == density.mean:
-        return max(min(density.mean, math.pi - density.mean), 0.0)
+        return density.mean if 0.0 <= density.mean < math.pi else 0.0
     return None
 
 
@@ -563,11 +563,11 @@ def _marginal_flat(xi: np.ndarray, density: Density, n: int) -> np.ndarray:
 
 
 def _marginal_scalar(x: float, density: Density, n: int, breaks=None):
-    if x == math.inf:
-        return 0.0, 1.0, 0.0  # every precessing toss lands on a side; psi = 0, pi has no mass
     psi = _delta(density)
     if psi is not None:  # the limit sd -> 0: Table I at the mean
         return tuple(_table_i(x, psi))
+    if x == math.inf:
+        return 0.0, 1.0, 0.0  # every precessing toss lands on a side; psi = 0, pi has no mass
     planar = _planar(density)
     if planar is not None:
         reach, k, scaled = planar

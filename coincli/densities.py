@@ -250,6 +250,8 @@ class Table(Density):
                 f"{math.degrees(lo):.6g} to {math.degrees(hi):.6g}): a density must spread over "
                 f"at least {math.degrees(MIN_TABLE_SPAN):.0e} deg; for a fixed angle use --psi")
         self.psi, self.w = np.minimum(psi, math.pi), rel / area
+        with np.errstate(over="ignore"):  # a slope np.interp would overflow on
+            self._steep = not bool(np.all(np.abs(np.diff(self.w)) / np.diff(self.psi) < 1e300))
         self.label = label
         self._spec = spec
 
@@ -260,7 +262,17 @@ class Table(Density):
     def pdf(self, psi):
         import numpy as np
 
-        return np.interp(psi, self.psi, self.w, left=0.0, right=0.0)
+        if not self._steep:
+            return np.interp(psi, self.psi, self.w, left=0.0, right=0.0)
+        # the weights joined linearly, as w0 + f (w1 - w0) with f in [0, 1]: np.interp forms the
+        # slope (w1 - w0)/(x1 - x0) first, which overflows for points 1e-300 apart
+        x = np.asarray(psi, dtype=float)
+        k = np.clip(np.searchsorted(self.psi, x, side="right") - 1, 0, self.psi.size - 2)
+        x0, x1 = self.psi[k], self.psi[k + 1]
+        f = np.clip((x - x0) / (x1 - x0), 0.0, 1.0)
+        w0 = self.w[k]
+        out = w0 + f * (self.w[k + 1] - w0)
+        return np.where((x < self.psi[0]) | (x > self.psi[-1]), 0.0, out)
 
     def kinks(self):
         return [float(v) for v in self.psi]

@@ -326,10 +326,11 @@ def _table_ppf(xs, ws, u):
     k = np.clip(np.searchsorted(cdf, target, side="right") - 1, 0, len(xs) - 2)
     r = target - cdf[k]
     w0 = ws[k]
-    slope = (ws[k + 1] - w0) / dx[k]
-    disc = np.sqrt(np.maximum(w0 * w0 + 2 * slope * r, 0.0))
-    den = w0 + disc
-    step = np.where(den > 0, 2 * r / np.where(den > 0, den, 1.0), 0.0)  # stable root
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):  # points 1e-300 apart
+        slope = (ws[k + 1] - w0) / dx[k]
+        disc = np.sqrt(np.fmax(w0 * w0 + 2 * slope * r, 0.0))  # fmax: a NaN (inf - inf) is 0
+        den = w0 + disc
+        step = np.where(den > 0, 2 * r / np.where(den > 0, den, 1.0), 0.0)  # stable root
     return np.clip(xs[k] + np.clip(step, 0.0, dx[k]), 0.0, math.pi)
 
 

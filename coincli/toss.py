@@ -1149,9 +1149,9 @@ def _sample_density(np, rng, density, n):
     q = rng.random(n)
     k = np.clip(np.searchsorted(cdf, q, side="right") - 1, 0, grid.size - 2)
     h = grid[k + 1] - grid[k]
-    f0, slope, r = pdf[k], (pdf[k + 1] - pdf[k]) / h, np.maximum(q - cdf[k], 0.0)
-    den = f0 + np.sqrt(np.maximum(f0 * f0 + 2 * slope * r, 0.0))
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):  # kinks 1e-300 apart
+        f0, slope, r = pdf[k], (pdf[k + 1] - pdf[k]) / h, np.maximum(q - cdf[k], 0.0)
+        den = f0 + np.sqrt(np.fmax(f0 * f0 + 2 * slope * r, 0.0))  # fmax: NaN (inf - inf) is 0
         x = np.where(den > 0, 2 * r / den, 0.5 * h)
     return np.clip(grid[k] + np.clip(x, 0.0, h), 0.0, math.pi)
 
