@@ -43,7 +43,7 @@ from functools import lru_cache
 import numpy as np
 
 from coincli import models
-from coincli.densities import Cosine, Density, Normal, Uniform
+from coincli.densities import Cosine, Density, Normal, Table, Uniform
 from coincli.models import HALF_PI, Outcome
 
 __all__ = [
@@ -55,6 +55,8 @@ __all__ = [
     "MAX_ORDER",
     "order_for_tol",
     "error_bound",
+    "check_table_work",
+    "MAX_TABLE_WORK",
 ]
 
 DEFAULT_ORDER = 16  #: Gauss-Legendre nodes per subinterval
@@ -450,18 +452,60 @@ def _integrate_many(xi: np.ndarray, density: Density, n: int, breaks: np.ndarray
     par, pieces = _layout_many(xi, breaks, _tail_centres(density))
     fold = _folded_pdf(density)
     acc = np.zeros((5, m))
-    step = max(1, _BLOCK // n)
-    for fn, slots, (rows, a, b) in zip(_PIECES, _SLOTS, pieces, strict=True):
+    linear = isinstance(density, Table) and breaks.size > _MANY_KINKS
+    for k, (fn, slots, (rows, a, b)) in enumerate(zip(_PIECES, _SLOTS, pieces, strict=True)):
         if not rows.size:
             continue
-        sums = [fn(a[j:j + step], b[j:j + step], n, par[:, rows[j:j + step]][:, :, None], fold)
-                for j in range(0, rows.size, step)]
-        # rows come sorted (row-major layout): sum each xi's subintervals with reduceat, which
-        # adds pairwise like sum() (a thick coin has hundreds of graded subintervals)
-        starts = np.flatnonzero(np.concatenate(([True], rows[1:] != rows[:-1])))
-        acc[np.array(slots)[:, None], rows[starts]] += np.add.reduceat(
-            np.concatenate(sums, axis=1), starts, axis=1)
+        if linear:  # the fewest nodes each subinterval needs (a table: thousands of short ones)
+            orders = _orders(k, a, b, par[:, rows], n)
+            groups = [(nk, np.flatnonzero(orders == nk)) for nk in np.unique(orders)]
+        else:
+            groups = [(n, slice(None))]
+        for nk, idx in groups:
+            r, ga, gb = rows[idx], a[idx], b[idx]
+            step = max(1, _BLOCK // nk)
+            sums = [fn(ga[j:j + step], gb[j:j + step], nk, par[:, r[j:j + step]][:, :, None],
+                       fold) for j in range(0, r.size, step)]
+            # rows come sorted (row-major layout): sum each xi's subintervals with reduceat,
+            # which adds pairwise like sum() (a thick coin has hundreds of graded subintervals)
+            starts = np.flatnonzero(np.concatenate(([True], r[1:] != r[:-1])))
+            acc[np.array(slots)[:, None], r[starts]] += np.add.reduceat(
+                np.concatenate(sums, axis=1), starts, axis=1)
     return acc
+
+
+_DIGITS = 19.6  #: ln(10^17)/2: rho^(-2n) below 1e-17 with n = _DIGITS/ln(rho) nodes
+_MANY_KINKS = 64  #: a table with more breakpoints than this gets node counts per subinterval
+
+
+def _orders(piece: int, a, b, p, n: int):
+    """Gauss-Legendre nodes for each subinterval [a, b] (in s) of a piece, for a density that
+    is linear in psi between its breakpoints (a table).
+
+    Piece A integrates the density alone (heads is 1 there): linear in s, exact with one node
+    (two are used: the rounding of a steep table's arguments then averages a little).
+    In B and C the integrand is analytic in s on each subinterval; Gauss-Legendre with k nodes
+    errs by about ``rho**(-2k)``, ``rho`` the Bernstein ellipse through the nearest singularity
+    (``sin psi = 0`` at ``s = i sqrt(t/beta)`` and ``D1 D2 = 0`` at ``i sqrt(2t/beta)`` in B;
+    ``D1 = 0`` at ``i sqrt(beta/t)``, ``psi = 0`` at ``i sqrt(pi/(2t) - 1)`` and ``D2 = 0`` at
+    ``s = sqrt 2`` in C).  A subinterval short beside its distance to them (a table's points,
+    1e-5 apart) needs 2 or 3 nodes for 1e-17, not ``n``: one more than that estimate is used,
+    never more than ``n``.
+    """
+    if piece == 0:
+        return np.full(a.size, 2, dtype=np.intp)
+    t, beta = p[0], p[1]
+    c, h = (a + b) / 2, (b - a) / 2
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        if piece == 1:  # i y on the imaginary axis: distance sqrt(c^2 + y^2); sqrt(t/beta) is
+            near = c * c + t / beta  # the nearer of the two
+        else:
+            near = np.minimum(c * c + np.minimum(beta / t, np.maximum(HALF_PI / t - 1, 0.0)),
+                              (math.sqrt(2.0) - c) ** 2)
+        # rho >= 2 d/h - 1 for a singularity at distance d from the centre (d > h)
+        rho = 2 * np.sqrt(near) / h - 1
+        need = np.where(rho > 2, np.ceil(_DIGITS / np.log(np.where(rho > 2, rho, 3.0))) + 1, n)
+    return np.clip(np.nan_to_num(need, nan=n), 2, n).astype(np.intp)
 
 
 def _scale(angle_sum):
@@ -612,6 +656,7 @@ def marginal(xi, density: Density | None = None, *, order: int = DEFAULT_ORDER) 
     flat = xi.ravel()
     if flat.size > 1:
         uniq, inv = np.unique(flat, return_inverse=True)
+        check_table_work(density, uniq.size)
         if uniq.size < flat.size:
             out = _marginal_flat(uniq, density, n)[:, inv.ravel()]
         else:
@@ -619,6 +664,29 @@ def marginal(xi, density: Density | None = None, *, order: int = DEFAULT_ORDER) 
     else:
         out = _marginal_flat(flat, density, n)
     return Outcome(*(o.reshape(xi.shape) for o in out))
+
+
+#: A table's points times the xi values averaged over it in one call: every point is a
+#: breakpoint of the quadrature (the average is exact between them), so the work grows with
+#: both; 10^7 is a few seconds (benchmarks/bench_core.py, docs/performance.md).
+MAX_TABLE_WORK = 10**7
+_SOLVE_EVALS = 12  #: forward evaluations per target the root finder typically needs
+
+
+def check_table_work(density: Density, count: int, per: int = 1, what: str = "xi values"):
+    """ValueError when a table's breakpoints times ``count`` values (each evaluated ``per``
+    times) exceed :data:`MAX_TABLE_WORK`, naming how many values or points would fit."""
+    if not isinstance(density, Table):
+        return
+    k = max(int(_psi_breaks(density).size), 1)
+    if k * count * per <= MAX_TABLE_WORK:
+        return
+    most = max(MAX_TABLE_WORK // (k * per), 1)
+    raise ValueError(
+        f"--psi-dist {density.spec}: its {len(density.psi)} points over {count} {what} are "
+        f"{k * count * per:.3g} point evaluations, more than the {MAX_TABLE_WORK:.0e} one run "
+        f"makes; give at most {most} {what}, or a table of at most "
+        f"{max(MAX_TABLE_WORK // (count * per), 2)} points")
 
 
 def _check_density(density):
@@ -796,6 +864,7 @@ def marginal_inverse(p_sides, density: Density | None = None, *, order: int = DE
                     lambda x: _marginal_flat(x, density, n))
 
     def solve(p):
+        check_table_work(density, p.size, _SOLVE_EVALS, "targets")
         guess, step = models.dynamic_inverse(p), 0.25
         if isinstance(density, Normal) and density.sd < 0.1 and 0 < density.mean < math.pi:
             guess, step = _table_i_guess(p, min(density.mean, math.pi - density.mean)), 0.01
