@@ -117,14 +117,15 @@ def ref_marginal_inverse(p, d, xi_computed, dps=MR.DPS):
     else:
         slope = -((hi.heads + hi.tails) - (lo.heads + lo.tails)) / (2 * hstep)
     with mp.workdps(dps + 20):
-        if not abs(slope) > 1e-250:  # a subnormal target: the doubles cannot see the slope
-            hstep = mpf(10) ** -8
-            up, down = (MR.ref_marginal(mpf(xi_computed) * mpmath.exp(k * hstep), d, dps=dps)[0]
-                        for k in (1, -1))
-            slope = (equation(up) - equation(down)) / (2 * hstep)
+        tiny = not abs(slope) > 1e-250  # a subnormal target: the doubles cannot see the slope
         xi_ref = mpf(xi_computed)
-        for _ in range(4):  # Newton in log xi until the step is far below a double's rounding
+        for _ in range(12):  # Newton in log xi until the step is far below a double's rounding
             vals, _ = MR.ref_marginal(xi_ref, d, dps=dps)
+            if tiny:  # the slope from mpmath, at each step
+                hstep = mpf(10) ** -8
+                up, down = (MR.ref_marginal(xi_ref * mpmath.exp(k * hstep), d, dps=dps)[0]
+                            for k in (1, -1))
+                slope = (equation(up) - equation(down)) / (2 * hstep)
             step = equation(vals) / slope
             xi_ref = xi_ref * mpmath.exp(-step)
             if abs(step) < mpf(10) ** -20:

@@ -198,3 +198,40 @@ def test_no_warning_escapes_under_pythonwarnings_error(args):
     assert r.returncode in (0, 1), r.stderr
     assert r.stderr == "" or (r.returncode == 1 and r.stderr.count("\n") == 1), r.stderr
     assert "nan" not in r.stdout.lower()
+
+
+# --------------------------------------------------------------------------- big tables
+
+
+def test_a_big_tables_work_is_bounded(coin, tmp_path):
+    """Every table point is a breakpoint (exact between them), so points x xi values are capped
+    (averages.MAX_TABLE_WORK): within the cap the run completes, beyond it one line says how
+    many values fit.  The timing is in benchmarks/bench_core.py, not here."""
+    from coincli.averages import MAX_TABLE_WORK
+
+    n = 20_000
+    rng = np.random.default_rng(5)
+    t = tmp_path / "big.tab"
+    t.write_text("".join(f"{float(x)!r},{float(w)!r}\n" for x, w in zip(
+        np.linspace(0, 180, n), rng.random(n), strict=True)))
+    fits = MAX_TABLE_WORK // n
+    out = ok(coin("table", "--xi", f"0.1:3:{2.9 / 40!r}", "--psi-dist", f"table:{t}", "-q"))
+    assert len(out.splitlines()) >= 40
+    many = 2 * fits
+    error(coin("table", "--xi", f"0.1:3:{2.9 / many!r}", "--psi-dist", f"table:{t}"), 1,
+          "--psi-dist", "at most", "xi values")
+    error(coin("design", "-p", "0.1:0.9:0.001", "--psi-dist", f"table:{t}"), 1, "--psi-dist",
+          "targets")
+
+
+def test_fewer_nodes_on_a_tables_short_subintervals_change_nothing():
+    """The per-subinterval node counts of a table with thousands of points agree with 16 nodes
+    everywhere, and with 32, to the rounding of such a table's steep segments (1e-14)."""
+    from coincli import averages as A
+
+    rng = np.random.default_rng(9)
+    d = Table(np.linspace(0.0, math.pi, 5000), rng.random(5000))
+    xs = np.concatenate([np.geomspace(1e-6, 1e6, 9), [0.3, 1 / math.sqrt(3), 2.0]])
+    few = np.array(marginal(xs, d))
+    full = np.array(marginal(xs, d, order=32))
+    assert np.abs(few - full).max() <= 1e-14
