@@ -246,7 +246,7 @@ def _consecutive(x0, n):
 def _worst_step_down(v):
     d = np.diff(v)
     bad = d < 0
-    return float((-d[bad] / np.spacing(v[1:][bad])).max()) if bad.any() else 0.0
+    return float((-d[bad] / np.abs(np.spacing(v[1:][bad]))).max()) if bad.any() else 0.0
 
 
 #: the largest decrease of P(sides) (and increase of P(heads)) between consecutive doubles of
