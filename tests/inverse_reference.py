@@ -99,40 +99,47 @@ def bar(xi_ref, p, kappa):
 
 
 def ref_marginal_inverse(p, d, xi_computed, dps=MR.DPS):
-    """(xi_ref, kappa): one Newton step from ``xi_computed`` on the mpmath residual."""
+    """(xi_ref, kappa): Newton's method in log xi from ``xi_computed`` on the mpmath residual
+    of ``log F = log r`` (F = P(sides), or P(heads) + P(tails) for p > 1/2; r the target), with
+    the slope from doubles; for a subnormal target, whose doubles cannot show a slope, from
+    mpmath, and for a thin coin there (xi below 1e-150) from P(sides) = C xi, linear to 1e-100
+    (C measured at 1e-100 and 1e-110, which must agree)."""
     from coincli.averages import marginal
 
     r = target(p)
 
-    def equation(vals):
+    def log_f(vals):
         h, s, t = vals
-        return s - mpf(p) if p <= 0.5 else mpf(1) - mpf(p) - (h + t)
+        return mpmath.log(s if p <= 0.5 else h + t)
 
-    # the slope d(equation)/d(log xi) from doubles, by a central difference
-    hstep = 1e-6
-    lo, hi = marginal(xi_computed * math.exp(-hstep), d), marginal(
-        xi_computed * math.exp(hstep), d)
-    if p <= 0.5:
-        slope = (hi.sides - lo.sides) / (2 * hstep)
-    else:
-        slope = -((hi.heads + hi.tails) - (lo.heads + lo.tails)) / (2 * hstep)
     with mp.workdps(dps + 20):
-        tiny = not abs(slope) > 1e-250  # a subnormal target: the doubles cannot see the slope
+        lr = mpmath.log(mpf(r))
+        if r < 2.2250738585072014e-308 and xi_computed < 1e-150:
+            c = [MR.ref_marginal(mpf(x), d, dps=dps)[0][1] / mpf(x) for x in (1e-100, 1e-110)]
+            if abs(c[0] - c[1]) > mpf(10) ** -30 * c[0]:
+                raise ArithmeticError(f"P(sides) is not linear in xi for {d.spec}")
+            return mpf(p) / c[1], mpf(1)
+        if r >= 2.2250738585072014e-308:
+            hstep = 1e-6
+            lo, hi = marginal(xi_computed * math.exp(-hstep), d), marginal(
+                xi_computed * math.exp(hstep), d)
+            slope = (math.log(hi.sides if p <= 0.5 else hi.heads + hi.tails)
+                     - math.log(lo.sides if p <= 0.5 else lo.heads + lo.tails)) / (2 * hstep)
         xi_ref = mpf(xi_computed)
-        for _ in range(12):  # Newton in log xi until the step is far below a double's rounding
+        for _ in range(12):  # until the step is far below a double's rounding
             vals, _ = MR.ref_marginal(xi_ref, d, dps=dps)
-            if tiny:  # the slope from mpmath, at each step
-                hstep = mpf(10) ** -8
+            if r < 2.2250738585072014e-308:
+                hstep = mpf(10) ** -10
                 up, down = (MR.ref_marginal(xi_ref * mpmath.exp(k * hstep), d, dps=dps)[0]
                             for k in (1, -1))
-                slope = (equation(up) - equation(down)) / (2 * hstep)
-            step = equation(vals) / slope
+                slope = (log_f(up) - log_f(down)) / (2 * hstep)
+            step = (log_f(vals) - lr) / slope
             xi_ref = xi_ref * mpmath.exp(-step)
             if abs(step) < mpf(10) ** -20:
                 break
         else:
             raise ArithmeticError(f"reference Newton did not settle: {d.spec}, p = {p!r}")
-        kappa = abs(r / slope)
+        kappa = abs(1 / mpf(slope))  # d ln xi / d ln r
     return xi_ref, kappa
 
 
