@@ -98,12 +98,15 @@ def bar(xi_ref, p, kappa):
 # --------------------------------------------------------------------------- marginal
 
 
+_SLOPE_AT_0: dict = {}  #: P(sides)/xi of each density as xi -> 0, once per density
+
+
 def ref_marginal_inverse(p, d, xi_computed, dps=MR.DPS):
     """(xi_ref, kappa): Newton's method in log xi from ``xi_computed`` on the mpmath residual
     of ``log F = log r`` (F = P(sides), or P(heads) + P(tails) for p > 1/2; r the target), with
     the slope from doubles; for a subnormal target, whose doubles cannot show a slope, from
-    mpmath, and for a thin coin there (xi below 1e-150) from P(sides) = C xi, linear to 1e-100
-    (C measured at 1e-100 and 1e-110, which must agree)."""
+    mpmath.  For a thin coin (xi below 1e-150) P(sides) = C xi to 1e-100 relative, C measured
+    at 1e-100 and 1e-110 (which must agree): xi = p/C, kappa = 1."""
     from coincli.averages import marginal
 
     r = target(p)
@@ -114,11 +117,14 @@ def ref_marginal_inverse(p, d, xi_computed, dps=MR.DPS):
 
     with mp.workdps(dps + 20):
         lr = mpmath.log(mpf(r))
-        if r < 2.2250738585072014e-308 and xi_computed < 1e-150:
-            c = [MR.ref_marginal(mpf(x), d, dps=dps)[0][1] / mpf(x) for x in (1e-100, 1e-110)]
-            if abs(c[0] - c[1]) > mpf(10) ** -30 * c[0]:
-                raise ArithmeticError(f"P(sides) is not linear in xi for {d.spec}")
-            return mpf(p) / c[1], mpf(1)
+        if p <= 0.5 and xi_computed < 1e-150:
+            key = (d.spec, dps)
+            if key not in _SLOPE_AT_0:
+                c = [MR.ref_marginal(mpf(x), d, dps=dps)[0][1] / mpf(x) for x in (1e-100, 1e-110)]
+                if abs(c[0] - c[1]) > mpf(10) ** -30 * c[0]:
+                    raise ArithmeticError(f"P(sides) is not linear in xi for {d.spec}")
+                _SLOPE_AT_0[key] = c[1]
+            return mpf(p) / _SLOPE_AT_0[key], mpf(1)
         if r >= 2.2250738585072014e-308:
             hstep = 1e-6
             lo, hi = marginal(xi_computed * math.exp(-hstep), d), marginal(
