@@ -235,3 +235,20 @@ def test_fewer_nodes_on_a_tables_short_subintervals_change_nothing():
     few = np.array(marginal(xs, d))
     full = np.array(marginal(xs, d, order=32))
     assert np.abs(few - full).max() <= 1e-14
+
+
+@pytest.mark.parametrize("text, words", [
+    ("30,1\n30,2\n90,1\n", ("line 2", "does not exceed", "strictly increasing")),
+    ("30,1\n20,2\n90,1\n", ("line 2", "does not exceed")),
+    ("0,1\n181,2\n", ("line 2", "outside [0, 180] degrees")),
+    ("0,1\nnan,2\n", ("line 2", "outside [0, 180]")),
+    ("0,1\n30,-2\n", ("line 2", "weight '-2'", ">= 0")),
+    ("0,1\n30,1e999\n", ("line 2", "finite")),
+    ("0,0\n90,0\n", ("must not all be zero",)),
+    ("0,1\n1e-320,1\n", ("must spread over at least", "5e-300 deg")),
+])
+def test_table_files_are_refused_by_line(coin, tmp_path, text, words):
+    t = tmp_path / "t.tab"
+    t.write_text(text)
+    error(coin("table", "--xi", "0.5", "--psi-dist", f"table:{t}"), 2, "--psi-dist", *words)
+
