@@ -70,7 +70,8 @@ _FEATURE_STEPS = np.array([0.0, 1.0, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0])
 #: breakpoints on its far side, at these multiples of the tail's decay length
 _TAIL_SD, _TAIL_FAR = 4.0, 40.0
 _TAIL_STEPS = 2.0 ** np.arange(-2, 7)
-_CHUNK = 1 << 19  #: (xi values) x (breakpoints) per pass, to bound memory for long tables
+_CHUNK = 1 << 21  #: (xi values) x (breakpoints + 64) per pass, to bound memory
+_CHUNK_BREAKS = 1 << 19  #: ... and (xi values) x (breakpoints) per pass for long tables
 # 2/pi as hi + lo: the sums of angles are scaled once, with one rounding
 _TWO_OVER_PI_HI = 0.6366197723675814
 _TWO_OVER_PI_LO = -3.935735335036497e-17
@@ -613,7 +614,7 @@ def _marginal_flat(xi: np.ndarray, density: Density, n: int) -> np.ndarray:
     fin = np.nonzero(~inf & ~thin)[0]
     if fin.size:
         breaks = _psi_breaks(density)
-        step = max(1, _CHUNK // (breaks.size + 64))
+        step = max(1, min(_CHUNK // (breaks.size + 64), _CHUNK_BREAKS // max(breaks.size, 1)))
         for k in range(0, fin.size, step):
             idx = fin[k:k + step]
             out[:, idx] = _finish(_integrate_many(xi[idx], density, n, breaks))
