@@ -162,6 +162,15 @@ def _tail_centres(density: Density) -> list[tuple[float, float]]:
     [0, pi/2]), when the density falls below exp(-_TAIL_SD**2/2) of its peak somewhere there."""
     if not isinstance(density, Normal):
         return []
+    try:
+        return _TAILS[density]
+    except KeyError:
+        pass
+    _TAILS[density] = out = _tail_centres_uncached(density)
+    return out
+
+
+def _tail_centres_uncached(density: Normal) -> list[tuple[float, float]]:
     mu = min(density.mean, math.pi - density.mean)
     if max(_tail_exponent(0.0, mu, density.sd), _tail_exponent(HALF_PI, mu, density.sd)) \
             <= 0.5 * _TAIL_SD**2:
@@ -179,6 +188,7 @@ def _tail_exponent(b, mu, sd):
 
 
 _BREAKS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+_TAILS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def _psi_breaks(density: Density) -> np.ndarray:
