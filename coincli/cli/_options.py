@@ -48,17 +48,15 @@ XisOpt = Annotated[
 ]
 CoinOpt = Annotated[
     str | None,
-    typer.Option("--coin", "-c", metavar="NAME", help="Catalog coin (see coin coins); "
-                 "--count N stacks N."),
+    typer.Option("--coin", "-c", metavar="NAME", help="Catalog coin (see coin coins)."),
 ]
 CountOpt = Annotated[
     str | None,
-    typer.Option("--count", metavar="N", help="Coins stacked: N --coin (or --diameter/"
-                 "--thickness) coins."),
+    typer.Option("--count", metavar="N", help="Stack N of the --coin (or --diameter) coins."),
 ]
 CountsOpt = Annotated[
     str | None,
-    typer.Option("--count", metavar="N", help="Coins stacked: N, a list, a range or -."),
+    typer.Option("--count", metavar="N", help="Stack N coins: N, a list, a range or -."),
 ]
 QuartersOpt = Annotated[
     str | None,
@@ -72,8 +70,8 @@ QuartersManyOpt = Annotated[
 ]
 DiameterOpt = Annotated[
     str | None,
-    typer.Option("--diameter", "-d", metavar="D", help="Diameter: 24.26 (mm), 2.4cm, "
-                 "0.955in; with --thickness, or --xi."),
+    typer.Option("--diameter", "-d", metavar="D", help="Diameter: 24.26 (mm), 2.4cm or "
+                 "0.955in."),
 ]
 ThicknessOpt = Annotated[
     str | None,

@@ -385,6 +385,7 @@ def table(
     ] + (_accuracy.COLUMNS if acc is not None else [])
     note = "vigorous toss starting heads up, caught without bouncing; geometric = eq. 11, " \
            "dynamic = eq. 12 (psi = 90 deg)" + "".join(f"; {m.label}" for m in extra) + \
+           (f"; {_coin_words(coins.unit)}" if stacked else "") + \
            (_accuracy.note(acc) if acc is not None else "")
     k = -2 - (len(_accuracy.COLUMNS) if acc is not None else 0)  # p_sides, from the end
     emit(Result("coin table", columns, rows, note=note,

@@ -38,34 +38,30 @@ MAX_DIAMETER_M = 1e100  # the toss engine's largest diameter
 
 OutOpt = Annotated[
     str | None,
-    typer.Option("--out", "-o", help="Figure file: .png, .svg or .pdf (needs matplotlib).  "
-                 "'-' or no --out: a text plot on stdout.", metavar="FILE"),
+    typer.Option("--out", "-o", help="Figure file .png, .svg or .pdf; - or none: a text "
+                 "plot.", metavar="FILE"),
 ]
 TerminalOpt = Annotated[
-    bool, typer.Option("--terminal", help="Draw a text plot in the terminal (no matplotlib "
-                       "needed).")
+    bool, typer.Option("--terminal", help="A text plot on stdout (needs no matplotlib).")
 ]
 # Sizes are parsed here, not by click: click's FloatRange lets nan through (nan < 1 is False) and
 # its messages do not say what is allowed.  Limits: coincli.plot.FIGURE_INCHES, DPI_RANGE and
 # MAX_PIXELS (width x dpi times height x dpi, so a figure cannot exhaust the memory).
-DpiOpt = Annotated[str, typer.Option("--dpi", help="Resolution of a PNG, 10 to 2000 dots per "
-                                     "inch (also rasterized parts of SVG/PDF); at most 50 "
-                                     "million pixels in all.", metavar="DPI")]
+DpiOpt = Annotated[str, typer.Option("--dpi", help="Dots per inch of a PNG, 10 to 2000 (50 "
+                                     "Mpixel at most).", metavar="DPI")]
 WidthOpt = Annotated[
-    str | None, typer.Option("--width", help="Figure width in inches, 1 to 100 (default depends "
-                             "on the figure).", metavar="INCHES")
+    str | None, typer.Option("--width", help="Figure width, 1 to 100 inches.",
+                             metavar="INCHES")
 ]
 HeightOpt = Annotated[
-    str | None, typer.Option("--height", help="Figure height in inches, 1 to 100.",
+    str | None, typer.Option("--height", help="Figure height, 1 to 100 inches.",
                              metavar="INCHES")
 ]
 TitleOpt = Annotated[str | None, typer.Option("--title", help="Replace the figure's title.")]
-LogOpt = Annotated[bool, typer.Option("--log", help="Logarithmic xi axis (0.01 to 100 unless "
-                                      "--xi-range says otherwise).")]
+LogOpt = Annotated[bool, typer.Option("--log", help="Logarithmic xi axis (0.01 to 100).")]
 XiRangeOpt = Annotated[
-    str | None, typer.Option("--xi-range", help="The xi axis as LOW:HIGH (default 0:2, or "
-                             "0.01:100 with --log, widened to show your marks).",
-                             metavar="LOW:HIGH")
+    str | None, typer.Option("--xi-range", help="The xi axis LOW:HIGH (default: 0:2, widened "
+                             "to show your marks).", metavar="LOW:HIGH")
 ]
 PsiMarkOpt = Annotated[
     str | None, typer.Option("--psi", help="Mark tossing angles psi, degrees [0, 180]: a "
