@@ -214,7 +214,7 @@ class _Target:
         from coincli.plot import FigureTooSmall, save_figure
 
         try:
-            size = save_figure(fig, self.path, dpi)
+            save_figure(fig, self.path, dpi)
         except FigureTooSmall as exc:
             raise usage_error(f"{exc}: give a larger --width or --height") from None
         except OSError as exc:
