@@ -41,7 +41,10 @@ SeedOpt = Annotated[
 ]  # the shared --seed (coincli.cli._options.SeedOpt), with what it seeds here
 
 METHODS = ("auto", "quad", "mc", "qmc")
-MAX_SECONDS = 60.0  #: a sampling run that has not met --tol by then stops and says so
+#: the most tosses (mc) or Sobol points (qmc) one command run simulates for --tol, shared by
+#: its densities: a run that has not met --tol by then stops, at a point that depends on the
+#: inputs and the seed alone, and says so (about 10 to 40 seconds of CPU)
+RUN_BUDGET = 1 << 28
 
 
 class Accuracy(NamedTuple):
@@ -134,21 +137,52 @@ COLUMNS = [
     Column("err_sides", "+- sides", "g2"),
     Column("err_tails", "+- tails", "g2"),
 ]
+SEED_COLUMN = Column("seed", "seed", "int")  #: with --method mc or qmc: the seed of each row
 
 
-def run(acc: Accuracy, density, x, n: int):
-    """(Outcome, per-row extra cells) for one density at x (a float or an array of n xi)."""
+def columns(acc: Accuracy, machine: bool = True) -> list:
+    """The extra columns of ``coin table`` for these options: with sampling, machine output
+    (csv, json, ...) also has the seed's (the human table says it in its note)."""
+    return COLUMNS + ([SEED_COLUMN] if acc.sampling and machine else [])
+
+
+class Budget:
+    """The run's :data:`RUN_BUDGET` of tosses (or points), shared by ``densities`` in turn:
+    each may use what is left divided by the densities still to come (so each gets at least
+    an equal share, and a density that meets --tol early leaves the rest to the others)."""
+
+    def __init__(self, densities: int, total: int | None = None):
+        total = RUN_BUDGET if total is None else total
+        self.left = total
+        self.total = total
+        self.densities = self.to_come = max(int(densities), 1)
+
+    def share(self) -> int:
+        return max(self.left // max(self.to_come, 1), 1)
+
+    def used(self, n: int) -> None:
+        self.left = max(self.left - int(n), 0)
+        self.to_come -= 1
+
+
+def run(acc: Accuracy, density, x, n: int, budget: Budget | None = None):
+    """(Outcome, per-row extra cells) for one density at x (a float or an array of n xi).
+
+    A sampling method with --tol draws at most ``budget.share()`` tosses (or points)."""
     from coincli import estimators as est
 
+    if budget is None:
+        budget = Budget(1)
     bar = Progress(f"{acc.method} {density.spec}")
     try:
         e = est.estimate(x, density, tol=acc.tol, method=acc.method, seed=acc.seed,
-                         max_samples=1 << 40, progress=bar,
-                         max_seconds=MAX_SECONDS if acc.sampling else None)
+                         max_samples=budget.share(), progress=bar)
     except ValueError as exc:
         raise compute_error(str(exc)) from None
     finally:
         bar.close()
+    if acc.sampling:
+        budget.used(e.n)
     if e.method == "quad":  # the calibrated bound itself
         halves = [_tolist(v, n) for v in e.error]
     else:
@@ -162,10 +196,17 @@ def run(acc: Accuracy, density, x, n: int):
         how = f"qmc {e.n} points"
     if acc.tol is not None and not e.met:
         worst = max(max(h) for h in halves)
+        if acc.sampling:
+            shared = (f", shared by {budget.densities} densities" if budget.densities > 1
+                      else "")
+            why = (f": --tol not met; it stopped at the run's limit of {budget.total} "
+                   f"{'tosses' if acc.method == 'mc' else 'points'}{shared}")
+        else:
+            why = "; that is the double-precision limit"
         _warn(f"{density.spec}: {e.method} reached +-{worst:.2g} ({e.detail}), not --tol "
-              f"{acc.tol:g}" + (f", in the {MAX_SECONDS:g} s limit" if acc.sampling else
-                                "; that is the double-precision limit"))
-    extra = [(how, halves[0][k], halves[1][k], halves[2][k]) for k in range(n)]
+              f"{acc.tol:g}{why}")
+    seed = (acc.seed,) if acc.sampling else ()
+    extra = [(how, halves[0][k], halves[1][k], halves[2][k], *seed) for k in range(n)]
     return e.value, extra
 
 

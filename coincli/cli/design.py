@@ -357,24 +357,26 @@ def table(
     models_ = (GEOMETRIC, DYNAMIC, *extra)
     names = _model_names(models_, fmt)
     blocks = []
+    budget = _accuracy.Budget(sum(m.key == "dist" for m in extra))  # one limit per run
     for m, name in zip(models_, names, strict=True):
-        more = [("closed form", None, None, None)] * n
+        more = [("closed form", None, None, None) + ((None,) if acc is not None and
+                                                      acc.sampling else ())] * n
         try:
             if acc is not None and m.key == "dist":
-                o, more = _accuracy.run(acc, m.density, x, n)
+                o, more = _accuracy.run(acc, m.density, x, n, budget)
             else:
                 o = m.forward(x)
         except ValueError as exc:
             raise compute_error(str(exc)) from None
         blocks.append((name, _tolist(o.heads, n), _tolist(o.sides, n), _tolist(o.tails, n), more))
     xs = _tolist(x, n)
+    acc_cols = _accuracy.columns(acc, fmt != "table") if acc is not None else []
     stacked = coins.counts is not None
     rows = []
     for k in range(n):
         for name, h, s, t, more in blocks:
             lead = (coins.coin_name, coins.counts[k]) if stacked else ()
-            rows.append((*lead, xs[k], name, h[k], s[k], t[k],
-                         *(more[k] if acc is not None else ())))
+            rows.append((*lead, xs[k], name, h[k], s[k], t[k], *more[k][:len(acc_cols)]))
     columns = ([Column("coin", "coin", "text"), Column("count", "count", "int")] if stacked
                else []) + [
         Column("xi", "xi = h/D"),
@@ -382,12 +384,12 @@ def table(
         Column("p_heads", "P(heads)"),
         Column("p_sides", "P(sides)"),
         Column("p_tails", "P(tails)"),
-    ] + (_accuracy.COLUMNS if acc is not None else [])
+    ] + acc_cols
     note = "vigorous toss starting heads up, caught without bouncing; geometric = eq. 11, " \
            "dynamic = eq. 12 (psi = 90 deg)" + "".join(f"; {m.label}" for m in extra) + \
            (f"; {_coin_words(coins.unit)}" if stacked else "") + \
            (_accuracy.note(acc) if acc is not None else "")
-    k = -2 - (len(_accuracy.COLUMNS) if acc is not None else 0)  # p_sides, from the end
+    k = -2 - len(acc_cols)  # p_sides, from the end
     emit(Result("coin table", columns, rows, note=note,
                 quiet=[r[k] for r in rows if r[k - 3] is not None]), fmt, quiet)
 

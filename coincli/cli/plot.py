@@ -192,12 +192,17 @@ class _Target:
         self.text = terminal or out in (None, "-")
         self.path = None if self.text else out
         if self.path is not None:
+            from coincli._files import check_output_path
             from coincli.plot import figure_format
 
             try:
                 self.fmt = figure_format(self.path)
+                check_output_path(self.path)  # a FIFO, device or directory: refused up front
             except ValueError as exc:
                 raise usage_error(f"--out: {exc}") from None
+            except OSError as exc:
+                raise compute_error(f"cannot write {self.path!r}: {exc.strerror or exc}") \
+                    from None
 
     def check_matplotlib(self):
         """Before any computing: a figure file needs matplotlib (exit 1 with the hint)."""
@@ -211,12 +216,15 @@ class _Target:
             raise compute_error(str(exc)) from None
 
     def save(self, fig, dpi: float) -> None:
+        from coincli._files import FileKindError
         from coincli.plot import FigureTooSmall, save_figure
 
         try:
             save_figure(fig, self.path, dpi)
         except FigureTooSmall as exc:
             raise usage_error(f"{exc}: give a larger --width or --height") from None
+        except FileKindError as exc:
+            raise usage_error(f"--out: {exc}") from None
         except OSError as exc:
             raise compute_error(f"cannot write {self.path!r}: {exc.strerror or exc}") from None
         except MemoryError:
@@ -272,21 +280,32 @@ def _compute(fn, *args, **kwargs):
 
 
 def _read_data(path: str):
+    from coincli._files import FileKindError, read_capped, read_regular
+    from coincli.cli._common import stream_reader
     from coincli.stats import parse_experiments
 
     name = "stdin" if path == "-" else path
     try:
         if path == "-":
-            text = sys.stdin.read(MAX_DATA_BYTES + 1)
+            if sys.stdin is None:
+                raise usage_error("--data -: reads your tosses from standard input, but there "
+                                  "is none (it is closed)")
+            data, why = read_capped(stream_reader(sys.stdin), MAX_DATA_BYTES)
         else:
-            with open(path, encoding="utf-8") as fh:
-                text = fh.read(MAX_DATA_BYTES + 1)
+            data, why = read_regular(path, MAX_DATA_BYTES)
+    except FileKindError as exc:
+        raise usage_error(f"--data: cannot read {name!r}: it is {exc.kind}, not a regular file; "
+                          "give a CSV file, or '-' to read a pipe") from None
     except OSError as exc:
         raise usage_error(f"--data: cannot read {name!r}: {exc.strerror or exc}") from None
+    if why == "size":
+        raise usage_error(f"--data: {name!r} is larger than {MAX_DATA_BYTES} bytes")
+    if why == "nul":
+        raise usage_error(f"--data: {name!r} contains a NUL byte; expected a CSV text file")
+    try:
+        text = data.decode("utf-8")
     except UnicodeDecodeError:
         raise usage_error(f"--data: {name!r} is not UTF-8 text") from None
-    if len(text) > MAX_DATA_BYTES:
-        raise usage_error(f"--data: {name!r} is larger than {MAX_DATA_BYTES} bytes")
     try:
         return parse_experiments(text)
     except ValueError as exc:
