@@ -345,13 +345,8 @@ def sides(
     --quarters, --diameter/--thickness) and --p-sides mark your designs, --data your tosses
     with 95% Wilson intervals; --psi and --psi-dist add curves.
 
-    Examples:
-
-      coin plot sides --out sides.png
-
-      coin plot sides --p-sides 1/3 --log --terminal
-
-      coin plot sides --quarters 6:10:1 --psi-dist normal:90:18 --out sides.svg
+    Examples: coin plot sides --out sides.png ;  coin plot sides --p-sides 1/3 --log --terminal ;
+    coin plot sides --quarters 6:10:1 --psi-dist normal:90:18 --out sides.svg
     """
     target = _Target(out, terminal)
     _one_stdin(xi=xi, count=count, quarters=quarters, data=data)
@@ -422,11 +417,8 @@ def psi_cmd(
     theta0/2 of 90 degrees all three.  The coin defaults to xi = 1/sqrt 3; --psi marks your
     tossing angles.
 
-    Examples:
-
-      coin plot psi --xi 0.577 --out psi.png
-
-      coin plot psi --quarters 8 --psi 70 --terminal
+    Examples: coin plot psi --xi 0.577 --out psi.png ;
+    coin plot psi --quarters 8 --psi 70 --terminal
     """
     target = _Target(out, terminal)
     x = _one_coin(xi, coin, count, quarters, diameter, thickness)
@@ -477,13 +469,8 @@ def map_cmd(
     fair three-sided coin (xi = 1/sqrt 3, psi = 90).  The coin options and --psi mark your
     designs.
 
-    Examples:
-
-      coin plot map --out map.png
-
-      coin plot map --style ternary --xi 0.5 --psi 80 --out map.pdf
-
-      coin plot map --terminal
+    Examples: coin plot map --out map.png ;
+    coin plot map --style ternary --xi 0.5 --psi 80 --out map.pdf ;  coin plot map --terminal
     """
     target = _Target(out, terminal)
     st = style.strip().lower()
