@@ -465,3 +465,12 @@ def test_a_written_figure_says_so(coin, tmp_path):
 def test_only_one_option_reads_stdin(coin):
     _error(coin("plot", "sides", "--xi", "-", "--data", "-", "--terminal", stdin="0.5\n"), 2,
            "--xi and --data both read stdin")
+
+
+def test_range_bounds_take_fractions_as_values_do(coin):
+    a = _ok(coin("table", "--xi", "1/10:1/2:1/10", "-f", "csv"))
+    b = _ok(coin("table", "--xi", "0.1:0.5:0.1", "-f", "csv"))
+    assert a == b
+    assert _ok(coin("design", "-p", "0:1:1/4", "-q")) == _ok(coin("design", "-p",
+                                                                   "0,0.25,0.5,0.75,1", "-q"))
+    _error(coin("table", "--xi", "1/0:1:1"), 2, "--xi range must be a number like 0.1 or 1/10")
