@@ -128,14 +128,6 @@ class Normal(Density):
     def title(self) -> str:
         return "normal (paper)" if self.is_paper else self.spec
 
-    @property
-    def width(self) -> float:
-        """The length over which the density falls by a factor e near its peak: ``sd`` for a
-        mean in [0, pi], ``sd^2/d`` (an exponential's) for a mean ``d`` beyond an end, if
-        shorter."""
-        d = max(-self.mean, self.mean - math.pi, 0.0)
-        return self.sd * min(1.0, self.sd / d) if d > 0 else self.sd
-
     def log_shape(self, psi):
         """``log(pdf(psi)/pdf(peak))`` (numpy): ``-((psi - m)^2 - (peak - m)^2)/(2 sd^2)``,
         factored as ``-(psi - peak)(psi + peak - 2m)/(2 sd^2)`` in units of sd (never sd^2, which
