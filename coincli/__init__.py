@@ -3,7 +3,7 @@
 The physics is Yong & Mahadevan, "Probability, geometry, and dynamics in the toss of a thick
 coin".  The closed forms (:func:`geometric`, :func:`dynamic`, :func:`conditional` and their
 inverses) need nothing beyond the standard library for Python floats; :func:`marginal` and the
-root-found inverses import numpy and scipy when first called.
+root-found inverses import numpy when first called.
 """
 
 from __future__ import annotations

@@ -6,9 +6,9 @@ and ``coin plot sides`` mean by "a model": the geometric one (eq. 11), the dynam
 quadrature order to average with when a tolerance asks for one.  It is pure: it prints
 nothing and knows no command line; the commands build it (and word its errors) themselves.
 
-The closed forms stay on :mod:`coincli.models` (Python floats for one value); numpy, scipy and
-:mod:`coincli.averages` load only when a psi density or a fixed-psi inverse is evaluated, so
-a closed-form run imports none of them.
+The closed forms stay on :mod:`coincli.models` (Python floats for one value); numpy and
+:mod:`coincli.averages` load only when a psi density or a fixed-psi inverse is evaluated (at
+90 deg that is eq. 12's own inverse), so a closed-form run imports neither.
 """
 
 from __future__ import annotations

@@ -3,7 +3,7 @@
 Thin: parse the options, call :mod:`coincli.models` / :mod:`coincli.averages`, build a
 :class:`Result`, emit it.  A single value under the geometric or dynamic model stays on Python
 floats (no numpy); lists, ranges and stdin batches of those models go through numpy in one
-vectorized call; psi models use quadrature and root finding (numpy and scipy, loaded then).
+vectorized call; psi models use quadrature and root finding (numpy, loaded then).
 """
 
 from __future__ import annotations
