@@ -17,7 +17,10 @@ points just outside a piece when one piece is much shorter than the other (at ``
 ``s`` range is split geometrically toward them (ratio 4), so Gauss-Legendre converges spectrally
 (at least like ``3**(-2n)`` with ``n`` nodes) on every subinterval.  In C the grading stops at
 ``s* = 1e-18``: closer, the branch point changes the integral by about ``s*`` relative, under a
-rounding error.  Narrow normals and table kinks add their own breakpoints.
+rounding error.  Narrow normals and table kinks add their own breakpoints, and so does a
+narrow normal's far tail beyond a regime boundary (``_tail_points``: a chance of 1e-300 keeps its
+relative accuracy).  A table's thousands of short subintervals get the few nodes each needs
+(``_orders``), and its points times the xi values per call are capped (``MAX_TABLE_WORK``).
 
 Vectorized.  For an array of ``xi`` the subintervals of every ``xi`` and piece are laid out as one
 flat list, the nodes as a 2-D array (subintervals x nodes, in cache-sized blocks), and each
@@ -31,7 +34,12 @@ Normalization.  The sums are divided by the quadrature's own mass of the density
 largest chance is taken as 1 minus the other two: heads + sides + tails = 1 to rounding, every
 chance lies in [0, 1], and a narrow density's peak a rounding away from a piece's end costs
 nothing.  A normal too narrow for any quadrature (``mean +- sd/2`` rounds to the mean) is Table I
-at its mean, the limit.
+at its mean, the limit; one within 2^-600 of psi = 0 is averaged scaled up (``_planar``), and a
+coin thinner than 2^-600 has P(sides) = C xi (``_THIN``).
+
+Inverses.  ``P(sides) = p`` is solved by bracketing and Chandrupatla's method down to adjacent
+doubles (``_root``), on the complement ``P(heads) + P(tails) = 1 - p`` for p > 1/2; Table I's
+inverse starts from its closed form (``_table_i_guess``).  docs/accuracy.md has the errors.
 """
 
 from __future__ import annotations
