@@ -211,19 +211,26 @@ TAILS = [
 ]
 
 
-@pytest.mark.parametrize("mean, sd, z, ref", TAILS)
-def test_far_tails_of_narrow_normals(mean, sd, z, ref):
-    """Relative error within 4 ulps times the chance's condition number with respect to xi
-    (|d log P / d log xi|: a tail exp(-z^2/2) moves by z/sd per radian of theta0/2), the
-    accuracy of the chance of the double xi's own rounding."""
+def tail_error(mean, sd, z, ref):
+    """(xi, computed P(sides), relative error, kappa = |d ln P / d ln xi|) for a TAILS case
+    (also benchmarks/accuracy.py's table)."""
     d = Normal(math.radians(mean), math.radians(sd))
     xi = 1 / math.tan(2 * math.radians(mean + z * sd))
     got = marginal(xi, d).sides
     h = 1e-7
     kappa = abs(math.log(marginal(xi * (1 + h), d).sides / marginal(xi * (1 - h), d).sides)
                 / (2 * h))
-    rel = abs(got - float(ref)) / float(ref)
+    return xi, got, abs(got - float(ref)) / float(ref), kappa
+
+
+@pytest.mark.parametrize("mean, sd, z, ref", TAILS)
+def test_far_tails_of_narrow_normals(mean, sd, z, ref):
+    """Relative error within 4 ulps times the chance's condition number with respect to xi
+    (|d log P / d log xi|: a tail exp(-z^2/2) moves by z/sd per radian of theta0/2), the
+    accuracy of the chance of the double xi's own rounding."""
+    xi, got, rel, kappa = tail_error(mean, sd, z, ref)
     assert rel <= 4 * 2.0**-53 * max(1.0, kappa), (rel, kappa)
+    d = Normal(math.radians(mean), math.radians(sd))
     assert marginal(np.array([xi]), d).sides[0] == pytest.approx(got, rel=1e-14)
 
 
