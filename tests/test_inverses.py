@@ -55,12 +55,14 @@ def test_conditional_grid_reaches_the_issues_targets_and_angles():
 
 def test_conditional_inverse_within_the_bar_everywhere(report):
     """Within 1e-12 relative or 4 ulps of the target times the condition number, at every
-    stored case; in fact within 1e-15 wherever the target is a normal double."""
+    stored case; in fact, wherever the target is a normal double, within what the forward
+    function's own 4 ulps allow: kappa times 4 ulps, plus the rounding of xi itself."""
     cases = [c for c in REF["conditional"] if 0 < c[2] < 1.7976931348623157e308]
     errs = _errors(cases, lambda p, psi: conditional_inverse(p, psi))
     assert errs[0][0] <= 1.0, errs[0]
     normal = [e for e in errs if e[2][0] >= 2.3e-308]
-    assert max(e[1] for e in normal) < 1e-15, normal[0]
+    for e in normal:
+        assert e[1] <= (4 * float(e[2][3]) + 1) * 2.0**-52, e
     report("inverses vs mpmath", f"conditional_inverse: {len(cases)} cases, worst "
            f"{errs[0][0]:.3g} of the bar; worst relative (normal targets) "
            f"{max(e[1] for e in normal):.3g}")
