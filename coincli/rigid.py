@@ -97,6 +97,7 @@ __all__ = [
     "ellip_agm",
     "ellip_k",
     "ellip_f",
+    "ellip_rf",
     "ellip_j",
 ]
 
@@ -276,24 +277,44 @@ def ellip_k(m, m1, agm=None):
     return math.pi / (2 * A[-1])
 
 
-def ellip_f(s, c, m, m1, agm=None):
-    """The incomplete integral :math:`F(\\varphi \\mid m)` for the amplitude
-    :math:`\\varphi \\in [0, \\pi/2]` given by ``s = sin(phi) >= 0`` and ``c = cos(phi) >= 0``
-    (neither need be normalized), by the descending Landen transform (A&S 17.6.9):
-    :math:`\\varphi_{n+1} = \\varphi_n + \\arctan(b_n \\tan\\varphi_n / a_n)` on the right branch,
-    :math:`F = \\varphi_N / (2^N a_N)`.  ``m1 > 0``."""
-    A, B, _ = agm if agm is not None else ellip_agm(m, m1)
-    xp = _xp(s, c, m, m1)
-    phi = xp.arctan2(s, c)
-    phi_next = phi + xp.arctan2(B[0] * s, A[0] * c)
-    for n in range(1, len(A) - 1):
-        phi = phi_next
-        j = xp.rint(phi / math.pi)
-        d = phi - j * math.pi
-        phi_next = phi + j * math.pi + xp.arctan2(B[n] / A[n] * xp.sin(d), xp.cos(d))
-    if len(A) == 1:  # m == 0: F = phi
-        return phi
-    return phi_next / (2.0 ** (len(A) - 1) * A[-1])
+def ellip_rf(x, y, z):
+    """Carlson's symmetric integral :math:`R_F(x, y, z) = \frac12\int_0^\infty
+    \frac{dt}{\sqrt{(t+x)(t+y)(t+z)}}` (``x, y, z >= 0``, at most one 0) by duplication
+    (Carlson 1995; DLMF 19.36.1), on floats or numpy arrays: a few ulps, with no cancellation
+    however small ``x`` and ``y`` are (``F`` near ``K`` next to the separatrix needs that)."""
+    xp = _xp(x, y, z)
+    x0, y0, z0 = x, y, z
+    A0 = (x + y + z) / 3
+    A = A0
+    big = xp.maximum(xp.maximum(xp.abs(A0 - x), xp.abs(A0 - y)), xp.abs(A0 - z))
+    Q = (3 * _EPS) ** (-1 / 6) * big
+    f = 1.0
+    for _ in range(200):
+        if not xp.any(f * Q >= xp.abs(A)):
+            break
+        sx, sy, sz = xp.sqrt(x), xp.sqrt(y), xp.sqrt(z)
+        lam = sx * sy + sy * sz + sz * sx
+        x, y, z = (x + lam) / 4, (y + lam) / 4, (z + lam) / 4
+        A = (A + lam) / 4
+        f /= 4
+    As = xp.where(A > 0, A, 1.0)
+    X = (A0 - x0) * f / As
+    Y = (A0 - y0) * f / As
+    Z = -(X + Y)
+    E2 = X * Y - Z * Z
+    E3 = X * Y * Z
+    return (1 - E2 / 10 + E3 / 14 + E2 * E2 / 24 - 3 * E2 * E3 / 44) / xp.sqrt(A)
+
+
+def ellip_f(s, c, m1):
+    """The incomplete integral :math:`F(\varphi \mid m)` for the amplitude
+    :math:`\varphi \in [0, \pi/2]` given by ``s = sin(phi) >= 0`` and ``c = cos(phi) >= 0``
+    (with :math:`s^2 + c^2 = 1`) and the complement ``m1 = 1 - m`` of the parameter:
+    :math:`F = s\,R_F(c^2, c^2 + m_1 s^2, 1)` (``1 - m s^2 = c^2 + m_1 s^2``, no
+    cancellation).  Accurate to a few ulps even at ``phi -> pi/2`` with ``m1 -> 0``, where
+    F is large and depends on ``c`` alone (the angle itself could not carry that); ``m1 = 0``
+    gives :math:`\operatorname{artanh} s`."""
+    return s * ellip_rf(c * c, c * c + m1 * s * s, s * 0 + 1.0)
 
 
 def _sncndn_eighth(xp, u, m1, A, B, C):
@@ -495,13 +516,10 @@ def orbit(moments, omega) -> Orbit:
     m_agm = xp.where(m1 > 0, m, 0.0)
     o.agm = ellip_agm(m_agm, m1_agm)
     o.K = xp.where(m1 > 0, xp.pi / (2 * o.agm[0][-1]), math.inf)
-    F = ellip_f(xp.abs(o.sn0), o.cn0, m_agm, m1_agm, o.agm)
-    cn0s = xp.where(o.cn0 > 0, o.cn0, 1.0)
-    if xp is _Py:
-        F_sep = math.asinh(abs(o.sn0) / cn0s)
-    else:
-        F_sep = xp.arcsinh(xp.abs(o.sn0) / cn0s)
-    tau0 = xp.where(m1 > 0, F, F_sep)
+    # F(phi0 | m) with cn0 > 0 unless the motion is steady (then tau0 is not used)
+    cn0 = xp.where(stationary, 1.0, o.cn0)
+    sn0 = xp.where(stationary, 0.0, xp.abs(o.sn0))
+    tau0 = ellip_f(sn0, cn0, m1)
     tau0 = xp.where(o.sn0 < 0, -tau0, tau0)
     o.tau0 = xp.where(stationary, 0.0, tau0)
     o.L = xp.sqrt((Ia * ws[0]) ** 2 + (Ib * ws[1]) ** 2 + (Ic * ws[2]) ** 2)
@@ -843,6 +861,13 @@ def flip_asymptote(moments, omega):
 # --------------------------------------------------------------------------- the summary
 
 
+def _overflow_inf(f):
+    try:
+        return f()
+    except (OverflowError, ZeroDivisionError):
+        return math.inf
+
+
 class Motion:
     """What :func:`motion` finds: plain floats (seconds, rad/s, the user's axes).
 
@@ -877,14 +902,14 @@ class Motion:
 def motion(moments, omega) -> Motion:
     """The summary of the free motion started with body angular velocity ``omega`` (rad/s
     about the axes of ``moments``): scalars only, computed with :mod:`math` (no numpy)."""
-    o = orbit(moments, omega)
-    I = o.moments
     w = tuple(float(v) for v in omega)
+    o = orbit(moments, w)  # on floats: no numpy
+    I = o.moments
     s = o.scale
     roles = _roles(I)
     spin_axis = max(range(3), key=lambda i: (abs(I[i] * w[i]), -i))
-    energy = sum(I[i] * (w[i] / s) ** 2 for i in range(3)) * s * s / 2 if s else 0.0
-    momentum = math.sqrt(sum((I[i] * w[i] / s) ** 2 for i in range(3))) * s if s else 0.0
+    energy = 0.0 if s == 0 else _overflow_inf(lambda: sum(I[i] * (w[i] / s) ** 2 for i in range(3)) * s * s / 2)
+    momentum = 0.0 if s == 0 else _overflow_inf(lambda: math.sqrt(sum((I[i] * w[i] / s) ** 2 for i in range(3))) * s)
     out = Motion(moments=I, omega0=w, spin_axis=spin_axis, role=roles[spin_axis], m=o.m,
                  m1=o.m1, energy=energy, momentum=momentum)
     if s == 0:
