@@ -278,7 +278,7 @@ def ellip_k(m, m1, agm=None):
 
 
 def ellip_rf(x, y, z):
-    """Carlson's symmetric integral :math:`R_F(x, y, z) = \frac12\int_0^\infty
+    r"""Carlson's symmetric integral :math:`R_F(x, y, z) = \frac12\int_0^\infty
     \frac{dt}{\sqrt{(t+x)(t+y)(t+z)}}` (``x, y, z >= 0``, at most one 0) by duplication
     (Carlson 1995; DLMF 19.36.1), on floats or numpy arrays: a few ulps, with no cancellation
     however small ``x`` and ``y`` are (``F`` near ``K`` next to the separatrix needs that)."""
@@ -307,7 +307,7 @@ def ellip_rf(x, y, z):
 
 
 def ellip_f(s, c, m1):
-    """The incomplete integral :math:`F(\varphi \mid m)` for the amplitude
+    r"""The incomplete integral :math:`F(\varphi \mid m)` for the amplitude
     :math:`\varphi \in [0, \pi/2]` given by ``s = sin(phi) >= 0`` and ``c = cos(phi) >= 0``
     (with :math:`s^2 + c^2 = 1`) and the complement ``m1 = 1 - m`` of the parameter:
     :math:`F = s\,R_F(c^2, c^2 + m_1 s^2, 1)` (``1 - m s^2 = c^2 + m_1 s^2``, no

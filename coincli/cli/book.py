@@ -43,6 +43,7 @@ _SPIN_UNITS = {"rad/s": 1.0, "rev/s": 2 * math.pi, "rps": 2 * math.pi, "rpm": 2 
                "deg/s": math.pi / 180, "hz": 2 * math.pi}
 _TIME_UNITS = {"s": 1.0, "ms": 1e-3}
 _DIST_KINDS = ("normal", "uniform", "fixed")
+_IMAGES = (".gif", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".webp", ".eps", ".ps")
 
 
 def _usage(fn, *args, **kwargs):
@@ -294,13 +295,14 @@ def book_cmd(
         "normal:MEAN:SD (truncated at 0) or uniform:LOW:HIGH.  Default 0.5 with --toss; "
         "without --toss it adds the face up at that catch to the motion table.",
         metavar="SPEC")] = None,
-    start: Annotated[str, typer.Option(
+    start: Annotated[str | None, typer.Option(
         "--start", help="Face up at launch (+1 -1 +2 -2 +3 -3: outward normal along +-body "
-        "axis), or random (a uniformly random attitude).", metavar="FACE")] = "+3",
-    rule: Annotated[str, typer.Option(
+        "axis; default +3), or random (a uniformly random attitude, with --toss).",
+        metavar="FACE")] = None,
+    rule: Annotated[str | None, typer.Option(
         "--rule", help="Which face is up at the catch: centre (the vertical through the centre "
         "passes through it: the coin's rule, matched by solid angles) or normal (its outward "
-        "normal is nearest the vertical).", metavar="centre|normal")] = "centre",
+        "normal is nearest the vertical).  Default centre.", metavar="centre|normal")] = None,
     out: Annotated[str | None, typer.Option(
         "--out", "-o", help="Write to FILE: a figure when it ends in .png, .svg or .pdf (omega(t) "
         "and the face up; with --toss the face chances), else the output in --format.",
@@ -325,10 +327,18 @@ def book_cmd(
     """
     check_format(fmt)
     box = _box(size, moments)
-    start_v = start.strip().lower()
+    figure = _is_figure(out)
+    if out is not None and not figure and os.path.splitext(out)[1].lower() in _IMAGES:
+        raise usage_error(f"--out: figures are written as .png, .svg or .pdf, got {out!r}")
+    if not (toss or times is not None or flight is not None or figure):
+        for opt, given in (("--start", start), ("--rule", rule)):
+            if given is not None:
+                raise usage_error(f"{opt} is for --times, --flight, --toss or a figure (which "
+                                  "face is up)")
+    start_v = (start or "+3").strip().lower()
     if start_v not in STARTS:
         raise usage_error(f"--start must be one of {', '.join(STARTS)}, got {start!r}")
-    rule_v = rule.strip().lower()
+    rule_v = (rule or "centre").strip().lower()
     if rule_v == "center":
         rule_v = "centre"
     if rule_v not in ("centre", "normal"):
@@ -336,7 +346,6 @@ def book_cmd(
     if spin is None:
         raise usage_error("give --spin W1,W2,W3 (rad/s about body axes 1, 2, 3), e.g. "
                           "--spin 0,0,40")
-    figure = _is_figure(out)
     if toss:
         if times is not None:
             raise usage_error("--times is for one motion; --toss tosses many (give one of them)")
@@ -571,11 +580,11 @@ def _toss(box, spin, n, seed, flight, start, rule, out, figure, fmt, quiet):
     ttop = _reach(fd)
     _check_phase(wtop * ttop, "--flight", f"{flight_text.strip()} (up to {ttop:g} s) with --spin "
                  f"{spin.strip()} (up to |omega| = {wtop:g} rad/s)")
+    import numpy as np
+
     from coincli import rigid as R
     from coincli.cli.toss import _progress
-    from coincli.stats import proportion
-
-    import numpy as np
+    from coincli.toss import wilson_interval
 
     counts = np.zeros(6, dtype=np.int64)
     with _progress(count) as tick:
@@ -589,9 +598,9 @@ def _toss(box, spin, n, seed, flight, start, rule, out, figure, fmt, quiet):
     rows = []
     for k in range(6):
         c = int(counts[k])
-        pr = proportion(c, count, FACES[k])
-        rows.append((FACES[k], _face_size(box, k), c, c / count, pr.wilson.low, pr.wilson.high,
-                     geo[k], c / count - geo[k], seed_v))
+        lo, hi = wilson_interval(c, count)
+        rows.append((FACES[k], _face_size(box, k), c, c / count, lo, hi, geo[k],
+                     c / count - geo[k], seed_v))
     columns = [
         Column("face", "face", "text"), Column("face_size", "face size", "text"),
         Column("count", "count", "int"), Column("frequency", "frequency"),
