@@ -647,9 +647,10 @@ def _frame_quat(perm, sign):
 
 
 def attitude_at(o: Orbit, t, start=(1.0, 0.0, 0.0, 0.0)):
-    """The body's attitude at times ``t`` (s): a unit quaternion (w, x, y, z) as a numpy array
-    of shape ``broadcast + (4,)``, rotating body (user's axes) to lab coordinates, given the
-    attitude ``start`` at t = 0 (a quaternion, or an array of them ``(..., 4)``)."""
+    """The body's attitude at times ``t`` (s): a unit quaternion (w, x, y, z), ``w >= 0``, as a
+    numpy array of shape ``broadcast + (4,)``, rotating body (user's axes) to lab coordinates,
+    given the attitude ``start`` at t = 0 (a quaternion, or an array of them ``(..., 4)``;
+    returned exactly at t = 0)."""
     import numpy as np
 
     o = _as_np(o)
@@ -705,7 +706,11 @@ def attitude_at(o: Orbit, t, start=(1.0, 0.0, 0.0, 0.0)):
     q0 = tuple(q0[..., k] for k in range(4))
     out = _qmul(q0, qm)
     out = np.stack(np.broadcast_arrays(*out), axis=-1)
-    return out / np.linalg.norm(out, axis=-1, keepdims=True)
+    out = out / np.linalg.norm(out, axis=-1, keepdims=True)
+    # at t = 0 the start itself, exactly; then the sign with w >= 0 (q and -q are one attitude)
+    start_b = np.broadcast_to(np.stack(q0, axis=-1), out.shape)
+    out = np.where((np.broadcast_to(t, out.shape[:-1]) == 0)[..., None], start_b, out)
+    return np.where(out[..., :1] < 0, -out, out)
 
 
 def _Gfun(o, s, c, d, q, nper, tau, np):

@@ -545,8 +545,8 @@ def _series(box, w, times, start, rule, out, figure, fmt, quiet):
         Column(f"omega{i + 1}", f"omega{i + 1} (rad/s)", "g10") for i in range(3)] + [
         Column(f"q{c}", f"q{c}", "g10") for c in "wxyz"] + [Column("up", "face up", "text")]
     note = (f"{box.label}; spin {', '.join(_fmt(v) for v in w)} rad/s at launch, face {start} "
-            f"up; attitude as a unit quaternion (w, x, y, z) turning body axes into the lab's "
-            f"(z up); face up by the {rule} rule.")
+            f"up; attitude as a unit quaternion (w, x, y, z), w >= 0, turning body axes into the "
+            f"lab's (z up); face up by the {rule} rule.")
     _emit(Result("coin book --times", cols, [], note, quiet=labels, data=data), fmt, quiet, out)
 
 
