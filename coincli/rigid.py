@@ -339,12 +339,10 @@ def _sncndn_eighth(xp, u, m1, A, B, C):
         delta = phi - (k * math.pi + half_pi)  # |sin phi| = cos(delta)
         y = B[n - 1] / A[n] + ratio * 2 * xp.sin(delta / 2) ** 2  # 1 - |x|
         near = y < 0.5
-        x = ratio * sp
-        ys = xp.where(near, y, 0.0)
-        a_near = half_pi - 2 * xp.arcsin(xp.sqrt(ys / 2))
+        a = xp.arcsin(xp.where(near, xp.sqrt(xp.maximum(y, 0.0) / 2), ratio * sp))
+        a_near = half_pi - 2 * a
         a_near = xp.where(sp < 0, -a_near, a_near)
-        a_far = xp.arcsin(xp.where(near, 0.0, x))
-        phi = (phi + xp.where(near, a_near, a_far)) / 2
+        phi = (phi + xp.where(near, a_near, a)) / 2
     s, c = xp.sin(phi), xp.cos(phi)
     return s, c, xp.sqrt(c * c + m1 * s * s)
 

@@ -32,7 +32,7 @@ from coincli.cli._common import (
     values_option,
 )
 
-MAX_TOSSES = 10**8  # as coincli.toss.MAX_TOSSES (kept here so the module loads without numpy)
+MAX_TOSSES = 10**7  # tosses of one --toss run (a box costs ~10 coins: elliptic integrals)
 MAX_PHASE = 1e12  # coincli.rigid.MAX_PHASE
 NORMAL_REACH = 10  # a normal spin or flight is checked up to MEAN + 10 SD (P < 1e-23 a draw)
 FIGURE_POINTS = 2001  # samples of omega(t) in a figure without --times
@@ -155,10 +155,10 @@ def _tosses(text: str) -> int:
     s = text.strip()
     digits = s.removeprefix("+").lstrip("0")
     if not (s.isascii() and re.fullmatch(r"\+?\d+", s)) or not digits:
-        raise usage_error(f"-n must be a whole number from 1 to {MAX_TOSSES} (10^8), got "
+        raise usage_error(f"-n must be a whole number from 1 to {MAX_TOSSES} (10^7), got "
                           f"{text!r}")
     if len(digits) > 9 or int(digits) > MAX_TOSSES:
-        raise usage_error(f"-n is more than the {MAX_TOSSES} (10^8) tosses of one run; for more, "
+        raise usage_error(f"-n is more than the {MAX_TOSSES} (10^7) tosses of one run; for more, "
                           "run again with another --seed and add the counts")
     return int(digits)
 
@@ -285,7 +285,7 @@ def book_cmd(
         "--toss", help="Toss many boxes with random spins and flight times; give the chance of "
         "each face beside the geometric model.")] = False,
     n: Annotated[str, typer.Option(
-        "-n", "--n", "--tosses", help="Number of tosses with --toss, 1 to 10^8.",
+        "-n", "--n", "--tosses", help="Number of tosses with --toss, 1 to 10^7.",
         metavar="N")] = "10000",
     seed: Annotated[str | None, typer.Option(
         "--seed", help="Seed of the random tosses (a whole number >= 0).  Default: fresh "
