@@ -107,6 +107,7 @@ FACES = ("+1", "-1", "+2", "-2", "+3", "-3")
 RULES = ("centre", "normal")
 _EPS = 2.220446049250313e-16
 _MAX_AGM = 64  # AGM steps; m1 = 1e-308 needs 14
+_M1_HYPERBOLIC = 1e-11  # below: sn, cn, dn on [0, K/2] from the expansion about m = 1
 
 
 # --------------------------------------------------------------------------- boxes
@@ -212,11 +213,15 @@ class _Py:
     scalar summary runs without numpy."""
 
     sqrt = staticmethod(math.sqrt)
+    sinh = staticmethod(math.sinh)
+    cosh = staticmethod(math.cosh)
+    tanh = staticmethod(math.tanh)
     sin = staticmethod(math.sin)
     cos = staticmethod(math.cos)
     arcsin = staticmethod(math.asin)
     arctan2 = staticmethod(math.atan2)
     floor = staticmethod(math.floor)
+    copysign = staticmethod(math.copysign)
     abs = staticmethod(abs)
     maximum = staticmethod(max)
     minimum = staticmethod(min)
@@ -335,16 +340,31 @@ def _sncndn_eighth(xp, u, m1, A, B, C):
     for n in range(N, 0, -1):
         ratio = C[n] / A[n]
         sp = xp.sin(phi)
+        if not xp.any(B[n - 1] < 0.5 * A[n]):  # 1 - |x| >= b/a >= 1/2: arcsin is accurate
+            phi = (phi + xp.arcsin(ratio * sp)) / 2
+            continue
         k = xp.floor(phi / math.pi)
         delta = phi - (k * math.pi + half_pi)  # |sin phi| = cos(delta)
         y = B[n - 1] / A[n] + ratio * 2 * xp.sin(delta / 2) ** 2  # 1 - |x|
         near = y < 0.5
         a = xp.arcsin(xp.where(near, xp.sqrt(xp.maximum(y, 0.0) / 2), ratio * sp))
-        a_near = half_pi - 2 * a
-        a_near = xp.where(sp < 0, -a_near, a_near)
+        a_near = xp.copysign(half_pi - 2 * a, sp)
         phi = (phi + xp.where(near, a_near, a)) / 2
     s, c = xp.sin(phi), xp.cos(phi)
-    return s, c, xp.sqrt(c * c + m1 * s * s)
+    d = xp.sqrt(c * c + m1 * s * s)
+    near1 = m1 < _M1_HYPERBOLIC
+    if xp.any(near1):
+        # Next to m = 1 cn and dn at K/2 are ~ m1^(1/4), below the absolute accuracy (eps) of
+        # cos(phi) above; there A&S 16.15 (first order in m1) is within 2 eps of sn, cn, dn on
+        # [0, K/2] (measured against mpmath for m1 <= 1e-10): relative accuracy however small.
+        uh = xp.where(near1, u, 0.0)
+        sh, ch, th = xp.sinh(uh), xp.cosh(uh), xp.tanh(uh)
+        se = 1 / ch
+        q = m1 / 4
+        s = xp.where(near1, th + q * (sh * ch - uh) * se * se, s)
+        c = xp.where(near1, se * (1 - q * (sh * ch - uh) * th), c)
+        d = xp.where(near1, se * (1 + q * (sh * ch + uh) * th), d)
+    return s, c, d
 
 
 def ellip_j(u, m, m1, agm=None):
@@ -608,11 +628,11 @@ def _qmul(p, q):
             pw * qz + px * qy - py * qx + pz * qw)
 
 
-def _qaxis(angle, axis, np):
-    h = angle / 2
-    c, s = np.cos(h), np.sin(h)
-    z = np.zeros_like(c)
-    return (c, s, z, z) if axis == 0 else (c, z, s, z) if axis == 1 else (c, z, z, s)
+def _zxz(np, phi, theta, psi):
+    """The quaternion of Rz(phi) Rx(theta) Rz(psi)."""
+    ct, st = np.cos(theta / 2), np.sin(theta / 2)
+    a, b = (phi + psi) / 2, (phi - psi) / 2
+    return (ct * np.cos(a), st * np.cos(b), st * np.sin(b), ct * np.sin(a))
 
 
 def _qconj(q):
@@ -682,13 +702,16 @@ def attitude_at(o: Orbit, t, start=(1.0, 0.0, 0.0, 0.0)):
     G0 = _Gfun(o, s0, c0, d0, np.zeros_like(np.asarray(s0, dtype=float)),
                np.zeros_like(np.asarray(s0, dtype=float)), o.tau0, np)
     dphi = L / Ia * ts + coef * (Gt - G0)
-    qm = _qmul(_qmul(_qmul(_qmul(_qaxis(-psi0, 2, np), _qaxis(-theta0, 0, np)),
-                           _qaxis(dphi, 2, np)), _qaxis(theta, 0, np)), _qaxis(psi, 2, np))
-    # back to the user's axes: conj(qP) * qm * qP, qP chosen per motion
+    # q = q0 * conj(qP) * conj(E(0)) * E(t) * qP with E = Euler z-x-z (phi, theta, psi): the
+    # constant factors once per motion, E(t) by the closed form of a z-x-z rotation (two sines
+    # and cosines of half-angle sums) instead of three rotations and two products a time
     qc, qa = _frame_quat(o.perm_c, o.sign_c), _frame_quat(o.perm_a, o.sign_a)
     rev = np.asarray(o.rev)
     qP = tuple(np.where(rev, qa[k], qc[k]) for k in range(4))
-    qm = _qmul(_qmul(_qconj(qP), qm), qP)
+    q0 = np.asarray(start, dtype=float)
+    q0 = tuple(q0[..., k] for k in range(4))
+    left = _qmul(_qmul(q0, _qconj(qP)), _qconj(_zxz(np, 0.0, theta0, psi0)))
+    qm = _qmul(_qmul(left, _zxz(np, dphi, theta, psi)), qP)
     # stationary motions: a rotation about the (constant) omega by |omega| t
     st = np.asarray(o.stationary)
     if st.any():
@@ -699,11 +722,8 @@ def attitude_at(o: Orbit, t, start=(1.0, 0.0, 0.0, 0.0)):
         axis = w / np.where(wn > 0, wn, 1.0)[..., None]
         sh = np.sin(h)
         qs = (np.cos(h), axis[..., 0] * sh, axis[..., 1] * sh, axis[..., 2] * sh)
-        qm = tuple(np.where(st, qs[k], qm[k]) for k in range(4))
-    q0 = np.asarray(start, dtype=float)
-    q0 = tuple(q0[..., k] for k in range(4))
-    out = _qmul(q0, qm)
-    out = np.stack(np.broadcast_arrays(*out), axis=-1)
+        qm = tuple(np.where(st, _qmul(q0, qs)[k], qm[k]) for k in range(4))
+    out = np.stack(np.broadcast_arrays(*qm), axis=-1)
     out = out / np.linalg.norm(out, axis=-1, keepdims=True)
     # at t = 0 the start itself, exactly; then the sign with w >= 0 (q and -q are one attitude)
     start_b = np.broadcast_to(np.stack(q0, axis=-1), out.shape)
