@@ -141,7 +141,7 @@ def test_times_give_omega_the_attitude_and_the_face_up(coin):
     assert rows[0]["up"] == "+3" and {r["up"] for r in rows} >= {"+3", "-3"}
 
 
-@pytest.mark.parametrize("fmt", ["csv", "tsv", "json", "jsonl", "table"])
+@pytest.mark.parametrize("fmt", ["csv", "tsv", "json", "jsonl", "markdown", "table"])
 def test_every_format_of_the_time_series(coin, fmt):
     out = ok(coin(*BOOK, "--spin", "1,40,0", "--times", "0,0.1,0.2", "-f", fmt))
     if fmt == "json":
@@ -286,7 +286,7 @@ BAD = [
     ([*BOOK, "--spin", "0,0,40", "--rule", "normal"], "--rule"),
     ([*TOSS, "-n", "0"], "-n"),
     ([*TOSS, "-n", "1e5"], "-n"),
-    ([*TOSS, "-n", "10000001"], "10^7"),
+    ([*TOSS, "-n", "10000001"], "10000000"),
     ([*TOSS, "--seed", "-1"], "--seed"),
     ([*TOSS, "--times", "0"], "--times"),
     ([*BOOK, "--toss", "--spin", "normal:0:-1,0,0"], "SD >= 0"),
@@ -379,3 +379,15 @@ def test_series_and_tosses_import_only_numpy_and_scipy_special(tmp_path):
 def test_a_figure_imports_matplotlib(tmp_path):
     mods = _loaded([*BOOK, "--spin", "0.4,40,0.3", "--out", str(tmp_path / "b.png")])
     assert "matplotlib" in mods
+
+
+def test_out_refuses_a_directory_before_computing(coin, tmp_path):
+    error(coin(*BOOK, "--spin", "1,40,0", "--times", "0", "-f", "csv", "--out", str(tmp_path)),
+          2, "--out")
+
+
+def test_no_headers_and_negative_spins_with_units(coin):
+    out = ok(coin(*BOOK, "--spin", "-0.4,-6.4rev/s,90deg/s", "--times", "0", "-f", "csv",
+                  "--no-headers"))
+    w = [float(v) for v in out.split(",")[1:4]]
+    assert w == pytest.approx([-0.4, -6.4 * 2 * math.pi, math.pi / 2], rel=1e-15)
