@@ -151,7 +151,36 @@ def run(n: int, repeat: int):
         np.arctan(arctan_x)
         arctan_t.append(time.perf_counter() - t0)
     summary = timeit.repeat(lambda: R.motion(I, SPIN), number=200, repeat=5)
-    return rows, _report.median(toss_t), _report.median(arctan_t), min(summary) / 200
+
+    # where the closed form wins: one time far out, and many motions at one time each
+    t_far = 10 * T_END
+    far = []
+    for _ in range(max(2, repeat - 1)):
+        t0 = time.perf_counter()
+        oo = R.orbit(I, w0)
+        wf, qf = R.omega_at(oo, t_far), R.attitude_at(oo, t_far)
+        t1 = time.perf_counter()
+        sol = solve_ivp(_rhs_full(I), (0.0, t_far), list(w0) + [1.0, 0.0, 0.0, 0.0],
+                        method="DOP853", rtol=1e-13, atol=1e-15 * norm, t_eval=[t_far])
+        t2 = time.perf_counter()
+        far.append((t1 - t0, t2 - t1))
+    yq = sol.y[3:, -1] / np.linalg.norm(sol.y[3:, -1])
+    far_err = (float(np.abs(sol.y[:3, -1] - wf).max()) / norm,
+               float(min(np.abs(yq - qf).max(), np.abs(yq + qf).max())))
+    many, looped = 20000, 100
+    spins = w0 + np.random.default_rng(1).normal(0.0, 0.3, (many, 3))
+    t0 = time.perf_counter()
+    om = R.orbit(I, spins)
+    R.omega_at(om, 1.0), R.attitude_at(om, 1.0)
+    t_many = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    for k in range(looped):
+        solve_ivp(_rhs_full(I), (0.0, 1.0), list(spins[k]) + [1.0, 0.0, 0.0, 0.0],
+                  method="DOP853", rtol=1e-13, atol=1e-15 * norm, t_eval=[1.0])
+    t_loop = (time.perf_counter() - t0) / looped
+    extra = {"far": (t_far, _report.median([a for a, _ in far]), _report.median([b for _, b in far]),
+                     far_err), "many": (many, t_many / many, t_loop)}
+    return rows, _report.median(toss_t), _report.median(arctan_t), min(summary) / 200, extra
 
 
 def main(argv=None) -> int:
@@ -161,7 +190,9 @@ def main(argv=None) -> int:
     ap.add_argument("--no-write", action="store_true", help="do not touch docs/performance.md")
     args = ap.parse_args(argv)
     where = _report.machine()
-    rows, toss, arctan, summary = run(args.n, args.repeat)
+    rows, toss, arctan, summary, extra = run(args.n, args.repeat)
+    t_far, ex_far, dop_far, (werr_far, qerr_far) = extra["far"]
+    many, ex_many, dop_many = extra["many"]
 
     def err(v):
         return "-" if v is None else ("0 (the reference)" if v == 0 else f"{v:.1e}")
@@ -183,6 +214,18 @@ def main(argv=None) -> int:
         f"({1e9 * toss / args.n / (1e9 * arctan / args.n):.0f}x `np.arctan` over as many "
         f"doubles, {_report.fmt_time(arctan)}).  The motion table's summary (`rigid.motion`, "
         f"pure Python, no numpy): {1e6 * summary:.0f} µs a call.", "",
+        "Where the closed form wins: one time far out, the cost of the exact solution does not "
+        f"grow with it (t = {t_far:g} s, omega and the attitude: exact "
+        f"{_report.fmt_time(ex_far)}, DOP853 at rtol 1e-13 {_report.fmt_time(dop_far)}, "
+        f"{dop_far / ex_far:,.0f}x, off by {werr_far:.1e} of |omega| and {qerr_far:.1e} in the "
+        f"quaternion); many motions at one time each (the tosses: {many:,} spins at t = 1 s, "
+        f"exact {_report.fmt_time(ex_many)} a motion vectorized, DOP853 "
+        f"{_report.fmt_time(dop_many)} a motion, {dop_many / ex_many:,.0f}x).  On one motion "
+        "sampled densely the integrator's dense output is as fast as the closed form (its "
+        "steps are set by the dynamics, not by the number of times asked), and faster for the "
+        "attitude, whose elliptic integral of the third kind (Carlson's R_J) costs about a "
+        "microsecond a time; it is the closed form's errors (eps-level, none accumulated) and "
+        "the two cases above that it is for.", "",
     ]
     text = "\n".join(body)
     print(text)

@@ -510,8 +510,11 @@ def orbit(moments, omega) -> Orbit:
     adn = _hypot(xp, wc, wb, (Ib / Ic_) * Q_)
     asn = acn * xp.sqrt(Ia_ / (Ib * Psafe))
     adn_s = xp.where(adn > 0, adn, 1.0)
-    m = xp.where(adn > 0, Q_ * Ia_ / (Psafe * Ic_) * (acn / adn_s) ** 2, 0.0)
-    m1 = xp.where(adn > 0, (wc / adn_s) ** 2 - (Q_ * Ia_ / (Psafe * Ic_)) * (wa / adn_s) ** 2,
+    kac = Q_ * Ia_ / (Psafe * Ic_)  # <= 1e16 or so (p is 1 ulp at least, or 0 and replaced)
+    # ratios clamped at 1e100 (m and m1 are clamped to [0, 1] anyway): no overflow when the
+    # moments differ by 1e17 and more
+    m = xp.where(adn > 0, kac * xp.minimum(acn / adn_s, 1e100) ** 2, 0.0)
+    m1 = xp.where(adn > 0, (wc / adn_s) ** 2 - kac * xp.minimum(xp.abs(wa) / adn_s, 1e100) ** 2,
                   1.0)
     m1 = xp.maximum(m1, 0.0)
     m = xp.minimum(m, 1.0)
@@ -525,6 +528,10 @@ def orbit(moments, omega) -> Orbit:
     rr = (Ic_ - Ib) * (Ic_ - Ia_) / (Ia_ * Ib)
     o.r = xp.where(Ic_ > Ia_, 1.0, -1.0) * adn * xp.sqrt(xp.maximum(rr, 0.0))
     o.n = xp.where(Psafe > 0, -(Ic_ * Q_) / (Ia_ * Psafe), 0.0)
+    # a rate that underflows (moments 1e-17 apart, spins 1e-300) leaves omega constant on any
+    # time a double can hold: the motion is steady there
+    stationary = stationary | (o.r == 0) if xp is not _Py else bool(stationary or o.r == 0)
+    o.stationary = stationary
     # the phase at t = 0: cn0 = |wa| / acn >= 0 (so |tau0| <= K), sn0 = sb * wb / asn
     acn_s = xp.where(acn > 0, acn, 1.0)
     good = acn > 0
@@ -847,6 +854,8 @@ def paper_frequency_shift(moments, omega, axis=None):
         axis = max(range(3), key=lambda i: abs(I[i] * w[i]))
     Ia, Ib, Ic, ia, ib = _extreme_frame(I, axis)
     p, q = (Ic - Ib) / (Ic - Ia), (Ib - Ia) / (Ic - Ia)
+    if q == 0:  # a symmetric top: regular precession, the frequency is Gamma exactly
+        return 0.0
     ea, eb = w[ia] / w[axis], w[ib] / w[axis]
     return q / (4 * Ic) * (Ib * eb * eb - Ia / p * ea * ea) + 0.0  # no -0.0
 
@@ -860,7 +869,8 @@ def flip_asymptote(moments, omega):
        \\rvert}, \\qquad \\lambda = \\omega_0 \\sqrt{\\frac{(I_c - I_b)(I_b - I_a)}{I_a I_c}},
 
     (a the smallest moment, c the largest), from :math:`T_{flip} = 2K(m)/|r|`,
-    :math:`K = \\frac12 \\ln(16/m_1) + O(m_1 \\ln m_1)`, :math:`|r| = \\lambda(1 + O(\\varepsilon^2))`
+    :math:`K = \\frac12 \\ln(16/m_1) + O(m_1 \\ln m_1)`,
+    :math:`|r| = \\lambda(1 + O(\\varepsilon^2))`
     and :math:`m_1 = (I_c - I_a)\\lvert\\dots\\rvert / (I_b (I_c - I_b)(I_b - I_a)) +
     O(\\varepsilon^4)`.  Relative error :math:`O(\\varepsilon^2)`; the flips are
     :math:`\\ln(1/\\varepsilon)/\\lambda` apart, the time a perturbation growing like
@@ -934,8 +944,11 @@ def motion(moments, omega) -> Motion:
     s = o.scale
     roles = _roles(I)
     spin_axis = max(range(3), key=lambda i: (abs(I[i] * w[i]), -i))
-    energy = 0.0 if s == 0 else _overflow_inf(lambda: sum(I[i] * (w[i] / s) ** 2 for i in range(3)) * s * s / 2)
-    momentum = 0.0 if s == 0 else _overflow_inf(lambda: math.sqrt(sum((I[i] * w[i] / s) ** 2 for i in range(3))) * s)
+    energy = momentum = 0.0
+    if s:
+        energy = _overflow_inf(lambda: sum(I[i] * (w[i] / s) ** 2 for i in range(3)) * s * s / 2)
+        momentum = _overflow_inf(
+            lambda: math.sqrt(sum((I[i] * w[i] / s) ** 2 for i in range(3))) * s)
     out = Motion(moments=I, omega0=w, spin_axis=spin_axis, role=roles[spin_axis], m=o.m,
                  m1=o.m1, energy=energy, momentum=momentum)
     if s == 0:
@@ -993,7 +1006,9 @@ def motion(moments, omega) -> Motion:
             out.gamma_shift = 0.0
         elif out.axis == spin_axis:
             out.gamma_shift = out.frequency / out.gamma - 1
-        out.gamma_shift_2 = paper_frequency_shift(I, w, spin_axis)
+        shift = paper_frequency_shift(I, w, spin_axis)
+        # a perturbation beyond the double range (inf - inf) has no second-order term to give
+        out.gamma_shift_2 = shift if math.isfinite(shift) else None
     if out.gamma_kind == "growth":
         out.flip_asymptote = flip_asymptote(I, w)
     return out
@@ -1094,7 +1109,7 @@ def catch(moments, sides, omega, t, start, rule="centre"):
 
     w = np.asarray(omega, dtype=float)
     tt = np.asarray(t, dtype=float)
-    check_phase(np.abs(w).max(axis=-1) * np.sqrt(3) * tt)
+    check_phase(np.abs(w).max(axis=-1) * (np.sqrt(3) * tt))  # 1e308 * 0 is 0, not inf * 0
     o = orbit(moments, w)
     q = attitude_at(o, tt, start)
     return face_up(up_vector(q), sides, rule)

@@ -381,7 +381,7 @@ def _motion(box, w, tf, start, rule, out, fmt, quiet):
     if tf is not None:
         import numpy as np
 
-        _check_phase(max(abs(v) for v in w) * math.sqrt(3) * tf, "--flight", f"{tf:g} s")
+        _check_phase(max(abs(v) for v in w) * (math.sqrt(3) * tf), "--flight", f"{tf:g} s")
         q0 = _start_quaternion(start)
         o = R.orbit(box.moments, np.asarray(w, dtype=float))
         q = R.attitude_at(o, tf, q0)
@@ -491,7 +491,7 @@ def _series(box, w, times, start, rule, out, figure, fmt, quiet):
             raise usage_error("--times must be times >= 0 s")
     wmax = max(abs(v) for v in w)
     if ts.size:
-        _check_phase(wmax * math.sqrt(3) * float(ts.max()), "--times up to",
+        _check_phase(wmax * (math.sqrt(3) * float(ts.max())), "--times up to",
                      f"{float(ts.max()):g} s")
     q0 = _start_quaternion(start)
     o = R.orbit(box.moments, np.asarray(w, dtype=float))
@@ -541,10 +541,11 @@ def _toss(box, spin, n, seed, flight, start, rule, out, figure, fmt, quiet):
     flight_text = "0.5" if flight is None else flight
     fd = _dist(flight_text, "--flight", _time_value, "s", 0.0)
     # every toss must be one the core can follow, checked at the top of the distributions
-    wtop = math.sqrt(sum(_reach(d) ** 2 for d in dists))
+    wtop = max(_reach(d) for d in dists)  # |omega| <= sqrt(3) times this, as the core checks
     ttop = _reach(fd)
-    _check_phase(wtop * ttop, "--flight", f"{flight_text.strip()} (up to {ttop:g} s) with --spin "
-                 f"{spin.strip()} (up to |omega| = {wtop:g} rad/s)")
+    _check_phase(wtop * (math.sqrt(3) * ttop), "--flight",
+                 f"{flight_text.strip()} (up to {ttop:g} s) with --spin {spin.strip()} (up to "
+                 f"{wtop:g} rad/s a component)")
     import numpy as np
 
     from coincli import rigid as R
