@@ -707,11 +707,17 @@ def attitude_at(o: Orbit, t, start=(1.0, 0.0, 0.0, 0.0)):
     # phi(t) - phi(0)
     n = np.asarray(o.n, dtype=float)
     r = np.asarray(o.r, dtype=float)
-    coef = np.where(r != 0, L * (Ic - Ia) / (Ic * Ia * np.where(r != 0, r, 1.0)), 0.0)
+    # a rate below 1e-100 (moments 1e-17 apart and more) turns tau by less than 1e-88 in any
+    # time allowed (|omega| t <= 1e12): there G(tau) - G(tau0) = G'(tau0) r t to the last bit,
+    # and dividing by r would overflow
+    slow = np.abs(r) < 1e-100
+    rs = np.where(slow, 1.0, r)
+    coef = L * (Ic - Ia) / (Ic * Ia * rs)
     Gt = _Gfun(o, s, c, d, q, nper, tau, np)
     G0 = _Gfun(o, s0, c0, d0, np.zeros_like(np.asarray(s0, dtype=float)),
                np.zeros_like(np.asarray(s0, dtype=float)), o.tau0, np)
-    dphi = L / Ia * ts + coef * (Gt - G0)
+    slope = L * (Ic - Ia) / (Ic * Ia) * (1 / (1 - n * s0 * s0) - 1)  # r * coef * G'(tau0)
+    dphi = L / Ia * ts + np.where(slow, slope * ts, coef * (Gt - G0))
     # q = q0 * conj(qP) * conj(E(0)) * E(t) * qP with E = Euler z-x-z (phi, theta, psi): the
     # constant factors once per motion, E(t) by the closed form of a z-x-z rotation (two sines
     # and cosines of half-angle sums) instead of three rotations and two products a time

@@ -316,6 +316,9 @@ def test_bad_input_is_one_line_and_exit_2(coin, argv, word, tmp_path, monkeypatc
     ["book", "--moments", "1,1,1", "--spin", "1,2,3"],
     ["book", "--moments", "1,1,2", "--spin", "0,1,1"],
     ["book", "--moments", "2,5,7", "--spin", "2,1,1"],
+    # found by fuzzing: two moments 1e-17 apart (tied in doubles), spins near the double range
+    ["book", "--size", "1.1e-05x30527288.7x0.2073", "--spin", "7.5e-08,-19587759.5,1e308"],
+    ["book", "--size", "841481.36x0.00012014x0.00052486", "--spin", "-0.5,8.3e-06,-1e300"],
 ])
 def test_extreme_but_valid_inputs_print_no_nan(coin, argv):
     for fmt in ("table", "csv", "json"):
@@ -325,6 +328,15 @@ def test_extreme_but_valid_inputs_print_no_nan(coin, argv):
     t = 1 / max(max(abs(v) for v in spin), 1e-300)
     out = ok(coin(*argv, "--times", f"0,{t!r}", "-f", "csv"))
     assert "nan" not in out.lower() and len(out.splitlines()) == 3
+
+
+def test_toss_with_a_spin_near_the_double_range(coin):
+    out = ok(coin("book", "--moments", "4028.55,55030457.9,55033076.0", "--toss", "-n", "300",
+                  "--seed", "1", "--spin", "-419208.97,uniform:0:1e308,3", "--flight", "0",
+                  "-f", "csv"))
+    assert "nan" not in out and out.count("\n") == 7
+    error(coin("book", "--moments", "4028.55,55030457.9,55033076.0", "--toss", "-n", "300",
+               "--spin", "-419208.97,1e308,1e308", "--flight", "0.5"), 2, "rad")
 
 
 def test_help_names_the_examples(coin):
