@@ -26,6 +26,7 @@ from coincli.cli._common import (
     emit,
     usage_error,
     values_option,
+    values_stream,
 )
 from coincli.modelspec import DYNAMIC, GEOMETRIC, ModelSpec
 
@@ -147,6 +148,12 @@ def _tolist(v, n):
     return v.tolist() if hasattr(v, "tolist") and not isinstance(v, float) else [v] * n
 
 
+def _column(v, n):
+    """A result column: an array stays an array (the writers format it in C), a float is
+    repeated ``n`` times."""
+    return v if hasattr(v, "dtype") and getattr(v, "ndim", 0) == 1 else [v] * n
+
+
 # --------------------------------------------------------------------------- design
 
 
@@ -223,37 +230,40 @@ def design(
     dia, thick = _length(diameter, "--diameter"), _length(thickness, "--thickness")
     if dia is None and thick is None:
         dia = c.diameter_mm
-    ps = values_option(p_sides, "--p-sides", parse.parse_probability, bounds=(0.0, 1.0))
-    p = _vector(ps)
-    try:
-        xi = m.inverse(p)
-        out = m.forward(xi)
-    except ValueError as exc:
-        raise compute_error(str(exc)) from None
+    vals = values_stream(p_sides, "--p-sides", parse.parse_probability, bounds=(0.0, 1.0))
     other = DYNAMIC if m.key == "geometric" else GEOMETRIC
-    other_sides = other.forward(xi).sides
-    n = 1 if isinstance(p, float) else len(p)
-    if isinstance(xi, float):
-        d_over_h = math.inf if xi == 0 else 1 / xi
-        thick_col = dia * xi if dia is not None else thick
-        dia_col = dia if dia is not None else (math.inf if xi == 0 else thick / xi)
-    else:
-        import numpy as np
 
-        with np.errstate(all="ignore"):
-            d_over_h = np.where(xi == 0, np.inf, 1 / np.where(xi == 0, 1, xi))
-            if dia is not None:
-                thick_col, dia_col = dia * xi, np.full(xi.shape, dia)
-            else:
-                thick_col = np.full(xi.shape, thick)
-                dia_col = np.where(xi == 0, np.inf, thick / np.where(xi == 0, 1, xi))
-    # -q prints xi alone: no stack search (it is most of the time of a long -q batch)
-    stack = [[None] * n] * 5 if quiet else _stack_columns(c, p, m, xi)
-    data = [
-        _tolist(p, n), _tolist(xi, n), _tolist(d_over_h, n), _tolist(dia_col, n),
-        _tolist(thick_col, n), _tolist(out.heads, n), _tolist(out.tails, n),
-        [c.name] * n, *stack, _tolist(other_sides, n),
-    ]
+    def compute(p):
+        """The table's columns for the targets ``p`` (a float, or an array of them)."""
+        try:
+            xi = m.inverse(p)
+            out = m.forward(xi)
+        except ValueError as exc:
+            raise compute_error(str(exc)) from None
+        other_sides = other.forward(xi).sides
+        n = 1 if isinstance(p, float) else len(p)
+        if isinstance(xi, float):
+            d_over_h = math.inf if xi == 0 else 1 / xi
+            thick_col = dia * xi if dia is not None else thick
+            dia_col = dia if dia is not None else (math.inf if xi == 0 else thick / xi)
+        else:
+            import numpy as np
+
+            with np.errstate(all="ignore"):
+                d_over_h = np.where(xi == 0, np.inf, 1 / np.where(xi == 0, 1, xi))
+                if dia is not None:
+                    thick_col, dia_col = dia * xi, np.full(xi.shape, dia)
+                else:
+                    thick_col = np.full(xi.shape, thick)
+                    dia_col = np.where(xi == 0, np.inf, thick / np.where(xi == 0, 1, xi))
+        # -q prints xi alone: no stack search (it is most of the time of a long -q batch)
+        stack = [[None] * n] * 5 if quiet else _stack_columns(c, p, m, xi)
+        return [
+            _column(p, n), _column(xi, n), _column(d_over_h, n), _column(dia_col, n),
+            _column(thick_col, n), _column(out.heads, n), _column(out.tails, n),
+            [c.name] * n, *stack, _column(other_sides, n),
+        ]
+
     columns = [
         Column("p_sides", "P(sides) target"),
         Column("xi", "xi = h/D"),
@@ -272,7 +282,15 @@ def design(
     ]
     note = f"model: {m.label}; vigorous toss caught without bouncing; stack of {c.label} " \
            f"({c.diameter_mm:g} x {c.thickness_mm:g} mm)" + _accuracy.design_note(acc, m)
-    emit(Result("coin design", columns, [], note=note, quiet=_tolist(xi, n), vertical=True,
+    if len(vals) > 1 and m.key in ("geometric", "dynamic"):
+        # a batch under a closed form: computed and written a chunk at a time (flat memory);
+        # the input was read and checked whole first, and these models cannot fail on it
+        emit(Result("coin design", columns, [], note=note, quiet=1, vertical=True,
+                     chunks=map(compute, vals.chunks())), fmt, quiet)
+        return
+    data = [_tolist(col, len(vals)) if hasattr(col, "dtype") else col
+            for col in compute(vals.values())]
+    emit(Result("coin design", columns, [], note=note, quiet=data[1], vertical=True,
                 data=data), fmt, quiet)
 
 
