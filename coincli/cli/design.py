@@ -17,6 +17,7 @@ from coincli import coins as coin_catalog
 from coincli import models, parse
 from coincli.cli import _accuracy, app
 from coincli.cli._common import (
+    CHUNK_ROWS,
     Column,
     FormatOpt,
     QuietOpt,
@@ -306,7 +307,7 @@ def _xi_values(xi_text, quarters, coin_name, count):
     if xi_text is not None:
         if coin_name is not None:
             raise usage_error("--coin goes with --count, not with --xi")
-        vals = values_option(xi_text, "--xi", lambda s, w: _xi_item(s, w), bounds=(0.0, math.inf))
+        vals = values_stream(xi_text, "--xi", lambda s, w: _xi_item(s, w), bounds=(0.0, math.inf))
         return vals, None
     if quarters is not None and coin_name is not None:
         raise usage_error("--coin goes with --count, not with --quarters (a stack of US quarters)")
@@ -391,7 +392,10 @@ def table(
     extra += [density_model(s) for s in specs]
     acc = _accuracy.parse(tol, method, seed)
     _accuracy.require_density(acc, bool(specs))
-    x = _vector(xis)
+    models_ = (GEOMETRIC, DYNAMIC, *extra)
+    if stack is None and len(xis) > 1 and acc is None and all(m.closed_form for m in models_):
+        return _table_stream(xis, models_, extra, fmt, quiet)
+    x = xis.values() if stack is None else _vector(xis)
     n = 1 if isinstance(x, float) else len(x)
     blocks = []
     for m in (GEOMETRIC, DYNAMIC, *extra):
@@ -427,6 +431,34 @@ def table(
                 quiet=[r[k] for r in rows if r[k - 3] is not None]), fmt, quiet)
 
 
+_TABLE_COLUMNS = [Column("xi", "xi = h/D"), Column("model", "model", "text"),
+                  Column("p_heads", "P(heads)"), Column("p_sides", "P(sides)"),
+                  Column("p_tails", "P(tails)")]
+
+
+def _table_note(extra) -> str:
+    return "vigorous toss starting heads up, caught without bouncing; geometric = eq. 11, " \
+           "dynamic = eq. 12 (psi = 90 deg)" + "".join(f"; {m.label}" for m in extra)
+
+
+def _table_stream(xis, models_, extra, fmt: str, quiet: bool) -> None:
+    """``coin table`` over many coins under closed forms: one row per coin and model, computed
+    from arrays and written a chunk of coins at a time (memory flat in the number of rows)."""
+    import numpy as np
+
+    names = [m.name for m in models_]
+    k = len(models_)
+
+    def compute(x):
+        outs = [m.forward(x) for m in models_]
+        cols = [np.stack([getattr(o, f) for o in outs], axis=1).ravel()
+                for f in ("heads", "sides", "tails")]
+        return [np.repeat(x, k), names * len(x), *cols]
+
+    emit(Result("coin table", _TABLE_COLUMNS, [], note=_table_note(extra), quiet=3,
+                chunks=map(compute, xis.chunks(max(CHUNK_ROWS // k, 1)))), fmt, quiet)
+
+
 def _deg_item(s, w):
     """Degrees as typed (checked to lie in [0, 180]); no round trip through radians."""
     parse.parse_angle_deg(s, w)
@@ -434,10 +466,10 @@ def _deg_item(s, w):
 
 
 def _table_vs_psi(xi_text, quarters, coin_name, count, psi_text, fmt, quiet):
-    xis, _ = _xi_values(xi_text, quarters, coin_name, count)
+    xis, stack = _xi_values(xi_text, quarters, coin_name, count)
     if len(xis) != 1:
         raise usage_error("--vs psi tabulates one coin: give a single --xi (or one count)")
-    x = float(xis[0])
+    x = float(xis.values() if stack is None else xis[0])
     degs = values_option(psi_text or "0:180:15", "--psi",
                          lambda s, w: _deg_item(s, w))
     rows = []
