@@ -305,6 +305,10 @@ def emit(result: Result, fmt: str = "table", quiet: bool = False, out=None,
     fmt = check_format(fmt)
     if no_headers is None:
         no_headers = option_given("no_headers")
+    if result.chunks is not None:  # the first chunk is computed before anything is written
+        chunks = iter(result.chunks)
+        first = next(chunks, None)
+        result.chunks = itertools.chain([] if first is None else [first], chunks)
     if quiet:
         if result.chunks is None:
             q = result.quiet
@@ -1155,10 +1159,10 @@ def values_stream(text: str, what: str, item: Callable, *, bounds=None, stdin=No
     try:
         if ":" in s and bounds is not None:
             start, stop, step, n, whole = parse.parse_range(s, what)
-            if not whole:
+            if not whole or stop <= 2.0**53:  # whole numbers below 2^53 are exact doubles
                 last = min(start + (n - 1) * step, stop)
-                item(repr(start), what)
-                item(repr(last), what)
+                for v in (start, last):
+                    item(str(int(v)) if whole else repr(v), what)
                 return Values(n, rng=(start, step, stop))
         vals = parse.parse_values(text, what, item)
     except ValueError as exc:

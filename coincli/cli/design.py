@@ -559,8 +559,11 @@ def stack(
         counts = [k for k, _, _ in ch.neighbours]
         best = ch.count
     else:
-        counts = [int(k) for k in values_option(count, "--count",
-                                                lambda s, w: float(parse.parse_count(s, w)))]
+        counts = values_stream(count, "--count", lambda s, w: float(parse.parse_count(s, w)),
+                               bounds=(1.0, float(parse.MAX_COUNT)))
+        if len(counts) > 1 and m.closed_form:
+            return _stack_counts_stream(c, counts, m, fmt, quiet)
+        counts = [int(k) for k in counts.array().tolist()]
         best = None
     rows = []
     for k in counts:
@@ -583,33 +586,63 @@ def _is_batch(text: str) -> bool:
     return s == "-" or "," in s or ":" in s
 
 
+_STACK_COLUMNS = [Column("coin", "coin", "text"), Column("count", "count", "int"),
+                  Column("height_mm", "height (mm)"), Column("xi", "xi = h/D"),
+                  Column("p_heads", "P(heads)"), Column("p_sides", "P(sides)"),
+                  Column("p_tails", "P(tails)"), Column("mark", "", "text")]
+
+
+def _stack_counts_stream(c, counts, m: ModelSpec, fmt: str, quiet: bool) -> None:
+    """``coin stack --count`` for many counts under a closed form: arrays, a chunk at a time."""
+    import numpy as np
+
+    def compute(k):
+        x = coin_catalog.stack_xis(c, k)
+        o = m.forward(x)
+        n = len(k)
+        return [[c.name] * n, k.astype(np.int64), k * c.thickness_mm, x, o.heads, o.sides,
+                o.tails, [""] * n]
+
+    note = f"{c.label}: {c.diameter_mm:g} x {c.thickness_mm:g} mm; model: {m.label}"
+    emit(Result("coin stack", _STACK_COLUMNS, [], note=note, quiet=5,
+                chunks=map(compute, counts.chunks())), fmt, quiet)
+
+
 def _stack_batch(c, p_text: str, m: ModelSpec, fmt: str, quiet: bool) -> None:
-    """``coin stack --p-sides`` for several targets: one row each, the nearest stack."""
-    ps = values_option(p_text, "--p-sides", parse.parse_probability, bounds=(0.0, 1.0))
-    p = _vector(ps)
-    n = 1 if isinstance(p, float) else len(p)
-    xi = m.inverse(p) if m.key in ("geometric", "dynamic") and n > 1 else None  # closed forms
-    counts, xis = _stack_columns(c, p, m, xi)[:2]
-    known = [k for k, x in enumerate(xis) if x is not None]
-    chances = [[None] * n for _ in range(3)]
-    if known:
-        try:
-            o = m.forward(_vector([xis[k] for k in known]))
-        except ValueError as exc:
-            raise compute_error(str(exc)) from None
-        for col, vals in zip(chances, o, strict=True):
-            for k, v in zip(known, _tolist(vals, len(known)), strict=True):
-                col[k] = v
-    heights = [None if k is None else k * c.thickness_mm for k in counts]
+    """``coin stack --p-sides`` for several targets: one row each, the nearest stack (closed
+    forms a chunk of targets at a time)."""
+    vals = values_stream(p_text, "--p-sides", parse.parse_probability, bounds=(0.0, 1.0))
+
+    def compute(p):
+        n = 1 if isinstance(p, float) else len(p)
+        xi = m.inverse(p) if m.key in ("geometric", "dynamic") and n > 1 else None
+        counts, xis = _stack_columns(c, p, m, xi)[:2]
+        known = [k for k, x in enumerate(xis) if x is not None]
+        chances = [[None] * n for _ in range(3)]
+        if known:
+            try:
+                o = m.forward(_vector([xis[k] for k in known]))
+            except ValueError as exc:
+                raise compute_error(str(exc)) from None
+            for col, vals_ in zip(chances, o, strict=True):
+                for k, v in zip(known, _tolist(vals_, len(known)), strict=True):
+                    col[k] = v
+        heights = [None if k is None else k * c.thickness_mm for k in counts]
+        return [_tolist(p, n), [c.name] * n, counts, heights, xis, *chances]
+
     columns = [Column("target_p_sides", "target"), Column("coin", "coin", "text"),
                Column("count", "count", "int"), Column("height_mm", "height (mm)"),
                Column("xi", "xi = h/D"), Column("p_heads", "P(heads)"),
                Column("p_sides", "P(sides)"), Column("p_tails", "P(tails)")]
-    data = [_tolist(p, n), [c.name] * n, counts, heights, xis, *chances]
     note = (f"{c.label}: {c.diameter_mm:g} x {c.thickness_mm:g} mm; model: {m.label}; the "
             f"stack nearest each target (empty where no stack of up to {coin_catalog.MAX_STACK} "
             "coins reaches it)")
-    emit(Result("coin stack", columns, [], note=note, quiet=counts, data=data), fmt, quiet)
+    if len(vals) > 1 and m.key in ("geometric", "dynamic"):
+        emit(Result("coin stack", columns, [], note=note, quiet=2,
+                    chunks=map(compute, vals.chunks())), fmt, quiet)
+        return
+    data = compute(vals.values())
+    emit(Result("coin stack", columns, [], note=note, quiet=data[2], data=data), fmt, quiet)
 
 
 @app.command()
