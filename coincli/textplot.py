@@ -335,7 +335,7 @@ def text_map(data, cols: int, rows: int):
         xlabel="aspect ratio xi = h/D" + (", log scale" if data.log else ""),
         ylabel="psi (degrees)",
         xticks=_ticks(*data.xlim, data.log), yticks=[(d, str(d)) for d in range(0, 181, 45)],
-        legend=legend)
+        legend=legend, notes=list(getattr(data, "skipped", ())))
 
 
 def text_phase(data, cols: int, rows: int):

@@ -52,7 +52,7 @@ def _root(
 # Command modules register themselves on import.  Keep their top level free of numpy/scipy/rich.
 from coincli.cli import design as _design  # noqa: E402,F401
 
-for _name in ("toss", "check", "plot", "methods"):
+for _name in ("toss", "check", "plot", "methods", "book"):
     try:
         __import__(f"coincli.cli.{_name}")
     except ModuleNotFoundError as _exc:  # a command module not written yet

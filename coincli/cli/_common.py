@@ -1061,6 +1061,21 @@ class Values:
     def __len__(self) -> int:
         return self.n
 
+    def __iter__(self):
+        for chunk in self.chunks():
+            yield from chunk.tolist()
+
+    def __getitem__(self, k: int) -> float:
+        if self.single is not None and k in (0, -1):
+            return self.single
+        k = k + self.n if k < 0 else k
+        if not 0 <= k < self.n:
+            raise IndexError(k)
+        for j, chunk in enumerate(self.chunks()):
+            if k < (j + 1) * CHUNK_ROWS:
+                return float(chunk[k - j * CHUNK_ROWS])
+        raise IndexError(k)  # pragma: no cover
+
     def chunks(self, size: int = CHUNK_ROWS):
         """float64 arrays of at most ``size`` values, in order."""
         import numpy as np
