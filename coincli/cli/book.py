@@ -191,33 +191,17 @@ def _is_figure(path: str | None) -> bool:
     return path is not None and os.path.splitext(path)[1].lower() in (".png", ".svg", ".pdf")
 
 
-def _atomic_write(path: str, write) -> None:
-    """Write through ``write(tmp_path)`` to a temporary file in ``path``'s directory, fsync it,
-    then rename it over ``path``: a reader never sees half a file, and a failure leaves any
-    earlier file whole."""
-    d, base = os.path.split(os.path.abspath(path))
-    stem, ext = os.path.splitext(base)
-    tmp = os.path.join(d, f".{stem}.{os.getpid()}.tmp{ext}")
+def _write_file(path: str, write) -> int:
+    """Write ``path`` through :func:`coincli._files.write_atomic` (whole or not at all); the
+    usage error for a path that is not a regular file, exit 1 when the system refuses."""
+    from coincli._files import FileKindError, write_atomic
+
     try:
-        write(tmp)
-        fd = os.open(tmp, os.O_RDONLY)
-        try:
-            os.fsync(fd)
-        finally:
-            os.close(fd)
-        os.replace(tmp, path)
+        return write_atomic(path, write)
+    except FileKindError as exc:
+        raise usage_error(f"--out: {exc}") from None
     except OSError as exc:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
         raise compute_error(f"cannot write {path!r}: {exc.strerror or exc}") from None
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
 
 
 def _emit(result: Result, fmt: str, quiet: bool, out: str | None) -> None:
@@ -226,17 +210,15 @@ def _emit(result: Result, fmt: str, quiet: bool, out: str | None) -> None:
         return
     import io
 
-    buf = io.StringIO()
-    emit(result, fmt, quiet, out=buf)
-    text = buf.getvalue()
+    def write(fh):
+        text = io.TextIOWrapper(fh, encoding="utf-8", newline="")
+        emit(result, fmt, quiet, out=text)
+        text.flush()
+        text.detach()
 
-    def write(tmp):
-        with open(tmp, "w", encoding="utf-8", newline="") as fh:
-            fh.write(text)
-
-    _atomic_write(out, write)
+    size = _write_file(out, write)
     if stderr_is_terminal():
-        sys.stderr.write(f"coin: wrote {out} ({len(text.encode()):,} bytes)\n")
+        sys.stderr.write(f"coin: wrote {out} ({size:,} bytes)\n")
 
 
 def _figure(path: str, build) -> None:
@@ -251,14 +233,16 @@ def _figure(path: str, build) -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         fig = build()
-        size = [0]
+        from coincli._files import FileKindError
 
-        def write(tmp):
-            size[0] = P.save_figure(fig, tmp)
-
-        _atomic_write(path, write)
+        try:
+            size = P.save_figure(fig, path)  # whole or not at all (coincli._files)
+        except FileKindError as exc:
+            raise usage_error(f"--out: {exc}") from None
+        except OSError as exc:
+            raise compute_error(f"cannot write {path!r}: {exc.strerror or exc}") from None
     if stderr_is_terminal():
-        sys.stderr.write(f"coin: wrote {path} ({size[0]:,} bytes)\n")
+        sys.stderr.write(f"coin: wrote {path} ({size:,} bytes)\n")
 
 
 # --------------------------------------------------------------------------- the command
@@ -337,6 +321,15 @@ def book_cmd(
         raise usage_error("give --spin W1,W2,W3 (rad/s about body axes 1, 2, 3), e.g. "
                           "--spin 0,0,40")
     figure = _is_figure(out)
+    if out is not None and out != "-":  # a FIFO, device or directory: refused before computing
+        from coincli._files import FileKindError, check_output_path
+
+        try:
+            check_output_path(out)
+        except FileKindError as exc:
+            raise usage_error(f"--out: {exc}") from None
+        except OSError as exc:
+            raise compute_error(f"cannot write {out!r}: {exc.strerror or exc}") from None
     if toss:
         if times is not None:
             raise usage_error("--times is for one motion; --toss tosses many (give one of them)")
