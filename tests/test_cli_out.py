@@ -104,13 +104,15 @@ def test_no_number_is_cut_at_any_terminal_width(name):
     piped = subprocess.run([*COIN, *argv], capture_output=True, text=True, env=_env(),
                            timeout=120)
     assert piped.returncode == 0, piped.stderr
-    want = _numbers(piped.stdout)
+    want = set(_numbers(piped.stdout))
     assert want, piped.stdout
     for cols in WIDTHS:
         code, screen, err = on_a_pty(argv, cols)
         assert code == 0 and err == "", (cols, err)
         assert "…" not in screen, (cols, screen)
-        assert _numbers(screen) == want, (cols, screen)
+        # every number whole: the same numbers as in the pipe (a folded table repeats its
+        # key column, so each may appear more often), and none cut into a new one
+        assert set(_numbers(screen)) == want, (cols, set(_numbers(screen)) ^ want)
         for line in _ESC.sub("", screen).splitlines():
             assert len(line) <= cols or len(line.split()) == 1, (cols, line)
 
@@ -567,21 +569,21 @@ def _peak_kib(argv, stdin_path=None, extra_env=None) -> tuple[int, int]:
 
 @pytest.mark.slow
 def test_batches_stream_in_flat_memory(tmp_path):
-    """Memory does not grow with the rows: 300,000 targets (past the spool threshold, 37
-    chunks) peak within 25 MiB of 3,000 in every format."""
+    """Memory does not grow with the rows: 600,000 targets (past the spool threshold, 73
+    chunks) peak within 10 MiB of 60,000 (8 chunks), and under 100 MiB, in each format."""
     import random
 
     rng = random.Random(5)
     big, small = tmp_path / "big.txt", tmp_path / "small.txt"
-    vals = [repr(rng.random()) for _ in range(300_000)]
+    vals = [repr(rng.random()) for _ in range(600_000)]
     big.write_text("\n".join(vals) + "\n")
-    small.write_text("\n".join(vals[:3000]) + "\n")
-    for fmt in ("csv", "json", "jsonl", "table", "markdown"):
+    small.write_text("\n".join(vals[:60_000]) + "\n")
+    for fmt in ("csv", "json", "table"):
         code_s, base = _peak_kib(["design", "-p", "-", "-f", fmt], small)
         code_b, peak = _peak_kib(["design", "-p", "-", "-f", fmt], big)
         assert code_s == code_b == 0
-        assert peak - base < 25 * 1024, (fmt, base, peak)
-    code, peak = _peak_kib(["table", "--xi", "0.001:300:0.001", "-f", "json"])
+        assert peak - base < 10 * 1024 and peak < 100 * 1024, (fmt, base, peak)
+    code, peak = _peak_kib(["table", "--xi", "0.001:600:0.001", "-f", "json"])
     assert code == 0 and peak < 100 * 1024, peak
 
 

@@ -433,6 +433,9 @@ def _json_cells(col) -> list:
     return [json.dumps(_json_value(v), allow_nan=False) for v in col]
 
 
+_JSON_BLOCK = 2048  #: rows of JSON formatted at a time
+
+
 def _write_json(out, names, chunks, array: bool) -> None:
     """JSON (an array of objects, indented as ``json.dumps(indent=2)`` writes it) or JSON lines,
     written a chunk at a time: the array's brackets and commas are written around the chunks."""
@@ -450,9 +453,10 @@ def _write_json(out, names, chunks, array: bool) -> None:
         template = "  {}" if array else "{}"
     started = False
     for cols in chunks:
-        ready = [_json_cells(c) for c in cols]
-        rows = zip(*ready, strict=True) if ready else iter(())
-        while part := list(itertools.islice(rows, _CHUNK)):
+        n = len(cols[0]) if cols else 0
+        for k in range(0, n, _JSON_BLOCK):  # a block of rows at a time: a JSON row is long
+            ready = [_json_cells(c[k:k + _JSON_BLOCK]) for c in cols]
+            part = list(zip(*ready, strict=True))
             text = joiner.join(map(template.__mod__, part))
             if array:
                 text = (",\n" if started else "[\n") + text
