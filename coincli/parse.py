@@ -261,8 +261,18 @@ def parse_count(text: str, what: str = "count") -> int:
     return int(digits)
 
 
+def _range_bound(text: str, what: str) -> float:
+    """A range's start, stop or step: a decimal, or a fraction such as ``1/10``."""
+    if "/" in text:
+        try:
+            return parse_ratio(text, what)
+        except ValueError:
+            raise ValueError(f"{what} must be a number like 0.1 or 1/10, got {text!r}") from None
+    return parse_number(text, what)
+
+
 def parse_range(text: str, what: str, *, max_rows: int = MAX_ROWS):
-    """An inclusive range ``start:stop:step`` (step > 0) as ``(start, stop, step, count,
+    """An inclusive range ``start:stop:step`` (step > 0; decimals or fractions) as ``(start, stop, step, count,
     whole)``: its values are ``start + k*step`` for k < count, the last one held to ``stop``
     (which is included when within a millionth of a step of it); ``whole`` when all three parts
     are whole numbers.  More than ``max_rows`` values is an error naming the limit."""
@@ -270,7 +280,7 @@ def parse_range(text: str, what: str, *, max_rows: int = MAX_ROWS):
     parts = s.split(":")
     if len(parts) != 3:
         raise ValueError(f"{what} range must be start:stop:step, got {text!r}")
-    start, stop, step = (parse_number(p, f"{what} range") for p in parts)
+    start, stop, step = (_range_bound(p, f"{what} range") for p in parts)
     if not step > 0:
         raise ValueError(f"{what} range step must be > 0, got {parts[2]!r}")
     if stop < start:
@@ -285,7 +295,8 @@ def parse_range(text: str, what: str, *, max_rows: int = MAX_ROWS):
 
 
 def parse_values(text: str, what: str, item=parse_number, *, max_rows: int = MAX_ROWS) -> list:
-    """``a``, a list ``a,b,c`` or an inclusive range ``start:stop:step`` (step > 0).
+    """``a``, a list ``a,b,c`` or an inclusive range ``start:stop:step`` (step > 0; its three
+    numbers decimals or fractions such as ``1/10``).
 
     Each item is parsed by ``item(text, what)``; a range is computed as ``start + k*step`` (no
     accumulated rounding) and includes ``stop`` when it is within a millionth of a step of it.
