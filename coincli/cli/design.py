@@ -303,10 +303,12 @@ def _materialized(coins: _options.Coins) -> _options.Coins:
     if not isinstance(coins.counts, Values) and not isinstance(coins.xis, Values):
         return coins
     if isinstance(coins.xis, Values):
-        return coins._replace(xis=coins.xis.values() if len(coins.xis) > 1
-                              else [coins.xis.values()])
+        xis = coins.xis.values() if len(coins.xis) > 1 else [coins.xis.values()]
+        return _options.Coins(xis, coins.kind, coins.unit, coins.counts, coins.diameter_mm,
+                              coins.typed)
     counts = [int(k) for k in coins.counts.array().tolist()]
-    return coins._replace(counts=counts, xis=coin_catalog.stack_xis(coins.unit, counts).tolist())
+    return _options.Coins(coin_catalog.stack_xis(coins.unit, counts).tolist(), coins.kind,
+                          coins.unit, counts, coins.diameter_mm, coins.typed)
 
 
 @app.command()
