@@ -174,9 +174,19 @@ def emit(text, out=None) -> None:
     # bold, italic, dim and reverse; no colour system at all means no escape codes at all, as
     # the tables do (coincli.cli._common).  The width is given: rich reads COLUMNS itself, and
     # COLUMNS=0 made it print nothing.
+    # On a terminal, titles, legends and notes wrap at words to its width (the plot itself is
+    # sized to fit); in a pipe nothing is wrapped.
+    import sys
+
+    stream = out if out is not None else sys.stdout
+    try:
+        on_terminal = stream.isatty()
+    except (AttributeError, ValueError):
+        on_terminal = False
     plain = not colour_allowed()
-    console = Console(file=out, highlight=False, soft_wrap=True, emoji=False, markup=False,
-                      color_system=None if plain else "auto", width=terminal_width(out))
+    console = Console(file=out, highlight=False, soft_wrap=not on_terminal, emoji=False,
+                      markup=False, color_system=None if plain else "auto",
+                      width=terminal_width(stream))
     console.print(text, end="")
 
 

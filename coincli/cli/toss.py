@@ -768,9 +768,12 @@ def _phase_text(pm, xi, psi_deg, ur, wr, curves, exact):
     vig = pm_vigorous(xi, psi_deg)
     lines.append(f"Vigorous limit (Table I): heads {vig.heads:.3f}, sides {vig.sides:.3f}, tails "
                  f"{vig.tails:.3f}\n")
-    console = Console(file=sys.stdout, highlight=False, soft_wrap=True, emoji=False,
+    from coincli._terminal import terminal_width
+
+    tty = stdout_is_terminal()  # on a terminal the legend wraps at words to its width
+    console = Console(file=sys.stdout, highlight=False, soft_wrap=not tty, emoji=False,
                       markup=False, no_color=not colour, force_terminal=colour or None,
-                      width=max(nu + label_w + 2, 40))
+                      width=max(nu + label_w + 2, terminal_width() if tty else 40))
     console.print(lines, end="")
 
 
