@@ -32,19 +32,24 @@ Root finding (never skipping an earlier crossing)
        less when ``psi`` keeps the coin from tilting that far), so no contact is possible while
        ``z(t) > Lmax``.  The flight ``[0, t_end]`` (``z(t_end) = 0``, where ``F <= 0``) is cut to
        the one or two intervals where ``z <= Lmax``.
-    2. *Scan.*  Each window is cut into cells of a sixteenth of a precession period.  ``F`` is
-       semi-concave: ``F'' <= K2 = omega^2 sin psi (a + (h/2) sin psi) - g`` (the horizontal
-       projection of the normal, ``sin alpha``, has second derivative at least
+    2. *Scan.*  Each window is marched in cells of at most a sixteenth of a precession period.
+       ``F`` is semi-concave: ``F'' <= K2 = omega^2 sin psi (a + (h/2) sin psi) - g`` (the
+       horizontal projection of the normal, ``sin alpha``, has second derivative at least
        ``-|N''| = -omega^2 sin psi``; the corners of ``|.|`` only bend it upward).  Hence on a
-       cell of width ``d``, ``F >= min(F(t1), F(t2)) - max(K2, 0) d^2 / 8``: a cell where this
-       lower bound is positive holds no root, *certainly*, however thin a dip could be.
-    3. *Refine.*  The first cell that is not excluded is bisected, left half first, with the same
-       bound, until a cell has ``F(t1) > 0 >= F(t2)`` and is certified monotone
-       (``F'(t1+) + max(K2, 0) d < 0``, again from semi-concavity).  That cell holds exactly
-       one root, which :func:`scipy.optimize.brentq` (scalar) or a safeguarded Newton iteration
-       (arrays) finds to a few ulps.  A tangency (a double root, measure zero) is resolved to
-       the last bit of ``t`` and counted as contact only if ``F`` goes non-positive at a sampled
-       point.
+       cell of width ``d``, ``F >= min(F(t1), F(t2)) - max(K2, 0) d^2 / 8``, and ``F' <= F'(t1+)
+       + max(K2, 0) d``: a cell where the first bound is positive, or where ``F`` is certified
+       decreasing with ``F(t2) > 0``, holds no root, *certainly*, however thin a dip could be.
+       A cell that is neither free nor certified shrinks by 8 (and grows back after free ones).
+    3. *Refine.*  A cell with ``F(t1) > 0 >= F(t2)`` certified decreasing holds exactly one
+       root.  It starts at the root of the cubic Hermite interpolant of ``F, F'`` at the ends,
+       then a bracketed Newton iteration (bisecting whenever a step would leave the bracket)
+       stops when ``F`` is zero, a step is below two ulps of ``t`` or so small that the point it
+       reaches is exact (Newton's error ``F'' s^2 / 2F'``, with ``F''`` measured between the
+       last two points), or the bracket is four ulps wide.  A tangency (a double root, measure
+       zero) is resolved to the last bit of ``t`` and counted as contact only if ``F`` goes
+       non-positive at a sampled point.  A dip shallower than the rounding band of ``F``
+       (``16 eps`` of the height scale, plus ``16 eps`` of the phase ``omega t`` times
+       ``Lmax``) cannot be told from noise and is not a contact.
 
     Contact happens within about one precession period after ``z`` drops below ``Lmax`` (``L``
     reaches ``Lmax`` once a period), so the cost does not grow with the number of turns in the
@@ -53,11 +58,15 @@ Root finding (never skipping an earlier crossing)
     bound ``K2 ~ omega^2 a`` must be a finite double (an infinite one would exclude no cell, and
     the scan would never end); :func:`flight_limits` says whether a toss can be followed.
 
-Vectorized tosses
-    :func:`toss_many` runs the same three steps on arrays: a ragged scan round moves each toss's
-    certified front across excluded cells, zooms into a cell (by a factor 8) when it cannot be
-    excluded, and zooms back out after; certified cells are solved together at the end.  A million
-    ordinary tosses take about a second (``benchmarks/toss_bench.py``).
+One vectorized path
+    :func:`toss_many` runs the three steps on numpy arrays, one evaluation of ``F`` and ``F'``
+    a toss a round, dropping tosses as they finish; certified cells are refined together.
+    :func:`toss` and :func:`flight_time` are a batch of one: the same code, the same bits, no
+    scipy.  ``sin`` and ``cos`` of the half phase are fdlibm's polynomials after a Cody-Waite
+    reduction (``omega t / 2 < 1.5e6``; numpy's beyond), within two ulps.  Against an
+    independent 40-digit reference (tests/test_toss_mpmath.py) ``t_f`` is within 4 ulps plus
+    the time ``F`` takes to cross its rounding band; ordinary tosses run at several million a
+    second (``benchmarks/toss_bench.py``, docs/performance.md).
 
 Nothing here prints or exits; bad input raises :class:`ValueError` naming the argument and its
 allowed range.
@@ -127,7 +136,8 @@ _EPS = 2.220446049250313e-16
 _SQRT3_2 = math.sqrt(3.0) / 2.0
 _CELLS_PER_TURN = 16  # scan step: a sixteenth of a precession period
 _ZOOM = 8  # refinement factor of the vectorized scan
-_CHUNK = 1 << 16  # tosses per vectorized batch (also fixes the random stream of simulate)
+_CHUNK = 1 << 16  # tosses drawn at once by simulate (this fixes its random stream)
+_BATCH = 1 << 14  # tosses refined together: arrays of 128 kB stay in cache (3/2 the speed of 2^16)
 
 
 # --------------------------------------------------------------------------- validation
@@ -858,7 +868,7 @@ def toss_many(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, con
     """Vectorized :func:`toss`: arguments broadcast (numbers or arrays); returns :class:`Tosses`.
 
     Same model, same certified first-root guarantee as :func:`flight_time` (which is this
-    function on one toss).  Work is done in batches of 65536 tosses; arguments that are one
+    function on one toss).  Work is done in batches of 16384 tosses; arguments that are one
     number stay one number (no array of copies).
     """
     import numpy as np
@@ -879,8 +889,8 @@ def toss_many(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, con
     t_f = np.empty(n)
     alpha_f = np.empty(n)
     code = np.empty(n, dtype=np.int8)
-    for lo in range(0, n, _CHUNK):
-        sl = slice(lo, min(n, lo + _CHUNK))
+    for lo in range(0, n, _BATCH):
+        sl = slice(lo, min(n, lo + _BATCH))
         m = sl.stop - sl.start
         xi_c, psi_c, u_c, om_c, dia_c, g_c, z0_c = (v if v is None or isinstance(v, float)
                                                     else v[sl] for v in flat)
