@@ -475,14 +475,14 @@ def phase_text(data, *, colour: bool, title: str, width: int | None = None):
     put(" " * (lw + 2) + "".join(labels).rstrip() + "\n")
     put(" " * (lw + 2) + "u (m/s)".center(nu).rstrip() + "\n")
     f, v = data.fractions, data.vigorous
-    src = "exact contact time" if data.exact_curves else "eq. 10, t_f = 2u/g"
+    src = "exact t_f" if data.exact_curves else "eq. 10"
     items = []  # legend entries: (key text, key style, words)
     for n in names:
         key = "  " if colour else OUTCOME_CHAR[n]
         items.append((key, PHASE_BLOCK[n] if colour else "", f" {n} {getattr(f, n):.1%}"))
     if data.curves:
         items.append(("•" if colour else "h/s/t", PHASE_DOT if colour else "",
-                      f" a boundary ({src})"))
+                      f" boundary ({src})"))
     if data.marks:
         items.append(("X", "", " your toss" + ("" if len(data.marks) == 1 else "es")))
     width = max(int(width or 0), lw + 2 + nu, 20)  # the picture's own width at least

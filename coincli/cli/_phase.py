@@ -204,9 +204,10 @@ def resolve(*, xi, coin, count, quarters, diameter, thickness, psi, u, omega, co
         rows=_cells(rows, "--rows"), typed=typed)
 
 
-def text_size(ph: Phase, extra_lines: int = 8) -> tuple[int, int]:
-    """The grid of a picture in the terminal: ``--cols``/``--rows``, or what fits it (the axis
-    labels take a few columns; the title, axes and legend ``extra_lines`` lines)."""
+def text_size(ph: Phase, extra_lines: int = 10) -> tuple[int, int]:
+    """The grid of a picture in the terminal: ``--cols``/``--rows``, or what fits it with the
+    command line above it and the next prompt below (the axis labels take a few columns; the
+    title, axes and legend 8 lines, the two prompts 2: ``extra_lines``)."""
     tw, th = shutil.get_terminal_size((80, 24))
     tw = tw if tw > 0 else 80  # COLUMNS=0: no width known
     th = th if th > 0 else 24
