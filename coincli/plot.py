@@ -24,6 +24,7 @@ every common colour-vision deficiency); outcomes and models are also told apart 
 
 from __future__ import annotations
 
+import contextlib
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -145,7 +146,21 @@ class MatplotlibMissing(ImportError):
 
 
 def require_matplotlib():
-    """Import and return matplotlib, or raise :class:`MatplotlibMissing` with the hint."""
+    """Import and return matplotlib, or raise :class:`MatplotlibMissing` with the hint.
+
+    The import is shielded from the user's environment, so that the same figure gives the same
+    bytes everywhere and nothing but the result reaches stderr: matplotlib's logger is set to
+    CRITICAL (an unusable MPLCONFIGDIR or HOME, or an rc file with bad keys, is logged as a
+    warning at import), ``MATPLOTLIBRC`` points at matplotlib's own default file during the
+    import (a user's file could set ``text.usetex`` or be a FIFO that blocks the read),
+    ``MPLBACKEND`` is ignored (the figures draw on their own Agg canvas), and a
+    ``./matplotlibrc`` that is not a regular file is not opened.  :func:`_style` resets every
+    setting to matplotlib's defaults plus coin's own while a figure is drawn.
+    """
+    import sys
+
+    if sys.modules.get("matplotlib") is None:
+        _shielded_import()
     try:
         import matplotlib
     except ImportError:
@@ -156,9 +171,56 @@ def require_matplotlib():
     return matplotlib
 
 
+def _shielded_import() -> None:
+    """Import matplotlib away from the user's environment (see :func:`require_matplotlib`);
+    nothing when it is not installed (the caller says so)."""
+    import importlib.util
+    import logging
+    import os
+
+    logging.getLogger("matplotlib").setLevel(logging.CRITICAL)
+    try:
+        spec = importlib.util.find_spec("matplotlib")
+    except (ImportError, ValueError):
+        spec = None
+    if spec is None or spec.origin is None:
+        return
+    data = os.path.join(os.path.dirname(spec.origin), "mpl-data")
+    saved = {k: os.environ.get(k) for k in ("MATPLOTLIBRC", "MPLBACKEND")}
+    os.environ["MATPLOTLIBRC"] = os.path.join(data, "matplotlibrc")
+    os.environ.pop("MPLBACKEND", None)
+    cwd = None
+    try:
+        import stat
+
+        if not stat.S_ISREG(os.stat("matplotlibrc").st_mode):
+            cwd = os.getcwd()
+            os.chdir(data)  # matplotlib reads ./matplotlibrc first: here, its own default
+    except OSError:
+        pass
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        pass
+    finally:
+        if cwd is not None:
+            os.chdir(cwd)
+        for k, v in saved.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+
+
+@contextlib.contextmanager
 def _style():
+    """matplotlib's default settings and coin's (:data:`_RC`) while a figure is drawn and
+    saved, whatever the user's matplotlibrc says."""
     matplotlib = require_matplotlib()
-    return matplotlib.rc_context(_RC)
+    with matplotlib.rc_context():
+        matplotlib.rcdefaults()
+        matplotlib.rcParams.update(_RC)
+        yield
 
 
 def _new_figure(width: float, height: float):
@@ -216,7 +278,9 @@ def save_figure(fig, path: str, dpi: float = 150.0) -> int:
     The figure is rendered in memory first: if matplotlib's constrained layout gives up (its
     warning "axes sizes collapsed to zero": the figure is too small for its titles, labels and
     legend, which would be drawn over the axes), :class:`FigureTooSmall` is raised and no file
-    is written.  Any other warning is passed on.
+    is written.  Any other warning is passed on.  The file is written by
+    :func:`coincli._files.write_atomic`: whole or not at all, the old file intact on failure;
+    a path that is not a regular file raises :class:`coincli._files.FileKindError`.
     """
     import io
     import warnings
@@ -233,10 +297,9 @@ def save_figure(fig, path: str, dpi: float = 150.0) -> int:
                              "titles, labels and legend")
     for w in caught:
         warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-    data = buf.getvalue()
-    with open(path, "wb") as fh:
-        fh.write(data)
-    return len(data)
+    from coincli._files import write_atomic
+
+    return write_atomic(path, buf.getbuffer())
 
 
 # --------------------------------------------------------------------------- models
@@ -476,10 +539,12 @@ def _fmt(v: float) -> str:
     return "∞" if v == math.inf else f"{v:.3g}"
 
 
-def marks_label(one: str, many: str, values: Sequence[str], per_line: int = 5) -> str:
-    """One legend entry naming every mark: ``your designs: ξ = 0.5, 0.577`` (a new line every
-    ``per_line`` values, so that twenty marks do not make the legend wider than the figure)."""
-    vals = list(values)
+def marks_label(one: str, many: str, name: str, values: Sequence[str],
+                per_line: int = 5) -> str:
+    """One legend entry naming every mark: ``your designs: ξ = 0.5, 0.577`` (``name`` before
+    the first value; a new line every ``per_line`` values, so that twenty marks do not make the
+    legend wider than the figure)."""
+    vals = [f"{name}{v}" if k == 0 else v for k, v in enumerate(values)]
     head = f"{one if len(vals) == 1 else many}: "
     lines = [", ".join(vals[k:k + per_line]) for k in range(0, len(vals), per_line)]
     return head + ",\n".join(lines)
@@ -536,8 +601,7 @@ def sides_figure(data: SidesData, *, width: float = 7.0, height: float = 4.5,
                     label=f"fair three-sided coin, {m.gid}: ξ = {m.xi:.3f}")
         label_gap = 11.0 / (72.0 * height * 0.75)  # ~11 points, as a fraction of the axes
         inside = [x for x, _ in data.xi_marks if data.xlim[0] <= x <= data.xlim[1]]
-        legend = marks_label("your design", "your designs", [f"ξ = {x:.4g}" if k == 0 else f"{x:.4g}"
-                                             for k, x in enumerate(inside)])
+        legend = marks_label("your design", "your designs", "ξ = ", [f"{x:.4g}" for x in inside])
         for k, (x, row) in enumerate(data.xi_marks):
             if not data.xlim[0] <= x <= data.xlim[1]:
                 continue
@@ -554,8 +618,8 @@ def sides_figure(data: SidesData, *, width: float = 7.0, height: float = 4.5,
                             textcoords="axes fraction", fontsize=7.5, va="center",
                             color=colours.get(m.gid, DESIGN_COLOUR), arrowprops=_LEADER,
                             bbox=_LABEL_BOX)
-        targets = marks_label("your target", "your targets", [f"P(sides) = {p:.4g}" if k == 0 else f"{p:.4g}"
-                                              for k, (p, _) in enumerate(data.p_marks)])
+        targets = marks_label("your target", "your targets", "P(sides) = ",
+                              [f"{p:.4g}" for p, _ in data.p_marks])
         for k, (p, row) in enumerate(data.p_marks):
             ax.axhline(p, color=DESIGN_COLOUR, linewidth=1.0, linestyle=(0, (4, 2)), zorder=1,
                        gid=f"design-p-line:{k}")
@@ -590,7 +654,8 @@ def sides_figure(data: SidesData, *, width: float = 7.0, height: float = 4.5,
         ax.grid(True, which="major")
         ax.set_xlabel("aspect ratio ξ = h/D (thickness / diameter, dimensionless)")
         ax.set_ylabel("P(sides)")
-        ax.set_title(title or "Chance of landing on a side (Yong & Mahadevan, Fig. 5a)")
+        ax.set_title(title or "Chance of landing on a side (Yong & Mahadevan, Fig. 5a)",
+                     parse_math=False)
         ax.legend(loc="upper left" if data.log or data.xlim[1] > 3 else "lower right")
         _note_figure(fig, data.skipped)
     return fig
@@ -658,8 +723,8 @@ def psi_figure(data: PsiData, *, width: float = 7.0, height: float = 4.5,
             ax.plot(data.psi_deg, getattr(data, name), color=OUTCOME_COLOURS[name],
                     linestyle=OUTCOME_STYLES[name], label=f"P({name})", gid=f"curve:{name}",
                     zorder=3)
-        tosses = marks_label("your toss", "your tosses", [f"ψ = {d:.4g}°" if k == 0 else f"{d:.4g}°"
-                                           for k, (d, _) in enumerate(data.marks)])
+        tosses = marks_label("your toss", "your tosses", "ψ = ",
+                             [f"{d:.4g}°" for d, _ in data.marks])
         for k, (d, o) in enumerate(data.marks):
             ax.axvline(d, color=DESIGN_COLOUR, linewidth=1.0, linestyle=":", zorder=2,
                        gid=f"design-psi-line:{k}")
@@ -682,7 +747,7 @@ def psi_figure(data: PsiData, *, width: float = 7.0, height: float = 4.5,
         ax.set_xlabel("ψ, angle between angular momentum and the coin's normal (degrees)")
         ax.set_ylabel("probability")
         ax.set_title(title or f"Heads, sides and tails against ψ for ξ = {data.xi:.4g} "
-                     "(Yong & Mahadevan, Fig. 2d)")
+                     "(Yong & Mahadevan, Fig. 2d)", parse_math=False)
         ax.legend(loc="upper center", ncols=2, fontsize=8)
     return fig
 
@@ -755,13 +820,11 @@ def _map_marks(ax, data: MapData, colour: str, legend: bool):
             markeredgecolor="black", linestyle="none", zorder=6, gid="fair:dynamic",
             label="fair three-sided coin: ξ = 1/√3, ψ = 90°" if legend else None)
     inside = _inside(data)
-    designs = marks_label("your design", "your designs", [f"ξ = {x:.4g}" if k == 0 else f"{x:.4g}"
-                                          for k, x in enumerate(inside)])
+    designs = marks_label("your design", "your designs", "ξ = ", [f"{x:.4g}" for x in inside])
     for k, x in enumerate(inside):
         ax.axvline(x, color=colour, linewidth=1.2, linestyle=":", zorder=4, gid=f"design-xi:{k}",
                    label=designs if legend and k == 0 else None)
-    tosses = marks_label("your toss", "your tosses", [f"ψ = {d:.4g}°" if k == 0 else f"{d:.4g}°"
-                                       for k, d in enumerate(data.psi_marks)])
+    tosses = marks_label("your toss", "your tosses", "ψ = ", [f"{d:.4g}°" for d in data.psi_marks])
     for k, d in enumerate(data.psi_marks):
         ax.axhline(d, color=colour, linewidth=1.2, linestyle=(0, (4, 2)), zorder=4,
                    gid=f"design-psi:{k}", label=tosses if legend and k == 0 else None)
@@ -817,7 +880,7 @@ def map_figure(data: MapData, *, style: str = "panels", width: float | None = No
                          shrink=0.9)
             axes[0].legend(loc="lower left", fontsize=7, framealpha=0.85)
             fig.suptitle(title or "Heads, sides and tails over aspect ratio and ψ "
-                         "(Yong & Mahadevan, Fig. 2a-c)")
+                         "(Yong & Mahadevan, Fig. 2a-c)", parse_math=False)
         else:
             gs = fig.add_gridspec(1, 2, width_ratios=(4.2, 1.0))
             ax = fig.add_subplot(gs[0, 0])
@@ -829,7 +892,7 @@ def map_figure(data: MapData, *, style: str = "panels", width: float | None = No
             _map_axes(ax, data)
             ax.legend(loc="lower right", fontsize=7, framealpha=0.85)
             ax.set_title(title or "Heads, sides and tails over aspect ratio and ψ "
-                         "(Yong & Mahadevan, Fig. 2a-c)")
+                         "(Yong & Mahadevan, Fig. 2a-c)", parse_math=False)
             _ternary_key(fig.add_subplot(gs[0, 1]))
         _note_figure(fig, data.skipped)
     return fig
@@ -961,7 +1024,7 @@ def phase_figure(data: PhaseData, *, width: float = 9.5, height: float = 5.5,
         ax.set_xlabel(data.u_label)
         ax.set_ylabel(data.omega_label)
         ax.set_title(title or f"Phase space of a toss: ξ = {data.xi:.4g}, ψ = "
-                     f"{data.psi_deg:.4g}° (Yong & Mahadevan, Fig. 3)")
+                     f"{data.psi_deg:.4g}° (Yong & Mahadevan, Fig. 3)", parse_math=False)
     return fig
 
 

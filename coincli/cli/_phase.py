@@ -11,7 +11,6 @@ spellings of ``coin plot phase`` (``--u-range``, ``--omega-range``, ``--exact-cu
 from __future__ import annotations
 
 import math
-import shutil
 from typing import Annotated, NamedTuple
 
 import typer
@@ -208,9 +207,9 @@ def text_size(ph: Phase, extra_lines: int = 10) -> tuple[int, int]:
     """The grid of a picture in the terminal: ``--cols``/``--rows``, or what fits it with the
     command line above it and the next prompt below (the axis labels take a few columns; the
     title, axes and legend 8 lines, the two prompts 2: ``extra_lines``)."""
-    tw, th = shutil.get_terminal_size((80, 24))
-    tw = tw if tw > 0 else 80  # COLUMNS=0: no width known
-    th = th if th > 0 else 24
+    from coincli._terminal import terminal_height, terminal_width
+
+    tw, th = terminal_width(), terminal_height()
     label = max(len(f"{ph.omega_range[1]:g}"), 4) + 3
     cols = ph.cols if ph.cols is not None else max(10, min(tw, MAX_CELLS) - label)
     rows = ph.rows if ph.rows is not None else max(6, min(th, MAX_CELLS) - extra_lines)

@@ -16,6 +16,7 @@ from typing import Annotated
 import typer
 
 from coincli import parse
+from coincli._files import FileKindError, read_regular
 from coincli.cli import _options, app
 from coincli.cli._common import (
     Column,
@@ -35,11 +36,7 @@ _OUTCOMES = ("heads", "sides", "tails")
 
 # --------------------------------------------------------------------------- shared options
 
-PsiDistsOpt = Annotated[
-    str | None,
-    typer.Option("--psi-dist", help="Also test psi-averaged models: a comma list of uniform, "
-                 "cosine, normal, normal:MEAN:SD (degrees), table:FILE.", metavar="SPECS"),
-]
+PsiDistsOpt = _options.PsiDistsOpt
 AlphaOpt = Annotated[
     str, typer.Option("--alpha", help="Significance level of the verdicts.", metavar="A")
 ]
@@ -63,18 +60,10 @@ def _level(text: str, what: str) -> float:
 
 
 def _densities(specs: str | None) -> dict:
+    """--psi-dist, parsed as every command parses it, by machine name."""
     if specs is None:
         return {}
-    from coincli.densities import parse_density
-
-    out = {}
-    for s in [s for s in specs.split(",") if s.strip()] or [specs]:
-        try:
-            d = parse_density(s)
-        except ValueError as exc:
-            raise usage_error(f"--psi-dist: {exc}") from None
-        out[d.spec] = d
-    return out
+    return {d.spec: d for d in _options.psi_densities(specs)}
 
 
 def _whole(text: str | None, what: str) -> int | None:
@@ -346,7 +335,8 @@ def _read_text(path: str) -> tuple[str, str]:
     """The text of an experiments file, or of stdin for '-', and the name to call it by.
 
     At most :data:`MAX_FILE_BYTES` are read, in chunks, whatever the file claims to be
-    (/dev/zero and pipes have no size); reading stops at a NUL byte.
+    (/dev/zero and pipes have no size); reading stops at a NUL byte.  A named file must be a
+    regular file (:func:`coincli._files.read_regular`).
     """
     if path.strip() == "-":
         if sys.stdin is None:
@@ -357,8 +347,10 @@ def _read_text(path: str) -> tuple[str, str]:
     else:
         name = path
         try:
-            with open(path, "rb") as fh:
-                data, why = read_capped(fh.read, MAX_FILE_BYTES)
+            data, why = read_regular(path, MAX_FILE_BYTES)  # a FIFO or device: refused
+        except FileKindError as exc:
+            raise usage_error(f"cannot read {_clipped(path)}: it is {exc.kind}, not a regular "
+                              "file; give an experiments file, or '-' to read a pipe") from None
         except OSError as exc:
             raise usage_error(f"cannot read {_clipped(path)}: {exc.strerror or exc}") from None
     if why == "size":

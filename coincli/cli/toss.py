@@ -709,11 +709,15 @@ def phase_cmd(
 
 def _phase_figure(path, ph):
     from coincli import plot as P
+    from coincli._files import FileKindError, check_output_path
 
     try:
         P.figure_format(path)
+        check_output_path(path)  # a FIFO, device or directory: refused before any computing
     except ValueError as exc:
         raise usage_error(f"--out: {exc}") from None
+    except OSError as exc:
+        raise compute_error(f"cannot write {path!r}: {exc.strerror or exc}") from None
     try:
         P.require_matplotlib()
     except P.MatplotlibMissing as exc:
@@ -722,6 +726,8 @@ def _phase_figure(path, ph):
     fig = P.phase_figure(data)
     try:
         P.save_figure(fig, path)
+    except FileKindError as exc:
+        raise usage_error(f"--out: {exc}") from None
     except OSError as exc:
         raise compute_error(f"cannot write {path!r}: {exc.strerror or exc}") from None
     w, h = (float(v) for v in fig.get_size_inches())
