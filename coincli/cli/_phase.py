@@ -238,17 +238,36 @@ def check_followable(ph: Phase) -> None:
     raise usage_error(what)
 
 
-def data(ph: Phase, nu: int, nw: int):
-    """The picture's :class:`coincli.plot.PhaseData` on an ``nu`` by ``nw`` grid."""
-    from coincli import plot as P
-
+def data(ph: Phase, nu: int, nw: int, *, figure: bool = False):
+    """The picture's data on an ``nu`` by ``nw`` grid: :class:`coincli.plot.PhaseData` for a
+    figure; for text and csv the same fields from :func:`coincli.toss.phase_map` directly (so
+    that they load no plotting module)."""
     check_followable(ph)
+    if figure:
+        from coincli import plot as P
+
+        try:
+            d = P.phase_data(ph.xi, ph.psi_deg, u_range=ph.u_range, omega_range=ph.omega_range,
+                             nu=nu, nw=nw, marks=ph.marks, exact_curves=ph.exact,
+                             diameter=ph.diameter, g=ph.g, contact=ph.contact)
+        except ValueError as exc:
+            raise usage_error(str(exc)) from None
+        if not ph.curves:
+            d.curves = []
+        return d
+    import types
+
+    from coincli import toss as T
+    from coincli.models import conditional
+
+    psi = _options.radians(ph.psi_deg)
     try:
-        d = P.phase_data(ph.xi, ph.psi_deg, u_range=ph.u_range, omega_range=ph.omega_range,
-                         nu=nu, nw=nw, marks=ph.marks, exact_curves=ph.exact,
-                         diameter=ph.diameter, g=ph.g, contact=ph.contact)
+        pm = T.phase_map(ph.xi, psi, ph.u_range, ph.omega_range, (nu, nw), diameter=ph.diameter,
+                         g=ph.g, contact=ph.contact, exact_curves=ph.exact)
     except ValueError as exc:
         raise usage_error(str(exc)) from None
-    if not ph.curves:
-        d.curves = []
-    return d
+    return types.SimpleNamespace(
+        xi=ph.xi, psi_deg=ph.psi_deg, u=pm.u, omega=pm.omega, outcome=pm.codes,
+        curves=list(pm.curves) if ph.curves else [], fractions=pm.fractions(),
+        vigorous=conditional(ph.xi, psi), marks=list(ph.marks), exact_curves=ph.exact,
+        u_range=ph.u_range, omega_range=ph.omega_range)

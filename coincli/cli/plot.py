@@ -561,6 +561,7 @@ def phase_cmd(
             return
         from coincli import plot as P
 
-        data = _phase.data(ph, ph.cols or _phase.FIGURE_CELLS, ph.rows or _phase.FIGURE_CELLS)
+        data = _phase.data(ph, ph.cols or _phase.FIGURE_CELLS, ph.rows or _phase.FIGURE_CELLS,
+                           figure=True)
         fig = P.phase_figure(data, width=w, height=h, title=title)
         target.save(fig, d)

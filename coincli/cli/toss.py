@@ -261,11 +261,8 @@ def _spec(text: str, what: str, kind: str):
             raise usage_error(f"{what}: uniform:LOW:HIGH needs LOW <= HIGH, both in {rng}; got "
                               f"{text!r}")
         return T.Dist("uniform", vals[0], vals[1], lo, hi)
-    from statistics import NormalDist
-
     mu, sd = vals
-    nd = NormalDist()
-    mass = nd.cdf((hi - mu) / sd) - nd.cdf((lo - mu) / sd)
+    mass = T._normal_mass((lo - mu) / sd, (hi - mu) / sd)
     if not mass > 1e-9:
         raise usage_error(f"{what}: {text!r} puts no probability in the allowed range {rng}")
     return T.Dist("normal", mu, sd, lo, hi)
@@ -722,7 +719,8 @@ def _phase_figure(path, ph):
         P.require_matplotlib()
     except P.MatplotlibMissing as exc:
         raise compute_error(str(exc)) from None
-    data = _phase.data(ph, ph.cols or _phase.FIGURE_CELLS, ph.rows or _phase.FIGURE_CELLS)
+    data = _phase.data(ph, ph.cols or _phase.FIGURE_CELLS, ph.rows or _phase.FIGURE_CELLS,
+                       figure=True)
     fig = P.phase_figure(data)
     try:
         P.save_figure(fig, path)
