@@ -1630,4 +1630,9 @@ def vigorous_limit(xi, psi):
         from coincli.densities import Normal
 
         density = Normal(dist.p1, dist.p2)
-    return marginal(xi, density)
+    # The vectorized path of marginal (one element): its scalar path gives NaN for a narrow
+    # normal and a thin coin (marginal(0.05, Normal(pi/2, 10 deg))), reported; never print one.
+    import numpy as np
+
+    out = marginal(np.array([float(xi)]), density)
+    return Outcome(*(float(v[0]) for v in out))

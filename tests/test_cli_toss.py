@@ -10,6 +10,7 @@ import csv
 import io
 import json
 import math
+import re
 import subprocess
 import sys
 
@@ -511,3 +512,50 @@ def test_importing_the_command_module_loads_no_numpy_scipy_rich():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          timeout=60)
     assert out.stdout.strip() == "[]", out.stdout + out.stderr
+
+
+# --------------------------------------------------------------------------- extremes
+
+_EXTREME_TOSS = [
+    ["--xi", "1e-300", "--psi", "0", "--u", "5e-324", "--omega", "1e12"],
+    ["--xi", "1e300", "--psi", "180", "--u", "1e8", "--omega", "5e-324"],
+    ["--xi", "0", "--psi", "179.9999999", "--u", "100000km/s", "--omega", "1e-300"],
+    ["--xi", "1e100", "--psi", "90", "--u", "0", "--omega", "1e6", "--contact", "thick"],
+    ["--xi", "0.577", "--psi", "1e-300", "--u", "1e-300cm/s", "--omega", "1e300rpm"],
+    ["--xi", "0.577", "--psi", "90", "--u", "2", "--omega", "40", "--g", "1e-300"],
+    ["--xi", "0.577", "--psi", "90", "--u", "2", "--omega", "40", "--g", "1e100"],
+    ["--xi", "0.5", "--diameter", "1e-300", "--psi", "45", "--u", "1e-6", "--omega", "1e6"],
+    ["--xi", "0.5", "--diameter", "1e103", "--psi", "45", "--u", "2", "--omega", "1e-6"],
+    ["--xi", "0.577", "--psi", "90", "--u", "2", "--omega", "40", "--z0", "1e-300"],
+    ["--xi", "0.577", "--psi", "90", "--u", "2", "--omega", "40", "--z0", "1e300"],
+    ["--xi", "1e-300"],
+]
+_EXTREME_SIMULATE = [
+    ["--xi", "1e-300", "--u", "normal:5e-324:5e-324", "--omega", "1e-300"],
+    ["--xi", "0.05"],  # a thin coin, the hand toss's narrow normal psi
+    ["--xi", "1e-20", "--u", "1e8", "--omega", "normal:1e6:1e6", "--g", "1e100"],
+    ["--xi", "1e300", "--u", "uniform:1e-300:2e-300", "--omega", "uniform:0:1e300", "--g", "1e-300"],
+    ["--xi", "0.577", "--psi-dist", "normal:0:1e-300"],
+    ["--xi", "0.577", "--psi-dist", "uniform:179:180", "--u", "normal:-1e300:1e300"],
+    ["--xi", "0.577", "--psi", "180", "--omega", "normal:0:5e-324", "--contact", "thick"],
+]
+_EXTREME_PHASE = [
+    ["--u", "0:1e8", "--omega", "0:1e-6"], ["--u", "1e-300:2e-300"], ["--psi", "0"],
+    ["--psi", "180", "--contact", "thick", "--xi", "1e100"], ["--xi", "1e300"],
+    ["--g", "1e-300"], ["--g", "1e100"], ["--xi", "0.5", "--diameter", "1e-300"],
+    ["--cols", "2", "--rows", "2"], ["--omega", "1e11:1e12", "--u", "1e7:1e8"],
+    ["--toss", "1e300:1e300"], ["--exact", "--u", "0:1e8", "--omega", "0:1"],
+]
+
+
+@pytest.mark.parametrize("argv", [["toss", *a] for a in _EXTREME_TOSS]
+                         + [["simulate", "-n", "300", "--seed", "1", *a] for a in _EXTREME_SIMULATE]
+                         + [["phase", *a] for a in _EXTREME_PHASE])
+@pytest.mark.parametrize("fmt", [["-f", "csv"], []])
+def test_every_option_at_its_extremes_prints_no_nan_or_one_line(coin, argv, fmt):
+    rc, out, err = coin(*argv, *fmt)
+    if rc == 0:
+        assert not re.search(r"\b(nan|inf)\b", out, re.I), out[-400:]
+    else:
+        assert rc == 2 and out == "" and err.startswith("coin: error: "), (rc, err)
+        assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
