@@ -468,8 +468,8 @@ def simulate_cmd(
     averaged over the same psi (the vigorous limit).  -n is 10000 by default, at most 10^8.
     The seed is reported; the same seed gives the same tosses.
 
-    Examples: coin simulate --xi 0.577 ;  coin simulate -n 1000000 --seed 7 --xi 0.577
-    --u normal:2.4:0.3 --omega normal:38:4 --psi-dist normal:90:10 ;
+    Examples: coin simulate --xi 0.577 ;
+    coin simulate -n 1000000 --seed 7 --xi 0.577 --omega normal:6:1rev/s ;
     coin simulate -n 5 --seed 1 --xi 0.577 --psi 90 --stream
     """
     check_format(fmt)
