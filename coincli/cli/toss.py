@@ -284,16 +284,6 @@ Z0Opt = Annotated[str | None, typer.Option(
     "(sqrt 3/2) a, plus h/2 for thick contact).")]
 
 
-def _deg_item(text: str, what: str) -> float:
-    try:
-        v = parse.parse_number(text, what)
-    except ValueError:
-        v = math.nan
-    if not 0.0 <= v <= 180.0:  # NaN fails
-        raise ValueError(f"{what} must be an angle from 0 to 180 degrees, got {text!r}")
-    return v + 0.0
-
-
 @app.command("toss")
 def toss_cmd(
     xi: XisOpt = None,
@@ -334,7 +324,7 @@ def toss_cmd(
     given = {"psi": psi, "u": u, "omega": omega}
     cols = {"xi": coins.xis}
     if psi is not None:
-        cols["psi"] = values_option(psi, "--psi", _deg_item, bounds=(0.0, 180.0))
+        cols["psi"] = values_option(psi, "--psi", _options._deg_item, bounds=(0.0, 180.0))
     if u is not None:
         cols["u"] = _values(u, "--u", "u")
     if omega is not None:
