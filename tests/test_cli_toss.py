@@ -559,3 +559,23 @@ def test_every_option_at_its_extremes_prints_no_nan_or_one_line(coin, argv, fmt)
     else:
         assert rc == 2 and out == "" and err.startswith("coin: error: "), (rc, err)
         assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+
+
+def test_a_drawn_seed_is_reported_and_repeats_the_same_bytes(coin):
+    # simulate: the note, the csv column, stderr with -q and --stream
+    human = _ok(coin("simulate", "--xi", "0.577", "-n", "500"))
+    seed = human.split(" tosses, seed ")[1].split(":")[0]
+    assert _ok(coin("simulate", "--xi", "0.577", "-n", "500", "--seed", seed)) == human
+    rc, out, err = coin("simulate", "--xi", "0.577", "-n", "500", "-f", "csv")
+    assert rc == 0 and out.splitlines()[0].endswith(",seed")
+    seed = out.splitlines()[1].rsplit(",", 1)[1]
+    assert _ok(coin("simulate", "--xi", "0.577", "-n", "500", "-f", "csv", "--seed", seed)) == out
+    for extra in (["-q"], ["--stream"]):
+        rc, out, err = coin("simulate", "--xi", "0.577", "-n", "20", *extra)
+        assert rc == 0 and err.startswith("coin: seed ") and "repeats this run" in err
+        seed = err.split()[2]
+        assert _ok(coin("simulate", "--xi", "0.577", "-n", "20", "--seed", seed, *extra)) == out
+    # toss: only when something is drawn
+    rc, out, err = coin("toss", "--xi", "0.577", "-q")
+    assert rc == 0 and out.strip() in ("heads", "sides", "tails") and err.startswith("coin: seed")
+    assert coin("toss", "--xi", "0.577", "--psi", "90", "--u", "2", "--omega", "40", "-q")[2] == ""

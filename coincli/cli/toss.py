@@ -234,8 +234,8 @@ def _spec(text: str, what: str, kind: str):
             raise usage_error(f"{what}: normal:MEAN:SD needs SD >= 0, got {text!r}")
     units = _units_of(kind)
     has = [parse.split_unit(p, units)[1] is not None for p in nums]
-    if has[-1] and not all(has):
-        if any(has[:-1]):
+    if any(has) and not all(has):
+        if not has[-1] or any(has[:-1]):  # a unit on some numbers only: ambiguous
             raise usage_error(f"{what}: give the unit once at the end ({example}) or after "
                               f"every number, got {text!r}")
         unit = parse.split_unit(nums[-1], units)[1]
