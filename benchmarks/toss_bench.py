@@ -230,9 +230,12 @@ def main(argv=None) -> int:
         "of 8192 tosses, so the engine streams some 600 arrays through the cache a batch, "
         "where the generator draws its normals in a few passes: on a loaded machine (other "
         "processes sharing the cache) the engine slows several times more than the draws do.  "
-        "The aim of 3x needs about a third of the operations; the structure that would get "
-        "there (Halley steps on an analytically monotone window, fewer setup bounds) is noted "
-        "in the report.",
+        "The aim of 3x is not met: it needs about a third of the operations (Halley steps on "
+        "a window proven monotone from its bounds would save the round and a Newton "
+        "evaluation of most ordinary tosses; the setup's bounds could be fewer).  One toss at "
+        "a time pays numpy's per-call overhead some 300 times (about 1.5 ms): nothing for `coin "
+        "toss`, whose start-up is a hundred times that, but a loop over `flight_time` should "
+        "pass arrays to `toss_many` instead.",
         "",
         "### The engine on other inputs",
         "",
