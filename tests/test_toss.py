@@ -341,7 +341,7 @@ def test_vectorized_broadcasts_and_keeps_shape():
 
 def test_vectorized_chunks_agree_with_one_batch():
     rng = np.random.default_rng(9)
-    n = T._CHUNK + 1000
+    n = T._BATCH + 1000
     c = T.sample_conditions(n, rng, u="normal:2.4:0.3", omega="normal:38:4", psi="normal:1.5:0.2")
     v = T.toss_many(FAIR, c["psi"], c["u"], c["omega"])
     w = T.toss_many(FAIR, c["psi"][-1000:], c["u"][-1000:], c["omega"][-1000:])
