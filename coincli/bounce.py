@@ -97,6 +97,10 @@ __all__ = [
     "simulate",
     "calibrate",
     "drop_restitution",
+    "SidesFit",
+    "fit_sides",
+    "Design",
+    "design",
     "DEFAULT_DT",
     "DEFAULT_DENSITY",
     "DEFAULT_T_MAX",
@@ -781,14 +785,14 @@ class BounceSimulation:
 _DOMAINS = {"height": (0.0, 100.0), "vx": (0.0, 100.0), "z0": (0.0, 100.0)}
 
 
-def _block_launches(seed, block, count, dists, coin):
+def _block_launches(seed, block, count, dists, coin, stream=()):
     """The launches of block ``block`` of a run: its own generator, seeded ``(seed, block)``, so
     a toss's conditions do not depend on how blocks are shared among workers.  Draws u, omega,
     psi (as :func:`coincli.toss.sample_conditions`), then height, horizontal speed, its azimuth,
     and z0, always a full block."""
     import numpy as np
 
-    rng = np.random.default_rng([seed, block])
+    rng = np.random.default_rng([seed, *stream, block])
     c = sample_conditions(BLOCK, rng, u=dists["u"], omega=dists["omega"], psi=dists["psi"])
     extra = {k: dists[k].sample(rng, BLOCK) for k in ("height", "vx", "z0")}
     az = rng.uniform(0.0, 2 * math.pi, BLOCK)
@@ -811,10 +815,10 @@ def _worker_init(args):
 
 
 def _run_block(job):
-    seed, block, count, dists = job
+    seed, block, count, dists, stream = job
     eng = _WORKER["engine"]
     rows = []
-    launches = _block_launches(seed, block, count, dists, eng.coin)
+    launches = _block_launches(seed, block, count, dists, eng.coin, stream)
     t_first = eng.first_contacts(launches) if eng.flight == "exact" else [None] * count
     for launch, t_f in zip(launches, t_first, strict=True):
         r = eng.run(launch, t_contact=t_f)
@@ -833,7 +837,7 @@ def default_jobs():
 def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=0.0, vx=0.0,
              z0=None, diameter=DEFAULT_DIAMETER, density=DEFAULT_DENSITY, g=STANDARD_G,
              dt=DEFAULT_DT, t_max=DEFAULT_T_MAX, jobs=None, level=0.95, flight="exact",
-             progress: Callable[[int], None] | None = None) -> BounceSimulation:
+             progress: Callable[[int], None] | None = None, stream=()) -> BounceSimulation:
     """Toss ``n`` coins onto ``surf`` (a :class:`Surface`, default wood) with seeded random
     launches and count the outcomes.
 
@@ -842,7 +846,8 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
     launch plane, m), ``vx`` (horizontal speed, m/s) and ``z0`` (centre above the launch plane,
     m; default the paper's for a thick coin, ``(sqrt 3/2) a + h/2``) likewise.  ``jobs`` worker
     processes (default: every core); block ``k`` of 256 tosses draws from the seed ``(seed, k)``,
-    so the counts are the same for any number of workers.
+    so the counts are the same for any number of workers.  ``stream`` (a tuple of whole numbers)
+    names an independent stream of the same seed (:func:`design` uses one per simulated point).
     """
     import numpy as np
 
@@ -864,7 +869,7 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
     damping = calibrate(coin, surf, dt, g)
     args = (coin, surf, dt, g, landing, t_max, flight, damping)
     nblocks = -(-n // BLOCK)
-    work = [(seed, k, min(BLOCK, n - k * BLOCK), dists) for k in range(nblocks)]
+    work = [(seed, k, min(BLOCK, n - k * BLOCK), dists, tuple(stream)) for k in range(nblocks)]
     results = [None] * nblocks
     done = 0
     if jobs == 1 or nblocks == 1:
@@ -908,6 +913,181 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
         mean_t_settle=float(rows[settled, 3].mean()) if ns else math.nan,
         steps=int(rows[:, 4].sum()), seed=seed, landing=landing, surface=surf, damping=damping,
         dt=dt, level=level, vigorous=vigorous_limit(coin.xi, dists["psi"]))
+
+
+# --------------------------------------------------------------------------- design
+
+
+@dataclass
+class SidesFit:
+    """``P(sides) = Phi(alpha + beta ln xi)``, a probit in log xi fitted to simulated counts by
+    maximum likelihood (monotone increasing when ``beta > 0``), with the covariance of
+    ``(alpha, beta)`` (inverse Fisher information) and a goodness-of-fit test against the
+    points (deviance, chi-square with points - 2 degrees of freedom)."""
+
+    alpha: float
+    beta: float
+    cov: tuple  #: ((var alpha, cov), (cov, var beta))
+    points: list  #: (xi, tosses, sides) of the settled tosses at each simulated xi
+    deviance: float
+    df: int
+    p_value: float  #: of the goodness-of-fit test (nan when df = 0)
+
+    def p_sides(self, xi):
+        from scipy.special import ndtr
+
+        import numpy as np
+
+        return ndtr(self.alpha + self.beta * np.log(xi))
+
+    def inverse(self, p):
+        """The xi at which the fitted P(sides) is ``p`` (0 < p < 1)."""
+        from scipy.special import ndtri
+
+        return math.exp((float(ndtri(p)) - self.alpha) / self.beta)
+
+    def interval(self, p, level=0.95):
+        """A ``level`` confidence interval of :meth:`inverse` (delta method on ln xi)."""
+        from statistics import NormalDist
+
+        from scipy.special import ndtri
+
+        q = float(ndtri(p))
+        g = (q - self.alpha) / self.beta
+        da, db = -1.0 / self.beta, -(q - self.alpha) / self.beta**2
+        (vaa, vab), (_, vbb) = self.cov
+        sd = math.sqrt(max(da * da * vaa + 2 * da * db * vab + db * db * vbb, 0.0))
+        z = NormalDist().inv_cdf(0.5 + level / 2)
+        return math.exp(g - z * sd), math.exp(g + z * sd)
+
+
+def fit_sides(points) -> SidesFit:
+    """Fit :class:`SidesFit` to ``points``, ``(xi, n, sides)`` rows (at least two distinct xi
+    with some tosses), by iteratively reweighted least squares (Fisher scoring)."""
+    import numpy as np
+    from scipy.special import ndtr
+    from scipy.stats import chi2, norm
+
+    pts = [(float(x), int(n), int(k)) for x, n, k in points if n > 0]
+    if len({x for x, _, _ in pts}) < 2:
+        raise ValueError("fitting P(sides) needs simulated tosses at two aspect ratios or more")
+    x = np.log([p[0] for p in pts])
+    n = np.array([p[1] for p in pts], dtype=float)
+    k = np.array([p[2] for p in pts], dtype=float)
+    design = np.column_stack([np.ones_like(x), x])
+    f = np.clip((k + 0.5) / (n + 1), 1e-6, 1 - 1e-6)
+    coef = np.linalg.lstsq(design, norm.ppf(f), rcond=None)[0]
+    for _ in range(100):
+        eta = design @ coef
+        mu = np.clip(ndtr(eta), 1e-12, 1 - 1e-12)
+        phi = np.maximum(norm.pdf(eta), 1e-300)
+        w = n * phi * phi / (mu * (1 - mu))
+        z = eta + (k / n - mu) / phi
+        info = design.T @ (w[:, None] * design)
+        new = np.linalg.solve(info, design.T @ (w * z))
+        done = np.max(np.abs(new - coef)) < 1e-12
+        coef = new
+        if done:
+            break
+    eta = design @ coef
+    mu = np.clip(ndtr(eta), 1e-12, 1 - 1e-12)
+    phi = norm.pdf(eta)
+    w = n * phi * phi / (mu * (1 - mu))
+    cov = np.linalg.inv(design.T @ (w[:, None] * design))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        dev = 2 * np.sum(np.where(k > 0, k * np.log(k / (n * mu)), 0.0)
+                         + np.where(n - k > 0, (n - k) * np.log((n - k) / (n * (1 - mu))), 0.0))
+    df = len(pts) - 2
+    return SidesFit(float(coef[0]), float(coef[1]), ((float(cov[0, 0]), float(cov[0, 1])),
+                    (float(cov[1, 0]), float(cov[1, 1]))), pts, float(dev), df,
+                    float(chi2.sf(dev, df)) if df > 0 else math.nan)
+
+
+@dataclass
+class Design:
+    """Result of :func:`design`: the fitted curve and, per target, the aspect ratio with its
+    confidence interval."""
+
+    targets: list
+    xi: list
+    low: list
+    high: list
+    fit: SidesFit
+    tosses: int
+    rounds: int
+    met: bool  #: every interval within tol
+    stopped_by: str  #: 'tol', 'max_tosses' or 'time_limit'
+    seed: int
+    unsettled: int
+
+
+DESIGN_GRID = (0.1, 0.15, 0.22, 0.33, 0.5, 0.75, 1.1, 1.6, 2.4)  #: first sweep of xi
+DESIGN_FIRST = 200  #: tosses at each xi of the first sweep
+DESIGN_ROUND = 400  #: tosses at each of the three xi added near each target per round
+
+
+def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, level=0.95,
+           progress: Callable[[int, int], None] | None = None, clock=None, **kw) -> Design:
+    """The aspect ratios at which tosses onto a surface land on a side with the chances
+    ``targets`` (each in (0, 1)), with ``level`` confidence intervals.
+
+    Simulates a first sweep of xi (:data:`DESIGN_GRID`, :data:`DESIGN_FIRST` tosses each), fits
+    :class:`SidesFit`, then adds rounds of :data:`DESIGN_ROUND` tosses at 0.93, 1 and 1.07 times
+    each target's estimate until every interval is within ``tol`` of its estimate (both ends),
+    or ``max_tosses`` would be passed, or ``time_limit`` seconds (of ``clock``, default
+    ``time.monotonic``) have gone by at the end of a round.  Every simulation is seeded
+    ``(seed, round, point)``: the result is a function of the seed and the number of rounds, so a
+    run stopped by the time limit is reproduced by ``max_tosses`` equal to its tosses.
+    ``kw`` is passed to :func:`simulate` (xi excluded).
+    """
+    import time
+
+    targets = [float(t) for t in targets]
+    for t in targets:
+        if not 0.0 < t < 1.0:
+            raise ValueError(f"a target P(sides) must be strictly between 0 and 1, got {t:g}")
+    clock = clock or time.monotonic
+    start = clock()
+    points: dict = {}
+    tosses = unsettled = 0
+    planned = len(DESIGN_GRID) * DESIGN_FIRST
+
+    def run(xs, n, rnd):
+        nonlocal tosses, unsettled
+        for j, x in enumerate(xs):
+            r = simulate(n, seed, xi=x, stream=(rnd, j), **kw)
+            old = points.get(x, (0, 0))
+            points[x] = (old[0] + r.settled, old[1] + r.counts[SIDES])
+            tosses += n
+            unsettled += r.counts[3]
+            if progress is not None:
+                progress(tosses, planned)
+
+    run(DESIGN_GRID, DESIGN_FIRST, 0)
+    rnd = 0
+    stopped = "tol"
+    while True:
+        fit = fit_sides([(x, n, k) for x, (n, k) in sorted(points.items())])
+        if fit.beta <= 0:
+            raise ValueError("the simulated P(sides) does not grow with xi; no design found")
+        est = [fit.inverse(t) for t in targets]
+        ivs = [fit.interval(t, level) for t in targets]
+        met = all(hi - x <= tol and x - lo <= tol for x, (lo, hi) in zip(est, ivs, strict=True))
+        if met:
+            break
+        nxt = sorted({round(x * f, 6) for x in est for f in (0.93, 1.0, 1.07)})
+        nxt = [x for x in nxt if 1e-3 <= x <= 100.0]
+        if tosses + len(nxt) * DESIGN_ROUND > max_tosses:
+            stopped = "max_tosses"
+            break
+        if clock() - start > time_limit:
+            stopped = "time_limit"
+            break
+        rnd += 1
+        planned = tosses + len(nxt) * DESIGN_ROUND
+        run(nxt, DESIGN_ROUND, rnd)
+    return Design(targets, est, [lo for lo, _ in ivs], [hi for _, hi in ivs], fit, tosses,
+                  rnd, met, stopped, seed, unsettled)
 
 
 # HEADS, SIDES, TAILS are re-exported for callers that count outcomes.
