@@ -17,6 +17,7 @@ from typing import Annotated
 import typer
 
 from coincli import parse
+from coincli.cli import _bounce as BO
 from coincli.cli import app
 from coincli.cli._common import (
     Column,
@@ -248,6 +249,21 @@ def toss_cmd(
     z0: Annotated[str | None, typer.Option("--z0", help="Launch height of the centre above the "
                                            "catch plane, mm (default: (sqrt 3/2) a, plus h/2 for "
                                            "thick contact).", metavar="MM")] = None,
+    landing: BO.LandingOpt = "catch",
+    surface: BO.SurfaceOpt = None,
+    restitution: BO.RestitutionOpt = None,
+    friction: BO.FrictionOpt = None,
+    torsional: BO.TorsionalOpt = None,
+    rolling: BO.RollingOpt = None,
+    height: BO.HeightOpt = None,
+    vx: BO.VxOpt = None,
+    dt: BO.DtOpt = None,
+    t_max: BO.TMaxOpt = None,
+    trajectory: Annotated[str | None, typer.Option("--trajectory", help="With --landing "
+                                                   "bounce: write the time series (time, "
+                                                   "position, quaternion, velocities, tilt, "
+                                                   "energy, contacts) to this CSV file.",
+                                                   metavar="FILE.csv")] = None,
     fmt: FormatOpt = "table",
     quiet: QuietOpt = False,
 ):
@@ -260,11 +276,26 @@ def toss_cmd(
     in between.  Each of --xi, --psi, --u, --omega also takes a list a,b,c, a range
     start:stop:step or - (stdin); lists of equal length are paired, a single value is reused.
 
+    --landing bounce drops the coin onto a surface instead and follows it (MuJoCo, pip install
+    'coincli[physics]') until it settles: its bounces, time to settle and final side;
+    --trajectory FILE.csv writes the motion.
+
     Examples: coin toss --xi 0.577 --psi 90 --u 2 --omega 40 ;
     coin toss --xi 0.577 --psi 90 --u 2 --omega 30:50:1 --format csv ;
-    coin toss --xi 0.577 --psi 90 --u 2 --omega 40 -q
+    coin toss --xi 0.577 --psi 90 --u 2 --omega 40 -q ;
+    coin toss --xi 0.577 --psi 85 --u 2.4 --omega 38 --landing bounce --surface wood
+    --trajectory toss.csv
     """
     check_format(fmt)
+    physics = BO.parse_physics(BO.landing_of(landing), surface=surface, restitution=restitution,
+                               friction=friction, torsional=torsional, rolling=rolling,
+                               height=height, vx=vx, dt=dt, t_max=t_max)
+    if physics is None and trajectory is not None:
+        raise usage_error("--trajectory goes with --landing bounce (a caught toss is the "
+                          "closed-form flight: coin toss prints it)")
+    if physics is not None and contact.strip().lower() != "rim":
+        raise usage_error("--contact goes with --landing catch (a bounce is the whole cylinder "
+                          "on the surface)")
     ct = _contact(contact)
     dia = _diameter_m(diameter)
     gv = _g(g)
@@ -284,6 +315,21 @@ def toss_cmd(
     _xi_for_contact(xi_max, xi if len(cols["xi"]) == 1 else _num(xi_max), ct == "thick")
     z0_m = _z0_m(z0, xi_max, dia, ct == "thick")
     from coincli import toss as T
+
+    if physics is not None:
+        if n != 1:
+            raise usage_error("coin toss --landing bounce takes one toss (one value of --xi, "
+                              "--psi, --u, --omega); coin simulate --landing bounce takes many")
+        x, p, uu, w = (float(cols[k][0]) for k in ("xi", "psi", "u", "omega"))
+        if x == 0 or x > 100:
+            raise usage_error(f"--xi must be above 0 and at most 100 with --landing bounce, "
+                              f"got {xi.strip()!r}")
+        if w > 1e4:
+            raise usage_error(f"--omega must be at most 10000 rad/s with --landing bounce, got "
+                              f"{omega.strip()!r}")
+        BO.toss(physics, xi=x, psi=_rad(p), u=uu, omega=w, diameter=dia, g=gv, z0=z0_m,
+                trajectory=trajectory, fmt=fmt, quiet=quiet)
+        return
 
     def follow(x, p, uu, w, where=""):
         got = _got(xi=_num(x), u=f"{_num(uu)} m/s", omega=f"{_num(w)} rad/s", g=g,
@@ -392,6 +438,17 @@ def simulate_cmd(
     diameter: DiameterOpt = "24.26",
     g: GOpt = "9.81",
     contact: ContactOpt = "rim",
+    landing: BO.LandingOpt = "catch",
+    surface: BO.SurfaceOpt = None,
+    restitution: BO.RestitutionOpt = None,
+    friction: BO.FrictionOpt = None,
+    torsional: BO.TorsionalOpt = None,
+    rolling: BO.RollingOpt = None,
+    height: BO.HeightOpt = None,
+    vx: BO.VxOpt = None,
+    jobs: BO.JobsOpt = None,
+    dt: BO.DtOpt = None,
+    t_max: BO.TMaxOpt = None,
     fmt: FormatOpt = "table",
     quiet: QuietOpt = False,
 ):
@@ -404,13 +461,24 @@ def simulate_cmd(
     The same seed gives the same tosses, and a shorter run is a prefix of a longer one.  A
     progress bar shows on stderr for long runs on a terminal.
 
+    --landing bounce tosses the coins onto a surface (--surface, or --restitution and
+    --friction) and lets them bounce and settle, simulated with MuJoCo (pip install
+    'coincli[physics]'): a simulated table, not the paper's catch.
+
     Examples: coin simulate -n 1000000 --seed 7 --xi 0.577 --u normal:2.4:0.3
     --omega normal:38:4 --psi-dist normal:90:10 ;
-    coin simulate -n 5 --seed 1 --xi 0.577 --u 2.4 --omega normal:38:4 --psi 90 --stream
+    coin simulate -n 5 --seed 1 --xi 0.577 --u 2.4 --omega normal:38:4 --psi 90 --stream ;
+    coin simulate -n 2000 --seed 1 --xi 0.577 --u normal:2.4:0.3 --omega normal:38:4 --psi 90
+    --landing bounce --surface wood
     """
     check_format(fmt)
     if stream and (fmt != "table" or quiet):
         raise usage_error("--stream prints one letter a line; it takes no --format or --quiet")
+    physics = BO.parse_physics(BO.landing_of(landing), surface=surface, restitution=restitution,
+                               friction=friction, torsional=torsional, rolling=rolling,
+                               height=height, vx=vx, jobs=jobs, dt=dt, t_max=t_max)
+    if physics is not None and stream:
+        raise usage_error("--stream goes with --landing catch (a bounce run prints its summary)")
     ct = _contact(contact)
     dia = _diameter_m(diameter)
     gv = _g(g)
@@ -449,6 +517,13 @@ def simulate_cmd(
                omega=_spec_text(omega, w_spec, w_hi, "rad/s"), g=g, diameter=diameter)
     _follow(T, xv, psi_hi, u_hi, w_hi, dia=dia, g=gv, ct=ct, z0=None, got=got)
     _usage(T.toss_many, xv, psi_hi, u_hi, w_hi, diameter=dia, g=gv, contact=ct)  # the same, core
+    if physics is not None:
+        psi_text = f"psi = {psi} deg" if psi is not None else f"psi ~ {psi_dist.strip()} deg"
+        labels = f"u ~ {u.strip()} m/s, omega ~ {omega.strip()} rad/s, {psi_text}"
+        BO.simulate(physics, count=count, seed=seed_v, xi=xv, u=u_spec, omega=w_spec,
+                    psi=psi_spec, diameter=dia, g=gv, labels=labels, fmt=fmt, quiet=quiet,
+                    progress=lambda total: _progress(total, 200))
+        return
     if stream:
         _stream(T, count, seed_v, kw)
         return
@@ -523,14 +598,16 @@ def _stream(T, count, seed_v, kw):
 
 
 class _progress:
-    """A rich progress bar on stderr for long runs on a terminal; a no-op otherwise."""
+    """A rich progress bar on stderr for long runs (``least`` tosses or more) on a terminal;
+    a no-op otherwise."""
 
-    def __init__(self, total: int):
+    def __init__(self, total: int, least: int = 200_000):
         self.total = total
+        self.least = least
         self.bar = None
 
     def __enter__(self):
-        if self.total >= 200_000 and stderr_is_terminal():
+        if self.total >= self.least and stderr_is_terminal():
             from rich.console import Console
             from rich.progress import BarColumn, Progress, TimeRemainingColumn
 
