@@ -52,11 +52,11 @@ RollingOpt = Annotated[
     str | None, typer.Option("--rolling", help="Rolling resistance, a length (mm or with a "
                              "unit): c_rr times the radius.", metavar="MM")
 ]
-HeightOpt = Annotated[
-    str | None, typer.Option("--height", help="With --landing bounce: how far the surface lies "
-                             "below the launch plane (mm or with a unit; or normal:MEAN:SD, "
-                             "uniform:LOW:HIGH in mm).  Default 0: the paper's catch plane.",
-                             metavar="SPEC")
+ReleaseHeightOpt = Annotated[
+    str | None, typer.Option("--release-height", help="With --landing bounce: the height of "
+                             "the launch plane above the surface (mm or with a unit; or "
+                             "normal:MEAN:SD, uniform:LOW:HIGH in mm).  Default 0: the surface "
+                             "is the paper's catch plane.", metavar="SPEC")
 ]
 VxOpt = Annotated[
     str | None, typer.Option("--vx", help="With --landing bounce: horizontal speed, m/s (or "
@@ -154,7 +154,7 @@ def parse_physics(landing: str, *, surface=None, restitution=None, friction=None
     if landing == "catch":
         extra = [name for name, v in (("--surface", surface), ("--restitution", restitution),
                                       ("--friction", friction), ("--torsional", torsional),
-                                      ("--rolling", rolling), ("--height", height), ("--vx", vx),
+                                      ("--rolling", rolling), ("--release-height", height), ("--vx", vx),
                                       ("--jobs", jobs), ("--dt", dt), ("--t-max", t_max))
                  if v is not None]
         if extra:
@@ -181,7 +181,7 @@ def parse_physics(landing: str, *, surface=None, restitution=None, friction=None
         p.surface = B.surface(name, restitution=e, friction=mu, torsional=tor, rolling=rol)
     except ValueError as exc:
         raise usage_error(str(exc)) from None
-    p.height = 0.0 if height is None else _dist(height, "--height", "mm", 1e-3, 1e5)
+    p.height = 0.0 if height is None else _dist(height, "--release-height", "mm", 1e-3, 1e5)
     p.vx = 0.0 if vx is None else _dist(vx, "--vx", "m/s", 1.0, 100.0)
     if jobs is None:
         p.jobs = B.default_jobs()
@@ -273,7 +273,7 @@ def toss(p: Physics, *, xi, psi, u, omega, diameter, g, z0, trajectory, fmt, qui
 
     B = p.B
     if not (isinstance(p.height, float) and isinstance(p.vx, float)):
-        raise usage_error("coin toss takes one --height and one --vx (a number, not a "
+        raise usage_error("coin toss takes one --release-height and one --vx (a number, not a "
                           "distribution)")
     coin = _run(B.Coin, xi, diameter)
     z0v = B.default_z0(xi, diameter, "thick") if z0 is None else z0
@@ -375,6 +375,7 @@ def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, 
     emit(Result("coin design --landing bounce", columns, rows, note,
                 quiet=[row[1] for row in rows], vertical=len(rows) == 1), fmt, quiet)
     if not r.met:
+        sys.stdout.flush()
         sys.stderr.write(f"coin: warning: {why[r.stopped_by]}; the intervals are wider than "
                          "asked\n")
 

@@ -255,7 +255,7 @@ def toss_cmd(
     friction: BO.FrictionOpt = None,
     torsional: BO.TorsionalOpt = None,
     rolling: BO.RollingOpt = None,
-    height: BO.HeightOpt = None,
+    height: BO.ReleaseHeightOpt = None,
     vx: BO.VxOpt = None,
     dt: BO.DtOpt = None,
     t_max: BO.TMaxOpt = None,
@@ -444,7 +444,7 @@ def simulate_cmd(
     friction: BO.FrictionOpt = None,
     torsional: BO.TorsionalOpt = None,
     rolling: BO.RollingOpt = None,
-    height: BO.HeightOpt = None,
+    height: BO.ReleaseHeightOpt = None,
     vx: BO.VxOpt = None,
     jobs: BO.JobsOpt = None,
     dt: BO.DtOpt = None,
@@ -626,6 +626,74 @@ class _progress:
         if self.bar is not None:
             self.bar.stop()
         return False
+
+
+# --------------------------------------------------------------------------- coin design --landing bounce
+
+
+def _seed(seed: str | None) -> int:
+    """--seed: a whole number >= 0, or drawn (and reported) when absent."""
+    if seed is None:
+        import secrets
+
+        return secrets.randbits(63)
+    s = seed.strip()
+    if not (s.isascii() and s.isdigit()) or len(s) > 40:
+        raise usage_error(f"--seed must be a whole number >= 0, got {seed!r}")
+    return int(s)
+
+
+def bounce_launch(psi, psi_dist, u, omega):
+    """The launch distributions of a bounce run: --u, --omega (defaults: an ordinary hand
+    toss, normal:2.4:0.3 m/s and normal:38:4 rad/s), psi fixed (--psi, default 90) or
+    distributed (--psi-dist); and their description."""
+    if psi is not None and psi_dist is not None:
+        raise usage_error("give --psi DEG or --psi-dist SPEC, not both")
+    u = u or "normal:2.4:0.3"
+    omega = omega or "normal:38:4"
+    if psi_dist is not None:
+        psi_spec = _psi_dist(psi_dist)
+        psi_text = f"psi ~ {psi_dist.strip()} deg"
+    else:
+        psi_spec = _rad(_usage(_deg_item, psi or "90", "--psi"))
+        psi_text = f"psi = {(psi or '90').strip()} deg"
+    u_spec = _spec(u, "--u", 0.0, U_MAX, "m/s")
+    w_spec = _spec(omega, "--omega", 0.0, 1e4, "rad/s")
+    return u_spec, w_spec, psi_spec, (f"u ~ {u.strip()} m/s, omega ~ {omega.strip()} rad/s, "
+                                      f"{psi_text}")
+
+
+def bounce_design(physics, *, p_sides, psi, psi_dist, u, omega, diameter, coin, tol, seed,
+                  max_tosses, time_limit, fmt, quiet):
+    """``coin design --landing bounce``."""
+    from coincli import coins as coin_catalog
+
+    targets = values_option(p_sides, "--p-sides", parse.parse_probability, bounds=(0.0, 1.0))
+    targets = [float(t) for t in targets]
+    if len(targets) > 20:
+        raise usage_error(f"--landing bounce designs at most 20 targets a run, got "
+                          f"{len(targets)}")
+    for t in targets:
+        if not 0.0 < t < 1.0:
+            raise usage_error(f"--p-sides must be strictly between 0 and 1 with --landing "
+                              f"bounce, got {t:g}")
+    tol_v = 0.01 if tol is None else _number(tol, "--tol", 1e-4, 1.0)
+    mt = 200_000 if max_tosses is None else _tosses(max_tosses)
+    tl = 300.0 if time_limit is None else _number(time_limit, "--time-limit", 1.0, 1e6)
+    if diameter is not None:
+        dia = _diameter_m(diameter)
+    else:
+        try:
+            dia = coin_catalog.get_coin(coin).diameter_mm / 1000
+        except ValueError as exc:
+            raise usage_error(str(exc)) from None
+    u_spec, w_spec, psi_spec, labels = bounce_launch(psi, psi_dist, u, omega)
+    BO.design(physics, targets=targets, seed=_seed(seed), tol=tol_v, max_tosses=mt,
+              time_limit=tl, u=u_spec, omega=w_spec, psi=psi_spec, diameter=dia, g=T_G,
+              labels=labels, fmt=fmt, quiet=quiet, progress=BO.design_progress)
+
+
+T_G = 9.81  # coincli.toss.STANDARD_G
 
 
 # --------------------------------------------------------------------------- coin phase
