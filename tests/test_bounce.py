@@ -186,7 +186,7 @@ def test_bounce_rest_is_final():
 
 
 def test_determinism_across_workers():
-    kw = dict(xi=0.577, psi="normal:1.5707963:0.2", surf=B.SURFACES["wood"], **HAND)
+    kw = dict(xi=0.577, psi=math.pi / 2, surf=B.SURFACES["wood"], **HAND)
     one = B.simulate(300, 5, jobs=1, **kw)
     two = B.simulate(300, 5, jobs=2, **kw)
     assert one.counts == two.counts and one.steps == two.steps
