@@ -128,6 +128,7 @@ LEAD_STEPS = 5  #: MuJoCo starts this many steps before an exactly computed cont
 CHECK_STEPS = 10  #: steps between the checks of energy and flight (1 ms at the default dt)
 JUMP_MIN_STEPS = 30  #: a flight shorter than this many steps is stepped, not solved
 REST_MARGIN = 1e-6  #: m: rest when the energy is below m g (R - REST_MARGIN)
+_ZOOM = 32  #: cells a cell of the flight scan is cut into when it may hold a contact
 BLOCK = 256  #: tosses per random block: the seed of block k is (seed, k), whatever the workers
 
 
@@ -392,14 +393,14 @@ def _first_touch(fl: _Flight, a, hh, g, resolution):
         return z0 + vz * s - 0.5 * g * s * s - a * np.sqrt(1.0 - c * c) - hh * np.abs(c)
 
     def scan(t1, t2, cells):
-        s = np.linspace(t1, t2, cells + 1)
+        w = (t2 - t1) / cells
+        s = t1 + w * np.arange(cells + 1)
         f = clearance(s)
-        w = s[1] - s[0]
         low = np.minimum(f[:-1], f[1:]) - k * w * w / 8
         for j in np.flatnonzero(low <= 0.0):
             if w <= resolution:
                 return float(s[j])
-            hit = scan(float(s[j]), float(s[j + 1]), 16)
+            hit = scan(float(s[j]), float(s[j + 1]), _ZOOM)
             if hit is not None:
                 return hit
         return None
@@ -690,6 +691,7 @@ class Engine:
         bounces = 0
         airborne = None  # time the coin last left the surface, while it is in the air
         jump_min = JUMP_MIN_STEPS * dt
+        no_jump_until = -math.inf  # a flight found too short to solve: step it out
         while True:
             mj.mj_step(m, d, nstep=CHECK_STEPS)
             steps += CHECK_STEPS
@@ -715,9 +717,12 @@ class Engine:
             if self.flight == "mujoco":
                 m.opt.integrator = self._rk4
                 continue
+            if d.time < no_jump_until:
+                continue
             free = _flight_from_state(float(d.time), d.qpos, d.qvel, self.i1, self.i3)
-            t_hit = _first_touch(free, a, hh, g, dt)
+            t_hit = _first_touch(free, a, hh, g, 0.5 * LEAD_STEPS * dt)
             if t_hit - d.time < jump_min:
+                no_jump_until = t_hit
                 continue
             t_start = t_hit - LEAD_STEPS * dt
             if record:
