@@ -60,9 +60,12 @@ def main():
         r, wall, c = timed(lambda: B.simulate(n, 1, xi=xi, landing=landing, jobs=2, **LAUNCH))
         _, bwall, bc = timed(lambda: T.simulate(n, 1, xi=xi, contact="thick", **LAUNCH))
         rate = n / wall
+        capacity = 2 * n / c  # two idle cores at this CPU cost per toss
         rows.append([landing, f"{xi:g}", str(n), fmt_rate(rate), f"{1e3 * c / n:.3g} ms",
-                     f"{r.steps / n:.0f}", fmt_rate(n / bwall), f"{rate / (n / bwall):.2g}",
-                     f"{GOAL[landing]}: {'met' if rate >= GOAL[landing] else 'missed'}"])
+                     fmt_rate(capacity), f"{r.steps / n:.0f}", fmt_rate(n / bwall),
+                     f"{rate / (n / bwall):.2g}",
+                     f"{GOAL[landing]}: wall {'met' if rate >= GOAL[landing] else 'missed'}, "
+                     f"CPU {'met' if capacity >= GOAL[landing] else 'missed'}"])
         print(rows[-1], file=sys.stderr, flush=True)
     body = ["## The bounce engine (`benchmarks/bench_bounce.py`)", "",
             f"{machine()}.", "",
@@ -74,7 +77,8 @@ def main():
             "catch model without MuJoCo (the default `coin simulate`), same tosses, same run.",
             "",
             table(["landing", "xi", "tosses", "tosses/s (wall)", "CPU per toss",
-                   "MuJoCo steps per toss", "baseline tosses/s", "ratio", "goal"], rows)]
+                   "2 idle cores (2 / CPU per toss)", "MuJoCo steps per toss",
+                   "baseline tosses/s (wall)", "ratio (wall)", "goal"], rows)]
     body += where_the_time_goes()
     write_section("bench_bounce", "\n".join(body))
     return 0
@@ -108,8 +112,9 @@ def where_the_time_goes():
         st = pstats.Stats(prof)
         tott = {}
         for (fname, _, func), (_, _, tt, _, _) in st.stats.items():
-            key = func if func in ("mj_step", "_first_touch", "clearance", "scan", "_energy",
-                                   "mj_forward", "mj_resetData") else "other"
+            key = next((k for k in ("mj_step", "_first_touch", "clearance", "scan", "_energy",
+                                    "mj_forward", "mj_resetData") if func == k or
+                        func.endswith(f".{k}>")), "other")
             tott[key] = tott.get(key, 0.0) + tt
         prof_total = sum(tott.values())
         steps = np.array([r.steps for r in results])
@@ -118,7 +123,7 @@ def where_the_time_goes():
         flight = share.get("_first_touch", 0) + share.get("clearance", 0) + share.get("scan", 0)
         codes = np.array([r.code for r in results])
         out += [f"xi = {xi:g}, {n} tosses: {1e3 * total / n:.3g} ms CPU per toss "
-                f"(unprofiled run above); {steps.mean():.0f} MuJoCo steps per toss on average, "
+                f"(with the profiler on); {steps.mean():.0f} MuJoCo steps per toss on average, "
                 f"median {np.median(steps):.0f}, {1e6 * tott.get('mj_step', 0) / steps.sum():.1f}"
                 f" us per step (profiled).  Time: MuJoCo steps {share.get('mj_step', 0):.0%}, "
                 f"exact flights {flight:.0%}, energy checks {share.get('_energy', 0):.0%}, "
