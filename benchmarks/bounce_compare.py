@@ -4,7 +4,7 @@ sensitivity to what a user cannot control.  Prints markdown; docs/bounce.md quot
     python benchmarks/bounce_compare.py compare [N]      # the sources' set-ups
     python benchmarks/bounce_compare.py sensitivity [N]  # one setting at a time from wood
 
-Each row simulates N tosses (default 600) at three aspect ratios, fits the probit of
+Each row simulates N tosses (default 300) at three aspect ratios (0.45, 0.7 and the row's xi), fits the probit of
 coincli.bounce.fit_sides to them, and reports P(sides) at the source's xi (or at 0.577) with its
 95% Wilson interval and the fitted fair xi (P(sides) = 1/3) with its 95% interval.  Seed 1,
 every core.  Hand toss unless said: u ~ normal:2.4:0.3 m/s, omega ~ normal:38:4 rad/s,
@@ -23,7 +23,7 @@ DEG = math.pi / 180
 HAND = {"u": "normal:2.4:0.3", "omega": "normal:38:4",
         "psi": f"normal:{math.pi / 2!r}:{10 * DEG!r}"}
 TUMBLE = {**HAND, "psi": f"uniform:0:{math.pi!r}"}  # random axis: every psi alike
-XIS = (0.4, 0.5, 0.65)
+XIS = (0.45, 0.7)
 
 
 def row(label, surf, launch, n, at=0.577, xis=XIS, **kw):
@@ -98,5 +98,5 @@ def sensitivity(n):
 
 if __name__ == "__main__":
     what = sys.argv[1] if len(sys.argv) > 1 else "compare"
-    n = int(sys.argv[2]) if len(sys.argv) > 2 else 600
+    n = int(sys.argv[2]) if len(sys.argv) > 2 else 300
     {"compare": compare, "sensitivity": sensitivity, "nickel": nickel}[what](n)
