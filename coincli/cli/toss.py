@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import math
 import re
-import shutil
 import sys
 from typing import Annotated
 
@@ -631,18 +630,6 @@ class _progress:
 # --------------------------------------------------------------------------- coin design --landing bounce
 
 
-def _seed(seed: str | None) -> int:
-    """--seed: a whole number >= 0, or drawn (and reported) when absent."""
-    if seed is None:
-        import secrets
-
-        return secrets.randbits(63)
-    s = seed.strip()
-    if not (s.isascii() and s.isdigit()) or len(s) > 40:
-        raise usage_error(f"--seed must be a whole number >= 0, got {seed!r}")
-    return int(s)
-
-
 def bounce_launch(psi, psi_dist, u, omega):
     """The launch distributions of a bounce run: --u, --omega (defaults: an ordinary hand
     toss, normal:2.4:0.3 m/s and normal:38:4 rad/s), psi fixed (--psi, default 90) or
@@ -688,7 +675,9 @@ def bounce_design(physics, *, p_sides, psi, psi_dist, u, omega, diameter, coin, 
         except ValueError as exc:
             raise usage_error(str(exc)) from None
     u_spec, w_spec, psi_spec, labels = bounce_launch(psi, psi_dist, u, omega)
-    BO.design(physics, targets=targets, seed=_seed(seed), tol=tol_v, max_tosses=mt,
+    from coincli.cli._options import seed_value
+
+    BO.design(physics, targets=targets, seed=seed_value(seed), tol=tol_v, max_tosses=mt,
               time_limit=tl, u=u_spec, omega=w_spec, psi=psi_spec, diameter=dia, g=T_G,
               labels=labels, fmt=fmt, quiet=quiet, progress=BO.design_progress)
 
@@ -786,7 +775,9 @@ def phase_cmd(
                              _size(rows, "--rows", 400, 4000), exact, no_curves, dia, gv, ct)
     text = fmt == "table"
     if text:
-        tw, th = shutil.get_terminal_size((80, 24))
+        from coincli._terminal import terminal_height, terminal_width
+
+        tw, th = terminal_width(), terminal_height()
         nu = _size(cols, "--cols", max(10, min(tw, 400) - 9), 2000)
         nw = _size(rows, "--rows", max(6, min(th, 200) - 7), 2000)
     else:
@@ -927,10 +918,15 @@ def pm_vigorous(xi, psi_deg):
 def _phase_figure(path, xi, psi_deg, ur, wr, nu, nw, exact, no_curves, dia, g, ct):
     from coincli import plot as P
 
+    from coincli._files import FileKindError, check_output_path
+
     try:
         P.figure_format(path)
+        check_output_path(path)  # a FIFO, device or directory: refused before any computing
     except ValueError as exc:
         raise usage_error(f"--out: {exc}") from None
+    except OSError as exc:
+        raise compute_error(f"cannot write {path!r}: {exc.strerror or exc}") from None
     try:
         P.require_matplotlib()
     except P.MatplotlibMissing as exc:
@@ -942,6 +938,8 @@ def _phase_figure(path, xi, psi_deg, ur, wr, nu, nw, exact, no_curves, dia, g, c
     fig = P.phase_figure(data)
     try:
         size = P.save_figure(fig, path)
+    except FileKindError as exc:
+        raise usage_error(f"--out: {exc}") from None
     except OSError as exc:
         raise compute_error(f"cannot write {path!r}: {exc.strerror or exc}") from None
     if stderr_is_terminal():
