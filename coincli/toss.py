@@ -871,7 +871,7 @@ def toss_many(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, con
     args = [xi, psi, u, omega, diameter, g, z0]
     shape = np.broadcast_shapes(*(np.shape(v) for v in args if v is not None))
     n = math.prod(shape)
-    flat = [None if v is None else (float(v) if np.size(v) == 1 else
+    flat = [None if v is None else (float(np.ravel(v)[0]) if np.size(v) == 1 else
                                     np.broadcast_to(np.asarray(v, dtype=float), shape).ravel())
             for v in args]
     t_f = np.empty(n)
