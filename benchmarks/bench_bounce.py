@@ -57,8 +57,10 @@ def main():
     rows = []
     for landing, xi, n in CASES:
         B.calibrate(B.Coin(xi), B.SURFACES["wood"])  # once per run, not per toss
-        r, wall, c = timed(lambda: B.simulate(n, 1, xi=xi, landing=landing, jobs=2, **LAUNCH))
-        _, bwall, bc = timed(lambda: T.simulate(n, 1, xi=xi, contact="thick", **LAUNCH))
+        r, wall, c = timed(lambda n=n, xi=xi, landing=landing: B.simulate(
+            n, 1, xi=xi, landing=landing, jobs=2, **LAUNCH))
+        _, bwall, bc = timed(lambda n=n, xi=xi: T.simulate(n, 1, xi=xi, contact="thick",
+                                                             **LAUNCH))
         rate = n / wall
         capacity = 2 * n / c  # two idle cores at this CPU cost per toss
         rows.append([landing, f"{xi:g}", str(n), fmt_rate(rate), f"{1e3 * c / n:.3g} ms",
@@ -111,7 +113,7 @@ def where_the_time_goes():
         total = time.process_time() - c0
         st = pstats.Stats(prof)
         tott = {}
-        for (fname, _, func), (_, _, tt, _, _) in st.stats.items():
+        for (_, _, func), (_, _, tt, _, _) in st.stats.items():
             key = next((k for k in ("mj_step", "_first_touch", "clearance", "scan", "_energy",
                                     "mj_forward", "mj_resetData") if func == k or
                         func.endswith(f".{k}>")), "other")
@@ -122,12 +124,14 @@ def where_the_time_goes():
         share = {k: v / prof_total for k, v in tott.items()}
         flight = share.get("_first_touch", 0) + share.get("clearance", 0) + share.get("scan", 0)
         codes = np.array([r.code for r in results])
+        python = share.get("other", 0) + share.get("mj_forward", 0) + share.get(
+            "mj_resetData", 0)
         out += [f"xi = {xi:g}, {n} tosses: {1e3 * total / n:.3g} ms CPU per toss "
                 f"(with the profiler on); {steps.mean():.0f} MuJoCo steps per toss on average, "
                 f"median {np.median(steps):.0f}, {1e6 * tott.get('mj_step', 0) / steps.sum():.1f}"
                 f" us per step (profiled).  Time: MuJoCo steps {share.get('mj_step', 0):.0%}, "
                 f"exact flights {flight:.0%}, energy checks {share.get('_energy', 0):.0%}, "
-                f"everything else (Python) {share.get('other', 0) + share.get('mj_forward', 0) + share.get('mj_resetData', 0):.0%}.  "
+                f"everything else (Python) {python:.0%}.  "
                 f"{heavy.sum()} tosses ({heavy.mean():.1%}) took more than 5000 steps and "
                 f"{steps[heavy].sum() / steps.sum():.0%} of all steps; "
                 f"{np.sum(heavy & (codes == 1))} of them ended on a side (a coin rolling on its "

@@ -939,9 +939,8 @@ class SidesFit:
     p_value: float  #: of the goodness-of-fit test (nan when df = 0)
 
     def p_sides(self, xi):
-        from scipy.special import ndtr
-
         import numpy as np
+        from scipy.special import ndtr
 
         return ndtr(self.alpha + self.beta * np.log(xi))
 

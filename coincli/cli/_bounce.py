@@ -10,7 +10,6 @@ numpy, scipy, rich or mujoco at import time; ``--landing catch`` (the default) n
 from __future__ import annotations
 
 import math
-import os
 import sys
 from typing import Annotated
 
@@ -154,7 +153,8 @@ def parse_physics(landing: str, *, surface=None, restitution=None, friction=None
     if landing == "catch":
         extra = [name for name, v in (("--surface", surface), ("--restitution", restitution),
                                       ("--friction", friction), ("--torsional", torsional),
-                                      ("--rolling", rolling), ("--release-height", height), ("--vx", vx),
+                                      ("--rolling", rolling), ("--release-height", height),
+                                      ("--vx", vx),
                                       ("--jobs", jobs), ("--dt", dt), ("--t-max", t_max))
                  if v is not None]
         if extra:
@@ -272,6 +272,8 @@ def toss(p: Physics, *, xi, psi, u, omega, diameter, g, z0, trajectory, fmt, qui
     from coincli.cli._common import emit
 
     B = p.B
+    if trajectory is not None:
+        _output_path(trajectory)
     if not (isinstance(p.height, float) and isinstance(p.vx, float)):
         raise usage_error("coin toss takes one --release-height and one --vx (a number, not a "
                           "distribution)")
@@ -305,30 +307,29 @@ def toss(p: Physics, *, xi, psi, u, omega, diameter, g, z0, trajectory, fmt, qui
                 vertical=True, data=data), fmt, quiet)
 
 
-def write_csv_atomic(path: str, header, rows) -> None:
-    """Write a CSV to a temporary file beside ``path``, fsync it, then rename it over ``path``:
-    a reader sees the old file or the whole new one, never a part."""
-    import tempfile
+def _output_path(path: str) -> None:
+    """Refuse a --trajectory path that cannot be written, before any simulating."""
+    from coincli._files import FileKindError, check_output_path
 
-    d = os.path.dirname(os.path.abspath(path))
     try:
-        fd, tmp = tempfile.mkstemp(prefix=".coin-", suffix=".tmp", dir=d)
+        check_output_path(path)
+    except FileKindError as exc:
+        raise usage_error(f"--trajectory: {exc}") from None
     except OSError as exc:
         raise compute_error(f"cannot write {path!r}: {exc.strerror or exc}") from None
+
+
+def write_csv_atomic(path: str, header, rows) -> None:
+    """A CSV written whole or not at all (:func:`coincli._files.write_atomic`)."""
+    from coincli._files import FileKindError, write_atomic
+
+    lines = [",".join(header)]
+    lines += [",".join(repr(v) if isinstance(v, float) else str(v) for v in row) for row in rows]
     try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as f:
-            f.write(",".join(header) + "\n")
-            for row in rows:
-                f.write(",".join(repr(v) if isinstance(v, float) else str(v) for v in row))
-                f.write("\n")
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
+        write_atomic(path, ("\n".join(lines) + "\n").encode())
+    except FileKindError as exc:
+        raise usage_error(f"--trajectory: {exc}") from None
     except OSError as exc:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
         raise compute_error(f"cannot write {path!r}: {exc.strerror or exc}") from None
 
 

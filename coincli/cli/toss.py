@@ -627,7 +627,7 @@ class _progress:
         return False
 
 
-# --------------------------------------------------------------------------- coin design --landing bounce
+# --------------------------------------------------------------------------- design --landing bounce
 
 
 def bounce_launch(psi, psi_dist, u, omega):
@@ -917,7 +917,6 @@ def pm_vigorous(xi, psi_deg):
 
 def _phase_figure(path, xi, psi_deg, ur, wr, nu, nw, exact, no_curves, dia, g, ct):
     from coincli import plot as P
-
     from coincli._files import FileKindError, check_output_path
 
     try:
