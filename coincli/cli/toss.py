@@ -627,7 +627,7 @@ class _progress:
         return False
 
 
-# --------------------------------------------------------------------------- design --landing bounce
+# ------------------------------------------------------------------------ design --landing bounce
 
 
 def bounce_launch(psi, psi_dist, u, omega):
