@@ -7,8 +7,8 @@ sensitivity to what a user cannot control.  Prints markdown; docs/bounce.md quot
 Each row simulates N tosses (default 300) at three aspect ratios (0.45, 0.7 and the row's
 xi), fits the probit of coincli.bounce.fit_sides to them, and reports P(sides) at the
 source's xi (or at 0.577) with its 95% Wilson interval and the fitted fair xi
-(P(sides) = 1/3) with its 95% interval.  Seed 1, every core.  Hand toss unless said: u ~ normal:2.4:0.3 m/s, omega ~ normal:38:4 rad/s,
-psi ~ normal(90, 10) deg.
+(P(sides) = 1/3) with its 95% interval.  Seed 1, every core.  Hand toss unless said:
+u ~ normal:2.4:0.3 m/s, omega ~ normal:38:4 rad/s, psi ~ normal(90, 10) deg.
 """
 
 from __future__ import annotations
