@@ -478,6 +478,9 @@ def simulate_cmd(
                                height=height, vx=vx, jobs=jobs, dt=dt, t_max=t_max)
     if physics is not None and stream:
         raise usage_error("--stream goes with --landing catch (a bounce run prints its summary)")
+    if physics is not None and contact.strip().lower() != "rim":
+        raise usage_error("--contact goes with --landing catch (a bounce is the whole cylinder "
+                          "on the surface)")
     ct = _contact(contact)
     dia = _diameter_m(diameter)
     gv = _g(g)
