@@ -48,9 +48,9 @@ The surface
     (:func:`calibrate`): bisection on simulated drops until the mean restitution of a flat drop
     and an edge drop is the one asked for (both then within ~0.02 of it).
     ``solimp = (0.99, 0.99, ...)``: a constant impedance, so the oscillator is linear (MuJoCo's
-    default impedance varies with penetration and would make ``e`` depend on the impact speed).  ``condim = 6``: sliding, torsional and rolling friction (with the default
-    ``condim = 3`` a coin rolling on its rim keeps its energy and circles for ever), on an
-    elliptic friction cone.
+    default impedance varies with penetration and would make ``e`` depend on the impact speed).
+    ``condim = 6``: sliding, torsional and rolling friction (with the default ``condim = 3`` a
+    coin rolling on its rim keeps its energy and circles for ever), on an elliptic friction cone.
 
 Everything is SI; nothing here prints, parses text or exits.  Bad input raises ``ValueError``
 naming the argument; a missing MuJoCo raises :class:`PhysicsMissing`.
