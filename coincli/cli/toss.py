@@ -543,9 +543,10 @@ def simulate_cmd(
     ]
     psi_text = f"psi = {psi} deg" if psi is not None else f"psi ~ {psi_dist.strip()} deg"
     note = (f"{count} tosses, seed {seed_v}: xi = {xv:g}, u ~ {u.strip()} m/s, omega ~ "
-            f"{omega.strip()} rad/s, {psi_text}; D = {dia * 1000:g} mm, g = {gv:g}, contact {ct}."
-            "  95% Wilson intervals.  The vigorous limit is Table I averaged over psi; it holds "
-            "when u*omega/g >> 1 and omega*a/u << 1.")
+            f"{omega.strip()} rad/s, {psi_text}; D = {dia * 1000:g} mm, g = {gv:g}, contact {ct}; "
+            "caught at first contact (the paper's landing; --landing bounce for a table).  95% "
+            "Wilson intervals.  The vigorous limit is Table I averaged over psi; it holds when "
+            "u*omega/g >> 1 and omega*a/u << 1.")
     emit(Result("coin simulate", columns, rows, note, quiet=[r[2] for r in rows]), fmt, quiet)
 
 
