@@ -368,8 +368,8 @@ def toss_cmd(
         Column("contact", "contact", "text"),
     ]
     note = (f"Deterministic toss (Sec. II), caught at first contact: D = {dia * 1000:g} mm, "
-            f"g = {gv:g} m/s^2, contact {ct}; heads if alpha_f <= theta0, tails if alpha_f > 180 - theta0 (eq. 7).  "
-            "The closed forms (coin design/table) are the limit vigor >> 1.")
+            f"g = {gv:g} m/s^2, contact {ct}; heads if alpha_f <= theta0, tails if alpha_f > "
+            "180 - theta0 (eq. 7).  The closed forms (coin design/table) are the limit vigor >> 1.")
     emit(Result("coin toss", columns, [], note, quiet=data[9] if n > 1 else data[9][0],
                 vertical=True, data=data), fmt, quiet)
 
