@@ -104,7 +104,7 @@ def where_the_time_goes():
             launches += B._block_launches(2, k, min(B.BLOCK, n - k * B.BLOCK), dists, coin)
         t_first = eng.first_contacts(launches)
         results = []
-        prof = cProfile.Profile()
+        prof = cProfile.Profile(time.process_time)  # CPU time: the machine is shared
         c0 = time.process_time()
         prof.enable()
         for launch, t in zip(launches, t_first, strict=True):
@@ -129,7 +129,7 @@ def where_the_time_goes():
         out += [f"xi = {xi:g}, {n} tosses: {1e3 * total / n:.3g} ms CPU per toss "
                 f"(with the profiler on); {steps.mean():.0f} MuJoCo steps per toss on average, "
                 f"median {np.median(steps):.0f}, {1e6 * tott.get('mj_step', 0) / steps.sum():.1f}"
-                f" us per step (profiled).  Time: MuJoCo steps {share.get('mj_step', 0):.0%}, "
+                f" us of CPU per step (profiled).  Time: MuJoCo steps {share.get('mj_step', 0):.0%}, "
                 f"exact flights {flight:.0%}, energy checks {share.get('_energy', 0):.0%}, "
                 f"everything else (Python) {python:.0%}.  "
                 f"{heavy.sum()} tosses ({heavy.mean():.1%}) took more than 5000 steps and "
