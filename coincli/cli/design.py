@@ -206,7 +206,10 @@ def design(
                                               metavar="SPEC")] = None,
     height: BO.ReleaseHeightOpt = None,
     vx: BO.VxOpt = None,
-    seed: _options.SeedOpt = None,
+    seed: Annotated[str | None, typer.Option("--seed", metavar="SEED", help="With --landing "
+                                             "bounce: the seed of the simulated tosses, a whole "
+                                             "number >= 0 (default: drawn, and reported).")
+                    ] = None,
     max_tosses: Annotated[str | None, typer.Option("--max-tosses", help="With --landing "
                                                    "bounce: stop before simulating more tosses "
                                                    "than this (default 200000).",
