@@ -65,11 +65,9 @@ from dataclasses import dataclass, field, replace
 
 from coincli.toss import (
     DEFAULT_DIAMETER,
-    HEADS,
     NAMES,
     SIDES,
     STANDARD_G,
-    TAILS,
     U_MAX,
     Frequency,
     _check,
@@ -743,7 +741,6 @@ class Engine:
 
     def _record_flight(self, traj, fl, t1, t2, every=1e-3):
         n = max(1, math.ceil((t2 - t1) / every))
-        _, _, _, _ = fl.state(t1, self.g)
         for i in range(n):
             t = t1 + (t2 - t1) * i / n
             p, q, v, w = fl.state(t, self.g)
@@ -1093,6 +1090,3 @@ def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, lev
     return Design(targets, est, [lo for lo, _ in ivs], [hi for _, hi in ivs], fit, tosses,
                   rnd, met, stopped, seed, unsettled)
 
-
-# HEADS, SIDES, TAILS are re-exported for callers that count outcomes.
-_ = (HEADS, SIDES, TAILS)
