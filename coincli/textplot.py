@@ -262,8 +262,11 @@ def text_sides(data, cols: int, rows: int):
         cv.point(e.xi, e.frequency, "o", "bold #E69F00", layer=5)
     if data.experiments:
         n = len(data.experiments)
-        legend.append(("o", "bold #E69F00", f"your tosses ({n} row{'s' if n > 1 else ''}): "
-                       "frequency of sides, | = 95% Wilson interval"))
+        from coincli.plot import tosses_label
+
+        legend.append(("o", "bold #E69F00", f"{tosses_label(data.experiments)} ({n} "
+                       f"row{'s' if n > 1 else ''}): frequency of sides, | = 95% Wilson "
+                       "interval"))
     return cv.render(
         title="coin plot sides: chance of landing on a side (Fig. 5a)",
         xlabel="aspect ratio xi = h/D (thickness / diameter)" + (", log scale" if data.log

@@ -336,7 +336,8 @@ def test_design_help_lists_only_what_works(coin):
 
     text = " ".join(_ok(coin("design", "--help")).split())
     assert "mc" not in re.findall(r"\b\w+\b", text) and "qmc" not in text
-    assert "--all" not in text and "--seed" not in text
+    # --seed is for the simulated tosses of --landing bounce only, and says so
+    assert "--all" not in text and "--seed SEED With --landing bounce" in text
     err = _error(coin("design", "-p", "0.3", "--tol", "1e-6"), 2, "--psi-dist")
     assert "--all" not in err and "--seed" not in err
     _error(coin("design", "-p", "0.3", "--method", "sobol", "--psi-dist", "normal"), 2,

@@ -16,6 +16,7 @@ import typer
 from coincli import coins as coin_catalog
 from coincli import models, parse
 from coincli.cli import _accuracy, _options, app
+from coincli.cli import _bounce as BO
 from coincli.cli._common import (
     CHUNK_ROWS,
     Column,
@@ -200,6 +201,36 @@ def design(
     coin: CoinOpt = "quarter",
     tol: _accuracy.TolOpt = None,
     method: _accuracy.DesignMethodOpt = None,
+    landing: BO.LandingOpt = "catch",
+    surface: BO.SurfaceOpt = None,
+    restitution: BO.RestitutionOpt = None,
+    friction: BO.FrictionOpt = None,
+    torsional: BO.TorsionalOpt = None,
+    rolling: BO.RollingOpt = None,
+    u: Annotated[str | None, typer.Option("--u", help="With --landing bounce: launch speed, "
+                                          "m/s, a value or normal:MEAN:SD / uniform:LOW:HIGH "
+                                          "(default normal:2.4:0.3).", metavar="SPEC")] = None,
+    omega: Annotated[str | None, typer.Option("--omega", help="With --landing bounce: "
+                                              "precession rate, rad/s (default normal:38:4).",
+                                              metavar="SPEC")] = None,
+    height: BO.ReleaseHeightOpt = None,
+    vx: BO.VxOpt = None,
+    seed: Annotated[str | None, typer.Option("--seed", metavar="SEED", help="With --landing "
+                                             "bounce: the seed of the simulated tosses, a whole "
+                                             "number >= 0 (default: drawn, and reported).")
+                    ] = None,
+    max_tosses: Annotated[str | None, typer.Option("--max-tosses", help="With --landing "
+                                                   "bounce: stop before simulating more tosses "
+                                                   "than this (default 200000).",
+                                                   metavar="N")] = None,
+    time_limit: Annotated[str | None, typer.Option("--time-limit", help="With --landing bounce: "
+                                                   "stop at the end of the first round after "
+                                                   "this many seconds (default 300); the note "
+                                                   "gives the --max-tosses that reproduces the "
+                                                   "result.", metavar="S")] = None,
+    jobs: BO.JobsOpt = None,
+    dt: BO.DtOpt = None,
+    t_max: BO.TMaxOpt = None,
     fmt: FormatOpt = "table",
     quiet: QuietOpt = False,
 ):
@@ -208,10 +239,35 @@ def design(
     Reports xi, D/h, the thickness for a diameter (or the diameter for a thickness), the
     nearest stack of a catalog coin with N-1, N and N+1 coins, and what the other model says.
 
+    --landing bounce answers another question: the coin lands on a surface (--surface) and
+    bounces; tosses are simulated (MuJoCo) at a sweep of xi, a probit curve in log xi is fitted,
+    inverted for each target, and refined until its 95% interval is within --tol (in xi).
+
     Examples: coin design --p-sides 1/3 ;  coin design -p 25% --model geometric --diameter 30 ;
-    seq 0.05 0.05 0.95 | coin design -p - --format csv
+    seq 0.05 0.05 0.95 | coin design -p - --format csv ;
+    coin design --p-sides 1/3 --landing bounce --surface wood --seed 1
     """
     check_format(fmt)
+    bounce_only = {"--u": u, "--omega": omega, "--seed": seed, "--max-tosses": max_tosses,
+                   "--time-limit": time_limit}
+    physics = BO.parse_physics(BO.landing_of(landing), surface=surface, restitution=restitution,
+                               friction=friction, torsional=torsional, rolling=rolling,
+                               height=height, vx=vx, jobs=jobs, dt=dt, t_max=t_max) \
+        if landing.strip().lower() == "bounce" or not any(
+            v is not None for v in bounce_only.values()) else None
+    if physics is None:
+        extra = [k for k, v in bounce_only.items() if v is not None]
+        if extra:
+            raise usage_error(f"{', '.join(extra)} go{'es' if len(extra) == 1 else ''} with "
+                              "--landing bounce")
+    else:
+        if model is not None or method is not None or thickness is not None:
+            raise usage_error("--model, --method and --thickness go with --landing catch")
+        from coincli.cli.toss import bounce_design
+
+        return bounce_design(physics, p_sides=p_sides, psi=psi, psi_dist=psi_dist, u=u,
+                             omega=omega, diameter=diameter, coin=coin, tol=tol, seed=seed,
+                             max_tosses=max_tosses, time_limit=time_limit, fmt=fmt, quiet=quiet)
     m = choose_model(model, psi, psi_dist)
     if method is not None and method.strip().lower() not in _accuracy.METHODS:
         raise usage_error(f"--method must be auto or quad; got {method!r}")

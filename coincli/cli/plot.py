@@ -16,6 +16,7 @@ from typing import Annotated
 import typer
 
 from coincli import parse
+from coincli.cli import _bounce as BO
 from coincli.cli import _options, _phase, app
 from coincli.cli._common import compute_error, usage_error
 
@@ -337,6 +338,13 @@ def sides(
     width: WidthOpt = None,
     height: HeightOpt = None,
     title: TitleOpt = None,
+    landing: BO.LandingOpt = "catch",
+    surface: BO.SurfaceOpt = None,
+    restitution: BO.RestitutionOpt = None,
+    friction: BO.FrictionOpt = None,
+    seed: _options.SeedOpt = None,
+    tosses: _options.TossesOpt = None,
+    jobs: BO.JobsOpt = None,
 ):
     """P(sides) against the aspect ratio for the geometric and dynamic models (Fig. 5a).
 
@@ -344,9 +352,18 @@ def sides(
     --quarters, --diameter/--thickness) and --p-sides mark your designs, --data your tosses
     with 95% Wilson intervals; --psi and --psi-dist add curves.
 
+    --landing bounce adds tosses simulated onto a surface (MuJoCo; u ~ normal:2.4:0.3 m/s,
+    omega ~ normal:38:4 rad/s, psi = 90, as coin design --landing bounce): points with 95%
+    intervals at 8 aspect ratios and the probit curve fitted to them.
+
     Examples: coin plot sides --out sides.png ;  coin plot sides --p-sides 1/3 --log --terminal ;
-    coin plot sides --quarters 6:10:1 --psi-dist normal:90:18 --out sides.svg
+    coin plot sides --quarters 6:10:1 --psi-dist normal:90:18 --out sides.svg ;
+    coin plot sides --landing bounce --surface wood --seed 1 --out bounce.png
     """
+    physics = BO.parse_physics(BO.landing_of(landing), surface=surface, restitution=restitution,
+                               friction=friction, jobs=jobs)
+    if physics is None and (seed is not None or tosses is not None):
+        raise usage_error("--seed and -n go with --landing bounce")
     target = _Target(out, terminal)
     _one_stdin(xi=xi, count=count, quarters=quarters, data=data)
     xi_marks = _mark_coins(xi, coin, count, quarters, diameter, thickness)
@@ -357,17 +374,40 @@ def sides(
     exps = _read_data(data) if data is not None else []
     w, h, d = _figure_size(target, width, height, dpi, (7.0, 4.5))
     target.check_matplotlib()
+    bounce = None
+    if physics is not None:
+        from coincli.cli.toss import bounce_launch
+
+        count = 400 if tosses is None else _options.tosses_value(tosses, high=100_000)
+        seed_v = _options.seed_value(seed)
+        u_spec, w_spec, psi_spec, labels = bounce_launch(None, None, None, None)
+        lo, hi = rng if rng is not None else (0.1, 2.0)
+        lo = max(lo, 0.05)
+        import numpy as np
+
+        xis = [float(x) for x in np.geomspace(lo, hi, 8)]
+        pts, fitted = BO.sides_points(physics, seed=seed_v, n=count, xis=xis, u=u_spec,
+                                      omega=w_spec, psi=psi_spec, diameter=0.02426, g=9.81)
+        bounce = (pts, fitted)
+        sys.stderr.write(f"coin: note: simulated points: {count} tosses at each xi onto "
+                         f"{physics.describe()}, {labels}; seed {seed_v}; the curve is the "
+                         f"probit fitted to them (fit p-value {fitted.fit.p_value:.3g})\n")
     with _quiet():
-        _sides(target, xi_marks, p_marks, psi_curves, dens, rng, exps, log, (w, h, d), title)
+        _sides(target, xi_marks, p_marks, psi_curves, dens, rng, exps, log, (w, h, d), title,
+               bounce)
 
 
-def _sides(target, xi_marks, p_marks, psi_curves, dens, rng, exps, log, size, title):
+def _sides(target, xi_marks, p_marks, psi_curves, dens, rng, exps, log, size, title,
+           bounce=None):
     from coincli import plot as P
 
     models = [P.GEOMETRIC, P.DYNAMIC]
     models += [P.psi_spec(math.pi if d == 180 else math.radians(d)) for d in psi_curves]
     models += [P.density_spec(d) for d in dens]
     points = _compute(P.experiment_points, exps) if exps else []
+    if bounce is not None:
+        models.append(bounce[1])
+        points = points + bounce[0]
 
     def build(n):
         return _compute(P.sides_data, models, xi_marks=xi_marks, p_marks=p_marks,

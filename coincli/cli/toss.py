@@ -18,6 +18,7 @@ from typing import Annotated
 import typer
 
 from coincli import parse
+from coincli.cli import _bounce as BO
 from coincli.cli import _options, _phase, app
 from coincli.cli._common import (
     Column,
@@ -299,6 +300,21 @@ def toss_cmd(
     g: GOpt = "9.81",
     contact: ContactOpt = "rim",
     z0: Z0Opt = None,
+    landing: BO.LandingOpt = "catch",
+    surface: BO.SurfaceOpt = None,
+    restitution: BO.RestitutionOpt = None,
+    friction: BO.FrictionOpt = None,
+    torsional: BO.TorsionalOpt = None,
+    rolling: BO.RollingOpt = None,
+    height: BO.ReleaseHeightOpt = None,
+    vx: BO.VxOpt = None,
+    dt: BO.DtOpt = None,
+    t_max: BO.TMaxOpt = None,
+    trajectory: Annotated[str | None, typer.Option("--trajectory", help="With --landing "
+                                                   "bounce: write the time series (time, "
+                                                   "position, quaternion, velocities, tilt, "
+                                                   "energy, contacts) to this CSV file.",
+                                                   metavar="FILE.csv")] = None,
     fmt: FormatOpt = "table",
     quiet: QuietOpt = False,
 ):
@@ -312,10 +328,25 @@ def toss_cmd(
     SIAM Review 49 (2007) 211: u ~ normal:2.4:0.3 m/s, omega ~ normal:38:4 rev/s, psi ~
     normal:90:10 deg) with a seed that is reported.  Lists of equal length are paired.
 
+    --landing bounce drops the coin onto a surface instead and follows it (MuJoCo, pip install
+    'coincli[physics]') until it settles: its bounces, time to settle and final side;
+    --trajectory FILE.csv writes the motion.
+
     Examples: coin toss --xi 0.577 ;  coin toss --xi 0.577 --psi 90 --u 2 --omega 40 ;
-    coin toss --coin quarter --psi 90 --u 2 --omega 38:40:1 -f csv
+    coin toss --coin quarter --psi 90 --u 2 --omega 38:40:1 -f csv ;
+    coin toss --xi 0.577 --psi 85 --u 2.4 --omega 38 --landing bounce --surface wood
+    --trajectory toss.csv
     """
     check_format(fmt)
+    physics = BO.parse_physics(BO.landing_of(landing), surface=surface, restitution=restitution,
+                               friction=friction, torsional=torsional, rolling=rolling,
+                               height=height, vx=vx, dt=dt, t_max=t_max)
+    if physics is None and trajectory is not None:
+        raise usage_error("--trajectory goes with --landing bounce (a caught toss is the "
+                          "closed-form flight: coin toss prints it)")
+    if physics is not None and contact.strip().lower() != "rim":
+        raise usage_error("--contact goes with --landing bounce only as rim (a bounce is the "
+                          "whole cylinder on the surface)")
     coins = _options.resolve_coin(xi, coin, count, quarters, diameter, thickness, many=True,
                                   xi_rule="finite", command="coin toss")
     ct = _phase.contact_value(contact)
@@ -368,6 +399,28 @@ def toss_cmd(
                   z0=z0)
         _follow(T, float(x[k]), float(psi_rad[k]), float(uu[k]), float(w[k]), dia=dia, g=gv,
                 ct=ct, z0=z0_m, got=gt, where=f" (row {k + 1})" if n > 1 else "")
+    if physics is not None:
+        if n != 1:
+            raise usage_error("coin toss --landing bounce takes one toss (one value of --xi, "
+                              "--psi, --u, --omega); coin simulate --landing bounce takes many")
+        xf, uf, wf = float(x[0]), float(uu[0]), float(w[0])
+        if xf == 0 or xf > 100:
+            raise usage_error(f"--xi must be above 0 and at most 100 with --landing bounce, "
+                              f"got {_num(xf)}")
+        if wf > 1e4:
+            raise usage_error(f"--omega must be at most 10000 rad/s with --landing bounce, got "
+                              f"{_num(wf)} rad/s")
+        extra = ""
+        if drawn:
+            what = ", ".join(f"{k} ~ {T.HAND_TOSS_TEXT[k]}" for k in drawn)
+            extra = (f"  Drawn from a hand toss ({DHM}): {what}; seed {seed_v} (--seed {seed_v} "
+                     "repeats it).")
+            if quiet:
+                _report_seed(seed_v, seed is not None)
+        BO.toss(physics, xi=xf, psi=float(psi_rad[0]), u=uf, omega=wf, diameter=dia, g=gv,
+                z0=z0_m, trajectory=trajectory, fmt=fmt, quiet=quiet, note_extra=extra,
+                seed=seed_v if drawn else None)
+        return
     res = _usage(T.toss_many, x, psi_rad, uu, w, diameter=dia, g=gv, contact=ct, z0=z0_m)
     z0_mm = (np.full(n, z0_m * 1000) if z0_m is not None else
              (math.sqrt(3) / 2 * dia / 2 + (x * dia / 2 if ct == "thick" else 0.0)) * 1000)
@@ -389,7 +442,7 @@ def toss_cmd(
         data.append([seed_v] * n)
     typed = [f"{k} = {given[k].strip()}" for k in ("u", "omega") if given[k] is not None
              and parse.split_unit(given[k], _units_of(k))[1] not in (None, "m/s", "rad/s")]
-    note = (f"Deterministic toss (Sec. II): D = {dia * 1000:g} mm, g = {gv:g} m/s^2, contact "
+    note = (f"Deterministic toss (Sec. II), caught at first contact: D = {dia * 1000:g} mm, g = {gv:g} m/s^2, contact "
             f"{ct}; heads if alpha_f <= theta0, tails if alpha_f > 180 - theta0 (eq. 7).  "
             "The closed forms (coin design/table) are the limit vigor >> 1.")
     if typed:
@@ -447,6 +500,17 @@ def simulate_cmd(
         "--stream", help="Print one outcome a line (H, S or T) instead of the summary.")] = False,
     g: GOpt = "9.81",
     contact: ContactOpt = "rim",
+    landing: BO.LandingOpt = "catch",
+    surface: BO.SurfaceOpt = None,
+    restitution: BO.RestitutionOpt = None,
+    friction: BO.FrictionOpt = None,
+    torsional: BO.TorsionalOpt = None,
+    rolling: BO.RollingOpt = None,
+    height: BO.ReleaseHeightOpt = None,
+    vx: BO.VxOpt = None,
+    jobs: BO.JobsOpt = None,
+    dt: BO.DtOpt = None,
+    t_max: BO.TMaxOpt = None,
     fmt: FormatOpt = "table",
     quiet: QuietOpt = False,
 ):
@@ -458,13 +522,26 @@ def simulate_cmd(
     averaged over the same psi (the vigorous limit).  -n is 10000 by default, at most 10^8.
     The seed is reported; the same seed gives the same tosses.
 
+    --landing bounce tosses the coins onto a surface (--surface, or --restitution and
+    --friction) and lets them bounce and settle, simulated with MuJoCo (pip install
+    'coincli[physics]'): a simulated table, not the paper's catch.
+
     Examples: coin simulate --xi 0.577 ;
     coin simulate -n 1000000 --seed 7 --xi 0.577 --omega normal:6:1rev/s ;
-    coin simulate -n 5 --seed 1 --xi 0.577 --psi 90 --stream
+    coin simulate -n 5 --seed 1 --xi 0.577 --psi 90 --stream ;
+    coin simulate -n 2000 --seed 1 --xi 0.577 --psi 90 --landing bounce --surface wood
     """
     check_format(fmt)
     if stream and (fmt != "table" or quiet):
         raise usage_error("--stream prints one letter a line; it takes no --format or --quiet")
+    physics = BO.parse_physics(BO.landing_of(landing), surface=surface, restitution=restitution,
+                               friction=friction, torsional=torsional, rolling=rolling,
+                               height=height, vx=vx, jobs=jobs, dt=dt, t_max=t_max)
+    if physics is not None and stream:
+        raise usage_error("--stream goes with --landing catch (a bounce run prints its summary)")
+    if physics is not None and contact.strip().lower() != "rim":
+        raise usage_error("--contact goes with --landing catch (a bounce is the whole cylinder "
+                          "on the surface)")
     coins = _options.resolve_coin(xi, coin, count, quarters, diameter, thickness,
                                   xi_rule="finite", command="coin simulate")
     ct = _phase.contact_value(contact)
@@ -498,6 +575,28 @@ def simulate_cmd(
                diameter=_dia_text(diameter, dia))
     _follow(T, xv, psi_hi, u_hi, w_hi, dia=dia, g=gv, ct=ct, z0=None, got=got)
     _usage(T.toss_many, xv, psi_hi, u_hi, w_hi, diameter=dia, g=gv, contact=ct)  # the same, core
+    if psi is not None:
+        psi_text = f"psi = {psi.strip()} deg"
+    elif psi_dist is not None:
+        psi_text = f"psi ~ {psi_dist.strip()} deg"
+    else:
+        psi_text = f"psi ~ {T.HAND_TOSS_TEXT['psi']}"
+    u_text = f"u ~ {u.strip()}" if u is not None else f"u ~ {T.HAND_TOSS_TEXT['u']}"
+    w_text = (f"omega ~ {omega.strip()}" if omega is not None else
+              f"omega ~ {T.HAND_TOSS_TEXT['omega']}")
+    if u is not None and parse.split_unit(u.split(":")[-1], parse.SPEED_UNITS)[1] is None:
+        u_text += " m/s"
+    if omega is not None and parse.split_unit(omega.split(":")[-1], parse.SPIN_UNITS)[1] is None:
+        w_text += " rad/s"
+    hand = [k for k, v in (("u", u), ("omega", omega), ("psi", psi or psi_dist)) if v is None]
+    source = f" (hand toss, {DHM}: {', '.join(hand)})" if hand else ""
+    if physics is not None:
+        if quiet:
+            _report_seed(seed_v, seed is not None)
+        BO.simulate(physics, count=count_n, seed=seed_v, xi=xv, u=u_spec, omega=w_spec,
+                    psi=psi_spec, diameter=dia, g=gv, labels=f"{u_text}, {w_text}, {psi_text}{source}", fmt=fmt,
+                    quiet=quiet, progress=lambda total: _progress(total, 200))
+        return
     if stream:
         _report_seed(seed_v, seed is not None)
         _stream(T, count_n, seed_v, kw)
@@ -515,24 +614,10 @@ def simulate_cmd(
         Column("ci_high", "95% high"), Column("vigorous", "vigorous limit"),
         Column("difference", "freq - limit"),
     ] + ([Column("seed", "seed", "int")] if machine else [])
-    if psi is not None:
-        psi_text = f"psi = {psi.strip()} deg"
-    elif psi_dist is not None:
-        psi_text = f"psi ~ {psi_dist.strip()} deg"
-    else:
-        psi_text = f"psi ~ {T.HAND_TOSS_TEXT['psi']}"
-    u_text = f"u ~ {u.strip()}" if u is not None else f"u ~ {T.HAND_TOSS_TEXT['u']}"
-    w_text = (f"omega ~ {omega.strip()}" if omega is not None else
-              f"omega ~ {T.HAND_TOSS_TEXT['omega']}")
-    if u is not None and parse.split_unit(u.split(":")[-1], parse.SPEED_UNITS)[1] is None:
-        u_text += " m/s"
-    if omega is not None and parse.split_unit(omega.split(":")[-1], parse.SPIN_UNITS)[1] is None:
-        w_text += " rad/s"
-    hand = [k for k, v in (("u", u), ("omega", omega), ("psi", psi or psi_dist)) if v is None]
-    source = f" (hand toss, {DHM}: {', '.join(hand)})" if hand else ""
     note = (f"{count_n} toss{'es' if count_n != 1 else ''}, seed {seed_v}: xi = {xv:g}, "
             f"{u_text}, {w_text}, {psi_text}{source}; D = {dia * 1000:g} mm, g = {gv:g} m/s^2, "
-            f"contact {ct}.  95% Wilson intervals.  The vigorous limit is Table I averaged over "
+            f"contact {ct}; caught at first contact (the paper's landing; --landing bounce for a "
+            "table).  95% Wilson intervals.  The vigorous limit is Table I averaged over "
             "psi; it holds when u*omega/g >> 1 and omega*a/u << 1.")
     if quiet:
         _report_seed(seed_v, seed is not None)
@@ -591,14 +676,16 @@ def _stream(T, count, seed_v, kw):
 
 
 class _progress:
-    """A rich progress bar on stderr for long runs on a terminal; a no-op otherwise."""
+    """A rich progress bar on stderr for long runs (``least`` tosses or more) on a terminal;
+    a no-op otherwise."""
 
-    def __init__(self, total: int):
+    def __init__(self, total: int, least: int = 200_000):
         self.total = total
+        self.least = least
         self.bar = None
 
     def __enter__(self):
-        if self.total >= 200_000 and stderr_is_terminal():
+        if self.total >= self.least and stderr_is_terminal():
             from rich.console import Console
             from rich.progress import BarColumn, Progress, TimeRemainingColumn
 
@@ -617,6 +704,84 @@ class _progress:
         if self.bar is not None:
             self.bar.stop()
         return False
+
+
+# ------------------------------------------------------------------------ design --landing bounce
+
+
+def bounce_launch(psi, psi_dist, u, omega):
+    """The launch distributions of a bounce design run: --u, --omega (defaults: an ordinary
+    hand toss, normal:2.4:0.3 m/s and normal:38:4 rad/s), psi fixed (--psi, default 90) or
+    distributed (--psi-dist); and their description."""
+    if psi is not None and psi_dist is not None:
+        raise usage_error("give --psi DEG or --psi-dist SPEC, not both")
+    u = u or "normal:2.4:0.3"
+    omega = omega or "normal:38:4"
+    if psi_dist is not None:
+        psi_spec = _psi_dist(psi_dist)
+        psi_text = f"psi ~ {psi_dist.strip()} deg"
+    else:
+        psi_spec = _options.radians(_options.psi_angle(psi or "90"))
+        psi_text = f"psi = {(psi or '90').strip()} deg"
+    u_spec = _spec(u, "--u", "u")
+    w_spec = _spec(omega, "--omega", "omega")
+    if _reach(w_spec, math.inf) > 1e4:
+        raise usage_error(f"--omega must stay at most 10000 rad/s with --landing bounce, got "
+                          f"{omega.strip()!r}")
+    u_text = u.strip() + ("" if parse.split_unit(u.split(":")[-1], parse.SPEED_UNITS)[1]
+                          else " m/s")
+    w_text = omega.strip() + ("" if parse.split_unit(omega.split(":")[-1], parse.SPIN_UNITS)[1]
+                              else " rad/s")
+    return u_spec, w_spec, psi_spec, f"u ~ {u_text}, omega ~ {w_text}, {psi_text}"
+
+
+def bounce_design(physics, *, p_sides, psi, psi_dist, u, omega, diameter, coin, tol, seed,
+                  max_tosses, time_limit, fmt, quiet):
+    """``coin design --landing bounce``."""
+    from coincli import coins as coin_catalog
+
+    targets = values_option(p_sides, "--p-sides", parse.parse_probability, bounds=(0.0, 1.0))
+    targets = [float(t) for t in targets]
+    if len(targets) > 20:
+        raise usage_error(f"--landing bounce designs at most 20 targets a run, got "
+                          f"{len(targets)}")
+    for t in targets:
+        if not 0.0 < t < 1.0:
+            raise usage_error(f"--p-sides must be strictly between 0 and 1 with --landing "
+                              f"bounce, got {t:g}")
+    tol_v = 0.01 if tol is None else _bounded(tol, "--tol", 1e-4, 1.0)
+    mt = 200_000 if max_tosses is None else _tosses(max_tosses)
+    tl = 300.0 if time_limit is None else _bounded(time_limit, "--time-limit", 1.0, 1e6)
+    if diameter is not None:
+        try:
+            dia = parse.parse_length_mm(diameter, "--diameter") / 1000
+        except ValueError as exc:
+            raise usage_error(str(exc)) from None
+    else:
+        try:
+            dia = coin_catalog.get_coin(coin).diameter_mm / 1000
+        except ValueError as exc:
+            raise usage_error(str(exc)) from None
+    u_spec, w_spec, psi_spec, labels = bounce_launch(psi, psi_dist, u, omega)
+    from coincli.cli._options import seed_value
+
+    BO.design(physics, targets=targets, seed=seed_value(seed), tol=tol_v, max_tosses=mt,
+              time_limit=tl, u=u_spec, omega=w_spec, psi=psi_spec, diameter=dia, g=T_G,
+              labels=labels, fmt=fmt, quiet=quiet, progress=BO.design_progress)
+
+
+T_G = 9.81  # coincli.toss.STANDARD_G
+
+
+def _bounded(text: str, what: str, lo: float, hi: float) -> float:
+    """A number in [lo, hi], or the usage error that says so."""
+    try:
+        v = parse.parse_number(text, what)
+    except ValueError:
+        v = math.nan
+    if not lo <= v <= hi:  # NaN fails too
+        raise usage_error(f"{what} must be a number from {lo:g} to {hi:g}, got {text!r}")
+    return v
 
 
 # --------------------------------------------------------------------------- coin phase
