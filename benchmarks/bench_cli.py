@@ -9,10 +9,21 @@ Start-up: each closed-form command (geometric or dynamic model, one value) again
 ``python -c "import typer"``, the floor for any typer program, run alternately so both see the
 same machine; the aim is a ratio of medians <= 1.2 for ``coin design --p-sides 0.33``.
 
+Help: ``coin --help`` and ``coin design --help`` against ``import typer``; aim <= 1.5x.
+
 Batch: 10^6 targets on stdin (``coin design --p-sides - --format csv`` and ``-q``) against
 numpy alone reading the same file with ``np.loadtxt`` and writing with ``np.savetxt``
 (``%.17g``, enough digits to read back): once the same 10^6 numbers (one column, what ``-q``
-writes), once as many numbers as coin's csv (14 columns).  Aim: <= 2x.
+writes), once as many numbers as coin's csv (14 columns; aim <= 1.0x).  ``coin table --xi
+0.001:1000:0.001 -f csv`` (10^6 coins, 2 x 10^6 rows) against ``np.savetxt`` of the same
+numbers (aim <= 1.2x).
+
+Memory: the peak resident size of each batch (``os.wait4``'s ``ru_maxrss``) for 10^6 and 10^7
+targets in every format; aim <= 100 MiB.
+
+``coin`` is a non-editable install: ``pip install --no-deps --target`` of this checkout into a
+temporary directory, run through a copy of the console script (``--installed``, the default
+when the ``coin`` beside this interpreter is an editable install).
 
 Times are wall-clock medians; CPU time (user + system of the child) is reported beside them
 because a loaded machine stretches wall time more than CPU time.  The children write their
@@ -23,7 +34,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import resource
 import shutil
 import subprocess
 import sys
@@ -39,18 +49,24 @@ AIM_STARTUP = 1.2
 AIM_BATCH = 2.0
 
 
+_INSTALL: list[str] = []
+
+
 def coin_command() -> list[str]:
-    """The installed ``coin`` script next to this interpreter, else ``python -m coincli``."""
-    script = Path(sys.executable).with_name("coin")
-    if script.exists():
-        return [str(script)]
-    found = shutil.which("coin")
-    return [found] if found else [sys.executable, "-m", "coincli"]
-
-
-def _cpu_children() -> float:
-    r = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return r.ru_utime + r.ru_stime
+    """``coin`` as a user runs it: a non-editable copy of this checkout (see the docstring)."""
+    if _INSTALL:
+        return _INSTALL
+    root = Path(__file__).resolve().parents[1]
+    target = os.path.join(_PYCACHE, "site")
+    subprocess.run([sys.executable, "-m", "pip", "install", "--quiet", "--no-deps",
+                    "--no-compile", "--target", target, str(root)], check=True,
+                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    script = os.path.join(_PYCACHE, "coin")
+    with open(script, "w") as f:
+        f.write("import sys\nfrom coincli._entry import main\nsys.exit(main())\n")
+    ENV["PYTHONPATH"] = target
+    _INSTALL[:] = [sys.executable, script]
+    return _INSTALL
 
 
 # Children cache their bytecode as an installed program does (pip compiles on install), in a
@@ -62,20 +78,36 @@ ENV["PYTHONPYCACHEPREFIX"] = _PYCACHE
 ENV.pop("NO_COLOR", None)
 
 
+PEAK: dict[str, int] = {}  #: the largest resident size seen per argv (KiB)
+
+
+# The child is started by a small probe process: a child inherits its parent's peak resident
+# size at fork (exec does not reset it), and this script holds numpy and arrays.  The probe
+# measures the child's wall time, CPU time and peak memory (os.wait4) and prints them.
+_PROBE = (
+    "import os, subprocess, sys, time\n"
+    "stdin = open(sys.argv[1], 'rb') if sys.argv[1] else subprocess.DEVNULL\n"
+    "t0 = time.perf_counter()\n"
+    "p = subprocess.Popen(sys.argv[2:], stdin=stdin, stdout=subprocess.DEVNULL,\n"
+    "                     stderr=subprocess.PIPE)\n"
+    "err = p.stderr.read()\n"
+    "_, status, ru = os.wait4(p.pid, 0)\n"
+    "wall = time.perf_counter() - t0\n"
+    "sys.stderr.buffer.write(err)\n"
+    "print(os.waitstatus_to_exitcode(status), wall, ru.ru_utime + ru.ru_stime, ru.ru_maxrss)\n"
+)
+
+
 def run_once(argv, stdin_path=None, check=True) -> tuple[float, float]:
-    """(wall seconds, CPU seconds) of one run, output discarded."""
-    stdin = open(stdin_path, "rb") if stdin_path else subprocess.DEVNULL
-    try:
-        c0, t0 = _cpu_children(), time.perf_counter()
-        p = subprocess.run(argv, stdin=stdin, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                           env=ENV)
-        wall, cpu = time.perf_counter() - t0, _cpu_children() - c0
-    finally:
-        if stdin_path:
-            stdin.close()
-    if check and p.returncode != 0:
-        raise SystemExit(f"{' '.join(argv)} failed ({p.returncode}): {p.stderr.decode()}")
-    return wall, cpu
+    """(wall seconds, CPU seconds) of one run, output discarded; its peak memory goes to PEAK."""
+    p = subprocess.run([sys.executable, "-S", "-c", _PROBE, str(stdin_path or ""), *argv],
+                       capture_output=True, text=True, env=ENV)
+    code, wall, cpu, peak = p.stdout.split()
+    key = " ".join(argv)
+    PEAK[key] = max(PEAK.get(key, 0), int(peak))
+    if check and int(code) != 0:
+        raise SystemExit(f"{key} failed ({code}): {p.stderr}")
+    return float(wall), float(cpu)
 
 
 def interleaved(cases: dict[str, list[str]], repeat: int, stdin_paths=None):
@@ -95,6 +127,8 @@ def interleaved(cases: dict[str, list[str]], repeat: int, stdin_paths=None):
 
 
 STARTUP = [
+    "--help",
+    "design --help",
     "design --p-sides 0.33",
     "design --p-sides 1/3 -q",
     "design --p-sides 0.33 --model geometric --format csv",
@@ -120,6 +154,61 @@ NUMPY_ONE = ("import sys, numpy as np; a = np.loadtxt(sys.stdin.buffer); "
 NUMPY_WIDE = ("import sys, numpy as np; a = np.loadtxt(sys.stdin.buffer); "
               "np.savetxt(sys.stdout.buffer, np.column_stack([a] * 14), fmt='%.17g', "
               "delimiter=',')")
+
+
+NUMPY_TABLE = (
+    "import sys, numpy as np\n"
+    "from coincli import models\n"
+    "x = 0.001 + np.arange(10**6) * 0.001\n"
+    "g, d = models.geometric(x), models.dynamic(x)\n"
+    "cols = [np.repeat(x, 2)] + [np.stack([getattr(g, f), getattr(d, f)], axis=1).ravel()\n"
+    "                            for f in ('heads', 'sides', 'tails')]\n"
+    "np.savetxt(sys.stdout.buffer, np.column_stack(cols), fmt='%.17g', delimiter=',')\n")
+
+
+def table_range(repeat: int):
+    coin = coin_command()
+    cases = {
+        "coin table --xi 0.001:1000:0.001 -f csv": [*coin, "table", "--xi", "0.001:1000:0.001",
+                                                    "-f", "csv"],
+        "numpy: np.savetxt of the same numbers (2 x 10^6 rows, 4 columns)":
+            [sys.executable, "-c", NUMPY_TABLE],
+    }
+    return interleaved(cases, repeat)
+
+
+MEMORY_FORMATS = ("csv", "tsv", "json", "jsonl", "markdown", "table", "-q")
+
+
+def memory(sizes):
+    """Peak resident size of design -p - and table --xi - over each size, every format."""
+    import numpy as np
+
+    coin = coin_command()
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for n in sizes:
+            path = os.path.join(tmp, f"targets-{n}.txt")
+            p = np.random.default_rng(11).uniform(0.0, 1.0, n)
+            with open(path, "w") as f:
+                for k in range(0, n, 10**6):
+                    f.write("\n".join(map(repr, p[k:k + 10**6].tolist())) + "\n")
+            # every format of design at 10^6, its csv and json at 10^7 (minutes each on a
+            # 2-CPU machine); table's batch (two rows a value) in csv
+            cases = [(["design", "--p-sides", "-"], f) for f in
+                     (MEMORY_FORMATS if n <= 10**6 else ("csv", "json"))]
+            cases.append((["table", "--xi", "-"], "csv" if n > 10**6 else "json"))
+            for cmd, fmt in cases:
+                if True:
+                    argv = [*coin, *cmd, *(["-q"] if fmt == "-q" else ["-f", fmt])]
+                    wall, cpu = run_once(argv, path)
+                    rows.append([f"{n:.0e}".replace("e+0", "e"), f"`coin {' '.join(cmd)} "
+                                 f"{'-q' if fmt == '-q' else '-f ' + fmt}`",
+                                 _report.fmt_time(wall), _report.fmt_time(cpu),
+                                 f"{PEAK[' '.join(argv)] / 1024:.0f} MiB"])
+                    print(f"  memory {n} {cmd[0]} {fmt}: {PEAK[' '.join(argv)] / 1024:.0f} MiB",
+                          file=sys.stderr)
+    return rows
 
 
 def batch(n: int, repeat: int):
@@ -156,6 +245,8 @@ def main(argv=None) -> int:
     ap.add_argument("-n", type=int, default=10**6, help="batch size (10^6)")
     ap.add_argument("--quick", action="store_true", help="10^5 batch, 7 and 3 repeats, print only")
     ap.add_argument("--no-write", action="store_true", help="do not touch docs/performance.md")
+    ap.add_argument("--memory-sizes", default="1000000,10000000",
+                    help="batch sizes for the memory table (default 10^6 and 10^7)")
     args = ap.parse_args(argv)
     if args.quick:
         args.repeat, args.batch_repeat, args.n, args.no_write = 7, 3, 10**5, True
@@ -165,6 +256,11 @@ def main(argv=None) -> int:
     st = startup(args.repeat)
     print(f"batch of {args.n}, {args.batch_repeat} rounds", file=sys.stderr)
     bt, sizes = batch(args.n, args.batch_repeat)
+    print(f"table over 10^6 coins, {args.batch_repeat} rounds", file=sys.stderr)
+    tr = table_range(args.batch_repeat)
+    print("memory", file=sys.stderr)
+    mem = memory([int(v) for v in args.memory_sizes.split(",") if v]) if not args.quick \
+        else memory([10**5])
 
     typer_w, typer_c = st['python -c "import typer"']
     rows = []
@@ -173,6 +269,12 @@ def main(argv=None) -> int:
                      f"{w / typer_w:.2f}", f"{c / typer_c:.2f}"])
     head_w = st["coin design --p-sides 0.33"][0] / typer_w
     head_c = st["coin design --p-sides 0.33"][1] / typer_c
+    help_w = max(st["coin --help"][0], st["coin design --help"][0]) / typer_w
+    tab_w, tab_c = tr["coin table --xi 0.001:1000:0.001 -f csv"]
+    sav_w, sav_c = tr["numpy: np.savetxt of the same numbers (2 x 10^6 rows, 4 columns)"]
+    trows = [[f"`{k}`" if k.startswith("coin") else k, _report.fmt_time(w), _report.fmt_time(c),
+              f"{w / sav_w:.2f}", f"{c / sav_c:.2f}"] for k, (w, c) in tr.items()]
+    worst = max(float(r[-1].split()[0]) for r in mem)
 
     one_w, one_c = bt["numpy: read, write the same numbers (1 column)"]
     wide_w, wide_c = bt["numpy: read, write as many numbers as coin's csv (14 columns)"]
@@ -214,7 +316,27 @@ def main(argv=None) -> int:
         f"{n_text} targets it is **{csv_w / one_w:.1f}x**: "
         f"{verdict(csv_w / one_w, AIM_BATCH)} if the aim is read that way.  The csv holds 14 "
         "numbers a row, and writing a double as its shortest round-trip text (`repr`, about "
-        "0.4 µs each, 12 float columns) is most of the time.", "",
+        "0.5 µs each) is most of the time: coin formats a column of few values (the nearest "
+        "stack's chances) or one equal to another (P(tails) = P(heads)) once per value, in C "
+        "(the repr of a whole list), and joins a block of rows in one call.  Aim for the csv "
+        f"against numpy's 14 columns: <= 1.0x: {verdict(csv_w / wide_w, 1.0)} "
+        f"({verdict(csv_c / wide_c, 1.0)} in CPU time).", "",
+        f"### Help ({args.repeat} runs each, interleaved, in the start-up table)", "",
+        f"`coin --help` and `coin design --help`: at most **{help_w:.2f}x** `import typer` "
+        f"(aim <= 1.5: {verdict(help_w, 1.5)}); plain click help, no rich.", "",
+        f"### A table over 10^6 coins ({args.batch_repeat} runs each, interleaved)", "",
+        _report.table(["run", "wall", "CPU", "wall / np.savetxt", "CPU / np.savetxt"], trows),
+        f"- `coin table --xi 0.001:1000:0.001 -f csv` against `np.savetxt` of the same numbers: "
+        f"**{tab_w / sav_w:.2f}x** wall ({tab_c / sav_c:.2f}x CPU); aim <= 1.2: "
+        f"{verdict(tab_w / sav_w, 1.2)}.  The range is generated a chunk at a time from arrays "
+        "(no value is parsed back from its text), the models run on arrays, and xi, repeated "
+        "on each model's row, is formatted once.", "",
+        "### Peak memory of the batches (one run each)", "",
+        f"Largest peak: **{worst:.0f} MiB** (aim <= 100 MiB: {verdict(worst, 100)}).  Input is "
+        "read and checked a piece at a time (past 2^19 values it waits in an anonymous "
+        "temporary file, as doubles), then computed and written 8192 rows at a time; json is "
+        "written as an array a chunk at a time.", "",
+        _report.table(["values", "run", "wall", "CPU", "peak memory"], mem),
     ]
     text = "\n".join(body)
     print(text)

@@ -15,6 +15,7 @@ __all__ = [
     "parse_length_mm",
     "parse_angle_deg",
     "parse_values",
+    "parse_range",
     "parse_count",
     "parse_ratio",
     "parse_seed",
@@ -270,6 +271,29 @@ def _range_bound(text: str, what: str) -> float:
     return parse_number(text, what)
 
 
+def parse_range(text: str, what: str, *, max_rows: int = MAX_ROWS):
+    """An inclusive range ``start:stop:step`` (step > 0; decimals or fractions) as ``(start, stop, step, count,
+    whole)``: its values are ``start + k*step`` for k < count, the last one held to ``stop``
+    (which is included when within a millionth of a step of it); ``whole`` when all three parts
+    are whole numbers.  More than ``max_rows`` values is an error naming the limit."""
+    s = str(text).strip()
+    parts = s.split(":")
+    if len(parts) != 3:
+        raise ValueError(f"{what} range must be start:stop:step, got {text!r}")
+    start, stop, step = (_range_bound(p, f"{what} range") for p in parts)
+    if not step > 0:
+        raise ValueError(f"{what} range step must be > 0, got {parts[2]!r}")
+    if stop < start:
+        raise ValueError(f"{what} range must have start <= stop, got {text!r}")
+    span = (stop - start) / step + 1e-6  # inf when the range is absurdly long
+    if not span < max_rows:  # then it has more than max_rows values (or nan, inf)
+        # the exact count it would have, floor(span) + 1, while that is a sane number
+        has = f"{math.floor(span) + 1}" if span < 1e18 else f"more than {max_rows}"
+        raise ValueError(f"{what} range {text!r} has {has} values; at most {max_rows} are allowed")
+    whole = all(_INT.match(p.strip()) for p in parts)
+    return start, stop, step, math.floor(span) + 1, whole
+
+
 def parse_values(text: str, what: str, item=parse_number, *, max_rows: int = MAX_ROWS) -> list:
     """``a``, a list ``a,b,c`` or an inclusive range ``start:stop:step`` (step > 0; its three
     numbers decimals or fractions such as ``1/10``).
@@ -282,27 +306,13 @@ def parse_values(text: str, what: str, item=parse_number, *, max_rows: int = MAX
     if not s:
         raise ValueError(f"{what} is empty; give a value, a list a,b,c or a range start:stop:step")
     if ":" in s:
-        parts = s.split(":")
-        if len(parts) != 3:
-            raise ValueError(f"{what} range must be start:stop:step, got {text!r}")
-        start, stop, step = (_range_bound(p, f"{what} range") for p in parts)
-        if not step > 0:
-            raise ValueError(f"{what} range step must be > 0, got {parts[2]!r}")
-        if stop < start:
-            raise ValueError(f"{what} range must have start <= stop, got {text!r}")
-        span = (stop - start) / step + 1e-6  # inf when the range is absurdly long
-        if not span < max_rows:  # then it has more than max_rows values (or nan, inf)
-            # the exact count it would have, floor(span) + 1, while that is a sane number
-            has = f"{math.floor(span) + 1}" if span < 1e18 else f"more than {max_rows}"
-            raise ValueError(
-                f"{what} range {text!r} has {has} values; at most {max_rows} are allowed"
-            )
-        n = math.floor(span)
-        if all(_INT.match(p.strip()) for p in parts):
+        start, stop, step, count, whole = parse_range(s, what, max_rows=max_rows)
+        if whole:
             # whole numbers stay whole: counts (1:12:1) must not turn into '1.0'
+            parts = s.split(":")
             a, d = int(parts[0]), int(parts[2])
-            return [item(str(a + k * d), what) for k in range(n + 1)]
-        vals = [start + k * step for k in range(n + 1)]
+            return [item(str(a + k * d), what) for k in range(count)]
+        vals = [start + k * step for k in range(count)]
         vals[-1] = min(vals[-1], stop)  # stop is included when within 1e-6 steps; never passed
         return [item(repr(v), what) for v in vals]
     items = s.split(",")

@@ -350,6 +350,16 @@ class ExperimentPoint:
     high: float
 
 
+def tosses_label(points) -> str:
+    """What the points are: 'your tosses', or the simulated tosses of ``coin plot sides
+    --landing bounce`` (labelled 'simulated ...')."""
+    if points and all(p.label.startswith("simulated") for p in points):
+        return points[0].label
+    if any(p.label.startswith("simulated") for p in points):
+        return "your tosses and simulated tosses"
+    return "your tosses"
+
+
 def experiment_points(experiments, confidence: float = 0.95) -> list[ExperimentPoint]:
     """Frequencies of sides of :class:`coincli.stats.Experiment` rows, with Wilson intervals."""
     from coincli.stats import proportion
@@ -643,7 +653,8 @@ def sides_figure(data: SidesData, *, width: float = 7.0, height: float = 4.5,
             eb = ax.errorbar(ex, fy, yerr=np.vstack([fy - lo, hi - fy]), fmt="o",
                              color=OKABE_ITO["black"], markerfacecolor=OKABE_ITO["orange"],
                              markersize=5.5, capsize=3, elinewidth=1.0, zorder=6,
-                             label="your tosses: frequency of sides, 95% Wilson interval")
+                             label=f"{tosses_label(data.experiments)}: frequency of sides, "
+                             "95% Wilson interval")
             eb.lines[0].set_gid("data")
             for k, coll in enumerate(eb.lines[2]):
                 coll.set_gid("data-errorbars" if k == 0 else f"data-errorbars:{k}")

@@ -35,10 +35,13 @@ Both ``m`` and its complement ``m1 = 1 - m`` are computed from the initial omega
 cancellation, which is what keeps the solution accurate next to the separatrix (``m1 -> 0``,
 where the period :math:`4K(m)/|r|` grows like :math:`(2/|r|) \ln(16/m_1)`).  The Jacobi
 functions are computed here by the arithmetic-geometric mean (descending Landen transform,
-Abramowitz & Stegun 16.4 and 17.6) from ``m`` *and* ``m1``: ``scipy.special.ellipj`` takes
-``m`` alone, and rounding ``1 - m1`` to a double costs ``eps / m1`` of relative accuracy there
-(1e-4 at ``m1 = 1e-12``).  The argument is first reduced to an eighth of a period with the
-quarter-period shifts, so small ``cn`` and ``dn`` keep their relative accuracy.
+Abramowitz & Stegun 16.4) from ``m`` *and* ``m1``: ``scipy.special.ellipj`` takes ``m`` alone,
+and rounding ``1 - m1`` to a double costs ``eps / m1`` of relative accuracy there (1e-4 at
+``m1 = 1e-12``).  The argument is first reduced to an eighth of a period with the
+quarter-period shifts, so small ``cn`` and ``dn`` keep their relative accuracy; for
+``m1 <= 1e-11`` the eighth is evaluated by A&S 16.15 instead (within 2 eps there), and the
+phase at launch is ``F = sn R_F(cn^2, dn^2, 1)`` (Carlson).  docs/book.md has the derivations
+and the measured accuracy (a few eps against mpmath, m1 from 1 to 1e-300).
 
 The attitude has a closed form too: with the space frame's z along the (fixed) angular
 momentum and Euler angles (phi, theta, psi) of the body axes ``(a, b, c)``,
@@ -97,6 +100,7 @@ __all__ = [
     "ellip_agm",
     "ellip_k",
     "ellip_f",
+    "ellip_rf",
     "ellip_j",
 ]
 
@@ -106,6 +110,7 @@ FACES = ("+1", "-1", "+2", "-2", "+3", "-3")
 RULES = ("centre", "normal")
 _EPS = 2.220446049250313e-16
 _MAX_AGM = 64  # AGM steps; m1 = 1e-308 needs 14
+_M1_HYPERBOLIC = 1e-11  # below: sn, cn, dn on [0, K/2] from the expansion about m = 1
 
 
 # --------------------------------------------------------------------------- boxes
@@ -211,11 +216,15 @@ class _Py:
     scalar summary runs without numpy."""
 
     sqrt = staticmethod(math.sqrt)
+    sinh = staticmethod(math.sinh)
+    cosh = staticmethod(math.cosh)
+    tanh = staticmethod(math.tanh)
     sin = staticmethod(math.sin)
     cos = staticmethod(math.cos)
     arcsin = staticmethod(math.asin)
     arctan2 = staticmethod(math.atan2)
     floor = staticmethod(math.floor)
+    copysign = staticmethod(math.copysign)
     abs = staticmethod(abs)
     maximum = staticmethod(max)
     minimum = staticmethod(min)
@@ -276,24 +285,44 @@ def ellip_k(m, m1, agm=None):
     return math.pi / (2 * A[-1])
 
 
-def ellip_f(s, c, m, m1, agm=None):
-    """The incomplete integral :math:`F(\\varphi \\mid m)` for the amplitude
-    :math:`\\varphi \\in [0, \\pi/2]` given by ``s = sin(phi) >= 0`` and ``c = cos(phi) >= 0``
-    (neither need be normalized), by the descending Landen transform (A&S 17.6.9):
-    :math:`\\varphi_{n+1} = \\varphi_n + \\arctan(b_n \\tan\\varphi_n / a_n)` on the right branch,
-    :math:`F = \\varphi_N / (2^N a_N)`.  ``m1 > 0``."""
-    A, B, _ = agm if agm is not None else ellip_agm(m, m1)
-    xp = _xp(s, c, m, m1)
-    phi = xp.arctan2(s, c)
-    phi_next = phi + xp.arctan2(B[0] * s, A[0] * c)
-    for n in range(1, len(A) - 1):
-        phi = phi_next
-        j = xp.rint(phi / math.pi)
-        d = phi - j * math.pi
-        phi_next = phi + j * math.pi + xp.arctan2(B[n] / A[n] * xp.sin(d), xp.cos(d))
-    if len(A) == 1:  # m == 0: F = phi
-        return phi
-    return phi_next / (2.0 ** (len(A) - 1) * A[-1])
+def ellip_rf(x, y, z):
+    r"""Carlson's symmetric integral :math:`R_F(x, y, z) = \frac12\int_0^\infty
+    \frac{dt}{\sqrt{(t+x)(t+y)(t+z)}}` (``x, y, z >= 0``, at most one 0) by duplication
+    (Carlson 1995; DLMF 19.36.1), on floats or numpy arrays: a few ulps, with no cancellation
+    however small ``x`` and ``y`` are (``F`` near ``K`` next to the separatrix needs that)."""
+    xp = _xp(x, y, z)
+    x0, y0, z0 = x, y, z
+    A0 = (x + y + z) / 3
+    A = A0
+    big = xp.maximum(xp.maximum(xp.abs(A0 - x), xp.abs(A0 - y)), xp.abs(A0 - z))
+    Q = (3 * _EPS) ** (-1 / 6) * big
+    f = 1.0
+    for _ in range(200):
+        if not xp.any(f * Q >= xp.abs(A)):
+            break
+        sx, sy, sz = xp.sqrt(x), xp.sqrt(y), xp.sqrt(z)
+        lam = sx * sy + sy * sz + sz * sx
+        x, y, z = (x + lam) / 4, (y + lam) / 4, (z + lam) / 4
+        A = (A + lam) / 4
+        f /= 4
+    As = xp.where(A > 0, A, 1.0)
+    X = (A0 - x0) * f / As
+    Y = (A0 - y0) * f / As
+    Z = -(X + Y)
+    E2 = X * Y - Z * Z
+    E3 = X * Y * Z
+    return (1 - E2 / 10 + E3 / 14 + E2 * E2 / 24 - 3 * E2 * E3 / 44) / xp.sqrt(A)
+
+
+def ellip_f(s, c, m1):
+    r"""The incomplete integral :math:`F(\varphi \mid m)` for the amplitude
+    :math:`\varphi \in [0, \pi/2]` given by ``s = sin(phi) >= 0`` and ``c = cos(phi) >= 0``
+    (with :math:`s^2 + c^2 = 1`) and the complement ``m1 = 1 - m`` of the parameter:
+    :math:`F = s\,R_F(c^2, c^2 + m_1 s^2, 1)` (``1 - m s^2 = c^2 + m_1 s^2``, no
+    cancellation).  Accurate to a few ulps even at ``phi -> pi/2`` with ``m1 -> 0``, where
+    F is large and depends on ``c`` alone (the angle itself could not carry that); ``m1 = 0``
+    gives :math:`\operatorname{artanh} s`."""
+    return s * ellip_rf(c * c, c * c + m1 * s * s, s * 0 + 1.0)
 
 
 def _sncndn_eighth(xp, u, m1, A, B, C):
@@ -314,18 +343,31 @@ def _sncndn_eighth(xp, u, m1, A, B, C):
     for n in range(N, 0, -1):
         ratio = C[n] / A[n]
         sp = xp.sin(phi)
+        if not xp.any(B[n - 1] < 0.5 * A[n]):  # 1 - |x| >= b/a >= 1/2: arcsin is accurate
+            phi = (phi + xp.arcsin(ratio * sp)) / 2
+            continue
         k = xp.floor(phi / math.pi)
         delta = phi - (k * math.pi + half_pi)  # |sin phi| = cos(delta)
         y = B[n - 1] / A[n] + ratio * 2 * xp.sin(delta / 2) ** 2  # 1 - |x|
         near = y < 0.5
-        x = ratio * sp
-        ys = xp.where(near, y, 0.0)
-        a_near = half_pi - 2 * xp.arcsin(xp.sqrt(ys / 2))
-        a_near = xp.where(sp < 0, -a_near, a_near)
-        a_far = xp.arcsin(xp.where(near, 0.0, x))
-        phi = (phi + xp.where(near, a_near, a_far)) / 2
+        a = xp.arcsin(xp.where(near, xp.sqrt(xp.maximum(y, 0.0) / 2), ratio * sp))
+        a_near = xp.copysign(half_pi - 2 * a, sp)
+        phi = (phi + xp.where(near, a_near, a)) / 2
     s, c = xp.sin(phi), xp.cos(phi)
-    return s, c, xp.sqrt(c * c + m1 * s * s)
+    d = xp.sqrt(c * c + m1 * s * s)
+    near1 = m1 < _M1_HYPERBOLIC
+    if xp.any(near1):
+        # Next to m = 1 cn and dn at K/2 are ~ m1^(1/4), below the absolute accuracy (eps) of
+        # cos(phi) above; there A&S 16.15 (first order in m1) is within 2 eps of sn, cn, dn on
+        # [0, K/2] (measured against mpmath for m1 <= 1e-10): relative accuracy however small.
+        uh = xp.where(near1, u, 0.0)
+        sh, ch, th = xp.sinh(uh), xp.cosh(uh), xp.tanh(uh)
+        se = 1 / ch
+        q = m1 / 4
+        s = xp.where(near1, th + q * (sh * ch - uh) * se * se, s)
+        c = xp.where(near1, se * (1 - q * (sh * ch - uh) * th), c)
+        d = xp.where(near1, se * (1 + q * (sh * ch + uh) * th), d)
+    return s, c, d
 
 
 def ellip_j(u, m, m1, agm=None):
@@ -468,8 +510,11 @@ def orbit(moments, omega) -> Orbit:
     adn = _hypot(xp, wc, wb, (Ib / Ic_) * Q_)
     asn = acn * xp.sqrt(Ia_ / (Ib * Psafe))
     adn_s = xp.where(adn > 0, adn, 1.0)
-    m = xp.where(adn > 0, Q_ * Ia_ / (Psafe * Ic_) * (acn / adn_s) ** 2, 0.0)
-    m1 = xp.where(adn > 0, (wc / adn_s) ** 2 - (Q_ * Ia_ / (Psafe * Ic_)) * (wa / adn_s) ** 2,
+    kac = Q_ * Ia_ / (Psafe * Ic_)  # <= 1e16 or so (p is 1 ulp at least, or 0 and replaced)
+    # ratios clamped at 1e100 (m and m1 are clamped to [0, 1] anyway): no overflow when the
+    # moments differ by 1e17 and more
+    m = xp.where(adn > 0, kac * xp.minimum(acn / adn_s, 1e100) ** 2, 0.0)
+    m1 = xp.where(adn > 0, (wc / adn_s) ** 2 - kac * xp.minimum(xp.abs(wa) / adn_s, 1e100) ** 2,
                   1.0)
     m1 = xp.maximum(m1, 0.0)
     m = xp.minimum(m, 1.0)
@@ -483,6 +528,10 @@ def orbit(moments, omega) -> Orbit:
     rr = (Ic_ - Ib) * (Ic_ - Ia_) / (Ia_ * Ib)
     o.r = xp.where(Ic_ > Ia_, 1.0, -1.0) * adn * xp.sqrt(xp.maximum(rr, 0.0))
     o.n = xp.where(Psafe > 0, -(Ic_ * Q_) / (Ia_ * Psafe), 0.0)
+    # a rate that underflows (moments 1e-17 apart, spins 1e-300) leaves omega constant on any
+    # time a double can hold: the motion is steady there
+    stationary = stationary | (o.r == 0) if xp is not _Py else bool(stationary or o.r == 0)
+    o.stationary = stationary
     # the phase at t = 0: cn0 = |wa| / acn >= 0 (so |tau0| <= K), sn0 = sb * wb / asn
     acn_s = xp.where(acn > 0, acn, 1.0)
     good = acn > 0
@@ -495,13 +544,10 @@ def orbit(moments, omega) -> Orbit:
     m_agm = xp.where(m1 > 0, m, 0.0)
     o.agm = ellip_agm(m_agm, m1_agm)
     o.K = xp.where(m1 > 0, xp.pi / (2 * o.agm[0][-1]), math.inf)
-    F = ellip_f(xp.abs(o.sn0), o.cn0, m_agm, m1_agm, o.agm)
-    cn0s = xp.where(o.cn0 > 0, o.cn0, 1.0)
-    if xp is _Py:
-        F_sep = math.asinh(abs(o.sn0) / cn0s)
-    else:
-        F_sep = xp.arcsinh(xp.abs(o.sn0) / cn0s)
-    tau0 = xp.where(m1 > 0, F, F_sep)
+    # F(phi0 | m) with cn0 > 0 unless the motion is steady (then tau0 is not used)
+    cn0 = xp.where(stationary, 1.0, o.cn0)
+    sn0 = xp.where(stationary, 0.0, xp.abs(o.sn0))
+    tau0 = ellip_f(sn0, cn0, m1)
     tau0 = xp.where(o.sn0 < 0, -tau0, tau0)
     o.tau0 = xp.where(stationary, 0.0, tau0)
     o.L = xp.sqrt((Ia * ws[0]) ** 2 + (Ib * ws[1]) ** 2 + (Ic * ws[2]) ** 2)
@@ -592,11 +638,11 @@ def _qmul(p, q):
             pw * qz + px * qy - py * qx + pz * qw)
 
 
-def _qaxis(angle, axis, np):
-    h = angle / 2
-    c, s = np.cos(h), np.sin(h)
-    z = np.zeros_like(c)
-    return (c, s, z, z) if axis == 0 else (c, z, s, z) if axis == 1 else (c, z, z, s)
+def _zxz(np, phi, theta, psi):
+    """The quaternion of Rz(phi) Rx(theta) Rz(psi)."""
+    ct, st = np.cos(theta / 2), np.sin(theta / 2)
+    a, b = (phi + psi) / 2, (phi - psi) / 2
+    return (ct * np.cos(a), st * np.cos(b), st * np.sin(b), ct * np.sin(a))
 
 
 def _qconj(q):
@@ -629,9 +675,10 @@ def _frame_quat(perm, sign):
 
 
 def attitude_at(o: Orbit, t, start=(1.0, 0.0, 0.0, 0.0)):
-    """The body's attitude at times ``t`` (s): a unit quaternion (w, x, y, z) as a numpy array
-    of shape ``broadcast + (4,)``, rotating body (user's axes) to lab coordinates, given the
-    attitude ``start`` at t = 0 (a quaternion, or an array of them ``(..., 4)``)."""
+    """The body's attitude at times ``t`` (s): a unit quaternion (w, x, y, z), ``w >= 0``, as a
+    numpy array of shape ``broadcast + (4,)``, rotating body (user's axes) to lab coordinates,
+    given the attitude ``start`` at t = 0 (a quaternion, or an array of them ``(..., 4)``;
+    returned exactly at t = 0)."""
     import numpy as np
 
     o = _as_np(o)
@@ -660,18 +707,27 @@ def attitude_at(o: Orbit, t, start=(1.0, 0.0, 0.0, 0.0)):
     # phi(t) - phi(0)
     n = np.asarray(o.n, dtype=float)
     r = np.asarray(o.r, dtype=float)
-    coef = np.where(r != 0, L * (Ic - Ia) / (Ic * Ia * np.where(r != 0, r, 1.0)), 0.0)
+    # a rate below 1e-100 (moments 1e-17 apart and more) turns tau by less than 1e-88 in any
+    # time allowed (|omega| t <= 1e12): there G(tau) - G(tau0) = G'(tau0) r t to the last bit,
+    # and dividing by r would overflow
+    slow = np.abs(r) < 1e-100
+    rs = np.where(slow, 1.0, r)
+    coef = L * (Ic - Ia) / (Ic * Ia * rs)
     Gt = _Gfun(o, s, c, d, q, nper, tau, np)
     G0 = _Gfun(o, s0, c0, d0, np.zeros_like(np.asarray(s0, dtype=float)),
                np.zeros_like(np.asarray(s0, dtype=float)), o.tau0, np)
-    dphi = L / Ia * ts + coef * (Gt - G0)
-    qm = _qmul(_qmul(_qmul(_qmul(_qaxis(-psi0, 2, np), _qaxis(-theta0, 0, np)),
-                           _qaxis(dphi, 2, np)), _qaxis(theta, 0, np)), _qaxis(psi, 2, np))
-    # back to the user's axes: conj(qP) * qm * qP, qP chosen per motion
+    slope = L * (Ic - Ia) / (Ic * Ia) * (1 / (1 - n * s0 * s0) - 1)  # r * coef * G'(tau0)
+    dphi = L / Ia * ts + np.where(slow, slope * ts, coef * (Gt - G0))
+    # q = q0 * conj(qP) * conj(E(0)) * E(t) * qP with E = Euler z-x-z (phi, theta, psi): the
+    # constant factors once per motion, E(t) by the closed form of a z-x-z rotation (two sines
+    # and cosines of half-angle sums) instead of three rotations and two products a time
     qc, qa = _frame_quat(o.perm_c, o.sign_c), _frame_quat(o.perm_a, o.sign_a)
     rev = np.asarray(o.rev)
     qP = tuple(np.where(rev, qa[k], qc[k]) for k in range(4))
-    qm = _qmul(_qmul(_qconj(qP), qm), qP)
+    q0 = np.asarray(start, dtype=float)
+    q0 = tuple(q0[..., k] for k in range(4))
+    left = _qmul(_qmul(q0, _qconj(qP)), _qconj(_zxz(np, 0.0, theta0, psi0)))
+    qm = _qmul(_qmul(left, _zxz(np, dphi, theta, psi)), qP)
     # stationary motions: a rotation about the (constant) omega by |omega| t
     st = np.asarray(o.stationary)
     if st.any():
@@ -682,12 +738,13 @@ def attitude_at(o: Orbit, t, start=(1.0, 0.0, 0.0, 0.0)):
         axis = w / np.where(wn > 0, wn, 1.0)[..., None]
         sh = np.sin(h)
         qs = (np.cos(h), axis[..., 0] * sh, axis[..., 1] * sh, axis[..., 2] * sh)
-        qm = tuple(np.where(st, qs[k], qm[k]) for k in range(4))
-    q0 = np.asarray(start, dtype=float)
-    q0 = tuple(q0[..., k] for k in range(4))
-    out = _qmul(q0, qm)
-    out = np.stack(np.broadcast_arrays(*out), axis=-1)
-    return out / np.linalg.norm(out, axis=-1, keepdims=True)
+        qm = tuple(np.where(st, _qmul(q0, qs)[k], qm[k]) for k in range(4))
+    out = np.stack(np.broadcast_arrays(*qm), axis=-1)
+    out = out / np.linalg.norm(out, axis=-1, keepdims=True)
+    # at t = 0 the start itself, exactly; then the sign with w >= 0 (q and -q are one attitude)
+    start_b = np.broadcast_to(np.stack(q0, axis=-1), out.shape)
+    out = np.where((np.broadcast_to(t, out.shape[:-1]) == 0)[..., None], start_b, out)
+    return np.where(out[..., :1] < 0, -out, out)
 
 
 def _Gfun(o, s, c, d, q, nper, tau, np):
@@ -803,6 +860,8 @@ def paper_frequency_shift(moments, omega, axis=None):
         axis = max(range(3), key=lambda i: abs(I[i] * w[i]))
     Ia, Ib, Ic, ia, ib = _extreme_frame(I, axis)
     p, q = (Ic - Ib) / (Ic - Ia), (Ib - Ia) / (Ic - Ia)
+    if q == 0:  # a symmetric top: regular precession, the frequency is Gamma exactly
+        return 0.0
     ea, eb = w[ia] / w[axis], w[ib] / w[axis]
     return q / (4 * Ic) * (Ib * eb * eb - Ia / p * ea * ea) + 0.0  # no -0.0
 
@@ -816,7 +875,8 @@ def flip_asymptote(moments, omega):
        \\rvert}, \\qquad \\lambda = \\omega_0 \\sqrt{\\frac{(I_c - I_b)(I_b - I_a)}{I_a I_c}},
 
     (a the smallest moment, c the largest), from :math:`T_{flip} = 2K(m)/|r|`,
-    :math:`K = \\frac12 \\ln(16/m_1) + O(m_1 \\ln m_1)`, :math:`|r| = \\lambda(1 + O(\\varepsilon^2))`
+    :math:`K = \\frac12 \\ln(16/m_1) + O(m_1 \\ln m_1)`,
+    :math:`|r| = \\lambda(1 + O(\\varepsilon^2))`
     and :math:`m_1 = (I_c - I_a)\\lvert\\dots\\rvert / (I_b (I_c - I_b)(I_b - I_a)) +
     O(\\varepsilon^4)`.  Relative error :math:`O(\\varepsilon^2)`; the flips are
     :math:`\\ln(1/\\varepsilon)/\\lambda` apart, the time a perturbation growing like
@@ -841,6 +901,13 @@ def flip_asymptote(moments, omega):
 
 
 # --------------------------------------------------------------------------- the summary
+
+
+def _overflow_inf(f):
+    try:
+        return f()
+    except (OverflowError, ZeroDivisionError):
+        return math.inf
 
 
 class Motion:
@@ -877,14 +944,17 @@ class Motion:
 def motion(moments, omega) -> Motion:
     """The summary of the free motion started with body angular velocity ``omega`` (rad/s
     about the axes of ``moments``): scalars only, computed with :mod:`math` (no numpy)."""
-    o = orbit(moments, omega)
-    I = o.moments
     w = tuple(float(v) for v in omega)
+    o = orbit(moments, w)  # on floats: no numpy
+    I = o.moments
     s = o.scale
     roles = _roles(I)
     spin_axis = max(range(3), key=lambda i: (abs(I[i] * w[i]), -i))
-    energy = sum(I[i] * (w[i] / s) ** 2 for i in range(3)) * s * s / 2 if s else 0.0
-    momentum = math.sqrt(sum((I[i] * w[i] / s) ** 2 for i in range(3))) * s if s else 0.0
+    energy = momentum = 0.0
+    if s:
+        energy = _overflow_inf(lambda: sum(I[i] * (w[i] / s) ** 2 for i in range(3)) * s * s / 2)
+        momentum = _overflow_inf(
+            lambda: math.sqrt(sum((I[i] * w[i] / s) ** 2 for i in range(3))) * s)
     out = Motion(moments=I, omega0=w, spin_axis=spin_axis, role=roles[spin_axis], m=o.m,
                  m1=o.m1, energy=energy, momentum=momentum)
     if s == 0:
@@ -942,7 +1012,9 @@ def motion(moments, omega) -> Motion:
             out.gamma_shift = 0.0
         elif out.axis == spin_axis:
             out.gamma_shift = out.frequency / out.gamma - 1
-        out.gamma_shift_2 = paper_frequency_shift(I, w, spin_axis)
+        shift = paper_frequency_shift(I, w, spin_axis)
+        # a perturbation beyond the double range (inf - inf) has no second-order term to give
+        out.gamma_shift_2 = shift if math.isfinite(shift) else None
     if out.gamma_kind == "growth":
         out.flip_asymptote = flip_asymptote(I, w)
     return out
@@ -1043,7 +1115,7 @@ def catch(moments, sides, omega, t, start, rule="centre"):
 
     w = np.asarray(omega, dtype=float)
     tt = np.asarray(t, dtype=float)
-    check_phase(np.abs(w).max(axis=-1) * np.sqrt(3) * tt)
+    check_phase(np.abs(w).max(axis=-1) * (np.sqrt(3) * tt))  # 1e308 * 0 is 0, not inf * 0
     o = orbit(moments, w)
     q = attitude_at(o, tt, start)
     return face_up(up_vector(q), sides, rule)

@@ -14,7 +14,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-__all__ = ["Canvas", "text_sides", "text_psi", "text_map", "text_phase", "plot_size", "emit"]
+__all__ = ["Canvas", "text_sides", "text_psi", "text_map", "text_phase", "phase_text",
+           "phase_title", "plot_size", "emit"]
 
 OUTCOME_STYLE = {"heads": "bold #0072B2", "sides": "bold #D55E00", "tails": "bold #009E73"}
 OUTCOME_CHAR = {"heads": "H", "sides": "S", "tails": "T"}
@@ -174,9 +175,19 @@ def emit(text, out=None) -> None:
     # bold, italic, dim and reverse; no colour system at all means no escape codes at all, as
     # the tables do (coincli.cli._common).  The width is given: rich reads COLUMNS itself, and
     # COLUMNS=0 made it print nothing.
+    # On a terminal, titles, legends and notes wrap at words to its width (the plot itself is
+    # sized to fit); in a pipe nothing is wrapped.
+    import sys
+
+    stream = out if out is not None else sys.stdout
+    try:
+        on_terminal = stream.isatty()
+    except (AttributeError, ValueError):
+        on_terminal = False
     plain = not colour_allowed()
-    console = Console(file=out, highlight=False, soft_wrap=True, emoji=False, markup=False,
-                      color_system=None if plain else "auto", width=terminal_width(out))
+    console = Console(file=out, highlight=False, soft_wrap=not on_terminal, emoji=False,
+                      markup=False, color_system=None if plain else "auto",
+                      width=terminal_width(stream))
     console.print(text, end="")
 
 
@@ -251,8 +262,11 @@ def text_sides(data, cols: int, rows: int):
         cv.point(e.xi, e.frequency, "o", "bold #E69F00", layer=5)
     if data.experiments:
         n = len(data.experiments)
-        legend.append(("o", "bold #E69F00", f"your tosses ({n} row{'s' if n > 1 else ''}): "
-                       "frequency of sides, | = 95% Wilson interval"))
+        from coincli.plot import tosses_label
+
+        legend.append(("o", "bold #E69F00", f"{tosses_label(data.experiments)} ({n} "
+                       f"row{'s' if n > 1 else ''}): frequency of sides, | = 95% Wilson "
+                       "interval"))
     return cv.render(
         title="coin plot sides: chance of landing on a side (Fig. 5a)",
         xlabel="aspect ratio xi = h/D (thickness / diameter)" + (", log scale" if data.log
@@ -338,36 +352,191 @@ def text_map(data, cols: int, rows: int):
         legend=legend, notes=list(getattr(data, "skipped", ())))
 
 
-def text_phase(data, cols: int, rows: int):
-    """Fig. 3 as text: the outcome of each (u, omega) cell."""
+
+#: Cell colours of the phase picture: mid-tone blocks (Okabe-Ito blue, vermillion, bluish
+#: green, the outcome colours of the other text plots) that stand out on a dark terminal as on
+#: a light one; a boundary is a white dot on them, a marked toss a white X.
+PHASE_BLOCK = {"heads": "on #0072B2", "sides": "on #D55E00", "tails": "on #009E73"}
+PHASE_DOT = "bold #FFFFFF"
+
+
+def _phase_curve_marks(data, np):
+    """Boolean (rows, cols): the cells a boundary curve passes through, in the columns where it
+    is at least two rows from its neighbours (denser curves would only paint every cell)."""
+    u = np.asarray(data.u, dtype=float)
+    (u0, u1), (w0, w1) = data.u_range, data.omega_range
+    nw, nu = np.asarray(data.outcome).shape
+    marks = np.zeros((nw, nu), dtype=bool)
+    curves = sorted(data.curves, key=lambda b: b.phase)
+    if not curves:
+        return marks
+    edges = u0 + (u1 - u0) / nu * np.arange(nu + 1)
+    dw = (w1 - w0) / nw
+    stack = np.array([np.asarray(b.omega, dtype=float) for b in curves])  # (curves, nu)
+    with np.errstate(invalid="ignore"):
+        gap = np.full(stack.shape, np.inf)
+        if len(curves) > 1:
+            d = np.abs(np.diff(stack, axis=0))
+            gap[:-1] = np.fmin(gap[:-1], d)
+            gap[1:] = np.fmin(gap[1:], d)
+    for k, b in enumerate(curves):
+        if b.phase <= 0:
+            continue
+        with np.errstate(divide="ignore", invalid="ignore"):
+            # omega(u) sampled at the cell centres: its range over each column, from the values
+            # interpolated at the column's edges.
+            w_c = np.asarray(b.omega, dtype=float)
+            w_e = np.interp(edges, u, w_c, left=np.nan, right=np.nan)
+            w_e[0] = w_c[0] if not np.isfinite(w_e[0]) else w_e[0]
+            w_e[-1] = w_c[-1] if not np.isfinite(w_e[-1]) else w_e[-1]
+            lo = np.fmin(w_e[:-1], w_e[1:])
+            hi = np.fmax(w_e[:-1], w_e[1:])
+            lo = np.where(np.isfinite(lo), lo, w_c)
+            hi = np.where(np.isfinite(hi), hi, w_c)
+            r0 = np.floor((lo - w0) / dw)
+            r1 = np.floor((hi - w0) / dw)
+        for j in range(nu):
+            if not (np.isfinite(r0[j]) and np.isfinite(r1[j])) or not gap[k, j] >= 2 * dw:
+                continue
+            a, z = int(max(r0[j], 0)), int(min(r1[j], nw - 1))
+            if a <= z:
+                marks[a:z + 1, j] = True
+    return marks
+
+
+def _round_ticks(lo: float, hi: float, cells: int, spacing: int):
+    """Round values in [lo, hi] (1, 2, 2.5, 5 x 10^k steps), about one per ``spacing`` cells,
+    each with the cell (0-based from ``lo``) that holds it; one tick a cell."""
+    n = max(2, cells // max(spacing, 1) + 1)
+    out, used = [], set()
+    width = (hi - lo) / cells
+    for v, label in _ticks(lo, hi, False, n):
+        c = min(max(math.floor((v - lo) / width + 1e-9), 0), cells - 1)
+        if c not in used:
+            used.add(c)
+            out.append((c, label))
+    return out
+
+
+def phase_text(data, *, colour: bool, title: str, width: int | None = None):
+    """Fig. 3 in the terminal: one character a cell of ``data`` (:class:`coincli.plot.PhaseData`),
+    rows of omega (high at the top) by columns of u, round ticks on both axes.
+
+    ``colour``: coloured blocks (:data:`PHASE_BLOCK`), boundaries as dots, returned as a
+    :class:`rich.text.Text`; otherwise letters ``H S T`` (lower case where a boundary passes)
+    as a plain ``str``, so that a pipe needs no rich.  The legend wraps at ``width`` columns
+    (at least the picture's).
+    """
     import numpy as np
 
-    u = np.asarray(data.u, dtype=float)
-    om = np.asarray(data.omega, dtype=float)
-    cv = Canvas(cols, rows, (float(u[0]), float(u[-1])), (float(om[0]), float(om[-1])))
-    names = ("heads", "sides", "tails")
     codes = np.asarray(data.outcome)
-    for i, w in enumerate(om.tolist()):
-        r = cv.row(w)
-        for j, x in enumerate(u.tolist()):
-            c = cv.col(x)
-            if c is None or r is None or codes[i, j] < 0:
-                continue
-            name = names[int(codes[i, j])]
-            cv.put(c, r, OUTCOME_CHAR[name], OUTCOME_STYLE[name], 1)
-    f, v = data.fractions, data.vigorous
-    legend = [(OUTCOME_CHAR[n], OUTCOME_STYLE[n],
-               f"{n}: {getattr(f, n):.1%} of the plotted cells "
-               f"(vigorous limit {getattr(v, n):.3f})")
-              for n in names]
+    nw, nu = codes.shape
+    (u0, u1), (w0, w1) = data.u_range, data.omega_range
+    marks = _phase_curve_marks(data, np)
+    names = ("heads", "sides", "tails")
+    yt = {nw - 1 - r: s for r, s in _round_ticks(w0, w1, nw, 4)}  # row index from the top
+    lw = max([len(s) for s in yt.values()] + [1])
+    du, dw = (u1 - u0) / nu, (w1 - w0) / nw
+    toss_cells = {}
     for mu, mo in data.marks:
-        cv.point(mu, mo, "X", DESIGN_STYLE, layer=7)
+        if u0 <= mu <= u1 and w0 <= mo <= w1:
+            toss_cells[(nw - 1 - min(int((mo - w0) / dw), nw - 1),
+                        min(int((mu - u0) / du), nu - 1))] = True
+    segs = []  # (text, style) pieces; "\n" ends a line
+
+    def put(text, style=""):
+        segs.append((text, style))
+
+    put(title + "\n")
+    put("omega (rad/s)\n")
+    for i in range(nw):
+        r = nw - 1 - i  # the grid's row of omega, from the bottom
+        lab = yt.get(i)
+        put(lab.rjust(lw) + " +" if lab is not None else " " * lw + " |")
+        row = codes[r]
+        if colour:
+            j = 0
+            while j < nu:  # runs of one style make short output
+                code, on = int(row[j]), bool(marks[r, j]) or (i, j) in toss_cells
+                k = j + 1
+                while k < nu and int(row[k]) == code and not marks[r, k] and (i, k) not in \
+                        toss_cells and not on:
+                    k += 1
+                if on:
+                    ch = "X" if (i, j) in toss_cells else "•"
+                    put(ch, f"{PHASE_DOT} {PHASE_BLOCK[names[code]]}")
+                else:
+                    put(" " * (k - j), PHASE_BLOCK[names[code]])
+                j = k
+        else:
+            line = []
+            for j in range(nu):
+                ch = OUTCOME_CHAR[names[int(row[j])]]
+                line.append("X" if (i, j) in toss_cells else (ch.lower() if marks[r, j]
+                                                               else ch))
+            put("".join(line))
+        put("\n")
+    xt = _round_ticks(u0, u1, nu, 10)
+    axis = ["-"] * nu
+    labels = [" "] * nu
+    for c, s in xt:
+        axis[c] = "+"
+        start = min(max(c - len(s) // 2, 0), nu - len(s))
+        if start < 0 or any(ch != " " for ch in labels[max(start - 1, 0):start + len(s) + 1]):
+            continue
+        labels[start:start + len(s)] = list(s)
+    put(" " * lw + " +" + "".join(axis) + "\n")
+    put(" " * (lw + 2) + "".join(labels).rstrip() + "\n")
+    put(" " * (lw + 2) + "u (m/s)".center(nu).rstrip() + "\n")
+    f, v = data.fractions, data.vigorous
+    src = "exact t_f" if data.exact_curves else "eq. 10"
+    items = []  # legend entries: (key text, key style, words)
+    for n in names:
+        key = "  " if colour else OUTCOME_CHAR[n]
+        items.append((key, PHASE_BLOCK[n] if colour else "", f" {n} {getattr(f, n):.1%}"))
+    if data.curves:
+        items.append(("•" if colour else "h/s/t", PHASE_DOT if colour else "",
+                      f" boundary ({src})"))
     if data.marks:
-        legend.append(("X", DESIGN_STYLE, "your toss: " + ", ".join(
-            f"u = {mu:.4g} m/s, omega = {mo:.4g} rad/s" for mu, mo in data.marks)))
-    (lo_u, hi_u), (lo_w, hi_w) = data.u_range, data.omega_range
-    return cv.render(
-        title=f"coin plot phase: outcome over launch speed and spin, xi = {data.xi:.4g}, "
-              f"psi = {data.psi_deg:.4g} deg (Fig. 3)",
-        xlabel="launch speed u (m/s)", ylabel="precession rate omega (rad/s)",
-        xticks=_ticks(lo_u, hi_u, False), yticks=_ticks(lo_w, hi_w, False), legend=legend)
+        items.append(("X", "", " your toss" + ("" if len(data.marks) == 1 else "es")))
+    width = max(int(width or 0), lw + 2 + nu, 20)  # the picture's own width at least
+    used = 0
+    for key, style, words in items:
+        size = 2 + len(key) + len(words)
+        if used and used + size > width:
+            put("\n")
+            used = 0
+        put("  ")
+        put(key, style)
+        put(words)
+        used += size
+    put("\n")
+    put(f"  vigorous limit (Table I): heads {v.heads:.3f}, sides {v.sides:.3f}, "
+        f"tails {v.tails:.3f}\n")
+    if not colour:
+        return "".join(t for t, _ in segs)
+    from rich.text import Text
+
+    out = Text()
+    for t, style in segs:
+        out.append(t, style=style or None)
+    return out
+
+
+def text_phase(data, cols: int, rows: int, contact: str = "rim"):
+    """``coin plot phase --terminal``: the picture of ``coin phase`` (:func:`phase_text`),
+    coloured when stdout is a terminal without NO_COLOR."""
+    import os
+    import sys
+
+    try:
+        colour = sys.stdout.isatty() and not os.environ.get("NO_COLOR")
+    except (AttributeError, ValueError):
+        colour = False
+    return phase_text(data, colour=colour, title=phase_title(data, contact))
+
+
+def phase_title(data, contact: str = "rim") -> str:
+    """The title of the phase picture, the same for ``coin phase`` and ``coin plot phase``."""
+    return (f"Fig. 3: outcome over (u, omega); xi = {data.xi:.6g}, psi = {data.psi_deg:.6g} "
+            f"deg, {contact} contact")

@@ -116,10 +116,14 @@ def test_a_psi_table_of_dev_zero_is_refused_as_a_device(argv):
 
 @pytest.mark.skipif(shutil.which("yes") is None, reason="no `yes` command")
 def test_an_endless_pipe_of_values_stops_at_the_byte_cap():
-    # `yes 0.5` never ends: coin reads MAX_STDIN_BYTES + 1 bytes, no more, and names the limit
-    result = _process(["design", "-p", "-", "-q"], shell_input="yes 0.5", timeout=120)
+    # an endless pipe of long lines: coin reads MAX_STDIN_BYTES + 1 bytes, no more, and names
+    # the limit (10^7 of these lines would be 400 MB)
+    result = _process(["design", "-p", "-", "-q"], shell_input="yes 0." + "1" * 37, timeout=120)
     _error(result, 2, "--p-sides: stdin is larger than 300 MB", f"{MAX_STDIN_LINES} values",
            f"{MAX_STDIN_BYTES} bytes")
+    # `yes 0.5` never ends either: it reaches the value limit first (40 MB), and stops there
+    result = _process(["design", "-p", "-", "-q"], shell_input="yes 0.5", timeout=120)
+    _error(result, 2, f"--p-sides: stdin has more than {MAX_STDIN_LINES} values")
 
 
 def test_too_many_values_are_refused_before_the_lines_are_split():

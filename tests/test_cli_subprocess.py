@@ -232,3 +232,37 @@ def test_terminal_gets_a_rich_table_and_no_color_removes_every_escape():
     assert "\x1b[" in styled and "geometric" in styled
     plain = on_a_terminal({"NO_COLOR": "1"})
     assert "\x1b" not in plain and "geometric" in plain and "0.499772" in plain
+
+
+# The real-toss commands need typer and numpy only: one vectorized root refinement (no
+# scipy.optimize), truncated normals and the vigorous limit without scipy, and a picture that
+# is plain text in a pipe (no rich); never matplotlib without --out.
+TOSS_COMMANDS = [
+    ["toss", "--xi", "0.577", "--psi", "90", "--u", "2", "--omega", "40"],
+    ["toss", "--xi", "0.577"],
+    ["toss", "--coin", "quarter", "--psi", "90", "--u", "240cm/s", "--omega", "38:40:1rev/s",
+     "-f", "csv"],
+    ["toss", "--xi", "0.577", "--psi", "90", "--u", "2", "--omega", "40", "-q"],
+    ["simulate", "--xi", "0.577", "-n", "2000", "--seed", "1"],
+    ["simulate", "--xi", "0.577", "-n", "2000", "--seed", "1", "--psi-dist", "cosine", "-f",
+     "json"],
+    ["simulate", "--xi", "0.577", "-n", "2000", "--seed", "1", "--u", "normal:-5:1", "--omega",
+     "uniform:30:40", "--psi-dist", "normal:80:5"],
+    ["simulate", "--xi", "0.577", "-n", "50", "--seed", "1", "--psi", "90", "--stream"],
+    ["phase", "--cols", "30", "--rows", "8"],
+    ["phase", "--cols", "5", "--rows", "5", "-f", "csv"],
+]
+
+_TOSS_PROBE = _PROBE.replace('("numpy", "scipy", "rich")', '("scipy", "rich", "matplotlib")')
+
+
+def test_toss_simulate_phase_import_neither_scipy_nor_rich_nor_matplotlib():
+    assert _TOSS_PROBE != _PROBE
+    p = subprocess.run([sys.executable, "-c", _TOSS_PROBE, json.dumps(TOSS_COMMANDS)],
+                       capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr
+    report = json.loads(p.stderr.strip().splitlines()[-1])
+    assert "\x1b" not in p.stdout  # piped: no colour codes
+    for argv, code, loaded in report:
+        assert code == 0, argv
+        assert loaded == [], f"coin {' '.join(argv)} imported {loaded}"

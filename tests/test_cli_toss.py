@@ -10,6 +10,7 @@ import csv
 import io
 import json
 import math
+import re
 import subprocess
 import sys
 
@@ -108,8 +109,23 @@ def test_toss_bad_input_is_one_line_exit_2(coin, argv, words):
     _error(coin("toss", *args), 2, *words)
 
 
-def test_toss_missing_option_is_usage(coin):
-    _error(coin("toss", "--xi", "0.5", "--psi", "90", "--u", "2"), 2, "--omega")
+def test_toss_draws_what_is_missing_from_a_hand_toss_and_reports_the_seed(coin):
+    # was a usage error naming --omega; now a realistic hand toss fills the gap
+    out = _ok(coin("toss", "--xi", "0.5", "--psi", "90", "--u", "2", "--seed", "4", "-f", "csv"))
+    row = next(csv.DictReader(io.StringIO(out)))
+    assert row["seed"] == "4" and row["psi_deg"] == "90.0" and row["u"] == "2.0"
+    rng = np.random.default_rng(4)
+    w = T.HAND_TOSS["omega"].sample(rng, 1)
+    assert float(row["omega"]) == float(w[0])
+    assert _ok(coin("toss", "--xi", "0.5", "--psi", "90", "--u", "2", "--seed", "4", "-f",
+                    "csv")) == out  # the same seed, the same bytes
+    human = _ok(coin("toss", "--xi", "0.5"))
+    assert "Drawn from a hand toss (Diaconis, Holmes & Montgomery 2007)" in human
+    seed = int(human.split("; seed ")[1].split()[0])
+    again = _ok(coin("toss", "--xi", "0.5", "--seed", str(seed)))
+    assert again == human
+    _error(coin("toss", "--xi", "0.5", "--psi", "90", "--u", "2", "--omega", "40", "--seed",
+                "1"), 2, "--seed seeds what is drawn")
 
 
 # --------------------------------------------------------------------------- coin simulate
@@ -192,7 +208,7 @@ def test_simulate_quiet_gives_the_three_frequencies(coin):
     (["-n", "1.5"], ["-n"]),
     (["--seed", "-3"], ["--seed"]),
     (["--g", "0"], ["--g"]),
-    (["--xi", "0.1,0.2"], ["one --xi"]),
+    (["--xi", "0.1,0.2"], ["--xi must be a finite number >= 0"]),
     (["--stream", "--format", "csv"], ["--stream"]),
 ])
 def test_simulate_bad_input_is_one_line_exit_2(coin, argv, words):
@@ -213,8 +229,12 @@ def test_simulate_bad_input_is_one_line_exit_2(coin, argv, words):
     _error(coin("simulate", *args), 2, *words)
 
 
-def test_simulate_needs_a_psi(coin):
-    _error(coin(*SIM, "-n", "10"), 2, "--psi")
+def test_simulate_without_psi_draws_the_hand_toss(coin):
+    out = _ok(coin(*SIM, "-n", "10", "--seed", "1"))
+    assert "psi ~ normal:90:10 deg (hand toss, Diaconis, Holmes & Montgomery 2007: psi)" in out
+    out = _ok(coin("simulate", "--xi", "0.577", "-n", "10", "--seed", "1", "-f", "json"))
+    rows = json.loads(out)
+    assert [r["seed"] for r in rows] == [1, 1, 1] and sum(r["count"] for r in rows) == 10
 
 
 def test_simulate_stream_survives_a_closed_pipe():
@@ -244,16 +264,22 @@ def test_phase_csv_is_phase_map(coin):
 
 def test_phase_text_in_a_pipe_is_letters_with_legend(coin):
     out = _ok(coin("phase", "--cols", "40", "--rows", "12"))
-    grid = [line[8:48] for line in out.splitlines()[1:13]]
+    lines = out.splitlines()
+    grid = [line[4:44] for line in lines[2:14]]
     assert all(len(g) == 40 and set(g) <= set("HSThst") for g in grid)
     assert grid[-1].upper().startswith("H")  # the strip next to the omega = 0 axis: heads
     assert "H heads" in out and "S sides" in out and "T tails" in out
-    assert "eq. (10)" in out and "Vigorous limit" in out
+    assert "eq. 10" in out and "vigorous limit" in out
+    # round ticks: 0 to 60 rad/s in steps of 20 on the left, 0 to 3 m/s below
+    assert [line[:4] for line in lines[2:14] if line[:4] != "   |"] == \
+        ["60 +", "40 +", "20 +", " 0 +"]
+    assert lines[14] == "   ++" + "-" * 12 + "+" + "-" * 12 + "+" + "-" * 12 + "+"
+    assert lines[15].split() == ["0", "1", "2", "3"]
     plain = _ok(coin("phase", "--cols", "40", "--rows", "12", "--no-curves"))
-    assert not any(c in "hst" for line in plain.splitlines()[1:13] for c in line[8:48])
+    assert not any(c in "hst" for line in plain.splitlines()[2:14] for c in line[4:44])
     # the letters are the map, whatever the marks
     pm = T.phase_map(0.5773502691896257, math.pi / 2, (0, 3), (0, 60), (40, 12))
-    top = plain.splitlines()[1][8:48]
+    top = plain.splitlines()[2][4:44]
     assert top == "".join(T.LETTERS[c] for c in pm.codes[-1])
 
 
@@ -264,6 +290,14 @@ def test_phase_colour_on_a_terminal(coin, monkeypatch):
     monkeypatch.delenv("NO_COLOR", raising=False)
     out = _ok(coin("phase", "--cols", "30", "--rows", "10"))
     assert "\x1b[" in out and "heads" in out and "boundary" in out
+    # mid-tone blocks, never a black or a white one (sides were black: invisible on a dark
+    # terminal), whatever the colour system rich finds
+    import re
+
+    backs = set(re.findall(r"\x1b\[(?:[0-9;]*;)?(4[0-7]|10[0-7]|48;5;[0-9]+|48;2;[0-9;]+)m",
+                           out))
+    assert backs and not backs & {"40", "47", "100", "107", "48;5;0", "48;5;16", "48;5;231",
+                                  "48;5;15"}
     monkeypatch.setenv("NO_COLOR", "1")
     out = _ok(coin("phase", "--cols", "30", "--rows", "10"))
     assert "\x1b[" not in out
@@ -273,8 +307,9 @@ def test_phase_figure_file(coin, tmp_path):
     pytest.importorskip("matplotlib")
     for ext in ("png", "svg"):
         path = tmp_path / f"phase.{ext}"
-        _ok(coin("phase", "--u", "0:3", "--omega", "0:60", "--cols", "60", "--rows", "60",
-                 "--out", str(path)))
+        rc, out, err = coin("phase", "--u", "0:3", "--omega", "0:60", "--cols", "60", "--rows",
+                            "60", "--out", str(path))
+        assert rc == 0 and out == "" and err.startswith(f"coin: wrote {path} (")
         assert path.stat().st_size > 1000
     _error(coin("phase", "--out", str(tmp_path / "phase.txt")), 2, "--out")
     _error(coin("phase", "--out", str(tmp_path / "p.png"), "--format", "csv"), 2, "--out")
@@ -401,10 +436,11 @@ def test_g_states_its_open_interval(coin, cmd):
 
 @pytest.mark.parametrize("cmd", ["toss", "simulate", "phase"])
 def test_diameter_out_of_range_speaks_mm(coin, cmd):
-    args = BASE if cmd != "phase" else ["--format", "csv"]
+    args = BASE if cmd != "phase" else ["--xi", "0.577", "--format", "csv"]
     # was: "diameter must be in (0, 1e+100] m, got 1e+297"
     _error_without(coin(cmd, *args, "--diameter", "1e300"), 2,
-                   ["--diameter must be a length from 1e-300 mm to 1e+103 mm, got '1e300'"],
+                   ["--diameter must be a length from 1e-300 mm to 1e103 mm (1e100 m), got "
+                    "'1e300'"],
                    ["1e+297", "] m"])
     _error(coin(cmd, *args, "--diameter", "5e-324"), 2, "--diameter", "1e-300 mm")
 
@@ -418,16 +454,18 @@ def test_thick_z0_and_xi_messages_name_the_option_in_mm(coin):
     # was: "xi must be in [0, 1e+100], got 1e+200"
     for cmd in ("toss", "simulate"):
         _error(coin(cmd, *BASE[2:], "--xi", "1e200", "--contact", "thick"), 2,
-               "--xi must be from 0 to 1e+100 with --contact thick", "'1e200'")
+               "--xi must be at most 1e100 with --contact thick", "1e+200")
 
 
 def test_phase_range_errors_name_the_option_and_the_typed_range(coin):
     # was: "u must be in [0, 1e+08] m/s, got 105633802.81690142" (a grid cell's value)
     _error_without(coin("phase", "--xi", "0.577", "--psi", "90", "--u", "0:1e9", "--omega",
-                        "0:1e9"), 2, ["--u must be LOW:HIGH", "<= 1e+08", "'0:1e9'"],
+                        "0:1e9"), 2, ["--u must be LOW:HIGH", "<= 1e8", "'0:1e9'"],
                    ["105633802"])
-    _error_without(coin("phase", "--u", "0:3", "--omega", "0:1e14", "--format", "csv"), 2,
-                   ["--omega (got 0:1e14 rad/s) or --u (got 0:3 m/s)",
+    _error(coin("phase", "--u", "0:3", "--omega", "0:1e14", "--format", "csv"), 2,
+           "--omega must be LOW:HIGH", "<= 1e12", "'0:1e14'")
+    _error_without(coin("phase", "--u", "0:1e8", "--omega", "0:1e12", "--format", "csv"), 2,
+                   ["lower --omega (got 0:1e12) or --u (got 0:1e8)",
                     "top of the --u and --omega ranges"], ["2.94118e+12"])
 
 
@@ -442,8 +480,8 @@ def test_a_range_over_the_row_limit_reports_its_exact_count(coin):
 def test_xi_says_what_is_allowed(coin, cmd, xi):
     args = ["--psi", "90", "--u", "2", "--omega", "38"] if cmd != "phase" else []
     # was: "--xi must be a number, got 'inf'"
-    _error(coin(cmd, "--xi", xi, *args), 2, f"--xi must be a finite number >= 0 (h/D), got "
-           f"{xi!r}")
+    _error(coin(cmd, "--xi", xi, *args), 2, f"--xi must be a finite number >= 0 like 0.577 "
+           f"or 17/30, got {xi!r}")
 
 
 def test_toss_stdin_of_an_overflowing_number_is_refused_by_name(coin):
@@ -459,7 +497,8 @@ def test_ctrl_c_in_simulate_says_interrupted(coin, monkeypatch, stream):
         raise KeyboardInterrupt
 
     monkeypatch.setattr(T, "simulate_chunks", interrupted)
-    rc, out, err = coin("simulate", "-n", "1000", *BASE, *(["--stream"] if stream else []))
+    rc, out, err = coin("simulate", "-n", "1000", "--seed", "3", *BASE,
+                        *(["--stream"] if stream else []))
     assert rc == 130 and err == "coin: error: interrupted\n"
     assert out == ("H\nH\nH\n" if stream else "")
 
@@ -473,3 +512,70 @@ def test_importing_the_command_module_loads_no_numpy_scipy_rich():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          timeout=60)
     assert out.stdout.strip() == "[]", out.stdout + out.stderr
+
+
+# --------------------------------------------------------------------------- extremes
+
+_EXTREME_TOSS = [
+    ["--xi", "1e-300", "--psi", "0", "--u", "5e-324", "--omega", "1e12"],
+    ["--xi", "1e300", "--psi", "180", "--u", "1e8", "--omega", "5e-324"],
+    ["--xi", "0", "--psi", "179.9999999", "--u", "100000km/s", "--omega", "1e-300"],
+    ["--xi", "1e100", "--psi", "90", "--u", "0", "--omega", "1e6", "--contact", "thick"],
+    ["--xi", "0.577", "--psi", "1e-300", "--u", "1e-300cm/s", "--omega", "1e300rpm"],
+    ["--xi", "0.577", "--psi", "90", "--u", "2", "--omega", "40", "--g", "1e-300"],
+    ["--xi", "0.577", "--psi", "90", "--u", "2", "--omega", "40", "--g", "1e100"],
+    ["--xi", "0.5", "--diameter", "1e-300", "--psi", "45", "--u", "1e-6", "--omega", "1e6"],
+    ["--xi", "0.5", "--diameter", "1e103", "--psi", "45", "--u", "2", "--omega", "1e-6"],
+    ["--xi", "0.577", "--psi", "90", "--u", "2", "--omega", "40", "--z0", "1e-300"],
+    ["--xi", "0.577", "--psi", "90", "--u", "2", "--omega", "40", "--z0", "1e300"],
+    ["--xi", "1e-300"],
+]
+_EXTREME_SIMULATE = [
+    ["--xi", "1e-300", "--u", "normal:5e-324:5e-324", "--omega", "1e-300"],
+    ["--xi", "0.05"],  # a thin coin, the hand toss's narrow normal psi
+    ["--xi", "1e-20", "--u", "1e8", "--omega", "normal:1e6:1e6", "--g", "1e100"],
+    ["--xi", "1e300", "--u", "uniform:1e-300:2e-300", "--omega", "uniform:0:1e300", "--g", "1e-300"],
+    ["--xi", "0.577", "--psi-dist", "normal:0:1e-300"],
+    ["--xi", "0.577", "--psi-dist", "uniform:179:180", "--u", "normal:-1e300:1e300"],
+    ["--xi", "0.577", "--psi", "180", "--omega", "normal:0:5e-324", "--contact", "thick"],
+]
+_EXTREME_PHASE = [
+    ["--u", "0:1e8", "--omega", "0:1e-6"], ["--u", "1e-300:2e-300"], ["--psi", "0"],
+    ["--psi", "180", "--contact", "thick", "--xi", "1e100"], ["--xi", "1e300"],
+    ["--g", "1e-300"], ["--g", "1e100"], ["--xi", "0.5", "--diameter", "1e-300"],
+    ["--cols", "2", "--rows", "2"], ["--omega", "1e11:1e12", "--u", "1e7:1e8"],
+    ["--toss", "1e300:1e300"], ["--exact", "--u", "0:1e8", "--omega", "0:1"],
+]
+
+
+@pytest.mark.parametrize("argv", [["toss", *a] for a in _EXTREME_TOSS]
+                         + [["simulate", "-n", "300", "--seed", "1", *a] for a in _EXTREME_SIMULATE]
+                         + [["phase", *a] for a in _EXTREME_PHASE])
+@pytest.mark.parametrize("fmt", [["-f", "csv"], []])
+def test_every_option_at_its_extremes_prints_no_nan_or_one_line(coin, argv, fmt):
+    rc, out, err = coin(*argv, *fmt)
+    if rc == 0:
+        assert not re.search(r"\b(nan|inf)\b", out, re.I), out[-400:]
+    else:
+        assert rc == 2 and out == "" and err.startswith("coin: error: "), (rc, err)
+        assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+
+
+def test_a_drawn_seed_is_reported_and_repeats_the_same_bytes(coin):
+    # simulate: the note, the csv column, stderr with -q and --stream
+    human = _ok(coin("simulate", "--xi", "0.577", "-n", "500"))
+    seed = human.split(" tosses, seed ")[1].split(":")[0]
+    assert _ok(coin("simulate", "--xi", "0.577", "-n", "500", "--seed", seed)) == human
+    rc, out, err = coin("simulate", "--xi", "0.577", "-n", "500", "-f", "csv")
+    assert rc == 0 and out.splitlines()[0].endswith(",seed")
+    seed = out.splitlines()[1].rsplit(",", 1)[1]
+    assert _ok(coin("simulate", "--xi", "0.577", "-n", "500", "-f", "csv", "--seed", seed)) == out
+    for extra in (["-q"], ["--stream"]):
+        rc, out, err = coin("simulate", "--xi", "0.577", "-n", "20", *extra)
+        assert rc == 0 and err.startswith("coin: seed ") and "repeats this run" in err
+        seed = err.split()[2]
+        assert _ok(coin("simulate", "--xi", "0.577", "-n", "20", "--seed", seed, *extra)) == out
+    # toss: only when something is drawn
+    rc, out, err = coin("toss", "--xi", "0.577", "-q")
+    assert rc == 0 and out.strip() in ("heads", "sides", "tails") and err.startswith("coin: seed")
+    assert coin("toss", "--xi", "0.577", "--psi", "90", "--u", "2", "--omega", "40", "-q")[2] == ""

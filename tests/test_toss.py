@@ -341,7 +341,7 @@ def test_vectorized_broadcasts_and_keeps_shape():
 
 def test_vectorized_chunks_agree_with_one_batch():
     rng = np.random.default_rng(9)
-    n = T._CHUNK + 1000
+    n = T._BATCH + 1000
     c = T.sample_conditions(n, rng, u="normal:2.4:0.3", omega="normal:38:4", psi="normal:1.5:0.2")
     v = T.toss_many(FAIR, c["psi"], c["u"], c["omega"])
     w = T.toss_many(FAIR, c["psi"][-1000:], c["u"][-1000:], c["omega"][-1000:])
@@ -702,3 +702,11 @@ def test_simulate_counts_are_capped():
     for n in (0, T.MAX_TOSSES + 1, 10**10):
         with pytest.raises(ValueError, match="n must be a whole number from 1 to 100000000"):
             next(T.simulate_chunks(n, 1, xi=FAIR, u=2.0, omega=40.0, psi=1.0))
+
+
+def test_toss_many_takes_one_element_arrays():
+    """numpy 2.4 refuses float() of a 1-element array that is not 0-d: one toss as arrays of
+    length 1 (as coincli.bounce passes a block of one) is the scalar toss."""
+    one = T.toss_many(np.array([0.5]), np.array([1.5]), np.array([2.0]), np.array([38.0]))
+    assert one.t_f.shape == (1,)
+    assert float(one.t_f[0]) == T.toss_many(0.5, 1.5, 2.0, 38.0).t_f

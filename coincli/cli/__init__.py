@@ -292,12 +292,44 @@ def _plain_help(text):
 
     text = text.replace("\\[", "[")
     paras = re.split(r"\n\s*\n", text)
-    for k, para in enumerate(paras):
+    out = []
+    k = 0
+    while k < len(paras):
+        para = paras[k]
         body = " ".join(para.split())
-        if body.startswith("Examples:") and not para.startswith("\b"):
-            examples = [e.strip() for e in re.split(r"\s;\s+", body[len("Examples:"):])]
-            paras[k] = "\b\nExamples:\n" + "\n".join(f"  {e}" for e in examples if e)
-    return "\n\n".join(paras)
+        k += 1
+        if not body.startswith("Examples:") or para.startswith("\b"):
+            out.append(para)
+            continue
+        examples = [e.strip() for e in re.split(r"\s;\s+", body[len("Examples:"):])]
+        while k < len(paras) and _is_example(paras[k]):  # one example a paragraph
+            examples.append(" ".join(paras[k].split()))
+            k += 1
+        out.append("\b\nExamples:\n" + "\n".join(_example_lines(e) for e in examples if e))
+    return "\n\n".join(out)
+
+
+def _is_example(para: str) -> bool:
+    """A paragraph that is a command line (an example after an ``Examples:`` line)."""
+    body = " ".join(para.split())
+    return body.startswith("coin ") or (" coin " in body and len(body.split("coin ")[0]) < 40
+                                        and any(c in body for c in "|$="))
+
+
+EXAMPLE_WIDTH = 74  #: an example line, indented 4 in an 80-column help screen
+
+
+def _example_lines(example: str) -> str:
+    """One example, indented; a long one continued on the next lines with a shell ``\\``."""
+    lines, cur = [], ""
+    for word in example.split():
+        if cur and len(cur) + 1 + len(word) > EXAMPLE_WIDTH - 2:
+            lines.append(cur + " \\")
+            cur = "  " + word
+        else:
+            cur = f"{cur} {word}" if cur else word
+    lines.append(cur)
+    return "\n".join(f"  {line}" for line in lines)
 
 
 def _with_no_headers(callback, fmt_name):

@@ -277,7 +277,7 @@ def _human(v, style: str) -> str:
     return str(v)
 
 
-CHUNK_ROWS = 65_536  #: rows computed, formatted and written at a time by a streamed batch
+CHUNK_ROWS = 8_192  #: rows computed, formatted and written at a time by a streamed batch
 
 
 def option_given(name: str) -> bool:
@@ -305,6 +305,10 @@ def emit(result: Result, fmt: str = "table", quiet: bool = False, out=None,
     fmt = check_format(fmt)
     if no_headers is None:
         no_headers = option_given("no_headers")
+    if result.chunks is not None:  # the first chunk is computed before anything is written
+        chunks = iter(result.chunks)
+        first = next(chunks, None)
+        result.chunks = itertools.chain([] if first is None else [first], chunks)
     if quiet:
         if result.chunks is None:
             q = result.quiet
@@ -399,7 +403,7 @@ def _column_chunks(result: Result):
     if result.data is not None and isinstance(result.rows, _RowView):
         yield [_plain_list(c) for c in result.data]
     elif result.rows:
-        yield list(zip(*result.rows, strict=True))
+        yield [list(c) for c in zip(*result.rows, strict=True)]
     else:
         yield [[] for _ in result.columns]
 
@@ -407,7 +411,9 @@ def _column_chunks(result: Result):
 def _plain_list(col):
     """A column as a list of Python values (an ndarray's ``tolist``: numpy's float64 writes
     itself as ``np.float64(0.5)`` through ``%r``)."""
-    return col.tolist() if hasattr(col, "tolist") else col
+    if hasattr(col, "tolist"):
+        return col.tolist()
+    return col if isinstance(col, list) else list(col)
 
 
 def _json_cells(col) -> list:
@@ -427,6 +433,9 @@ def _json_cells(col) -> list:
     return [json.dumps(_json_value(v), allow_nan=False) for v in col]
 
 
+_JSON_BLOCK = 2048  #: rows of JSON formatted at a time
+
+
 def _write_json(out, names, chunks, array: bool) -> None:
     """JSON (an array of objects, indented as ``json.dumps(indent=2)`` writes it) or JSON lines,
     written a chunk at a time: the array's brackets and commas are written around the chunks."""
@@ -444,9 +453,10 @@ def _write_json(out, names, chunks, array: bool) -> None:
         template = "  {}" if array else "{}"
     started = False
     for cols in chunks:
-        ready = [_json_cells(c) for c in cols]
-        rows = zip(*ready, strict=True) if ready else iter(())
-        while part := list(itertools.islice(rows, _CHUNK)):
+        n = len(cols[0]) if cols else 0
+        for k in range(0, n, _JSON_BLOCK):  # a block of rows at a time: a JSON row is long
+            ready = [_json_cells(c[k:k + _JSON_BLOCK]) for c in cols]
+            part = list(zip(*ready, strict=True))
             text = joiner.join(map(template.__mod__, part))
             if array:
                 text = (",\n" if started else "[\n") + text
@@ -466,44 +476,137 @@ class _Empty:
 
 
 _EMPTY = _Empty()
-_CHUNK = 50_000  # rows formatted and written at a time (bounded memory for long batches)
+_CHUNK = 8_192  # rows formatted and written at a time (bounded memory for long batches)
+
+
+def _constant(col, kinds) -> bool:
+    """Whether every cell of a long column is the same plain value (not a zero: 0.0 == -0.0)."""
+    if len(col) < 2 or len(kinds) != 1 or not kinds <= {float, int, str}:
+        return False
+    v = col[0]
+    return (v != 0 if isinstance(v, (float, int)) else True) and col.count(v) == len(col)
+
+
+def _float_cells(col):
+    """The repr of every cell of a float64 array, as a list, when that can be had with fewer
+    than one repr a cell: a column of few distinct values (the nearest stack's chances)
+    formats each value once, and one that repeats each value ``r`` times in a row (a table's xi,
+    one row per model) formats every ``r``-th.  None otherwise.  Zeros and NaN are left to the
+    plain path: equality merges 0.0 with -0.0 and never holds for NaN."""
+    import numpy as np
+
+    n = len(col)
+    if n < 64:
+        return None
+    if col[0] == col[1]:
+        for r in range(2, 9):
+            if n % r == 0 and col[r - 1] == col[0] and col[r] != col[0]:
+                grid = col.reshape(-1, r)
+                every = grid[:, 0]
+                if (grid == every[:, None]).all() and every.all():
+                    strs = repr(every.tolist())[1:-1].split(", ")
+                    return list(itertools.chain.from_iterable(zip(*[strs] * r)))
+                break
+    if len(set(col[:512].tolist())) > 384:  # mostly distinct: not worth sorting
+        return None
+    uniq = np.unique(col)
+    if len(uniq) * 4 > n or not uniq.all() or np.isnan(uniq).any():
+        return None
+    strs = repr(uniq.tolist())[1:-1].split(", ")
+    return list(map(strs.__getitem__, np.searchsorted(uniq, col).tolist()))
 
 
 def _write_rows(out, cols, sep: str, quote: bool = True) -> None:
     """Write columns as lines of ``sep``-separated cells: floats as repr, None as empty.
 
-    Each row is formatted by one ``%`` template (``%r`` for a column of plain floats, ``%d`` for
-    plain ints, ``%s`` for a column converted cell by cell), so a long batch costs one C-level
-    call per row instead of one Python call per cell.
+    Columns are lists or arrays.  Formatting a double as its shortest text is most of the cost,
+    so it is done in C (the repr of a whole list, split) and as seldom as the column allows: a
+    column that holds one value throughout (a coin's name, a diameter) becomes part of the
+    separator, a float column equal to an earlier one (P(tails) = P(heads)) reuses its text,
+    and :func:`_float_cells` formats a column of few values, or of repeated values, once per
+    value.  The cells of a block of rows are then joined once: no Python call per row.
     """
-    specs, ready = [], []
+    fields = []  # (spec, cells or None); cells None: the spec is the constant text itself
+    floats = []  # (field index, array) of the float64 array columns so far
     for col in cols:
+        kind = getattr(getattr(col, "dtype", None), "kind", None)
+        if kind is None and len(col) >= 64 and isinstance(col[0], float) and \
+                set(map(type, col)) == {float}:
+            import numpy as np
+
+            col, kind = np.array(col, dtype=float), "f"
+        if kind == "f" and col.ndim == 1:
+            if len(cols) > 1 and len(col) > 1 and col[0] != 0 and (col == col[0]).all():
+                text = repr(float(col[0]))
+                fields.append(((_csv_cell(text, sep) if quote else text).replace("%", "%%"),
+                               None))
+                continue
+            twin = next((k for k, prev in floats if prev[0] == col[0] and
+                         (prev == col).all()), None) if len(col) else None
+            if twin is not None and col.all():  # no zeros: 0.0 == -0.0
+                spec, cells = fields[twin]
+                if spec == "%r":
+                    cells = repr(cells)[1:-1].split(", ")
+                    fields[twin] = ("%s", cells)
+                fields.append(("%s", cells))
+                continue
+            cells = _float_cells(col)
+            fields.append(("%r", col.tolist()) if cells is None else ("%s", cells))
+            floats.append((len(fields) - 1, col))
+            continue
+        if kind in ("i", "u") and col.ndim == 1:
+            fields.append(("%d", col.tolist()))
+            continue
+        col = _plain_list(col)
         kinds = set(map(type, col))
-        if kinds <= {float}:
-            specs.append("%r")
-            ready.append(col)
+        if len(cols) > 1 and _constant(col, kinds):
+            text = _machine(col[0])
+            fields.append(((_csv_cell(text, sep) if quote else text).replace("%", "%%"), None))
+        elif kinds <= {float}:
+            fields.append(("%r", col))
         elif kinds == {int}:
-            specs.append("%d")
-            ready.append(col)
+            fields.append(("%d", col))
         elif kinds == {float, type(None)}:  # e.g. a neighbour that does not exist: empty cell
-            specs.append("%r")
-            ready.append([_EMPTY if v is None else v for v in col])
+            fields.append(("%r", [_EMPTY if v is None else v for v in col]))
         elif kinds <= {str, type(None)}:  # few distinct texts (a coin, a model): each once
-            specs.append("%s")
             cells = {v: _csv_cell(_machine(v), sep) if quote else _machine(v) for v in set(col)}
-            ready.append(list(map(cells.__getitem__, col)))
+            fields.append(("%s", list(map(cells.__getitem__, col))))
         else:  # mixed: cell by cell (a set would merge 0.0 with -0.0 and 1 with True)
-            specs.append("%s")
-            ready.append([_csv_cell(_machine(v), sep) if quote else _machine(v) for v in col])
-    if len(ready) == 1 and specs[0] == "%r":  # one column of floats (-q of a batch)
-        col = ready[0]
+            fields.append(("%s", [_csv_cell(_machine(v), sep) if quote else _machine(v)
+                                  for v in col]))
+    n = len(cols[0]) if cols else 0
+    if len(fields) == 1 and fields[0][0] == "%r":  # one column of floats (-q of a batch)
+        col = fields[0][1]
         for k in range(0, len(col), _CHUNK):
             out.write("\n".join(map(repr, col[k:k + _CHUNK])) + "\n")
         return
-    template = sep.join(specs)
-    rows = zip(*ready, strict=True)
-    while chunk := list(itertools.islice(rows, _CHUNK)):
-        out.write("\n".join(map(template.__mod__, chunk)) + "\n")
+    # Lay the cells of a block of rows out in one list, between their separators (a constant
+    # column is part of a separator), and join it once: one C call a block, no per-row Python.
+    seps, cells_of = [""], []
+    for spec, cells in fields:
+        if cells is None:
+            seps[-1] += (sep if len(seps) > 1 or seps[-1] or cells_of else "") + spec % ()
+            continue
+        if cells_of or seps[-1]:
+            seps[-1] += sep
+        cells_of.append((spec, cells))
+        seps.append("")
+    seps[-1] += "\n"
+    if not cells_of:  # every column constant
+        out.write(seps[0] * n)
+        return
+    width = 2 * len(cells_of) + 1  # sep0, cell, sep1, cell, ..., cell, sep_last
+    for k in range(0, n, _CHUNK):
+        m = min(_CHUNK, n - k)
+        line = [None] * (width * m)
+        for j, text in enumerate(seps):
+            line[2 * j::width] = [text] * m
+        for j, (spec, cells) in enumerate(cells_of):
+            part = cells[k:k + m]
+            if spec == "%r" or spec == "%d":
+                part = repr(part)[1:-1].split(", ")  # repr of each, in C
+            line[2 * j + 1::width] = part
+        out.write("".join(line))
 
 
 def _csv_cell(text: str, sep: str) -> str:
@@ -521,9 +624,26 @@ def _human_cells(result: Result):
         cells = [[c.header, _human(v, c.style)]
                  for c, v in zip(result.columns, row, strict=True)]
         return ["quantity", "value"], cells, [False, False]
-    cells = [[_human(v, c.style) for v, c in zip(row, result.columns, strict=True)]
-             for row in result.rows]
+    if result.data is not None and isinstance(result.rows, _RowView):
+        cols = [_human_column(_plain_list(col), c.style)
+                for col, c in zip(result.data, result.columns, strict=True)]
+        cells = [list(r) for r in zip(*cols, strict=True)]
+    else:
+        cells = [[_human(v, c.style) for v, c in zip(row, result.columns, strict=True)]
+                 for row in result.rows]
     return [c.header for c in result.columns], cells, [c.style != "text" for c in result.columns]
+
+
+def _human_column(col: list, style: str) -> list[str]:
+    """:func:`_human` of every cell of a column; a column of plain floats in a ``gN`` style
+    in one C-level pass (a streamed batch has a million of them)."""
+    if style.startswith("g") and set(map(type, col)) <= {float}:
+        spec = f".{int(style[1:] or 6)}g"
+        cells = list(map(format, col, itertools.repeat(spec, len(col))))
+        if 0.0 in col:  # -0.0 is shown as 0, as _human does
+            cells = ["0" if c == "-0" else c for c in cells]
+        return cells
+    return [_human(v, style) for v in col]
 
 
 GAP = 2  #: blanks between two columns of a human table
@@ -764,63 +884,10 @@ def _megabytes(n: int) -> str:
     return f"{n / 10**6:g} MB"
 
 
-def _stdin_bytes(what: str, stdin=None) -> bytes:
-    """All of stdin (at most :data:`MAX_STDIN_BYTES`), its byte-order mark dropped.
-
-    Reading stops at the first NUL byte or over-long line, and the error names that line.
-    """
-    stream = stdin if stdin is not None else sys.stdin
-    if stream is None:
-        raise usage_error(f"{what}: '-' reads values from standard input, but there is none")
-    data, why = read_capped(stream_reader(stream), MAX_STDIN_BYTES, MAX_LINE_CHARS)
-    if why == "size":
-        raise usage_error(
-            f"{what}: stdin is larger than {_megabytes(MAX_STDIN_BYTES)}; a batch is at most "
-            f"{MAX_STDIN_LINES} values, one a line, in at most {MAX_STDIN_BYTES} bytes")
-    if why is not None:
-        newlines = data.count(b"\n")
-        _stdin_lines(what, data, newlines)  # raises, naming the first bad line
-        problem = ("contains a NUL byte" if why == "nul" else
-                   f"is longer than {MAX_LINE_CHARS} characters")
-        raise usage_error(f"{what}: stdin line {newlines + 1} {problem}")  # not reached
-    return data
-
-
 # Bytes that may begin a line that is not a value: blanks (bytes.strip and str.strip), '#',
 # and every non-ASCII byte (a Unicode space).  Any other first byte begins a value (or an error).
 _MAYBE_BLANK = bytes([*b" \t\r\x0b\x0c\x1c\x1d\x1e\x1f#", *range(0x80, 0x100)])
 _LINE_STARTS = bytes(10 if b == 10 else 32 if b in _MAYBE_BLANK else 118 for b in range(256))
-
-
-def _check_value_count(data: bytes, what: str, newlines: int) -> None:
-    """Refuse more than :data:`MAX_STDIN_LINES` values before splitting ``data`` into lines.
-
-    Fewer lines than the limit need nothing more; otherwise the lines that surely hold a value
-    (their first byte is neither blank nor '#') are counted in one pass of C, a lower bound.
-    """
-    if newlines < MAX_STDIN_LINES:
-        return
-    values, before = 0, b"\n"  # before: the mark of the byte before the slice
-    for k in range(0, len(data), 16 * READ_CHUNK):  # slices: no second copy of 300 MB
-        marks = data[k:k + 16 * READ_CHUNK].translate(_LINE_STARTS)
-        values += marks.count(b"\nv") + (before == b"\n" and marks.startswith(b"v"))
-        before = marks[-1:]
-    if values > MAX_STDIN_LINES:
-        raise usage_error(f"{what}: stdin has more than {MAX_STDIN_LINES} values; split the "
-                          f"batch (at most {MAX_STDIN_LINES} values, one a line)")
-
-
-def _pieces(data: bytes):
-    """``data`` about a chunk at a time, each piece whole lines (the newline between two pieces
-    belongs to neither): never a list of every line (10^8 one-byte lines would take gigabytes)."""
-    pos, size = 0, len(data)
-    while True:
-        end = data.find(b"\n", pos + READ_CHUNK) if pos + READ_CHUNK < size else -1
-        if end < 0:
-            yield data[pos:]
-            return
-        yield data[pos:end]
-        pos = end + 1
 
 
 _RUN_MARKS = bytes(10 if b == 10 else 120 for b in range(256))  # newline stays, the rest 'x'
@@ -850,116 +917,327 @@ def _piece_text(what: str, piece: bytes, first: int) -> str:
     return text
 
 
-def read_stdin_lines(what: str, stdin=None, data: bytes | None = None) -> list[tuple[int, str]]:
-    """Non-blank, non-comment lines of stdin as (line number, text); CRLF and spaces stripped.
+def _no_stdin(what: str):
+    return usage_error(f"{what}: '-' reads values from standard input, but there is none (it is "
+                       "closed)")
 
-    Limits: at most 10^7 values, 1000 characters a line and :data:`MAX_STDIN_BYTES` bytes; a
-    NUL byte or undecodable text is an error naming the line.  A leading byte-order mark is
-    ignored.
+
+def _too_big(what: str):
+    return usage_error(
+        f"{what}: stdin is larger than {_megabytes(MAX_STDIN_BYTES)}; a batch is at most "
+        f"{MAX_STDIN_LINES} values, one a line, in at most {MAX_STDIN_BYTES} bytes")
+
+
+def _too_many(what: str):
+    return usage_error(f"{what}: stdin has more than {MAX_STDIN_LINES} values; split the batch "
+                       f"(at most {MAX_STDIN_LINES} values, one a line)")
+
+
+def _stdin_pieces(what: str, stream):
+    """Standard input as ``(first line number, bytes)`` pieces of whole lines, about
+    :data:`READ_CHUNK` bytes each (the newline between two pieces belongs to neither), read as
+    they are needed: memory holds one piece, whatever the length of the input.
+
+    More than :data:`MAX_STDIN_BYTES` is an error as soon as the byte after them is read; a line
+    that runs past :data:`MAX_LINE_CHARS` without a newline is handed on cut just past the limit,
+    so the piece check names it (``yes``, or /dev/zero, costs one chunk).  A leading UTF-8
+    byte-order mark is dropped.
     """
-    if data is None:
-        data = _stdin_bytes(what, stdin)
-    return _stdin_lines(what, data, data.count(b"\n"))
+    if stream is None:
+        raise _no_stdin(what)
+    read = stream_reader(stream)
+    carry, total, first, start = b"", 0, 1, True
+    while True:
+        chunk = read(READ_CHUNK)
+        if not chunk:
+            break
+        total += len(chunk)
+        if total > MAX_STDIN_BYTES:
+            raise _too_big(what)
+        buf = carry + chunk if carry else chunk
+        if start and len(buf) >= len(_BOM):
+            start = False
+            if buf.startswith(_BOM):
+                buf = buf[len(_BOM):]
+        nul = buf.find(b"\0")
+        if nul >= 0:  # reading stops at a NUL byte: _piece_text names its line
+            yield first, buf[:nul + 1]
+            return
+        cut = buf.rfind(b"\n")
+        if cut < 0:
+            carry = buf
+            if len(carry) > MAX_LINE_CHARS:  # _piece_text names the line
+                yield first, carry[:MAX_LINE_CHARS + 1]
+            continue
+        piece, carry = buf[:cut], buf[cut + 1:]
+        yield first, piece
+        first += piece.count(b"\n") + 1
+    if start and carry.startswith(_BOM):
+        carry = carry[len(_BOM):]
+    if carry:
+        yield first, carry
 
 
-def _stdin_lines(what: str, data: bytes, newlines: int) -> list[tuple[int, str]]:
+def _piece_lines(piece: bytes, text: str, first: int) -> list[tuple[int, str]]:
+    """The value lines of a piece (neither blank nor '#' comments) as (line number, text)."""
     global _VALUE_LINE
+    nl = piece.count(b"\n")
+    marks = piece.translate(_LINE_STARTS)
+    if marks.count(b"\nv") == nl and marks.startswith(b"v"):  # every line a value
+        return list(zip(range(first, first + nl + 1), map(str.strip, text.split("\n")),
+                        strict=True))
+    if not piece.translate(None, b" \t\r\x0b\x0c\n"):  # only blank lines
+        return []
     if _VALUE_LINE is None:
         import re
 
         _VALUE_LINE = re.compile(r"\n[^\S\n]*+[^\s#]")  # str.strip's blanks: \s, Unicode
-    _check_value_count(data, what, newlines)
+    # The value lines, found by the regex: blank and comment lines cost no Python.
+    out = []
+    text = "\n" + text  # line k (from 0) follows the k-th newline
+    k = at = 0
+    for m in _VALUE_LINE.finditer(text):
+        pos = m.start()
+        k += text.count("\n", at, pos)
+        at = pos
+        end = text.find("\n", pos + 1)
+        out.append((first + k, text[pos + 1:end if end >= 0 else None].strip()))
+    return out
+
+
+def read_stdin_lines(what: str, stdin=None) -> list[tuple[int, str]]:
+    """Non-blank, non-comment lines of stdin as (line number, text); CRLF and spaces stripped.
+
+    Limits: at most 10^7 values, 1000 characters a line and :data:`MAX_STDIN_BYTES` bytes; a
+    NUL byte or undecodable text is an error naming the line.  A leading byte-order mark is
+    ignored.  (A list of every line: for a batch of numbers, :func:`values_stream` keeps memory
+    flat.)
+    """
     out: list[tuple[int, str]] = []
-    first = 1  # the number of the piece's first line
-    for piece in _pieces(data):
-        text = _piece_text(what, piece, first)
-        nl = piece.count(b"\n")
-        marks = piece.translate(_LINE_STARTS)
-        if marks.count(b"\nv") == nl and marks.startswith(b"v"):  # every line a value
-            out.extend(zip(range(first, first + nl + 1), map(str.strip, text.split("\n")),
-                           strict=True))
-        elif piece.translate(None, b" \t\r\x0b\x0c\n"):  # not only blank lines
-            # The value lines, found by the regex: blank and comment lines cost no Python.
-            text = "\n" + text  # line k (from 0) follows the k-th newline
-            k = at = 0
-            for m in _VALUE_LINE.finditer(text):
-                pos = m.start()
-                k += text.count("\n", at, pos)
-                at = pos
-                end = text.find("\n", pos + 1)
-                out.append((first + k, text[pos + 1:end if end >= 0 else None].strip()))
+    for first, piece in _stdin_pieces(what, stdin if stdin is not None else sys.stdin):
+        out += _piece_lines(piece, _piece_text(what, piece, first), first)
         if len(out) > MAX_STDIN_LINES:
-            raise usage_error(f"{what}: stdin has more than {MAX_STDIN_LINES} values; split the "
-                              f"batch (at most {MAX_STDIN_LINES} values, one a line)")
-        first += nl + 1
+            raise _too_many(what)
     if not out:
         raise usage_error(f"{what}: '-' read no values from standard input")
     return out
+
+
+FAST_MIN_BYTES = 20_000  # below this (a few thousand values), per-line parsing costs nothing
+_PLAIN_BYTES = b"0123456789.eE+-\r\n"
+SPOOL_VALUES = 1 << 19  #: past this many values (4 MB), a checked batch waits in a temporary file
+LIST_VALUES = 5_000  #: a batch shorter than this is handed to the old callers as a list
+
+
+def _piece_floats(what: str, piece: bytes, first: int, item, bounds):
+    """The values of one piece of stdin as a float64 array, each checked (by ``item``, or
+    against ``bounds`` on the fast path); an error names its line."""
+    import numpy as np
+
+    if bounds is not None:  # plain decimals only (ASCII, no NUL): no text check needed
+        fast = _fast_floats(piece, what, bounds, item, first)
+        if fast is not None:
+            return fast
+    text = _piece_text(what, piece, first)
+    vals = []
+    for n, t in _piece_lines(piece, text, first):
+        try:
+            vals.append(item(t, what))
+        except ValueError as exc:
+            raise usage_error(f"stdin line {n}: {exc}") from None
+    return np.array(vals, dtype=float)
+
+
+class Values:
+    """The values of an option that takes one value, a list, a range or ``-`` (stdin), all
+    checked before any output, then handed out :data:`CHUNK_ROWS` at a time by :meth:`chunks`.
+
+    A range is never stored (each chunk is ``start + k*step``); a stdin batch is read and
+    checked a piece at a time, and past :data:`SPOOL_VALUES` values waits as doubles in an
+    anonymous temporary file (in ``TMPDIR``; in memory if none can be made), so memory stays
+    flat in the number of values.  ``single`` is the value when one plain value was typed.
+    """
+
+    def __init__(self, n: int, arrays=None, spool=None, rng=None, single=None):
+        self.n, self._arrays, self._spool, self._range = n, arrays, spool, rng
+        self.single = single
+
+    def __len__(self) -> int:
+        return self.n
+
+    def __iter__(self):
+        for chunk in self.chunks():
+            yield from chunk.tolist()
+
+    def __getitem__(self, k: int) -> float:
+        if self.single is not None and k in (0, -1):
+            return self.single
+        k = k + self.n if k < 0 else k
+        if not 0 <= k < self.n:
+            raise IndexError(k)
+        for j, chunk in enumerate(self.chunks()):
+            if k < (j + 1) * CHUNK_ROWS:
+                return float(chunk[k - j * CHUNK_ROWS])
+        raise IndexError(k)  # pragma: no cover
+
+    def chunks(self, size: int = CHUNK_ROWS):
+        """float64 arrays of at most ``size`` values, in order."""
+        import numpy as np
+
+        if self.single is not None:
+            yield np.array([self.single])
+        elif self._range is not None:
+            start, step, stop = self._range
+            for k in range(0, self.n, size):
+                v = start + np.arange(k, min(k + size, self.n), dtype=float) * step
+                if k + size >= self.n:
+                    v[-1] = min(v[-1], stop)  # stop is included when within 1e-6 steps
+                yield v + 0.0
+        elif self._spool is not None:
+            self._spool.seek(0)
+            for k in range(0, self.n, size):
+                yield np.fromfile(self._spool, dtype=float, count=min(size, self.n - k))
+        else:
+            buf, held = [], 0
+            for a in self._arrays:
+                while a.size:
+                    take = a[:size - held]
+                    buf.append(take)
+                    held += take.size
+                    a = a[take.size:]
+                    if held == size:
+                        yield np.concatenate(buf)
+                        buf, held = [], 0
+            if held:
+                yield np.concatenate(buf)
+
+    def array(self):
+        """Every value in one float64 array (memory: 8 bytes a value)."""
+        import numpy as np
+
+        parts = list(self.chunks(max(self.n, 1)))
+        return parts[0] if len(parts) == 1 else np.concatenate(parts or [np.empty(0)])
+
+    def values(self):
+        """A float for one value, else the array (the form the computing functions take)."""
+        if self.n == 1:
+            return self.single if self.single is not None else float(self.array()[0])
+        return self.array()
+
+
+def _stdin_values(what: str, item, bounds, stdin=None) -> Values:
+    """Read, check and hold a stdin batch (see :class:`Values`)."""
+    import numpy as np
+
+    arrays, n, spool = [], 0, None
+    for first, piece in _stdin_pieces(what, stdin if stdin is not None else sys.stdin):
+        a = _piece_floats(what, piece, first, item, bounds)
+        n += a.size
+        if n > MAX_STDIN_LINES:
+            raise _too_many(what)
+        if spool is None and n > SPOOL_VALUES:
+            spool = _spool_file()
+            if spool is not None:
+                for b in arrays:
+                    b.tofile(spool)
+                arrays = None
+        if spool is not None:
+            a.tofile(spool)
+        elif a.size:
+            arrays.append(a)
+    if n == 0:
+        raise usage_error(f"{what}: '-' read no values from standard input")
+    if spool is not None:
+        spool.flush()
+    return Values(n, arrays=arrays if spool is None else None, spool=spool)
+
+
+def _spool_file():
+    import tempfile
+
+    try:
+        return tempfile.TemporaryFile(prefix="coin-batch-")
+    except OSError:
+        return None  # no temporary directory: the batch stays in memory
+
+
+def values_stream(text: str, what: str, item: Callable, *, bounds=None, stdin=None) -> Values:
+    """The values of an option that takes one value, a list ``a,b``, a range
+    ``start:stop:step`` or ``-`` (one a line from stdin), checked whole, as :class:`Values`.
+
+    Each value is parsed by ``item(text, what)`` (raising ValueError); with ``bounds = (lo, hi)``
+    ``item`` must accept exactly the plain decimals in [lo, hi] (inclusive), which lets a long
+    stdin batch be converted in one pass and a range be checked at its two ends.  A bad value
+    is a usage error naming it (and its stdin line).
+    """
+    from coincli import parse
+
+    s = text.strip()
+    if s == "-":
+        return _stdin_values(what, item, bounds, stdin)
+    try:
+        if ":" in s and bounds is not None:
+            start, stop, step, n, whole = parse.parse_range(s, what)
+            if not whole or stop <= 2.0**53:  # whole numbers below 2^53 are exact doubles
+                last = min(start + (n - 1) * step, stop)
+                for v in (start, last):
+                    item(str(int(v)) if whole else repr(v), what)
+                return Values(n, rng=(start, step, stop))
+        vals = parse.parse_values(text, what, item)
+    except ValueError as exc:
+        raise usage_error(str(exc)) from None
+    if len(vals) == 1 and ":" not in s and "," not in s:
+        return Values(1, single=float(vals[0]))  # one value: no numpy on the closed-form path
+    import numpy as np
+
+    return Values(len(vals), arrays=[np.array(vals, dtype=float)])
 
 
 def values_option(text: str, what: str, item: Callable, *, bounds=None, stdin=None):
     """Values of an option that takes one value, a list, a range, or '-' for stdin.
 
     Each value is parsed by ``item(text, what)`` (raising ValueError); a bad value from stdin
-    names its line.  A long stdin batch of plain decimals, one a line, is converted in one pass
-    and returned as an ndarray, checked against ``bounds = (lo, hi)`` (inclusive) when given;
-    otherwise a list.  Raises :class:`CoinError` (usage) on any bad value.
+    names its line.  A stdin batch of more than a few thousand values is returned as an
+    ndarray (checked against ``bounds = (lo, hi)``, inclusive, when given), a shorter one as a
+    list; a list or range typed as a list.  Raises :class:`CoinError` (usage) on any bad value.
+    A long batch is better read with :func:`values_stream`, whose memory stays flat.
     """
     from coincli.parse import parse_values
 
     if text.strip() == "-":
-        data = _stdin_bytes(what, stdin)
-        newlines = data.count(b"\n")
-        _check_value_count(data, what, newlines)
-        if bounds is not None and len(data) >= FAST_MIN_BYTES:
-            fast = _fast_floats(data, what, bounds, item, newlines)
-            if fast is not None:
-                return fast
-        lines = _stdin_lines(what, data, newlines)
-        vals = []
-        for n, t in lines:
-            try:
-                vals.append(item(t, what))
-            except ValueError as exc:
-                raise usage_error(f"stdin line {n}: {exc}") from None
-        return vals
+        vals = _stdin_values(what, item, bounds, stdin).array()
+        return vals.tolist() if vals.size < LIST_VALUES else vals
     try:
         return parse_values(text, what, item)
     except ValueError as exc:
         raise usage_error(str(exc)) from None
 
 
-FAST_MIN_BYTES = 20_000  # below this (a few thousand values), per-line parsing costs nothing
-_PLAIN_BYTES = b"0123456789.eE+-\r\n"
-
-
-def _fast_floats(data: bytes, what: str, bounds, item, newlines: int | None = None):
+def _fast_floats(data: bytes, what: str, bounds, item, first: int = 1):
     """Plain decimals, exactly one per line, as an ndarray; None (use the per-line path) otherwise.
 
     The text must use only digits, ``.``, ``eE+-`` and line ends (``\\r`` only before ``\\n``):
     no blanks, comments, spaces, ``inf``, ``nan``, ``%`` or ``/``, and no line may pass the
     1000-character limit.  Then every line holds one token, Python's ``float`` parses each (the
     grammar of ``float`` on this alphabet is the plain decimal one; a malformed token sends the
-    whole batch to the per-line path, which names its line), and a value out of ``bounds`` is
-    reported with its line number by ``item`` itself.
+    whole piece to the per-line path, which names its line), and a value out of ``bounds`` is
+    reported with its line number (``first`` is the number of the piece's first line) by
+    ``item`` itself.
     """
+    if len(data) < FAST_MIN_BYTES and first == 1:
+        return None
     if data.translate(None, _PLAIN_BYTES) or data.count(b"\r") != data.count(b"\r\n"):
         return None
-    if newlines is None:
-        newlines = data.count(b"\n")
-    lines = newlines + (0 if data.endswith(b"\n") else 1)
-    if lines > MAX_STDIN_LINES:
-        return None  # too many values: the per-line path says so before splitting anything
+    lines = data.count(b"\n") + (0 if data.endswith(b"\n") else 1)
     tokens = data.split()
-    if len(tokens) != lines or max(map(len, tokens)) > MAX_LINE_CHARS:
+    if len(tokens) != lines or max(map(len, tokens), default=0) > MAX_LINE_CHARS:
         return None  # blank or over-long lines: the per-line path says which
-    try:
-        floats = list(map(float, tokens))
-    except ValueError:
-        return None
     import numpy as np
 
-    arr = np.array(floats, dtype=float) + 0.0  # -0.0 -> 0.0, as Fraction-based parsers give
+    try:
+        arr = np.array(tokens, dtype=float) + 0.0  # -0.0 -> 0.0, as Fraction-based parsers give
+    except ValueError:
+        return None
     lo, hi = bounds
     bad = ~((arr >= lo) & (arr <= hi))
     if bad.any():
@@ -968,8 +1246,9 @@ def _fast_floats(data: bytes, what: str, bounds, item, newlines: int | None = No
         try:
             item(t, what)
         except ValueError as exc:
-            raise usage_error(f"stdin line {k + 1}: {exc}") from None
-        raise usage_error(f"stdin line {k + 1}: {what} must be in [{lo:g}, {hi:g}], got {t!r}")
+            raise usage_error(f"stdin line {first + k}: {exc}") from None
+        raise usage_error(f"stdin line {first + k}: {what} must be in [{lo:g}, {hi:g}], "
+                          f"got {t!r}")
     return arr
 
 

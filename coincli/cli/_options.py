@@ -25,7 +25,7 @@ from typing import Annotated
 import typer
 
 from coincli import parse
-from coincli.cli._common import usage_error, values_option
+from coincli.cli._common import usage_error, values_option, values_stream
 
 __all__ = [
     "XiOpt", "XisOpt", "CoinOpt", "CountOpt", "CountsOpt", "QuartersOpt", "QuartersManyOpt",
@@ -251,7 +251,8 @@ def resolve_coin(xi: str | None = None, coin: str | None = None, count: str | No
                  thickness: str | None = None, *, many: bool = False,
                  default: str | None = None, required: bool = True, xi_rule: str = "finite",
                  need_size: bool = False, need_count: bool = True,
-                 max_values: int | None = None, command: str = "this command") -> Coins | None:
+                 max_values: int | None = None, command: str = "this command",
+                 stream: bool = False) -> Coins | None:
     """The coin(s) given by the options of the coin group, or the one-line usage error.
 
     ``many``: ``--xi``, ``--count`` and ``--quarters`` take lists, ranges and ``-`` (stdin).
@@ -262,6 +263,9 @@ def resolve_coin(xi: str | None = None, coin: str | None = None, count: str | No
     --xi is refused).  ``need_count``: a catalog or custom coin without --count is one coin;
     with ``need_count=False`` its ``counts`` stay None (the command finds the count itself).
     ``max_values``: the most coins a list, range or stdin may give (``coin plot``'s marks).
+    ``stream`` (with ``many``): several ``--xi`` values, or several counts, come back as a
+    :class:`coincli.cli._common.Values` (``xis`` None for counts), read and checked whole but
+    held in chunks, for a command that computes a chunk at a time.
     """
     kind = _check_group(xi, coin, count, quarters, diameter, thickness, default=default)
     if kind == "none":
@@ -272,8 +276,13 @@ def resolve_coin(xi: str | None = None, coin: str | None = None, count: str | No
         item = _xi_item(xi_rule)
         bounds = (5e-324 if xi_rule == "positive" else 0.0,
                   math.inf if xi_rule == "any" else 1.7976931348623157e308)
-        xis = (_many(xi, "--xi", item, bounds, max_values) if many
-               else [_one(xi, "--xi", item)])
+        if many and stream and max_values is None:
+            xis = values_stream(xi, "--xi", item, bounds=bounds)
+            if len(xis) == 1:
+                xis = [xis.values()]
+        else:
+            xis = (_many(xi, "--xi", item, bounds, max_values) if many
+                   else [_one(xi, "--xi", item)])
         dia = _length(diameter, "--diameter") if diameter is not None else None
         if need_size and dia is None:
             raise usage_error(f"{command} needs the coin's size: give --coin NAME, --quarters N, "
@@ -299,6 +308,17 @@ def resolve_coin(xi: str | None = None, coin: str | None = None, count: str | No
             return Coins(None, "coin" if kind != "size" else "size", unit, None,
                          unit.diameter_mm, typed)
         count_text = "1"
+    if many and stream and max_values is None:
+        batch = values_stream(count_text, what, _count_item,
+                              bounds=(1.0, float(parse.MAX_COUNT)))
+        if len(batch) > 1:
+            top = max(float(c.max()) for c in batch.chunks())
+            if xi_rule != "any" and not math.isfinite(catalog.stack_xi(unit, int(top))):
+                raise usage_error(f"the coin's xi = thickness/diameter overflows ({typed}); "
+                                  "give a smaller stack or a thinner coin")
+            return Coins(None, "size" if kind == "size" else "coin", unit, batch,
+                         unit.diameter_mm, typed)
+        count_text = repr(int(batch.values()))
     counts = ([int(k) for k in _many(count_text, what, _count_item, None, max_values)] if many
               else [_one(count_text, what, parse.parse_count)])
     if many and len(counts) > 1:

@@ -19,6 +19,7 @@ import typer
 
 from coincli import parse
 from coincli.cli import app
+from coincli.cli._options import SeedOpt, TossesOpt, seed_value, tosses_value
 from coincli.cli._common import (
     Column,
     FormatOpt,
@@ -32,17 +33,16 @@ from coincli.cli._common import (
     values_option,
 )
 
-MAX_TOSSES = 10**8  # as coincli.toss.MAX_TOSSES (kept here so the module loads without numpy)
+MAX_TOSSES = 10**7  # tosses of one --toss run (a box costs ~10 coins: elliptic integrals)
 MAX_PHASE = 1e12  # coincli.rigid.MAX_PHASE
 NORMAL_REACH = 10  # a normal spin or flight is checked up to MEAN + 10 SD (P < 1e-23 a draw)
 FIGURE_POINTS = 2001  # samples of omega(t) in a figure without --times
 FACES = ("+1", "-1", "+2", "-2", "+3", "-3")
 STARTS = FACES + ("random",)
 # angular speed units -> rad/s (exact factors as text where they are not 1)
-_SPIN_UNITS = {"rad/s": 1.0, "rev/s": 2 * math.pi, "rps": 2 * math.pi, "rpm": 2 * math.pi / 60,
-               "deg/s": math.pi / 180, "hz": 2 * math.pi}
 _TIME_UNITS = {"s": 1.0, "ms": 1e-3}
 _DIST_KINDS = ("normal", "uniform", "fixed")
+_IMAGES = (".gif", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".webp", ".eps", ".ps")
 
 
 def _usage(fn, *args, **kwargs):
@@ -55,33 +55,31 @@ def _usage(fn, *args, **kwargs):
 # --------------------------------------------------------------------------- parsing
 
 
-def _with_unit(text: str, what: str, units: dict, default: str) -> float:
-    """A number with an optional unit suffix (``40``, ``6.4rev/s``, ``2300 rpm``) in the
-    default unit (rad/s, s)."""
-    s = text.strip()
-    low = s.lower()
-    factor = 1.0
-    for unit in sorted(units, key=len, reverse=True):
-        if low.endswith(unit) and s[: -len(unit)].strip():
-            s, factor = s[: -len(unit)].strip(), units[unit]
-            break
+def _time_value(text: str, what: str) -> float:
+    """A time in s, with an optional unit (``0.5``, ``0.5s``, ``500ms``)."""
+    num, unit = parse.split_unit(text, _TIME_UNITS)
     try:
-        v = parse.parse_number(s, what)
+        v = parse.parse_number(num, what) * _TIME_UNITS[unit or "s"]
     except ValueError:
-        names = ", ".join(units)
-        raise usage_error(f"{what} must be a number with an optional unit ({names}; default "
-                          f"{default}), got {text!r}") from None
-    v *= factor
-    if not math.isfinite(v):
-        raise usage_error(f"{what} {text!r} is too large: it overflows in {default}")
+        raise usage_error(f"{what} must be a time with an optional unit (s, the default; ms), "
+                          f"got {text!r}") from None
     return v
 
 
 def _spin_value(text: str, what: str) -> float:
-    return _with_unit(text, what, _SPIN_UNITS, "rad/s")
+    """A signed angular velocity component in rad/s: coincli.parse.parse_spin_rads (``40``,
+    ``6.4rev/s``, ``2300rpm``, ``-90deg/s``) with a sign in front."""
+    s = text.strip()
+    sign = -1.0 if s.startswith("-") else 1.0
+    body = s[1:] if s[:1] in "+-" else s
+    try:
+        return sign * parse.parse_spin_rads(body, what) + 0.0
+    except ValueError:
+        raise usage_error(f"{what} must be a finite number with an optional unit (rad/s, the "
+                          f"default; rev/s, rpm, deg/s), got {text!r}") from None
 
 
-def _dist(text: str, what: str, units: dict, default: str, lo: float):
+def _dist(text: str, what: str, number, default: str, lo: float):
     """A value or a distribution ``normal:MEAN:SD`` / ``uniform:LOW:HIGH`` (``fixed:V``) whose
     numbers may carry units; returned as a :class:`coincli.toss.Dist` in the default unit."""
     from coincli import toss as T
@@ -92,13 +90,13 @@ def _dist(text: str, what: str, units: dict, default: str, lo: float):
         if head not in _DIST_KINDS:
             raise usage_error(f"{what}: unknown distribution {text!r}; expected a value, "
                               "normal:MEAN:SD or uniform:LOW:HIGH")
-        nums = [_with_unit(p, what, units, default) for p in parts[1:]]
+        nums = [number(p, what) for p in parts[1:]]
         spec = ":".join([head] + [repr(v) for v in nums])
     else:
         if len(parts) != 1:
             raise usage_error(f"{what}: cannot read {text!r}; expected a value, normal:MEAN:SD "
                               "or uniform:LOW:HIGH")
-        spec = repr(_with_unit(parts[0], what, units, default))
+        spec = repr(number(parts[0], what))
     try:
         return T.parse_dist(spec, what, lo, math.inf, default)
     except ValueError as exc:
@@ -139,31 +137,8 @@ def _moments(text: str) -> tuple[float, float, float]:
     return tuple(out)
 
 
-def _seed(text: str | None) -> int:
-    if text is None:
-        import secrets
-
-        return secrets.randbits(63)
-    s = text.strip()
-    if not (s.isascii() and s.isdigit()) or len(s) > 40:
-        raise usage_error(f"--seed must be a whole number >= 0, got {text!r}")
-    return int(s)
-
-
-def _tosses(text: str) -> int:
-    s = text.strip()
-    digits = s.removeprefix("+").lstrip("0")
-    if not (s.isascii() and re.fullmatch(r"\+?\d+", s)) or not digits:
-        raise usage_error(f"-n must be a whole number from 1 to {MAX_TOSSES} (10^8), got "
-                          f"{text!r}")
-    if len(digits) > 9 or int(digits) > MAX_TOSSES:
-        raise usage_error(f"-n is more than the {MAX_TOSSES} (10^8) tosses of one run; for more, "
-                          "run again with another --seed and add the counts")
-    return int(digits)
-
-
 def _time_item(text: str, what: str) -> float:
-    v = _with_unit(text, what, _TIME_UNITS, "s")
+    v = _time_value(text, what)
     if not v >= 0:
         raise ValueError(f"{what} must be a time >= 0 s, got {text!r}")
     return v
@@ -191,33 +166,31 @@ def _is_figure(path: str | None) -> bool:
     return path is not None and os.path.splitext(path)[1].lower() in (".png", ".svg", ".pdf")
 
 
-def _atomic_write(path: str, write) -> None:
-    """Write through ``write(tmp_path)`` to a temporary file in ``path``'s directory, fsync it,
-    then rename it over ``path``: a reader never sees half a file, and a failure leaves any
-    earlier file whole."""
-    d, base = os.path.split(os.path.abspath(path))
-    stem, ext = os.path.splitext(base)
-    tmp = os.path.join(d, f".{stem}.{os.getpid()}.tmp{ext}")
+def _check_out(path: str | None) -> None:
+    """Before any computing: an --out path that is a FIFO, a device or a directory, or in a
+    missing directory, is refused (coincli._files.check_output_path)."""
+    if path is None or path == "-":
+        return
+    from coincli._files import check_output_path
+
     try:
-        write(tmp)
-        fd = os.open(tmp, os.O_RDONLY)
-        try:
-            os.fsync(fd)
-        finally:
-            os.close(fd)
-        os.replace(tmp, path)
+        check_output_path(path)
+    except ValueError as exc:
+        raise usage_error(f"--out: {exc}") from None
     except OSError as exc:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
         raise compute_error(f"cannot write {path!r}: {exc.strerror or exc}") from None
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
+
+
+def _write(path: str, write) -> int:
+    """coincli._files.write_atomic: a temporary file in the same directory, fsynced, renamed."""
+    from coincli._files import FileKindError, write_atomic
+
+    try:
+        return write_atomic(path, write)
+    except FileKindError as exc:
+        raise usage_error(f"--out: {exc}") from None
+    except OSError as exc:
+        raise compute_error(f"cannot write {path!r}: {exc.strerror or exc}") from None
 
 
 def _emit(result: Result, fmt: str, quiet: bool, out: str | None) -> None:
@@ -228,19 +201,15 @@ def _emit(result: Result, fmt: str, quiet: bool, out: str | None) -> None:
 
     buf = io.StringIO()
     emit(result, fmt, quiet, out=buf)
-    text = buf.getvalue()
-
-    def write(tmp):
-        with open(tmp, "w", encoding="utf-8", newline="") as fh:
-            fh.write(text)
-
-    _atomic_write(out, write)
+    size = _write(out, buf.getvalue().encode("utf-8"))
     if stderr_is_terminal():
-        sys.stderr.write(f"coin: wrote {out} ({len(text.encode()):,} bytes)\n")
+        sys.stderr.write(f"coin: wrote {out} ({size:,} bytes)\n")
 
 
 def _figure(path: str, build) -> None:
+    """Draw and save a figure: coincli.plot.save_figure writes it through write_atomic."""
     from coincli import plot as P
+    from coincli._files import FileKindError
 
     try:
         P.require_matplotlib()
@@ -251,14 +220,14 @@ def _figure(path: str, build) -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         fig = build()
-        size = [0]
-
-        def write(tmp):
-            size[0] = P.save_figure(fig, tmp)
-
-        _atomic_write(path, write)
+        try:
+            size = P.save_figure(fig, path)
+        except FileKindError as exc:
+            raise usage_error(f"--out: {exc}") from None
+        except OSError as exc:
+            raise compute_error(f"cannot write {path!r}: {exc.strerror or exc}") from None
     if stderr_is_terminal():
-        sys.stderr.write(f"coin: wrote {path} ({size[0]:,} bytes)\n")
+        sys.stderr.write(f"coin: wrote {path} ({size:,} bytes)\n")
 
 
 # --------------------------------------------------------------------------- the command
@@ -283,24 +252,21 @@ def book_cmd(
     toss: Annotated[bool, typer.Option(
         "--toss", help="Toss many boxes with random spins and flight times; give the chance of "
         "each face beside the geometric model.")] = False,
-    n: Annotated[str, typer.Option(
-        "-n", "--n", "--tosses", help="Number of tosses with --toss, 1 to 10^8.",
-        metavar="N")] = "10000",
-    seed: Annotated[str | None, typer.Option(
-        "--seed", help="Seed of the random tosses (a whole number >= 0).  Default: fresh "
-        "entropy, printed in the note.", metavar="SEED")] = None,
+    n: TossesOpt = None,
+    seed: SeedOpt = None,
     flight: Annotated[str | None, typer.Option(
         "--flight", help="Flight time from launch to catch, s: a value, or with --toss "
         "normal:MEAN:SD (truncated at 0) or uniform:LOW:HIGH.  Default 0.5 with --toss; "
         "without --toss it adds the face up at that catch to the motion table.",
         metavar="SPEC")] = None,
-    start: Annotated[str, typer.Option(
+    start: Annotated[str | None, typer.Option(
         "--start", help="Face up at launch (+1 -1 +2 -2 +3 -3: outward normal along +-body "
-        "axis), or random (a uniformly random attitude).", metavar="FACE")] = "+3",
-    rule: Annotated[str, typer.Option(
+        "axis; default +3), or random (a uniformly random attitude, with --toss).",
+        metavar="FACE")] = None,
+    rule: Annotated[str | None, typer.Option(
         "--rule", help="Which face is up at the catch: centre (the vertical through the centre "
         "passes through it: the coin's rule, matched by solid angles) or normal (its outward "
-        "normal is nearest the vertical).", metavar="centre|normal")] = "centre",
+        "normal is nearest the vertical).  Default centre.", metavar="centre|normal")] = None,
     out: Annotated[str | None, typer.Option(
         "--out", "-o", help="Write to FILE: a figure when it ends in .png, .svg or .pdf (omega(t) "
         "and the face up; with --toss the face chances), else the output in --format.",
@@ -325,10 +291,19 @@ def book_cmd(
     """
     check_format(fmt)
     box = _box(size, moments)
-    start_v = start.strip().lower()
+    figure = _is_figure(out)
+    if out is not None and not figure and os.path.splitext(out)[1].lower() in _IMAGES:
+        raise usage_error(f"--out: figures are written as .png, .svg or .pdf, got {out!r}")
+    _check_out(out)
+    if not (toss or times is not None or flight is not None or figure):
+        for opt, given in (("--start", start), ("--rule", rule)):
+            if given is not None:
+                raise usage_error(f"{opt} is for --times, --flight, --toss or a figure (which "
+                                  "face is up)")
+    start_v = (start or "+3").strip().lower()
     if start_v not in STARTS:
         raise usage_error(f"--start must be one of {', '.join(STARTS)}, got {start!r}")
-    rule_v = rule.strip().lower()
+    rule_v = (rule or "centre").strip().lower()
     if rule_v == "center":
         rule_v = "centre"
     if rule_v not in ("centre", "normal"):
@@ -336,13 +311,12 @@ def book_cmd(
     if spin is None:
         raise usage_error("give --spin W1,W2,W3 (rad/s about body axes 1, 2, 3), e.g. "
                           "--spin 0,0,40")
-    figure = _is_figure(out)
     if toss:
         if times is not None:
             raise usage_error("--times is for one motion; --toss tosses many (give one of them)")
         _toss(box, spin, n, seed, flight, start_v, rule_v, out, figure, fmt, quiet)
         return
-    for opt, given in (("-n", n != "10000"), ("--seed", seed is not None)):
+    for opt, given in (("-n", n is not None), ("--seed", seed is not None)):
         if given:
             raise usage_error(f"{opt} is for --toss (many random tosses)")
     w = tuple(_spin_value(p, f"--spin component {k}")
@@ -407,7 +381,7 @@ def _motion(box, w, tf, start, rule, out, fmt, quiet):
     if tf is not None:
         import numpy as np
 
-        _check_phase(max(abs(v) for v in w) * math.sqrt(3) * tf, "--flight", f"{tf:g} s")
+        _check_phase(max(abs(v) for v in w) * (math.sqrt(3) * tf), "--flight", f"{tf:g} s")
         q0 = _start_quaternion(start)
         o = R.orbit(box.moments, np.asarray(w, dtype=float))
         q = R.attitude_at(o, tf, q0)
@@ -517,7 +491,7 @@ def _series(box, w, times, start, rule, out, figure, fmt, quiet):
             raise usage_error("--times must be times >= 0 s")
     wmax = max(abs(v) for v in w)
     if ts.size:
-        _check_phase(wmax * math.sqrt(3) * float(ts.max()), "--times up to",
+        _check_phase(wmax * (math.sqrt(3) * float(ts.max())), "--times up to",
                      f"{float(ts.max()):g} s")
     q0 = _start_quaternion(start)
     o = R.orbit(box.moments, np.asarray(w, dtype=float))
@@ -536,8 +510,8 @@ def _series(box, w, times, start, rule, out, figure, fmt, quiet):
         Column(f"omega{i + 1}", f"omega{i + 1} (rad/s)", "g10") for i in range(3)] + [
         Column(f"q{c}", f"q{c}", "g10") for c in "wxyz"] + [Column("up", "face up", "text")]
     note = (f"{box.label}; spin {', '.join(_fmt(v) for v in w)} rad/s at launch, face {start} "
-            f"up; attitude as a unit quaternion (w, x, y, z) turning body axes into the lab's "
-            f"(z up); face up by the {rule} rule.")
+            f"up; attitude as a unit quaternion (w, x, y, z), w >= 0, turning body axes into the "
+            f"lab's (z up); face up by the {rule} rule.")
     _emit(Result("coin book --times", cols, [], note, quiet=labels, data=data), fmt, quiet, out)
 
 
@@ -559,23 +533,24 @@ def _default_span(mo) -> float:
 
 
 def _toss(box, spin, n, seed, flight, start, rule, out, figure, fmt, quiet):
-    count = _tosses(n)
-    seed_v = _seed(seed)
+    count = tosses_value("10000" if n is None else n, high=MAX_TOSSES)
+    seed_v = seed_value(seed)
     comps = _three(spin, "--spin")
-    dists = [_dist(p, f"--spin component {k}", _SPIN_UNITS, "rad/s", -math.inf)
+    dists = [_dist(p, f"--spin component {k}", _spin_value, "rad/s", -math.inf)
              for k, p in enumerate(comps, start=1)]
     flight_text = "0.5" if flight is None else flight
-    fd = _dist(flight_text, "--flight", _TIME_UNITS, "s", 0.0)
+    fd = _dist(flight_text, "--flight", _time_value, "s", 0.0)
     # every toss must be one the core can follow, checked at the top of the distributions
-    wtop = math.sqrt(sum(_reach(d) ** 2 for d in dists))
+    wtop = max(_reach(d) for d in dists)  # |omega| <= sqrt(3) times this, as the core checks
     ttop = _reach(fd)
-    _check_phase(wtop * ttop, "--flight", f"{flight_text.strip()} (up to {ttop:g} s) with --spin "
-                 f"{spin.strip()} (up to |omega| = {wtop:g} rad/s)")
+    _check_phase(wtop * (math.sqrt(3) * ttop), "--flight",
+                 f"{flight_text.strip()} (up to {ttop:g} s) with --spin {spin.strip()} (up to "
+                 f"{wtop:g} rad/s a component)")
+    import numpy as np
+
     from coincli import rigid as R
     from coincli.cli.toss import _progress
-    from coincli.stats import proportion
-
-    import numpy as np
+    from coincli.toss import wilson_interval
 
     counts = np.zeros(6, dtype=np.int64)
     with _progress(count) as tick:
@@ -589,9 +564,9 @@ def _toss(box, spin, n, seed, flight, start, rule, out, figure, fmt, quiet):
     rows = []
     for k in range(6):
         c = int(counts[k])
-        pr = proportion(c, count, FACES[k])
-        rows.append((FACES[k], _face_size(box, k), c, c / count, pr.wilson.low, pr.wilson.high,
-                     geo[k], c / count - geo[k], seed_v))
+        lo, hi = wilson_interval(c, count)
+        rows.append((FACES[k], _face_size(box, k), c, c / count, lo, hi, geo[k],
+                     c / count - geo[k], seed_v))
     columns = [
         Column("face", "face", "text"), Column("face_size", "face size", "text"),
         Column("count", "count", "int"), Column("frequency", "frequency"),

@@ -16,16 +16,20 @@ import typer
 from coincli import coins as coin_catalog
 from coincli import models, parse
 from coincli.cli import _accuracy, _options, app
+from coincli.cli import _bounce as BO
 from coincli.cli._common import (
+    CHUNK_ROWS,
     Column,
     FormatOpt,
     QuietOpt,
     Result,
+    Values,
     check_format,
     compute_error,
     emit,
     usage_error,
     values_option,
+    values_stream,
 )
 from coincli.modelspec import DYNAMIC, GEOMETRIC, ModelSpec
 
@@ -139,6 +143,12 @@ def _tolist(v, n):
     return v.tolist() if hasattr(v, "tolist") and not isinstance(v, float) else [v] * n
 
 
+def _column(v, n):
+    """A result column: an array stays an array (the writers format it in C), a float is
+    repeated ``n`` times."""
+    return v if hasattr(v, "dtype") and getattr(v, "ndim", 0) == 1 else [v] * n
+
+
 # --------------------------------------------------------------------------- design
 
 
@@ -191,6 +201,36 @@ def design(
     coin: CoinOpt = "quarter",
     tol: _accuracy.TolOpt = None,
     method: _accuracy.DesignMethodOpt = None,
+    landing: BO.LandingOpt = "catch",
+    surface: BO.SurfaceOpt = None,
+    restitution: BO.RestitutionOpt = None,
+    friction: BO.FrictionOpt = None,
+    torsional: BO.TorsionalOpt = None,
+    rolling: BO.RollingOpt = None,
+    u: Annotated[str | None, typer.Option("--u", help="With --landing bounce: launch speed, "
+                                          "m/s, a value or normal:MEAN:SD / uniform:LOW:HIGH "
+                                          "(default normal:2.4:0.3).", metavar="SPEC")] = None,
+    omega: Annotated[str | None, typer.Option("--omega", help="With --landing bounce: "
+                                              "precession rate, rad/s (default normal:38:4).",
+                                              metavar="SPEC")] = None,
+    height: BO.ReleaseHeightOpt = None,
+    vx: BO.VxOpt = None,
+    seed: Annotated[str | None, typer.Option("--seed", metavar="SEED", help="With --landing "
+                                             "bounce: the seed of the simulated tosses, a whole "
+                                             "number >= 0 (default: drawn, and reported).")
+                    ] = None,
+    max_tosses: Annotated[str | None, typer.Option("--max-tosses", help="With --landing "
+                                                   "bounce: stop before simulating more tosses "
+                                                   "than this (default 200000).",
+                                                   metavar="N")] = None,
+    time_limit: Annotated[str | None, typer.Option("--time-limit", help="With --landing bounce: "
+                                                   "stop at the end of the first round after "
+                                                   "this many seconds (default 300); the note "
+                                                   "gives the --max-tosses that reproduces the "
+                                                   "result.", metavar="S")] = None,
+    jobs: BO.JobsOpt = None,
+    dt: BO.DtOpt = None,
+    t_max: BO.TMaxOpt = None,
     fmt: FormatOpt = "table",
     quiet: QuietOpt = False,
 ):
@@ -199,10 +239,35 @@ def design(
     Reports xi, D/h, the thickness for a diameter (or the diameter for a thickness), the
     nearest stack of a catalog coin with N-1, N and N+1 coins, and what the other model says.
 
+    --landing bounce answers another question: the coin lands on a surface (--surface) and
+    bounces; tosses are simulated (MuJoCo) at a sweep of xi, a probit curve in log xi is fitted,
+    inverted for each target, and refined until its 95% interval is within --tol (in xi).
+
     Examples: coin design --p-sides 1/3 ;  coin design -p 25% --model geometric --diameter 30 ;
-    seq 0.05 0.05 0.95 | coin design -p - --format csv
+    seq 0.05 0.05 0.95 | coin design -p - --format csv ;
+    coin design --p-sides 1/3 --landing bounce --surface wood --seed 1
     """
     check_format(fmt)
+    bounce_only = {"--u": u, "--omega": omega, "--seed": seed, "--max-tosses": max_tosses,
+                   "--time-limit": time_limit}
+    physics = BO.parse_physics(BO.landing_of(landing), surface=surface, restitution=restitution,
+                               friction=friction, torsional=torsional, rolling=rolling,
+                               height=height, vx=vx, jobs=jobs, dt=dt, t_max=t_max) \
+        if landing.strip().lower() == "bounce" or not any(
+            v is not None for v in bounce_only.values()) else None
+    if physics is None:
+        extra = [k for k, v in bounce_only.items() if v is not None]
+        if extra:
+            raise usage_error(f"{', '.join(extra)} go{'es' if len(extra) == 1 else ''} with "
+                              "--landing bounce")
+    else:
+        if model is not None or method is not None or thickness is not None:
+            raise usage_error("--model, --method and --thickness go with --landing catch")
+        from coincli.cli.toss import bounce_design
+
+        return bounce_design(physics, p_sides=p_sides, psi=psi, psi_dist=psi_dist, u=u,
+                             omega=omega, diameter=diameter, coin=coin, tol=tol, seed=seed,
+                             max_tosses=max_tosses, time_limit=time_limit, fmt=fmt, quiet=quiet)
     m = choose_model(model, psi, psi_dist)
     if method is not None and method.strip().lower() not in _accuracy.METHODS:
         raise usage_error(f"--method must be auto or quad; got {method!r}")
@@ -214,37 +279,40 @@ def design(
     dia, thick = _length(diameter, "--diameter"), _length(thickness, "--thickness")
     if dia is None and thick is None:
         dia = c.diameter_mm
-    ps = values_option(p_sides, "--p-sides", parse.parse_probability, bounds=(0.0, 1.0))
-    p = _vector(ps)
-    try:
-        xi = m.inverse(p)
-        out = m.forward(xi)
-    except ValueError as exc:
-        raise compute_error(str(exc)) from None
+    vals = values_stream(p_sides, "--p-sides", parse.parse_probability, bounds=(0.0, 1.0))
     other = DYNAMIC if m.key == "geometric" else GEOMETRIC
-    other_sides = other.forward(xi).sides
-    n = 1 if isinstance(p, float) else len(p)
-    if isinstance(xi, float):
-        d_over_h = math.inf if xi == 0 else 1 / xi
-        thick_col = dia * xi if dia is not None else thick
-        dia_col = dia if dia is not None else (math.inf if xi == 0 else thick / xi)
-    else:
-        import numpy as np
 
-        with np.errstate(all="ignore"):
-            d_over_h = np.where(xi == 0, np.inf, 1 / np.where(xi == 0, 1, xi))
-            if dia is not None:
-                thick_col, dia_col = dia * xi, np.full(xi.shape, dia)
-            else:
-                thick_col = np.full(xi.shape, thick)
-                dia_col = np.where(xi == 0, np.inf, thick / np.where(xi == 0, 1, xi))
-    # -q prints xi alone: no stack search (it is most of the time of a long -q batch)
-    stack = [[None] * n] * 5 if quiet else _stack_columns(c, p, m, xi)
-    data = [
-        _tolist(p, n), _tolist(xi, n), _tolist(d_over_h, n), _tolist(dia_col, n),
-        _tolist(thick_col, n), _tolist(out.heads, n), _tolist(out.tails, n),
-        [c.name] * n, *stack, _tolist(other_sides, n),
-    ]
+    def compute(p):
+        """The table's columns for the targets ``p`` (a float, or an array of them)."""
+        try:
+            xi = m.inverse(p)
+            out = m.forward(xi)
+        except ValueError as exc:
+            raise compute_error(str(exc)) from None
+        other_sides = other.forward(xi).sides
+        n = 1 if isinstance(p, float) else len(p)
+        if isinstance(xi, float):
+            d_over_h = math.inf if xi == 0 else 1 / xi
+            thick_col = dia * xi if dia is not None else thick
+            dia_col = dia if dia is not None else (math.inf if xi == 0 else thick / xi)
+        else:
+            import numpy as np
+
+            with np.errstate(all="ignore"):
+                d_over_h = np.where(xi == 0, np.inf, 1 / np.where(xi == 0, 1, xi))
+                if dia is not None:
+                    thick_col, dia_col = dia * xi, np.full(xi.shape, dia)
+                else:
+                    thick_col = np.full(xi.shape, thick)
+                    dia_col = np.where(xi == 0, np.inf, thick / np.where(xi == 0, 1, xi))
+        # -q prints xi alone: no stack search (it is most of the time of a long -q batch)
+        stack = [[None] * n] * 5 if quiet else _stack_columns(c, p, m, xi)
+        return [
+            _column(p, n), _column(xi, n), _column(d_over_h, n), _column(dia_col, n),
+            _column(thick_col, n), _column(out.heads, n), _column(out.tails, n),
+            [c.name] * n, *stack, _column(other_sides, n),
+        ]
+
     columns = [
         Column("p_sides", "P(sides) target"),
         Column("xi", "xi = h/D"),
@@ -263,7 +331,15 @@ def design(
     ]
     note = f"model: {m.label}; vigorous toss caught without bouncing; stack of {c.label} " \
            f"({c.diameter_mm:g} x {c.thickness_mm:g} mm)" + _accuracy.design_note(acc, m)
-    emit(Result("coin design", columns, [], note=note, quiet=_tolist(xi, n), vertical=True,
+    if len(vals) > 1 and m.key in ("geometric", "dynamic"):
+        # a batch under a closed form: computed and written a chunk at a time (flat memory);
+        # the input was read and checked whole first, and these models cannot fail on it
+        emit(Result("coin design", columns, [], note=note, quiet=1, vertical=True,
+                     chunks=map(compute, vals.chunks())), fmt, quiet)
+        return
+    data = [_tolist(col, len(vals)) if hasattr(col, "dtype") else col
+            for col in compute(vals.values())]
+    emit(Result("coin design", columns, [], note=note, quiet=data[1], vertical=True,
                 data=data), fmt, quiet)
 
 
@@ -272,9 +348,23 @@ def design(
 _ALL_DENSITIES = ("uniform", "cosine", "normal")
 
 
-def _table_coins(xi, coin, count, quarters, diameter, thickness) -> _options.Coins:
+def _table_coins(xi, coin, count, quarters, diameter, thickness, stream=False) -> _options.Coins:
     return _options.resolve_coin(xi, coin, count, quarters, diameter, thickness, many=True,
-                                 xi_rule="any", command="coin table")
+                                 xi_rule="any", command="coin table", stream=stream)
+
+
+def _materialized(coins: _options.Coins) -> _options.Coins:
+    """``coins`` with its values as lists (a streamed batch read whole: the paths that need
+    every value at once)."""
+    if not isinstance(coins.counts, Values) and not isinstance(coins.xis, Values):
+        return coins
+    if isinstance(coins.xis, Values):
+        xis = coins.xis.values() if len(coins.xis) > 1 else [coins.xis.values()]
+        return _options.Coins(xis, coins.kind, coins.unit, coins.counts, coins.diameter_mm,
+                              coins.typed)
+    counts = [int(k) for k in coins.counts.array().tolist()]
+    return _options.Coins(coin_catalog.stack_xis(coins.unit, counts).tolist(), coins.kind,
+                          coins.unit, counts, coins.diameter_mm, coins.typed)
 
 
 @app.command()
@@ -323,7 +413,7 @@ def table(
                               "--all")
         return _table_vs_psi(_table_coins(xi, coin, count, quarters, diameter, thickness), psi,
                              fmt, quiet)
-    coins = _table_coins(xi, coin, count, quarters, diameter, thickness)
+    coins = _table_coins(xi, coin, count, quarters, diameter, thickness, stream=True)
     extra: list[ModelSpec] = []
     if psi is not None:
         extra += [angle_model(d) for d in _options.psi_angles(psi)]
@@ -339,6 +429,12 @@ def table(
             extra.append(ModelSpec.psi_density(d))
     acc = _accuracy.parse(tol, method, seed)
     _accuracy.require_density(acc, bool(dens))
+    models_ = (GEOMETRIC, DYNAMIC, *extra)
+    many = coins.counts if isinstance(coins.counts, Values) else coins.xis
+    if isinstance(many, Values) and len(many) > 1 and acc is None and \
+            all(m.closed_form for m in models_):
+        return _table_stream(coins, models_, extra, fmt, quiet)
+    coins = _materialized(coins)
     x = _vector(coins.xis)
     n = 1 if isinstance(x, float) else len(x)
     models_ = (GEOMETRIC, DYNAMIC, *extra)
@@ -379,6 +475,42 @@ def table(
     k = -2 - len(acc_cols)  # p_sides, from the end
     emit(Result("coin table", columns, rows, note=note,
                 quiet=[r[k] for r in rows if r[k - 3] is not None]), fmt, quiet)
+
+
+_TABLE_COLUMNS = [Column("xi", "xi = h/D"), Column("model", "model", "text"),
+                  Column("p_heads", "P(heads)"), Column("p_sides", "P(sides)"),
+                  Column("p_tails", "P(tails)")]
+
+
+def _table_note(extra) -> str:
+    return "vigorous toss starting heads up, caught without bouncing; geometric = eq. 11, " \
+           "dynamic = eq. 12 (psi = 90 deg)" + "".join(f"; {m.label}" for m in extra)
+
+
+def _table_stream(coins: _options.Coins, models_, extra, fmt: str, quiet: bool) -> None:
+    """``coin table`` over many coins under closed forms: one row per coin and model, computed
+    from arrays and written a chunk of coins at a time (memory flat in the number of rows).
+    The coins are a Values of xi, or of counts of a stacked coin."""
+    import numpy as np
+
+    names = _model_names(models_, fmt)
+    k = len(models_)
+    unit = coins.unit if isinstance(coins.counts, Values) else None
+
+    def compute(v):
+        x = v if unit is None else coin_catalog.stack_xis(unit, v)
+        outs = [m.forward(x) for m in models_]
+        cols = [np.stack([getattr(o, f) for o in outs], axis=1).ravel()
+                for f in ("heads", "sides", "tails")]
+        lead = [] if unit is None else [[coins.coin_name] * (k * len(v)),
+                                        np.repeat(v, k).astype(np.int64)]
+        return [*lead, np.repeat(x, k), names * len(x), *cols]
+
+    columns = ([Column("coin", "coin", "text"), Column("count", "count", "int")]
+               if unit is not None else []) + _TABLE_COLUMNS
+    values = coins.counts if unit is not None else coins.xis
+    emit(Result("coin table", columns, [], note=_table_note(extra), quiet=len(columns) - 2,
+                chunks=map(compute, values.chunks(max(CHUNK_ROWS // k, 1)))), fmt, quiet)
 
 
 def _table_vs_psi(coins: _options.Coins, psi_text, fmt, quiet):
@@ -444,7 +576,8 @@ def stack(
                           "N or --diameter D --thickness H (for a coin given by --xi, use coin "
                           "table --xi X)")
     coins = _options.resolve_coin(None, coin, count, quarters, diameter, thickness, many=True,
-                                  default="quarter", need_count=False, command="coin stack")
+                                  default="quarter", need_count=False, command="coin stack",
+                                  stream=True)
     c = coins.unit
     if quarters is not None:
         count = quarters
@@ -468,6 +601,9 @@ def stack(
         best = ch.count
     else:
         counts = coins.counts
+        if isinstance(counts, Values) and len(counts) > 1 and m.closed_form:
+            return _stack_counts_stream(c, counts, m, fmt, quiet)
+        counts = _materialized(coins).counts
         best = None
     rows = []
     for k in counts:
@@ -497,32 +633,62 @@ def _is_batch(text: str) -> bool:
     return s == "-" or "," in s or ":" in s
 
 
+_STACK_COLUMNS = [Column("coin", "coin", "text"), Column("count", "count", "int"),
+                  Column("height_mm", "height (mm)"), Column("xi", "xi = h/D"),
+                  Column("p_heads", "P(heads)"), Column("p_sides", "P(sides)"),
+                  Column("p_tails", "P(tails)"), Column("mark", "mark", "text")]
+
+
+def _stack_counts_stream(c, counts, m: ModelSpec, fmt: str, quiet: bool) -> None:
+    """``coin stack --count`` for many counts under a closed form: arrays, a chunk at a time."""
+    import numpy as np
+
+    def compute(k):
+        x = coin_catalog.stack_xis(c, k)
+        o = m.forward(x)
+        n = len(k)
+        return [[c.name] * n, k.astype(np.int64), k * c.thickness_mm, x, o.heads, o.sides,
+                o.tails, [""] * n]
+
+    note = f"{_coin_words(c)}; model: {m.label}"
+    emit(Result("coin stack", _STACK_COLUMNS, [], note=note, quiet=5,
+                chunks=map(compute, counts.chunks())), fmt, quiet)
+
+
 def _stack_batch(c, p_text: str, m: ModelSpec, fmt: str, quiet: bool) -> None:
-    """``coin stack --p-sides`` for several targets: one row each, the nearest stack."""
-    ps = values_option(p_text, "--p-sides", parse.parse_probability, bounds=(0.0, 1.0))
-    p = _vector(ps)
-    n = 1 if isinstance(p, float) else len(p)
-    xi = m.inverse(p) if m.key in ("geometric", "dynamic") and n > 1 else None  # closed forms
-    counts, xis = _stack_columns(c, p, m, xi)[:2]
-    known = [k for k, x in enumerate(xis) if x is not None]
-    chances = [[None] * n for _ in range(3)]
-    if known:
-        try:
-            o = m.forward(_vector([xis[k] for k in known]))
-        except ValueError as exc:
-            raise compute_error(str(exc)) from None
-        for col, vals in zip(chances, o, strict=True):
-            for k, v in zip(known, _tolist(vals, len(known)), strict=True):
-                col[k] = v
-    heights = [None if k is None else k * c.thickness_mm for k in counts]
+    """``coin stack --p-sides`` for several targets: one row each, the nearest stack (closed
+    forms a chunk of targets at a time)."""
+    vals = values_stream(p_text, "--p-sides", parse.parse_probability, bounds=(0.0, 1.0))
+
+    def compute(p):
+        n = 1 if isinstance(p, float) else len(p)
+        xi = m.inverse(p) if m.key in ("geometric", "dynamic") and n > 1 else None
+        counts, xis = _stack_columns(c, p, m, xi)[:2]
+        known = [k for k, x in enumerate(xis) if x is not None]
+        chances = [[None] * n for _ in range(3)]
+        if known:
+            try:
+                o = m.forward(_vector([xis[k] for k in known]))
+            except ValueError as exc:
+                raise compute_error(str(exc)) from None
+            for col, vals_ in zip(chances, o, strict=True):
+                for k, v in zip(known, _tolist(vals_, len(known)), strict=True):
+                    col[k] = v
+        heights = [None if k is None else k * c.thickness_mm for k in counts]
+        return [_tolist(p, n), [c.name] * n, counts, heights, xis, *chances]
+
     columns = [Column("target_p_sides", "target"), Column("coin", "coin", "text"),
                Column("count", "count", "int"), Column("height_mm", "height (mm)"),
                Column("xi", "xi = h/D"), Column("p_heads", "P(heads)"),
                Column("p_sides", "P(sides)"), Column("p_tails", "P(tails)")]
-    data = [_tolist(p, n), [c.name] * n, counts, heights, xis, *chances]
     note = (f"{_coin_words(c)}; model: {m.label}; the stack nearest each target (empty where "
             f"no stack of up to {coin_catalog.MAX_STACK_WORDS} coins reaches it)")
-    emit(Result("coin stack", columns, [], note=note, quiet=counts, data=data), fmt, quiet)
+    if len(vals) > 1 and m.key in ("geometric", "dynamic"):
+        emit(Result("coin stack", columns, [], note=note, quiet=2,
+                    chunks=map(compute, vals.chunks())), fmt, quiet)
+        return
+    data = compute(vals.values())
+    emit(Result("coin stack", columns, [], note=note, quiet=data[2], data=data), fmt, quiet)
 
 
 @app.command()

@@ -16,7 +16,8 @@ from typing import Annotated
 import typer
 
 from coincli import parse
-from coincli.cli import _options, app
+from coincli.cli import _bounce as BO
+from coincli.cli import _options, _phase, app
 from coincli.cli._common import compute_error, usage_error
 
 plot_app = typer.Typer(
@@ -32,7 +33,6 @@ app.add_typer(plot_app, name="plot")
 
 MAX_MARKS = 20  # designs marked on one figure
 MAX_DATA_BYTES = 10_000_000
-MAX_DIAMETER_M = 1e100  # the toss engine's largest diameter
 
 # --------------------------------------------------------------------------- shared options
 
@@ -338,6 +338,13 @@ def sides(
     width: WidthOpt = None,
     height: HeightOpt = None,
     title: TitleOpt = None,
+    landing: BO.LandingOpt = "catch",
+    surface: BO.SurfaceOpt = None,
+    restitution: BO.RestitutionOpt = None,
+    friction: BO.FrictionOpt = None,
+    seed: _options.SeedOpt = None,
+    tosses: _options.TossesOpt = None,
+    jobs: BO.JobsOpt = None,
 ):
     """P(sides) against the aspect ratio for the geometric and dynamic models (Fig. 5a).
 
@@ -345,9 +352,18 @@ def sides(
     --quarters, --diameter/--thickness) and --p-sides mark your designs, --data your tosses
     with 95% Wilson intervals; --psi and --psi-dist add curves.
 
+    --landing bounce adds tosses simulated onto a surface (MuJoCo; u ~ normal:2.4:0.3 m/s,
+    omega ~ normal:38:4 rad/s, psi = 90, as coin design --landing bounce): points with 95%
+    intervals at 8 aspect ratios and the probit curve fitted to them.
+
     Examples: coin plot sides --out sides.png ;  coin plot sides --p-sides 1/3 --log --terminal ;
-    coin plot sides --quarters 6:10:1 --psi-dist normal:90:18 --out sides.svg
+    coin plot sides --quarters 6:10:1 --psi-dist normal:90:18 --out sides.svg ;
+    coin plot sides --landing bounce --surface wood --seed 1 --out bounce.png
     """
+    physics = BO.parse_physics(BO.landing_of(landing), surface=surface, restitution=restitution,
+                               friction=friction, jobs=jobs)
+    if physics is None and (seed is not None or tosses is not None):
+        raise usage_error("--seed and -n go with --landing bounce")
     target = _Target(out, terminal)
     _one_stdin(xi=xi, count=count, quarters=quarters, data=data)
     xi_marks = _mark_coins(xi, coin, count, quarters, diameter, thickness)
@@ -358,17 +374,40 @@ def sides(
     exps = _read_data(data) if data is not None else []
     w, h, d = _figure_size(target, width, height, dpi, (7.0, 4.5))
     target.check_matplotlib()
+    bounce = None
+    if physics is not None:
+        from coincli.cli.toss import bounce_launch
+
+        count = 400 if tosses is None else _options.tosses_value(tosses, high=100_000)
+        seed_v = _options.seed_value(seed)
+        u_spec, w_spec, psi_spec, labels = bounce_launch(None, None, None, None)
+        lo, hi = rng if rng is not None else (0.1, 2.0)
+        lo = max(lo, 0.05)
+        import numpy as np
+
+        xis = [float(x) for x in np.geomspace(lo, hi, 8)]
+        pts, fitted = BO.sides_points(physics, seed=seed_v, n=count, xis=xis, u=u_spec,
+                                      omega=w_spec, psi=psi_spec, diameter=0.02426, g=9.81)
+        bounce = (pts, fitted)
+        sys.stderr.write(f"coin: note: simulated points: {count} tosses at each xi onto "
+                         f"{physics.describe()}, {labels}; seed {seed_v}; the curve is the "
+                         f"probit fitted to them (fit p-value {fitted.fit.p_value:.3g})\n")
     with _quiet():
-        _sides(target, xi_marks, p_marks, psi_curves, dens, rng, exps, log, (w, h, d), title)
+        _sides(target, xi_marks, p_marks, psi_curves, dens, rng, exps, log, (w, h, d), title,
+               bounce)
 
 
-def _sides(target, xi_marks, p_marks, psi_curves, dens, rng, exps, log, size, title):
+def _sides(target, xi_marks, p_marks, psi_curves, dens, rng, exps, log, size, title,
+           bounce=None):
     from coincli import plot as P
 
     models = [P.GEOMETRIC, P.DYNAMIC]
     models += [P.psi_spec(math.pi if d == 180 else math.radians(d)) for d in psi_curves]
     models += [P.density_spec(d) for d in dens]
     points = _compute(P.experiment_points, exps) if exps else []
+    if bounce is not None:
+        models.append(bounce[1])
+        points = points + bounce[0]
 
     def build(n):
         return _compute(P.sides_data, models, xi_marks=xi_marks, p_marks=p_marks,
@@ -507,79 +546,28 @@ def map_cmd(
 # --------------------------------------------------------------------------- phase
 
 
-def _pair(text: str | None, what: str, default, unit: str, top: float):
-    """A phase axis LOW:HIGH up to ``top`` and at least coincli.plot.MIN_SPAN wide."""
-    if text is None:
-        return default
-    from coincli.plot import MIN_SPAN, short_g
-
-    rule = f"0 <= LOW < HIGH <= {short_g(top)} and HIGH - LOW >= {short_g(MIN_SPAN)}"
-    lo, hi, bad = _range_of(text, what, rule, unit)
-    if not (0 <= lo < hi <= top and hi - lo >= MIN_SPAN):
-        raise bad
-    return lo, hi
-
-
-def _tosses(text: str | None) -> list[tuple[float, float]]:
-    if text is None:
-        return []
-    out = []
-    for item in text.split(","):
-        bad = usage_error("--toss must be U:OMEGA, finite numbers >= 0 in m/s and rad/s (a list "
-                          f"a:b,c:d for several); got {item!r}")
-        parts = item.split(":")
-        if len(parts) != 2:
-            raise bad
-        try:
-            u, w = (parse.parse_number(p, "--toss") for p in parts)
-        except ValueError:
-            raise bad from None
-        if u < 0 or w < 0:
-            raise bad
-        out.append((u, w))
-    if len(out) > MAX_MARKS:
-        raise usage_error(f"--toss marks at most {MAX_MARKS} tosses")
-    return out
-
-
 @plot_app.command("phase")
 def phase_cmd(
-    xi: Annotated[
-        str | None, typer.Option("--xi", "-x", help="The coin's aspect ratio h/D (default "
-                                 "1/sqrt 3 = 0.57735, the paper's Fig. 3).")
-    ] = None,
-    psi: Annotated[
-        str, typer.Option("--psi", help="Angle between angular momentum and normal, degrees "
-                          "[0, 180] (default 90: the Keller flip).", metavar="DEG")
-    ] = "90",
-    u_range: Annotated[
-        str | None, typer.Option("--u-range", help="Launch speeds LOW:HIGH in m/s (default "
-                                 "0:2).", metavar="LOW:HIGH")
-    ] = None,
-    omega_range: Annotated[
-        str | None, typer.Option("--omega-range", help="Precession rates LOW:HIGH in rad/s "
-                                 "(default 0:60).", metavar="LOW:HIGH")
-    ] = None,
-    diameter: Annotated[
-        str | None, typer.Option("--diameter", "-d", help="Coin diameter (mm, or with a unit: "
-                                 "0.955in, 2.4cm; default a US quarter, 24.26 mm).")
-    ] = None,
-    contact: Annotated[
-        str, typer.Option("--contact", help="rim (the paper's: the rim of the mid-plane disc "
-                          "touches down) or thick (the lowest corner of the cylinder).")
-    ] = "rim",
-    exact_curves: Annotated[
-        bool, typer.Option("--exact-curves", help="Draw the boundaries at the exact contact "
-                           "time instead of eq. 10's t_f = 2u/g.")
-    ] = False,
-    toss: Annotated[
-        str | None, typer.Option("--toss", help="Mark your toss as U:OMEGA (m/s:rad/s); a list "
-                                 "a:b,c:d for several.", metavar="U:OMEGA")
-    ] = None,
-    resolution: Annotated[
-        int, typer.Option("--resolution", help="Grid cells along each axis of a figure file.",
-                          min=10, max=2000)
-    ] = 400,
+    xi: _options.XiOpt = None,
+    coin: _options.CoinOpt = None,
+    count: _options.CountOpt = None,
+    quarters: _options.QuartersOpt = None,
+    diameter: _options.DiameterOpt = None,
+    thickness: _options.ThicknessOpt = None,
+    psi: _phase.PsiOpt = "90",
+    u: _phase.URangeOpt = None,
+    omega: _phase.OmegaRangeOpt = None,
+    cols: _phase.ColsOpt = None,
+    rows: _phase.RowsOpt = None,
+    exact: _phase.ExactOpt = False,
+    no_curves: _phase.NoCurvesOpt = False,
+    toss: _phase.TossMarkOpt = None,
+    g: _phase.GOpt = "9.81",
+    contact: _phase.ContactOpt = "rim",
+    u_range: _phase.OldURangeOpt = None,
+    omega_range: _phase.OldOmegaRangeOpt = None,
+    exact_curves: _phase.OldExactOpt = False,
+    resolution: _phase.OldResolutionOpt = None,
     out: OutOpt = None,
     terminal: TerminalOpt = False,
     dpi: DpiOpt = "150",
@@ -587,60 +575,33 @@ def phase_cmd(
     height: HeightOpt = None,
     title: TitleOpt = None,
 ):
-    """The outcome over launch speed and precession rate for one coin (Fig. 3).
+    """The outcome over launch speed and spin for one coin (Fig. 3): coin phase as a figure.
 
-    Each cell is one finite toss (the engine of `coin phase`: the coin starts heads up, flies
-    and is caught at the first contact); the dashed curves are eq. 10's hyperbolae
-    omega = (2n +- theta0/pi) pi g / (2u).  Far from the origin the bands thin out and the
-    shares approach the vigorous limit of Table I.
+    The same picture and the same options as `coin phase` (which see): each cell is one
+    finite toss; the dashed curves are eq. 10's hyperbolae omega = (2n +- theta0/pi) pi g /
+    (2u).  Far from the origin the shares approach the vigorous limit of Table I.
 
     Examples: coin plot phase --out phase.png ;  coin plot phase --xi 0.3 --psi 70 --terminal ;
-    coin plot phase --toss 1.2:40 --u-range 0:3 --omega-range 0:100 --out phase.svg
+    coin plot phase --toss 1.2:40 --u 0:3 --omega 0:100 --out phase.svg
     """
     target = _Target(out, terminal)
-    if xi is None:
-        x = 1 / math.sqrt(3)
-    else:
-        try:
-            x = _xi_item(xi, "--xi")
-        except ValueError as exc:
-            raise usage_error(str(exc)) from None
-    try:
-        psi_deg = _deg_item(psi, "--psi")
-    except ValueError as exc:
-        raise usage_error(str(exc)) from None
-    ct = contact.strip().lower()
-    if ct not in ("rim", "thick"):
-        raise usage_error(f"--contact must be rim or thick, got {contact!r}")
-    if ct == "thick" and not x <= 1e100:  # the toss engine's limit for a thick coin
-        raise usage_error(f"--xi with --contact thick must be at most 1e100, got {xi!r}")
-    from coincli.plot import OMEGA_AXIS_MAX, U_AXIS_MAX
-
-    ur = _pair(u_range, "--u-range", (0.0, 2.0), "m/s", U_AXIS_MAX)
-    wr = _pair(omega_range, "--omega-range", (0.0, 60.0), "rad/s", OMEGA_AXIS_MAX)
-    dia_m = 0.02426
-    if diameter is not None:
-        try:
-            dia_m = parse.parse_length_mm(diameter, "--diameter") / 1000.0
-        except ValueError as exc:
-            raise usage_error(str(exc)) from None
-        if not dia_m <= MAX_DIAMETER_M:
-            raise usage_error("--diameter must be a length > 0 and at most 1e100 m, got "
-                              f"{diameter!r}")
-    marks = _tosses(toss)
+    ph = _phase.resolve(xi=xi, coin=coin, count=count, quarters=quarters, diameter=diameter,
+                        thickness=thickness, psi=psi, u=u, omega=omega, cols=cols, rows=rows,
+                        exact=exact, no_curves=no_curves, toss=toss, g=g, contact=contact,
+                        old_u=u_range, old_omega=omega_range, old_exact=exact_curves,
+                        old_resolution=resolution)
     w, h, d = _figure_size(target, width, height, dpi, (9.5, 5.5))
     target.check_matplotlib()
     with _quiet():
+        if target.text:
+            from coincli.textplot import emit, text_phase
+
+            nu, nw = _phase.text_size(ph)
+            emit(text_phase(_phase.data(ph, nu, nw), nu, nw, ph.contact))
+            return
         from coincli import plot as P
 
-        def build(nu, nw):
-            return _compute(P.phase_data, x, psi_deg, u_range=ur, omega_range=wr, nu=nu, nw=nw,
-                            marks=marks, exact_curves=exact_curves, diameter=dia_m, contact=ct)
-
-        if target.text:
-            from coincli.textplot import text_phase
-
-            target.text_plot(lambda c, r: text_phase(build(c, r), c, r))
-            return
-        fig = P.phase_figure(build(resolution, resolution), width=w, height=h, title=title)
+        data = _phase.data(ph, ph.cols or _phase.FIGURE_CELLS, ph.rows or _phase.FIGURE_CELLS,
+                           figure=True)
+        fig = P.phase_figure(data, width=w, height=h, title=title)
         target.save(fig, d)

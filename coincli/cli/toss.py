@@ -1,22 +1,25 @@
 """``coin toss``, ``coin simulate``, ``coin phase``: real tosses of finite vigor (Sec. II, Fig. 3).
 
-Thin: parse the options (angles in degrees, lengths in mm, speeds in m/s, rates in rad/s),
-convert to SI radians, call :mod:`coincli.toss`, build a :class:`Result` or a picture, print.
-A ValueError from the core is bad input: one line, exit 2.  numpy, scipy and rich load only
-inside the commands.
+Thin: parse the options (the shared coin group and seed of :mod:`coincli.cli._options`; angles
+in degrees; speeds and spins with units, :func:`coincli.parse.parse_speed_ms` and
+:func:`coincli.parse.parse_spin_rads`), convert to SI radians, call :mod:`coincli.toss`, build a
+:class:`Result` or a picture, print.  Whatever is not given is drawn from a natural hand toss
+(:data:`coincli.toss.HAND_TOSS`) with a seed that is reported.  A ValueError from the core is
+bad input: one line, exit 2.  numpy loads only inside the commands, rich only to draw on a
+terminal, scipy never.
 """
 
 from __future__ import annotations
 
 import math
-import re
 import sys
 from typing import Annotated
 
 import typer
 
 from coincli import parse
-from coincli.cli import app
+from coincli.cli import _bounce as BO
+from coincli.cli import _options, _phase, app
 from coincli.cli._common import (
     Column,
     FormatOpt,
@@ -31,33 +34,30 @@ from coincli.cli._common import (
     usage_error,
     values_option,
 )
+from coincli.cli._options import (
+    CoinOpt,
+    CountOpt,
+    DiameterOpt,
+    QuartersOpt,
+    SeedOpt,
+    ThicknessOpt,
+    TossesOpt,
+    XiOpt,
+    XisOpt,
+)
 
-FAIR_XI = 1 / math.sqrt(3)
-DEFAULT_DIAMETER_MM = 24.26  # a US quarter, the paper's coin
-DEG = math.pi / 180
 # Limits, as in coincli.toss (kept here so that this module needs no numpy to load).
 U_MAX = 1e8  # m/s, coincli.toss.U_MAX
 MAX_TOSSES = 10**8  # coincli.toss.MAX_TOSSES: simulate -n; ~1.5 minutes of ordinary tosses
-G_MAX = 1e100  # m/s^2
 XI_THICK_MAX = 1e100  # h/D with --contact thick (an infinite thickness has no launch height)
 LENGTH_MM_MIN = 1e-300  # mm; smaller would underflow on the way to metres
-DIAMETER_MM_MAX = 1e103  # mm: coincli.toss takes diameters up to 1e100 m
 NORMAL_REACH = 10  # simulate checks a normal up to MEAN + 10 SD (never drawn: P < 1e-23)
+DHM = "Diaconis, Holmes & Montgomery 2007"
+#: the hand toss of coincli.toss.HAND_TOSS, as typed (for help and notes)
+HAND = {"u": "normal:2.4:0.3", "omega": "normal:38:4rev/s", "psi": "normal:90:10"}
 
-# --------------------------------------------------------------------------- shared options
-
-XiOpt = Annotated[str, typer.Option("--xi", help="Aspect ratio h/D of the coin (0.577 is the fair "
-                                    "three-sided coin).", metavar="XI")]
-DiameterOpt = Annotated[
-    str, typer.Option("--diameter", "-d", help="Coin diameter in mm (or with a unit: 2.4cm, "
-                      "0.955in).  Default: a US quarter, 24.26 mm.", metavar="MM")
-]
-GOpt = Annotated[str, typer.Option("--g", help="Gravity, m/s^2 (> 0).", metavar="G")]
-ContactOpt = Annotated[
-    str, typer.Option("--contact", help="rim (the paper's: the rim of the mid-plane disc touches "
-                      "the catch plane) or thick (the cylinder's lowest corner; the launch "
-                      "height rises by h/2).", metavar="rim|thick")
-]
+GOpt = _phase.GOpt
+ContactOpt = _phase.ContactOpt
 
 
 def _usage(fn, *args, **kwargs):
@@ -66,13 +66,6 @@ def _usage(fn, *args, **kwargs):
         return fn(*args, **kwargs)
     except ValueError as exc:
         raise usage_error(str(exc)) from None
-
-
-def _contact(text: str) -> str:
-    c = text.strip().lower()
-    if c not in ("rim", "thick"):
-        raise usage_error(f"--contact must be rim or thick, got {text!r}")
-    return c
 
 
 def _num(v: float) -> str:
@@ -84,55 +77,21 @@ def _num(v: float) -> str:
 def _mm(text: str) -> str:
     """A length as the user typed it, with its unit: '20' -> '20 mm', '2cm' stays."""
     t = text.strip()
-    return f"{t} mm" if _plain_number(t) else t
-
-
-def _allowed(lo: float, hi: float, unit: str, lo_open: bool = False) -> str:
-    u = f" {unit}" if unit else ""
-    low = f"> {lo:g}" if lo_open else f">= {lo:g}"
-    if hi == math.inf:
-        return f"a finite number {low}{u}"
-    if lo_open:
-        return f"a number {low} and <= {hi:g}{u}"
-    return f"a number from {lo:g} to {hi:g}{u}"
-
-
-def _number(text: str, what: str, lo: float, hi: float = math.inf, *, lo_open=False,
-            unit: str = "") -> float:
     try:
-        v = parse.parse_number(text, what)
+        parse.parse_number(t)
+        return f"{t} mm"
     except ValueError:
-        v = math.nan
-    if not (lo < v if lo_open else lo <= v) or not v <= hi:  # NaN fails both
-        raise usage_error(f"{what} must be {_allowed(lo, hi, unit, lo_open)}, got {text!r}")
-    return v
-
-
-def _g(text: str) -> float:
-    return _number(text, "--g", 0.0, G_MAX, lo_open=True, unit="m/s^2")
-
-
-def _length_mm(text: str, what: str) -> float:
-    v = _usage(parse.parse_length_mm, text, what)
-    if v < LENGTH_MM_MIN:
-        raise usage_error(f"{what} must be a length of at least {LENGTH_MM_MIN:g} mm, got "
-                          f"{text!r}")
-    return v
-
-
-def _diameter_m(text: str) -> float:
-    v = _length_mm(text, "--diameter")
-    if v > DIAMETER_MM_MAX:
-        raise usage_error(f"--diameter must be a length from {LENGTH_MM_MIN:g} mm to "
-                          f"{DIAMETER_MM_MAX:g} mm, got {text!r}")
-    return v / 1000.0
+        return t
 
 
 def _z0_m(text: str | None, xi_max: float, dia: float, thick: bool) -> float | None:
     """--z0 in metres; for thick contact above h/2, or the coin would start below the plane."""
     if text is None:
         return None
-    z0 = _length_mm(text, "--z0") / 1000.0
+    v = _usage(parse.parse_length_mm, text, "--z0")
+    if v < LENGTH_MM_MIN:
+        raise usage_error(f"--z0 must be a length of at least {LENGTH_MM_MIN:g} mm, got {text!r}")
+    z0 = v / 1000.0
     floor = xi_max * dia / 2 if thick else 0.0
     if z0 <= floor:
         raise usage_error(f"--z0 must be above h/2 = {floor * 1000:g} mm with --contact thick "
@@ -141,38 +100,10 @@ def _z0_m(text: str | None, xi_max: float, dia: float, thick: bool) -> float | N
     return z0
 
 
-def _item(lo: float, hi: float, unit: str, kind: str = "a number"):
-    """A values_option item: a finite number in [lo, hi] (hi = inf: any finite number >= lo)."""
-
-    def item(text: str, what: str) -> float:
-        try:
-            v = parse.parse_number(text, what)
-        except ValueError:
-            v = math.nan
-        if not lo <= v <= hi:  # NaN fails
-            rng = (f"a finite number >= {lo:g} {unit}" if hi == math.inf else
-                   f"{kind} from {lo:g} to {hi:g} {unit}")
-            raise ValueError(f"{what} must be {rng}, got {text!r}")
-        return v
-
-    return item
-
-
-_xi_item = _item(0.0, math.inf, "(h/D)")
-_u_item = _item(0.0, U_MAX, "m/s")
-_omega_item = _item(0.0, math.inf, "rad/s")
-_deg_item = _item(0.0, 180.0, "degrees", "an angle")
-_FINITE = (0.0, sys.float_info.max)  # stdin bounds: 1e400 (inf) goes to the item's message
-
-
-def _xi_for_contact(xi_max: float, xi_text: str, thick: bool):
+def _xi_for_contact(xi_max: float, thick: bool):
     if thick and xi_max > XI_THICK_MAX:
-        raise usage_error(f"--xi must be from 0 to {XI_THICK_MAX:g} with --contact thick (the "
-                          f"launch height rises by h/2), got {xi_text.strip()!r}")
-
-
-def _rad(deg: float) -> float:
-    return math.pi if deg == 180.0 else math.radians(deg)
+        raise usage_error(f"--xi must be at most 1e100 with --contact thick (the launch height "
+                          f"rises by h/2), got {_num(xi_max)}")
 
 
 def _follow(T, xi, psi, u, omega, *, dia, g, ct, z0, got, where=""):
@@ -222,97 +153,282 @@ def _follow(T, xi, psi, u, omega, *, dia, g, ct, z0, got, where=""):
     raise usage_error(f"{what}; {fix}")
 
 
+def _dia_text(diameter: str | None, dia: float) -> str:
+    """The diameter as the user typed it (with its unit), or the default's."""
+    return _mm(diameter) if diameter is not None else f"{dia * 1000:g} mm"
+
+
 def _got(*, xi, u, omega, g, diameter, z0=None):
     """The user's text of each option, with its unit, for the messages of _follow."""
-    return {"xi": xi.strip(), "u": u, "omega": omega, "g": f"{g.strip()} m/s^2",
-            "diameter": _mm(diameter), "z0": None if z0 is None else _mm(z0)}
+    return {"xi": xi, "u": u, "omega": omega, "g": f"{g.strip()} m/s^2", "diameter": diameter,
+            "z0": None if z0 is None else _mm(z0)}
+
+
+def _report_seed(seed: int, given: bool) -> None:
+    """A drawn seed on stderr, where the output itself has no room for it (-q, --stream)."""
+    if not given:
+        try:
+            sys.stderr.write(f"coin: seed {seed} (--seed {seed} repeats this run)\n")
+        except (OSError, ValueError):
+            pass
+
+
+# --------------------------------------------------------------------------- units
+
+
+def _units_of(kind: str):
+    return parse.SPEED_UNITS if kind == "u" else parse.SPIN_UNITS
+
+
+def _one_value(text: str, what: str, kind: str) -> float:
+    """One speed (m/s) or spin (rad/s), a unit allowed; in range."""
+    if kind == "u":
+        v = parse.parse_speed_ms(text, what)
+        if v > U_MAX:
+            raise ValueError(f"{what} must be a speed of at most {U_MAX:g} m/s, got {text!r}")
+        return v
+    return parse.parse_spin_rads(text, what)
+
+
+def _values(text: str, what: str, kind: str):
+    """A value, a list ``a,b``, a range ``start:stop:step`` or ``-`` (stdin), each value with
+    its own unit or a range with one unit at its end (``38:40:1rev/s``)."""
+    t = text.strip()
+    units = _units_of(kind)
+    if ":" in t:
+        head, unit = parse.split_unit(t, units)
+        if unit is not None and not any(parse.split_unit(p, units)[1] for p in
+                                        head.split(":")):
+            return values_option(head, what, lambda s, w: _one_value(s + unit, w, kind))
+    bounds = (0.0, U_MAX) if kind == "u" else (0.0, sys.float_info.max)
+    return values_option(t, what, lambda s, w: _one_value(s, w, kind), bounds=bounds)
+
+
+_SPEC_FORM = "a value, normal:MEAN:SD or uniform:LOW:HIGH"
+_KINDS = {"normal": "normal", "norm": "normal", "gauss": "normal", "uniform": "uniform",
+          "unif": "uniform", "fixed": "fixed"}
+
+
+def _spec(text: str, what: str, kind: str):
+    """A distribution of u (m/s) or omega (rad/s) for simulate, as a coincli.toss.Dist in SI:
+    a value, ``normal:MEAN:SD`` or ``uniform:LOW:HIGH``; a unit once at the end applies to
+    every number (``normal:38:4rev/s``), or one after every number."""
+    from coincli import toss as T
+
+    lo, hi = (0.0, U_MAX) if kind == "u" else (0.0, math.inf)
+    unit_name = "m/s" if kind == "u" else "rad/s"
+    example = "normal:2.4:0.3 or normal:240:30cm/s" if kind == "u" else \
+        "normal:38:4rev/s or normal:240:25"
+    parts = [p.strip() for p in text.strip().split(":")]
+    if len(parts) == 1:
+        name, nums = "fixed", parts
+    else:
+        name = _KINDS.get(parts[0].lower())
+        nums = parts[1:]
+        if name is None:
+            raise usage_error(f"{what}: unknown distribution {parts[0]!r}; give {_SPEC_FORM} "
+                              f"({unit_name} or with a unit, e.g. {example})")
+        if len(nums) != (1 if name == "fixed" else 2):
+            raise usage_error(f"{what} must be {_SPEC_FORM} ({unit_name} or with a unit, e.g. "
+                              f"{example}), got {text!r}")
+        if name == "normal" and nums[1].startswith("-"):
+            raise usage_error(f"{what}: normal:MEAN:SD needs SD >= 0, got {text!r}")
+    units = _units_of(kind)
+    has = [parse.split_unit(p, units)[1] is not None for p in nums]
+    if any(has) and not all(has):
+        if not has[-1] or any(has[:-1]):  # a unit on some numbers only: ambiguous
+            raise usage_error(f"{what}: give the unit once at the end ({example}) or after "
+                              f"every number, got {text!r}")
+        unit = parse.split_unit(nums[-1], units)[1]
+        nums = [p + unit for p in nums[:-1]] + nums[-1:]
+    one = parse.parse_speed_ms if kind == "u" else parse.parse_spin_rads
+    try:
+        if name == "normal":  # the mean of a normal may be negative: it is truncated at 0
+            mean = nums[0][1:] if nums[0].startswith("-") else nums[0]
+            vals = [(-1.0 if nums[0].startswith("-") else 1.0) * one(mean, what),
+                    one(nums[1], f"{what} SD")]
+        else:
+            vals = [one(p, what) for p in nums]
+    except ValueError as exc:
+        raise usage_error(f"{exc}; {what} takes {_SPEC_FORM}") from None
+    rng = f"[{lo:g}, {hi:g}] {unit_name}" if math.isfinite(hi) else f">= 0 {unit_name}"
+    if name == "fixed" or (name == "normal" and vals[1] == 0) or (name == "uniform" and
+                                                                  vals[0] == vals[1]):
+        if not lo <= vals[0] <= hi:
+            raise usage_error(f"{what} must be in {rng}, got {text!r}")
+        return T.Dist("fixed", vals[0], 0.0, lo, hi)
+    if name == "uniform":
+        if not lo <= vals[0] <= vals[1] <= hi:
+            raise usage_error(f"{what}: uniform:LOW:HIGH needs LOW <= HIGH, both in {rng}; got "
+                              f"{text!r}")
+        return T.Dist("uniform", vals[0], vals[1], lo, hi)
+    mu, sd = vals
+    mass = T._normal_mass((lo - mu) / sd, (hi - mu) / sd)
+    if not mass > 1e-9:
+        raise usage_error(f"{what}: {text!r} puts no probability in the allowed range {rng}")
+    return T.Dist("normal", mu, sd, lo, hi)
 
 
 # --------------------------------------------------------------------------- coin toss
 
+UValuesOpt = Annotated[str | None, typer.Option(
+    "--u", metavar="SPEED", help="Launch speed: 2 (m/s), 240cm/s, 8.6km/h; a list, a range "
+    "or -.  Default: drawn (hand toss).")]
+OmegaValuesOpt = Annotated[str | None, typer.Option(
+    "--omega", metavar="SPIN", help="Spin omega_N = M/I1 of eq. (2): 40 (rad/s), 38rev/s, "
+    "2300rpm; a list, a range or -.  Default: drawn.")]
+PsiValuesOpt = Annotated[str | None, typer.Option(
+    "--psi", metavar="DEG", help="Angle psi of the angular momentum to the normal, degrees "
+    "[0, 180]; a list, a range or -.  Default: drawn.")]
+Z0Opt = Annotated[str | None, typer.Option(
+    "--z0", metavar="MM", help="Launch height of the centre, mm or with a unit (default: "
+    "(sqrt 3/2) a, plus h/2 for thick contact).")]
+
 
 @app.command("toss")
 def toss_cmd(
-    xi: XiOpt,
-    psi: Annotated[str, typer.Option("--psi", help="Angle between the angular momentum and the "
-                                     "coin's normal at launch, degrees [0, 180] (90: the Keller "
-                                     "flip).", metavar="DEG")],
-    u: Annotated[str, typer.Option("--u", help="Upward launch speed of the centre, m/s (>= 0).",
-                                   metavar="M/S")],
-    omega: Annotated[str, typer.Option("--omega", help="Precession rate omega_N = M / I_1 of "
-                                       "eq. (2), rad/s (>= 0).", metavar="RAD/S")],
-    diameter: DiameterOpt = "24.26",
+    xi: XisOpt = None,
+    coin: CoinOpt = None,
+    count: CountOpt = None,
+    quarters: QuartersOpt = None,
+    diameter: DiameterOpt = None,
+    thickness: ThicknessOpt = None,
+    psi: PsiValuesOpt = None,
+    u: UValuesOpt = None,
+    omega: OmegaValuesOpt = None,
+    seed: SeedOpt = None,
     g: GOpt = "9.81",
     contact: ContactOpt = "rim",
-    z0: Annotated[str | None, typer.Option("--z0", help="Launch height of the centre above the "
-                                           "catch plane, mm (default: (sqrt 3/2) a, plus h/2 for "
-                                           "thick contact).", metavar="MM")] = None,
+    z0: Z0Opt = None,
+    landing: BO.LandingOpt = "catch",
+    surface: BO.SurfaceOpt = None,
+    restitution: BO.RestitutionOpt = None,
+    friction: BO.FrictionOpt = None,
+    torsional: BO.TorsionalOpt = None,
+    rolling: BO.RollingOpt = None,
+    height: BO.ReleaseHeightOpt = None,
+    vx: BO.VxOpt = None,
+    dt: BO.DtOpt = None,
+    t_max: BO.TMaxOpt = None,
+    trajectory: Annotated[str | None, typer.Option("--trajectory", help="With --landing "
+                                                   "bounce: write the time series (time, "
+                                                   "position, quaternion, velocities, tilt, "
+                                                   "energy, contacts) to this CSV file.",
+                                                   metavar="FILE.csv")] = None,
     fmt: FormatOpt = "table",
     quiet: QuietOpt = False,
 ):
     """One deterministic toss: time of flight, turns, final tilt and outcome (eqs. 3-7).
 
-    The coin starts heads up with its centre at z0 = (sqrt 3/2) a, flies up at u and precesses
-    at omega; it is caught at z = 0 the first time its lowest point touches (the smallest
-    positive root of z(t) - a sin alpha(t) = 0, found without skipping an earlier crossing).
-    The outcome is eq. (7): heads if alpha_f <= theta0, tails if alpha_f > 180 - theta0, sides
-    in between.  Each of --xi, --psi, --u, --omega also takes a list a,b,c, a range
-    start:stop:step or - (stdin); lists of equal length are paired, a single value is reused.
+    The coin starts heads up with its centre at z0 = (sqrt 3/2) a, flies up at u and spins at
+    omega; it is caught at z = 0 the first time it touches (the smallest positive root of
+    z(t) - a sin alpha(t) = 0, never skipping an earlier one).  Heads if alpha_f <= theta0,
+    tails if alpha_f > 180 - theta0, sides between (eq. 7).  Whatever of --u, --omega, --psi
+    is missing is drawn from a natural hand toss (see README; Diaconis, Holmes & Montgomery,
+    SIAM Review 49 (2007) 211: u ~ normal:2.4:0.3 m/s, omega ~ normal:38:4 rev/s, psi ~
+    normal:90:10 deg) with a seed that is reported.  Lists of equal length are paired.
 
-    Examples: coin toss --xi 0.577 --psi 90 --u 2 --omega 40 ;
-    coin toss --xi 0.577 --psi 90 --u 2 --omega 30:50:1 --format csv ;
-    coin toss --xi 0.577 --psi 90 --u 2 --omega 40 -q
+    --landing bounce drops the coin onto a surface instead and follows it (MuJoCo, pip install
+    'coincli[physics]') until it settles: its bounces, time to settle and final side;
+    --trajectory FILE.csv writes the motion.
+
+    Examples: coin toss --xi 0.577 ;  coin toss --xi 0.577 --psi 90 --u 2 --omega 40 ;
+    coin toss --coin quarter --psi 90 --u 2 --omega 38:40:1 -f csv ;
+    coin toss --xi 0.577 --psi 85 --u 2.4 --omega 38 --landing bounce --surface wood
+    --trajectory toss.csv
     """
     check_format(fmt)
-    ct = _contact(contact)
-    dia = _diameter_m(diameter)
-    gv = _g(g)
-    cols = {
-        "xi": values_option(xi, "--xi", _xi_item, bounds=_FINITE),
-        "psi": values_option(psi, "--psi", _deg_item, bounds=(0.0, 180.0)),
-        "u": values_option(u, "--u", _u_item, bounds=(0.0, U_MAX)),
-        "omega": values_option(omega, "--omega", _omega_item, bounds=_FINITE),
-    }
+    physics = BO.parse_physics(BO.landing_of(landing), surface=surface, restitution=restitution,
+                               friction=friction, torsional=torsional, rolling=rolling,
+                               height=height, vx=vx, dt=dt, t_max=t_max)
+    if physics is None and trajectory is not None:
+        raise usage_error("--trajectory goes with --landing bounce (a caught toss is the "
+                          "closed-form flight: coin toss prints it)")
+    if physics is not None and contact.strip().lower() != "rim":
+        raise usage_error("--contact goes with --landing bounce only as rim (a bounce is the "
+                          "whole cylinder on the surface)")
+    coins = _options.resolve_coin(xi, coin, count, quarters, diameter, thickness, many=True,
+                                  xi_rule="finite", command="coin toss")
+    ct = _phase.contact_value(contact)
+    dia = _phase.diameter_m(coins, diameter)
+    gv = _phase.g_value(g)
+    given = {"psi": psi, "u": u, "omega": omega}
+    cols = {"xi": coins.xis}
+    if psi is not None:
+        cols["psi"] = values_option(psi, "--psi", _options._deg_item, bounds=(0.0, 180.0))
+    if u is not None:
+        cols["u"] = _values(u, "--u", "u")
+    if omega is not None:
+        cols["omega"] = _values(omega, "--omega", "omega")
     lens = {k: len(v) for k, v in cols.items()}
     n = max(lens.values())
     bad = [f"--{k} ({m})" for k, m in lens.items() if m not in (1, n)]
     if bad:
         raise usage_error(f"lists must have one value or {n} values; got {', '.join(bad)}")
+    drawn = [k for k in ("u", "omega", "psi") if given[k] is None]
+    if seed is not None and not drawn:
+        raise usage_error("--seed seeds what is drawn for a missing --u, --omega or --psi; all "
+                          "three are given")
     xs = cols["xi"]
     xi_max = float(xs.max() if hasattr(xs, "max") else max(xs))
-    _xi_for_contact(xi_max, xi if len(cols["xi"]) == 1 else _num(xi_max), ct == "thick")
+    _xi_for_contact(xi_max, ct == "thick")
     z0_m = _z0_m(z0, xi_max, dia, ct == "thick")
+    import numpy as np
+
     from coincli import toss as T
 
-    def follow(x, p, uu, w, where=""):
-        got = _got(xi=_num(x), u=f"{_num(uu)} m/s", omega=f"{_num(w)} rad/s", g=g,
-                   diameter=diameter, z0=z0)
-        _follow(T, x, p, uu, w, dia=dia, g=gv, ct=ct, z0=z0_m, got=got, where=where)
-
-    if n == 1:
-        x, p, uu, w = (float(cols[k][0]) for k in ("xi", "psi", "u", "omega"))
-        follow(x, _rad(p), uu, w)
-        r = _usage(T.toss, x, _rad(p), uu, w, diameter=dia, g=gv, contact=ct, z0=z0_m)
-        data = [[x], [p], [uu], [w], [r.t_f], [r.turns], [math.degrees(r.alpha_f)],
-                [math.degrees(r.theta0)], [r.vigor], [r.outcome], [r.z0 * 1000], [ct]]
-    else:
-        import numpy as np
-
-        x, p, uu, w = (np.broadcast_to(np.asarray(cols[k], dtype=float), (n,))
-                       for k in ("xi", "psi", "u", "omega"))
-        psi_rad = np.where(p == 180.0, math.pi, np.radians(p))
-        problem = T.flight_limits(x, psi_rad, uu, w, diameter=dia, g=gv, contact=ct, z0=z0_m)[2]
-        if problem.any():
-            k = int(np.argmax(problem != 0))
-            follow(float(x[k]), float(psi_rad[k]), float(uu[k]), float(w[k]), f" (row {k + 1})")
-        res = _usage(T.toss_many, x, psi_rad, uu, w, diameter=dia, g=gv, contact=ct, z0=z0_m)
-        z0_mm = (np.full(n, z0_m * 1000) if z0_m is not None else
-                 (math.sqrt(3) / 2 * dia / 2 + (x * dia / 2 if ct == "thick" else 0.0)) * 1000)
-        data = [x.tolist(), p.tolist(), uu.tolist(), w.tolist(), res.t_f.tolist(),
-                (w * res.t_f / (2 * math.pi)).tolist(), np.degrees(res.alpha_f).tolist(),
-                np.degrees(np.arctan2(1.0, x)).tolist(), (uu * w / gv).tolist(),
-                [T.NAMES[c] for c in res.code.tolist()],
-                np.broadcast_to(z0_mm, (n,)).tolist(), [ct] * n]
+    seed_v = _options.seed_value(seed) if drawn else None
+    if drawn:
+        rng = np.random.default_rng(seed_v)
+        spec = {k: (T.HAND_TOSS[k] if k in drawn else T.Dist("fixed", 0.0)) for k in
+                ("u", "omega", "psi")}
+        got = T.sample_conditions(n, rng, **spec)
+        for k in drawn:
+            v = np.broadcast_to(got[k], (n,))
+            cols[k] = np.degrees(v) if k == "psi" else v
+    x, p, uu, w = (np.broadcast_to(np.asarray(cols[k], dtype=float), (n,))
+                   for k in ("xi", "psi", "u", "omega"))
+    psi_rad = np.where(p == 180.0, math.pi, np.radians(p))
+    if "psi" in drawn:  # drawn in radians: no round trip through degrees
+        psi_rad = np.broadcast_to(got["psi"], (n,))
+    problem = T.flight_limits(x, psi_rad, uu, w, diameter=dia, g=gv, contact=ct, z0=z0_m)[2]
+    if problem.any():
+        k = int(np.argmax(problem != 0))
+        gt = _got(xi=_num(float(x[k])), u=f"{_num(float(uu[k]))} m/s",
+                  omega=f"{_num(float(w[k]))} rad/s", g=g, diameter=_dia_text(diameter, dia),
+                  z0=z0)
+        _follow(T, float(x[k]), float(psi_rad[k]), float(uu[k]), float(w[k]), dia=dia, g=gv,
+                ct=ct, z0=z0_m, got=gt, where=f" (row {k + 1})" if n > 1 else "")
+    if physics is not None:
+        if n != 1:
+            raise usage_error("coin toss --landing bounce takes one toss (one value of --xi, "
+                              "--psi, --u, --omega); coin simulate --landing bounce takes many")
+        xf, uf, wf = float(x[0]), float(uu[0]), float(w[0])
+        if xf == 0 or xf > 100:
+            raise usage_error(f"--xi must be above 0 and at most 100 with --landing bounce, "
+                              f"got {_num(xf)}")
+        if wf > 1e4:
+            raise usage_error(f"--omega must be at most 10000 rad/s with --landing bounce, got "
+                              f"{_num(wf)} rad/s")
+        extra = ""
+        if drawn:
+            what = ", ".join(f"{k} ~ {T.HAND_TOSS_TEXT[k]}" for k in drawn)
+            extra = (f"  Drawn from a hand toss ({DHM}): {what}; seed {seed_v} (--seed {seed_v} "
+                     "repeats it).")
+            if quiet:
+                _report_seed(seed_v, seed is not None)
+        BO.toss(physics, xi=xf, psi=float(psi_rad[0]), u=uf, omega=wf, diameter=dia, g=gv,
+                z0=z0_m, trajectory=trajectory, fmt=fmt, quiet=quiet, note_extra=extra,
+                seed=seed_v if drawn else None)
+        return
+    res = _usage(T.toss_many, x, psi_rad, uu, w, diameter=dia, g=gv, contact=ct, z0=z0_m)
+    z0_mm = (np.full(n, z0_m * 1000) if z0_m is not None else
+             (math.sqrt(3) / 2 * dia / 2 + (x * dia / 2 if ct == "thick" else 0.0)) * 1000)
+    outcome = [T.NAMES[c] for c in res.code.tolist()]
+    data = [x.tolist(), p.tolist(), uu.tolist(), w.tolist(), res.t_f.tolist(),
+            (w * res.t_f / (2 * math.pi)).tolist(), np.degrees(res.alpha_f).tolist(),
+            np.degrees(np.arctan2(1.0, x)).tolist(), (uu * w / gv).tolist(), outcome,
+            np.broadcast_to(z0_mm, (n,)).tolist(), [ct] * n]
     columns = [
         Column("xi", "xi"), Column("psi_deg", "psi (deg)"), Column("u", "u (m/s)"),
         Column("omega", "omega (rad/s)"), Column("t_f", "t_f (s)", "g10"),
@@ -321,169 +437,202 @@ def toss_cmd(
         Column("outcome", "outcome", "text"), Column("z0_mm", "z0 (mm)"),
         Column("contact", "contact", "text"),
     ]
-    note = (f"Deterministic toss (Sec. II): D = {dia * 1000:g} mm, g = {gv:g} m/s^2, contact "
+    if drawn and fmt != "table":
+        columns.append(Column("seed", "seed", "int"))
+        data.append([seed_v] * n)
+    typed = [f"{k} = {given[k].strip()}" for k in ("u", "omega") if given[k] is not None
+             and parse.split_unit(given[k], _units_of(k))[1] not in (None, "m/s", "rad/s")]
+    note = (f"Deterministic toss (Sec. II), caught at first contact: D = {dia * 1000:g} mm, g = {gv:g} m/s^2, contact "
             f"{ct}; heads if alpha_f <= theta0, tails if alpha_f > 180 - theta0 (eq. 7).  "
             "The closed forms (coin design/table) are the limit vigor >> 1.")
-    emit(Result("coin toss", columns, [], note, quiet=data[9] if n > 1 else data[9][0],
+    if typed:
+        note += f"  Typed {', '.join(typed)}; shown in m/s and rad/s."
+    if drawn:
+        what = ", ".join(f"{k} ~ {T.HAND_TOSS_TEXT[k]}" for k in drawn)
+        note += (f"  Drawn from a hand toss ({DHM}): {what}; seed {seed_v} (--seed {seed_v} "
+                 "repeats it).")
+        if quiet:
+            _report_seed(seed_v, seed is not None)
+    emit(Result("coin toss", columns, [], note, quiet=outcome if n > 1 else outcome[0],
                 vertical=True, data=data), fmt, quiet)
 
 
 # --------------------------------------------------------------------------- coin simulate
 
 
-def _spec(text: str, what: str, lo: float, hi: float, unit: str):
-    from coincli import toss as T
-
-    return _usage(T.parse_dist, text, what, lo, hi, unit)
-
-
 def _psi_dist(text: str):
-    """--psi-dist: the project's densities (uniform, cosine, normal[:M:S], table:FILE) or
-    uniform:LOW:HIGH / a fixed value, in degrees."""
+    """--psi-dist: the shared psi grammar (uniform[:LOW:HIGH], cosine, normal[:MEAN:SD],
+    table:FILE), or a fixed angle in degrees."""
     from coincli import toss as T
 
     s = text.strip()
-    head = s.split(":", 1)[0].strip().lower()
-    if head in ("uniform", "unif", "fixed") and ":" in s or _plain_number(s):
-        return _spec(s, "--psi-dist", 0.0, 180.0, "deg").scaled(DEG)
-    from coincli.densities import parse_density
-
     try:
-        return T.Dist.from_density(parse_density(s))
-    except ValueError as exc:
-        raise usage_error(f"--psi-dist: {exc}; or uniform:LOW:HIGH in degrees") from None
-
-
-def _plain_number(s: str) -> bool:
-    try:
-        parse.parse_number(s)
-        return True
+        v = parse.parse_number(s, "--psi-dist")
     except ValueError:
-        return False
+        return T.Dist.from_density(_options.psi_density(s))
+    if not 0.0 <= v <= 180.0:
+        raise usage_error(f"--psi-dist: a fixed angle must be from 0 to 180 degrees, got {s!r}")
+    return _options.radians(v)
 
 
 @app.command("simulate")
 def simulate_cmd(
-    xi: XiOpt,
-    u: Annotated[str, typer.Option("--u", help="Launch speed, m/s: a value, normal:MEAN:SD or "
-                                   "uniform:LOW:HIGH (normals are truncated at 0).",
-                                   metavar="SPEC")],
-    omega: Annotated[str, typer.Option("--omega", help="Precession rate, rad/s: a value, "
-                                       "normal:MEAN:SD or uniform:LOW:HIGH.", metavar="SPEC")],
-    psi: Annotated[str | None, typer.Option("--psi", help="A fixed angle psi, degrees [0, 180].",
-                                            metavar="DEG")] = None,
-    psi_dist: Annotated[
-        str | None, typer.Option("--psi-dist", help="A distribution of psi in degrees: "
-                                 "normal:MEAN:SD (truncated to [0, 180]), uniform:LOW:HIGH, or "
-                                 "the densities of coin design: uniform, cosine, normal, "
-                                 "table:FILE.", metavar="SPEC")
-    ] = None,
-    n: Annotated[str, typer.Option("-n", "--n", help="Number of tosses, 1 to 10^8 (about a "
-                                   "minute and a half; for more, run again with another "
-                                   "--seed).", metavar="N")] = "10000",
-    seed: Annotated[str | None, typer.Option("--seed", help="Seed of the random initial "
-                                             "conditions (a whole number >= 0).  Default: fresh "
-                                             "entropy, printed in the note.",
-                                             metavar="SEED")] = None,
-    stream: Annotated[bool, typer.Option("--stream", help="Print one outcome a line (H, S or "
-                                         "T) instead of the summary: a physically honest "
-                                         "three-sided die.")] = False,
-    diameter: DiameterOpt = "24.26",
+    xi: XiOpt = None,
+    coin: CoinOpt = None,
+    count: CountOpt = None,
+    quarters: QuartersOpt = None,
+    diameter: DiameterOpt = None,
+    thickness: ThicknessOpt = None,
+    u: Annotated[str | None, typer.Option(
+        "--u", metavar="SPEC", help=f"Launch speed: {_SPEC_FORM}, in m/s or with a unit "
+        f"(normal:240:30cm/s).  Default: {HAND['u']} (hand toss).")] = None,
+    omega: Annotated[str | None, typer.Option(
+        "--omega", metavar="SPEC", help=f"Spin: {_SPEC_FORM}, in rad/s or with a unit.  "
+        f"Default: {HAND['omega']} (hand toss).")] = None,
+    psi: Annotated[str | None, typer.Option(
+        "--psi", metavar="DEG", help="A fixed angle psi, degrees [0, 180].")] = None,
+    psi_dist: Annotated[str | None, typer.Option(
+        "--psi-dist", metavar="SPEC", help="psi density: uniform[:LOW:HIGH], cosine, "
+        f"normal[:MEAN:SD] (deg), table:FILE.  Default: {HAND['psi']}.")] = None,
+    tosses: TossesOpt = None,
+    seed: SeedOpt = None,
+    stream: Annotated[bool, typer.Option(
+        "--stream", help="Print one outcome a line (H, S or T) instead of the summary.")] = False,
     g: GOpt = "9.81",
     contact: ContactOpt = "rim",
+    landing: BO.LandingOpt = "catch",
+    surface: BO.SurfaceOpt = None,
+    restitution: BO.RestitutionOpt = None,
+    friction: BO.FrictionOpt = None,
+    torsional: BO.TorsionalOpt = None,
+    rolling: BO.RollingOpt = None,
+    height: BO.ReleaseHeightOpt = None,
+    vx: BO.VxOpt = None,
+    jobs: BO.JobsOpt = None,
+    dt: BO.DtOpt = None,
+    t_max: BO.TMaxOpt = None,
     fmt: FormatOpt = "table",
     quiet: QuietOpt = False,
 ):
     """Many seeded tosses with random initial conditions: frequencies next to the vigorous limit.
 
-    Draws u, omega and psi from the given distributions (vectorized), tosses each coin as
-    `coin toss` does, and reports the frequency of heads, sides and tails with 95% Wilson
-    intervals next to the closed-form prediction for the same psi distribution (Table I
-    averaged; Kemperman-Engel: the limit of vigorous tosses).  xi, the diameter and g are fixed.
-    The same seed gives the same tosses, and a shorter run is a prefix of a longer one.  A
-    progress bar shows on stderr for long runs on a terminal.
+    Draws u, omega and psi (by default a natural hand toss, after Diaconis, Holmes &
+    Montgomery, SIAM Review 49 (2007) 211), tosses each coin as `coin toss` does, and reports
+    the frequencies of heads, sides and tails with 95% Wilson intervals next to Table I
+    averaged over the same psi (the vigorous limit).  -n is 10000 by default, at most 10^8.
+    The seed is reported; the same seed gives the same tosses.
 
-    Examples: coin simulate -n 1000000 --seed 7 --xi 0.577 --u normal:2.4:0.3
-    --omega normal:38:4 --psi-dist normal:90:10 ;
-    coin simulate -n 5 --seed 1 --xi 0.577 --u 2.4 --omega normal:38:4 --psi 90 --stream
+    --landing bounce tosses the coins onto a surface (--surface, or --restitution and
+    --friction) and lets them bounce and settle, simulated with MuJoCo (pip install
+    'coincli[physics]'): a simulated table, not the paper's catch.
+
+    Examples: coin simulate --xi 0.577 ;
+    coin simulate -n 1000000 --seed 7 --xi 0.577 --omega normal:6:1rev/s ;
+    coin simulate -n 5 --seed 1 --xi 0.577 --psi 90 --stream ;
+    coin simulate -n 2000 --seed 1 --xi 0.577 --psi 90 --landing bounce --surface wood
     """
     check_format(fmt)
     if stream and (fmt != "table" or quiet):
         raise usage_error("--stream prints one letter a line; it takes no --format or --quiet")
-    ct = _contact(contact)
-    dia = _diameter_m(diameter)
-    gv = _g(g)
-    count = _tosses(n)
-    xs = values_option(xi, "--xi", _xi_item)
-    if len(xs) != 1:
-        raise usage_error("simulate takes one --xi (run it once per coin)")
-    xv = float(xs[0])
-    _xi_for_contact(xv, xi, ct == "thick")
-    if (psi is None) == (psi_dist is None):
-        raise usage_error("give --psi DEG (a fixed angle) or --psi-dist SPEC (a distribution)")
-    if psi is not None:
-        psi_spec = _rad(_usage(_deg_item, psi, "--psi"))
-    else:
-        psi_spec = _psi_dist(psi_dist)
-    u_spec = _spec(u, "--u", 0.0, U_MAX, "m/s")
-    w_spec = _spec(omega, "--omega", 0.0, math.inf, "rad/s")
-    if seed is None:
-        import secrets
-
-        seed_v = secrets.randbits(63)
-    else:
-        s = seed.strip()
-        if not (s.isascii() and s.isdigit()) or len(s) > 40:
-            raise usage_error(f"--seed must be a whole number >= 0, got {seed!r}")
-        seed_v = int(s)
+    physics = BO.parse_physics(BO.landing_of(landing), surface=surface, restitution=restitution,
+                               friction=friction, torsional=torsional, rolling=rolling,
+                               height=height, vx=vx, jobs=jobs, dt=dt, t_max=t_max)
+    if physics is not None and stream:
+        raise usage_error("--stream goes with --landing catch (a bounce run prints its summary)")
+    if physics is not None and contact.strip().lower() != "rim":
+        raise usage_error("--contact goes with --landing catch (a bounce is the whole cylinder "
+                          "on the surface)")
+    coins = _options.resolve_coin(xi, coin, count, quarters, diameter, thickness,
+                                  xi_rule="finite", command="coin simulate")
+    ct = _phase.contact_value(contact)
+    dia = _phase.diameter_m(coins, diameter)
+    gv = _phase.g_value(g)
+    count_n = _tosses(tosses) if tosses is not None else 10_000
+    xv = coins.xi
+    _xi_for_contact(xv, ct == "thick")
     from coincli import toss as T
 
+    if psi is not None and psi_dist is not None:
+        raise usage_error("give --psi DEG (a fixed angle) or --psi-dist SPEC (a distribution), "
+                          "not both")
+    if psi is not None:
+        psi_spec = _options.radians(_options.psi_angle(psi))
+    elif psi_dist is not None:
+        psi_spec = _psi_dist(psi_dist)
+    else:
+        psi_spec = T.HAND_TOSS["psi"]
+    u_spec = _spec(u, "--u", "u") if u is not None else T.HAND_TOSS["u"]
+    w_spec = _spec(omega, "--omega", "omega") if omega is not None else T.HAND_TOSS["omega"]
+    seed_v = _options.seed_value(seed)
     kw = {"xi": xv, "u": u_spec, "omega": w_spec, "psi": psi_spec, "diameter": dia, "g": gv,
           "contact": ct}
     # Every toss must be one the core can follow, checked at the top of the distributions (the
     # flight and the phase grow with u and omega), so that no batch fails halfway through.
     u_hi, w_hi = _reach(u_spec, U_MAX), _reach(w_spec, math.inf)
     psi_hi = psi_spec if isinstance(psi_spec, float) else math.pi / 2  # the largest omega^2 a
-    got = _got(xi=xi, u=_spec_text(u, u_spec, u_hi, "m/s"),
-               omega=_spec_text(omega, w_spec, w_hi, "rad/s"), g=g, diameter=diameter)
+    got = _got(xi=_num(xv), u=_spec_text(u or HAND["u"], u_spec, u_hi, "m/s"),
+               omega=_spec_text(omega or HAND["omega"], w_spec, w_hi, "rad/s"), g=g,
+               diameter=_dia_text(diameter, dia))
     _follow(T, xv, psi_hi, u_hi, w_hi, dia=dia, g=gv, ct=ct, z0=None, got=got)
     _usage(T.toss_many, xv, psi_hi, u_hi, w_hi, diameter=dia, g=gv, contact=ct)  # the same, core
-    if stream:
-        _stream(T, count, seed_v, kw)
+    if psi is not None:
+        psi_text = f"psi = {psi.strip()} deg"
+    elif psi_dist is not None:
+        psi_text = f"psi ~ {psi_dist.strip()} deg"
+    else:
+        psi_text = f"psi ~ {T.HAND_TOSS_TEXT['psi']}"
+    u_text = f"u ~ {u.strip()}" if u is not None else f"u ~ {T.HAND_TOSS_TEXT['u']}"
+    w_text = (f"omega ~ {omega.strip()}" if omega is not None else
+              f"omega ~ {T.HAND_TOSS_TEXT['omega']}")
+    if u is not None and parse.split_unit(u.split(":")[-1], parse.SPEED_UNITS)[1] is None:
+        u_text += " m/s"
+    if omega is not None and parse.split_unit(omega.split(":")[-1], parse.SPIN_UNITS)[1] is None:
+        w_text += " rad/s"
+    hand = [k for k, v in (("u", u), ("omega", omega), ("psi", psi or psi_dist)) if v is None]
+    source = f" (hand toss, {DHM}: {', '.join(hand)})" if hand else ""
+    if physics is not None:
+        if quiet:
+            _report_seed(seed_v, seed is not None)
+        BO.simulate(physics, count=count_n, seed=seed_v, xi=xv, u=u_spec, omega=w_spec,
+                    psi=psi_spec, diameter=dia, g=gv, labels=f"{u_text}, {w_text}, {psi_text}{source}", fmt=fmt,
+                    quiet=quiet, progress=lambda total: _progress(total, 200))
         return
-    with _progress(count) as tick:
-        sim = _usage(T.simulate, count, seed_v, progress=tick, **kw)
-    pred = sim.vigorous
+    if stream:
+        _report_seed(seed_v, seed is not None)
+        _stream(T, count_n, seed_v, kw)
+        return
+    with _progress(count_n) as tick:
+        sim = _usage(T.simulate, count_n, seed_v, progress=tick, **kw)
+    machine = fmt != "table"
     rows = []
-    for f, p in zip(sim.frequencies, pred, strict=True):
-        rows.append((f.outcome, f.count, f.p, f.lo, f.hi, float(p), f.p - float(p)))
+    for f, p in zip(sim.frequencies, sim.vigorous, strict=True):
+        rows.append((f.outcome, f.count, f.p, f.lo, f.hi, float(p), f.p - float(p))
+                    + ((seed_v,) if machine else ()))
     columns = [
         Column("outcome", "outcome", "text"), Column("count", "count", "int"),
         Column("frequency", "frequency"), Column("ci_low", "95% low"),
         Column("ci_high", "95% high"), Column("vigorous", "vigorous limit"),
         Column("difference", "freq - limit"),
-    ]
-    psi_text = f"psi = {psi} deg" if psi is not None else f"psi ~ {psi_dist.strip()} deg"
-    note = (f"{count} tosses, seed {seed_v}: xi = {xv:g}, u ~ {u.strip()} m/s, omega ~ "
-            f"{omega.strip()} rad/s, {psi_text}; D = {dia * 1000:g} mm, g = {gv:g}, contact {ct}."
-            "  95% Wilson intervals.  The vigorous limit is Table I averaged over psi; it holds "
-            "when u*omega/g >> 1 and omega*a/u << 1.")
+    ] + ([Column("seed", "seed", "int")] if machine else [])
+    note = (f"{count_n} toss{'es' if count_n != 1 else ''}, seed {seed_v}: xi = {xv:g}, "
+            f"{u_text}, {w_text}, {psi_text}{source}; D = {dia * 1000:g} mm, g = {gv:g} m/s^2, "
+            f"contact {ct}; caught at first contact (the paper's landing; --landing bounce for a "
+            "table).  95% Wilson intervals.  The vigorous limit is Table I averaged over "
+            "psi; it holds when u*omega/g >> 1 and omega*a/u << 1.")
+    if quiet:
+        _report_seed(seed_v, seed is not None)
     emit(Result("coin simulate", columns, rows, note, quiet=[r[2] for r in rows]), fmt, quiet)
 
 
 def _tosses(text: str) -> int:
-    """-n: a whole number from 1 to MAX_TOSSES."""
-    s = text.strip()
-    digits = s.removeprefix("+").lstrip("0")
-    if not (s.isascii() and re.fullmatch(r"\+?\d+", s)) or not digits:
-        raise usage_error(f"-n must be a whole number from 1 to {MAX_TOSSES} (10^8), got "
-                          f"{text!r}")
-    if len(digits) > len(str(MAX_TOSSES)) or int(digits) > MAX_TOSSES:
+    """-n: a whole number from 1 to MAX_TOSSES; beyond, the message says how to get more."""
+    digits = text.strip().removeprefix("+").lstrip("0")
+    if digits.isascii() and digits.isdigit() and (len(digits) > 9 or int(digits) > MAX_TOSSES):
         shown = digits if len(digits) <= 30 else f"{digits[:12]}... ({len(digits)} digits)"
         raise usage_error(f"-n {shown} is more than the {MAX_TOSSES} (10^8) tosses of one run "
                           "(about a minute and a half); for more, run several times with "
                           "different --seed values and add the counts")
-    return int(digits)
+    return _options.tosses_value(text, high=MAX_TOSSES)
 
 
 def _reach(dist, hi: float) -> float:
@@ -497,10 +646,15 @@ def _reach(dist, hi: float) -> float:
 
 
 def _spec_text(text: str, dist, reach: float, unit: str) -> str:
+    """The typed distribution with its unit, for messages."""
     t = text.strip()
+    units = parse.SPEED_UNITS if unit == "m/s" else parse.SPIN_UNITS
+    typed_unit = parse.split_unit(t.split(":")[-1], units)[1] is not None
     if dist.kind == "normal" and dist.p2 > 0:
+        if typed_unit:
+            return f"{t}, which reaches {reach:g} {unit} at MEAN + {NORMAL_REACH} SD"
         return f"{t} {unit}, which reaches {reach:g} at MEAN + {NORMAL_REACH} SD"
-    return f"{t} {unit}"
+    return t if typed_unit else f"{t} {unit}"
 
 
 def _stream(T, count, seed_v, kw):
@@ -522,14 +676,16 @@ def _stream(T, count, seed_v, kw):
 
 
 class _progress:
-    """A rich progress bar on stderr for long runs on a terminal; a no-op otherwise."""
+    """A rich progress bar on stderr for long runs (``least`` tosses or more) on a terminal;
+    a no-op otherwise."""
 
-    def __init__(self, total: int):
+    def __init__(self, total: int, least: int = 200_000):
         self.total = total
+        self.least = least
         self.bar = None
 
     def __enter__(self):
-        if self.total >= 200_000 and stderr_is_terminal():
+        if self.total >= self.least and stderr_is_terminal():
             from rich.console import Console
             from rich.progress import BarColumn, Progress, TimeRemainingColumn
 
@@ -550,239 +706,161 @@ class _progress:
         return False
 
 
-# --------------------------------------------------------------------------- coin phase
+# ------------------------------------------------------------------------ design --landing bounce
 
 
-def _pair(text: str, what: str, unit: str, top: float = math.inf) -> tuple[float, float]:
-    parts = text.split(":")
-    rule = "0 <= LOW < HIGH" + (f" <= {top:g}" if top < math.inf else "")
-    if len(parts) != 2:
-        raise usage_error(f"{what} must be LOW:HIGH with {rule} ({unit}), got {text!r}")
-    lo, hi = (_usage(parse.parse_number, p, what) for p in parts)
-    if not 0 <= lo < hi <= top:
-        raise usage_error(f"{what} must be LOW:HIGH with {rule} ({unit}), got {text!r}")
-    return lo, hi
+def bounce_launch(psi, psi_dist, u, omega):
+    """The launch distributions of a bounce design run: --u, --omega (defaults: an ordinary
+    hand toss, normal:2.4:0.3 m/s and normal:38:4 rad/s), psi fixed (--psi, default 90) or
+    distributed (--psi-dist); and their description."""
+    if psi is not None and psi_dist is not None:
+        raise usage_error("give --psi DEG or --psi-dist SPEC, not both")
+    u = u or "normal:2.4:0.3"
+    omega = omega or "normal:38:4"
+    if psi_dist is not None:
+        psi_spec = _psi_dist(psi_dist)
+        psi_text = f"psi ~ {psi_dist.strip()} deg"
+    else:
+        psi_spec = _options.radians(_options.psi_angle(psi or "90"))
+        psi_text = f"psi = {(psi or '90').strip()} deg"
+    u_spec = _spec(u, "--u", "u")
+    w_spec = _spec(omega, "--omega", "omega")
+    if _reach(w_spec, math.inf) > 1e4:
+        raise usage_error(f"--omega must stay at most 10000 rad/s with --landing bounce, got "
+                          f"{omega.strip()!r}")
+    u_text = u.strip() + ("" if parse.split_unit(u.split(":")[-1], parse.SPEED_UNITS)[1]
+                          else " m/s")
+    w_text = omega.strip() + ("" if parse.split_unit(omega.split(":")[-1], parse.SPIN_UNITS)[1]
+                              else " rad/s")
+    return u_spec, w_spec, psi_spec, f"u ~ {u_text}, omega ~ {w_text}, {psi_text}"
 
 
-def _size(text: str | None, what: str, default: int, hi: int) -> int:
-    if text is None:
-        return default
-    v = _usage(parse.parse_count, text, what)
-    if not 2 <= v <= hi:
-        raise usage_error(f"{what} must be from 2 to {hi}, got {text!r}")
+def bounce_design(physics, *, p_sides, psi, psi_dist, u, omega, diameter, coin, tol, seed,
+                  max_tosses, time_limit, fmt, quiet):
+    """``coin design --landing bounce``."""
+    from coincli import coins as coin_catalog
+
+    targets = values_option(p_sides, "--p-sides", parse.parse_probability, bounds=(0.0, 1.0))
+    targets = [float(t) for t in targets]
+    if len(targets) > 20:
+        raise usage_error(f"--landing bounce designs at most 20 targets a run, got "
+                          f"{len(targets)}")
+    for t in targets:
+        if not 0.0 < t < 1.0:
+            raise usage_error(f"--p-sides must be strictly between 0 and 1 with --landing "
+                              f"bounce, got {t:g}")
+    tol_v = 0.01 if tol is None else _bounded(tol, "--tol", 1e-4, 1.0)
+    mt = 200_000 if max_tosses is None else _tosses(max_tosses)
+    tl = 300.0 if time_limit is None else _bounded(time_limit, "--time-limit", 1.0, 1e6)
+    if diameter is not None:
+        try:
+            dia = parse.parse_length_mm(diameter, "--diameter") / 1000
+        except ValueError as exc:
+            raise usage_error(str(exc)) from None
+    else:
+        try:
+            dia = coin_catalog.get_coin(coin).diameter_mm / 1000
+        except ValueError as exc:
+            raise usage_error(str(exc)) from None
+    u_spec, w_spec, psi_spec, labels = bounce_launch(psi, psi_dist, u, omega)
+    from coincli.cli._options import seed_value
+
+    BO.design(physics, targets=targets, seed=seed_value(seed), tol=tol_v, max_tosses=mt,
+              time_limit=tl, u=u_spec, omega=w_spec, psi=psi_spec, diameter=dia, g=T_G,
+              labels=labels, fmt=fmt, quiet=quiet, progress=BO.design_progress)
+
+
+T_G = 9.81  # coincli.toss.STANDARD_G
+
+
+def _bounded(text: str, what: str, lo: float, hi: float) -> float:
+    """A number in [lo, hi], or the usage error that says so."""
+    try:
+        v = parse.parse_number(text, what)
+    except ValueError:
+        v = math.nan
+    if not lo <= v <= hi:  # NaN fails too
+        raise usage_error(f"{what} must be a number from {lo:g} to {hi:g}, got {text!r}")
     return v
 
 
-PHASE_COLOURS = {"heads": "grey93", "sides": "grey15", "tails": "dodger_blue2"}
-CURVE_COLOUR = "orange1"
+# --------------------------------------------------------------------------- coin phase
 
 
 @app.command("phase")
 def phase_cmd(
-    xi: Annotated[str, typer.Option("--xi", help="Aspect ratio h/D (default 0.57735: the fair "
-                                    "coin of Fig. 3).", metavar="XI")] = "0.5773502691896257",
-    psi: Annotated[str, typer.Option("--psi", help="Angle psi, degrees [0, 180] (Fig. 3: 90).",
-                                     metavar="DEG")] = "90",
-    u: Annotated[str, typer.Option("--u", help="Range of launch speeds LOW:HIGH, m/s.",
-                                   metavar="LOW:HIGH")] = "0:3",
-    omega: Annotated[str, typer.Option("--omega", help="Range of precession rates LOW:HIGH, "
-                                       "rad/s.", metavar="LOW:HIGH")] = "0:60",
-    cols: Annotated[str | None, typer.Option("--cols", help="Grid cells along u (default: fit "
-                                             "the terminal; 400 for --out; 100 for csv/json).",
-                                             metavar="N")] = None,
-    rows: Annotated[str | None, typer.Option("--rows", help="Grid cells along omega (default: "
-                                             "fit the terminal; 400 for --out; 100 for "
-                                             "csv/json).", metavar="N")] = None,
-    exact: Annotated[bool, typer.Option("--exact", help="Draw the exact boundary curves (t_f "
-                                        "solved at the contact height) instead of eq. (10)'s "
-                                        "t_f = 2u/g.")] = False,
-    no_curves: Annotated[bool, typer.Option("--no-curves", help="Do not overlay the boundary "
-                                            "curves.")] = False,
-    out: Annotated[str | None, typer.Option("--out", "-o", help="Write a figure: .png, .svg or "
-                                            ".pdf (needs matplotlib: pip install "
-                                            "'coincli\\[plot]').", metavar="FILE")] = None,
-    diameter: DiameterOpt = "24.26",
+    xi: XiOpt = None,
+    coin: CoinOpt = None,
+    count: CountOpt = None,
+    quarters: QuartersOpt = None,
+    diameter: DiameterOpt = None,
+    thickness: ThicknessOpt = None,
+    psi: _phase.PsiOpt = "90",
+    u: _phase.URangeOpt = None,
+    omega: _phase.OmegaRangeOpt = None,
+    cols: _phase.ColsOpt = None,
+    rows: _phase.RowsOpt = None,
+    exact: _phase.ExactOpt = False,
+    no_curves: _phase.NoCurvesOpt = False,
+    toss: _phase.TossMarkOpt = None,
     g: GOpt = "9.81",
     contact: ContactOpt = "rim",
+    out: Annotated[str | None, typer.Option(
+        "--out", "-o", metavar="FILE", help="Write a figure: .png, .svg or .pdf (needs "
+        "matplotlib: pip install 'coincli\\[plot]').")] = None,
     fmt: FormatOpt = "table",
 ):
     """The pre-images of heads, sides and tails over (u, omega): Fig. 3 of the paper.
 
-    Each cell is one deterministic toss (as `coin toss`) from the cell's centre.  On a terminal:
-    coloured blocks with a legend, the boundary curves of eq. (10) (omega = (2n +- theta0/pi)
-    pi g / 2u and (2n+1 +- theta0/pi) pi g / 2u at psi = 90; theta1, theta2 of Table I
-    otherwise) marked with dots.  In a pipe or with NO_COLOR: letters H, S, T, lower-case where
-    a curve passes.  --format csv/json: one row per cell.  --out FILE: a figure (PNG/SVG/PDF).
+    Each cell is one deterministic toss (as `coin toss`) from the cell's centre; the coin is
+    the fair one (1/sqrt 3, a quarter's size) unless given.  On a terminal: coloured blocks,
+    boundaries of eq. (10) as dots, round ticks.  In a pipe or with NO_COLOR: letters H, S,
+    T, lower case where a boundary passes.  --format csv/json: one row per cell.  --out
+    FILE: a figure.  coin plot phase takes the same options.
 
     Examples: coin phase ;  coin phase --xi 0.577 --psi 90 --u 0:3 --omega 0:60 ;
-    coin phase --xi 0.3 --u 0:5 --omega 0:100 --out phase.png ;  coin phase --format csv
+    coin phase --xi 0.3 --u 0:5 --omega 0:100 --out phase.png ;  coin phase -f csv
     """
     check_format(fmt)
     if out is not None and fmt != "table":
         raise usage_error("--out writes a figure; it takes no --format")
-    ct = _contact(contact)
-    dia = _diameter_m(diameter)
-    gv = _g(g)
-    xv = _usage(_xi_item, xi, "--xi")
-    _xi_for_contact(xv, xi, ct == "thick")
-    psi_deg = _usage(_deg_item, psi, "--psi")
-    ur = _pair(u, "--u", "m/s", U_MAX)
-    wr = _pair(omega, "--omega", "rad/s")
-    from coincli import toss as T
-
-    # Every cell must be a toss the core can follow: check the top corner of the ranges.
-    got = _got(xi=xi, u=f"{u.strip()} m/s", omega=f"{omega.strip()} rad/s", g=g,
-               diameter=diameter)
-    _follow(T, xv, _rad(psi_deg), ur[1], wr[1], dia=dia, g=gv, ct=ct, z0=None, got=got,
-            where=" at the top of the --u and --omega ranges")
+    ph = _phase.resolve(xi=xi, coin=coin, count=count, quarters=quarters, diameter=diameter,
+                        thickness=thickness, psi=psi, u=u, omega=omega, cols=cols, rows=rows,
+                        exact=exact, no_curves=no_curves, toss=toss, g=g, contact=contact)
     if out is not None:
-        return _phase_figure(out, xv, psi_deg, ur, wr, _size(cols, "--cols", 400, 4000),
-                             _size(rows, "--rows", 400, 4000), exact, no_curves, dia, gv, ct)
-    text = fmt == "table"
-    if text:
-        from coincli._terminal import terminal_height, terminal_width
-
-        tw, th = terminal_width(), terminal_height()
-        nu = _size(cols, "--cols", max(10, min(tw, 400) - 9), 2000)
-        nw = _size(rows, "--rows", max(6, min(th, 200) - 7), 2000)
-    else:
-        nu = _size(cols, "--cols", 100, 2000)
-        nw = _size(rows, "--rows", 100, 2000)
-
-    pm = _usage(T.phase_map, xv, _rad(psi_deg), ur, wr, (nu, nw), diameter=dia, g=gv, contact=ct,
-                exact_curves=exact)
-    if not text:
+        return _phase_figure(out, ph)
+    if fmt != "table":
+        d = _phase.data(ph, ph.cols or _phase.DATA_CELLS, ph.rows or _phase.DATA_CELLS)
         import numpy as np
 
-        uu = np.broadcast_to(pm.u[None, :], pm.codes.shape).ravel().tolist()
-        ww = np.broadcast_to(pm.omega[:, None], pm.codes.shape).ravel().tolist()
-        codes = pm.codes.ravel().tolist()
+        from coincli import toss as T
+
+        shape = np.asarray(d.outcome).shape
+        uu = np.broadcast_to(np.asarray(d.u)[None, :], shape).ravel().tolist()
+        ww = np.broadcast_to(np.asarray(d.omega)[:, None], shape).ravel().tolist()
+        codes = np.asarray(d.outcome).ravel().tolist()
         data = [uu, ww, [T.NAMES[c] for c in codes], codes]
         columns = [Column("u", "u (m/s)"), Column("omega", "omega (rad/s)"),
                    Column("outcome", "outcome", "text"), Column("code", "code", "int")]
         emit(Result("coin phase", columns, [], "", data=data), fmt)
         return
-    _phase_text(pm, xv, psi_deg, ur, wr, [] if no_curves else pm.curves, exact)
+    nu, nw = _phase.text_size(ph)
+    d = _phase.data(ph, nu, nw)
+    from coincli.textplot import phase_text, phase_title
 
-
-def _curve_marks(pm, curves, ur, wr):
-    """Boolean (rows, cols): the cells a boundary curve passes through, in the columns where it
-    is at least two rows from its neighbours (denser curves would only paint every cell)."""
-    import numpy as np
-
-    nw, nu = pm.codes.shape
-    marks = np.zeros((nw, nu), dtype=bool)
-    du = (ur[1] - ur[0]) / nu
-    edges = ur[0] + du * np.arange(nu + 1)
-    dw = (wr[1] - wr[0]) / nw
-    curves = sorted(curves, key=lambda b: b.phase)
-    stack = np.array([np.asarray(b.omega, dtype=float) for b in curves])  # (curves, nu)
-    with np.errstate(invalid="ignore"):
-        gap = np.full(stack.shape, np.inf)
-        if len(curves) > 1:
-            d = np.abs(np.diff(stack, axis=0))
-            gap[:-1] = np.fmin(gap[:-1], d)
-            gap[1:] = np.fmin(gap[1:], d)
-    for k, b in enumerate(curves):
-        with np.errstate(divide="ignore", invalid="ignore"):
-            if b.phase <= 0:
-                continue
-            # omega(u) = phase / t*(u) with t* = 2u/g (eq. 10) or the exact contact time: take
-            # the omega at both edges of each column from the curve sampled at the centres.
-            w_c = np.asarray(b.omega, dtype=float)
-            w_e = np.interp(edges, pm.u, w_c, left=np.nan, right=np.nan)
-            w_e[0] = w_c[0] if not np.isfinite(w_e[0]) else w_e[0]
-            w_e[-1] = w_c[-1] if not np.isfinite(w_e[-1]) else w_e[-1]
-            lo = np.fmin(w_e[:-1], w_e[1:])
-            hi = np.fmax(w_e[:-1], w_e[1:])
-            lo = np.where(np.isfinite(lo), lo, w_c)
-            hi = np.where(np.isfinite(hi), hi, w_c)
-            r0 = np.floor((lo - wr[0]) / dw)
-            r1 = np.floor((hi - wr[0]) / dw)
-        for j in range(nu):
-            if not (np.isfinite(r0[j]) and np.isfinite(r1[j])) or not gap[k, j] >= 2 * dw:
-                continue
-            a, z = int(max(r0[j], 0)), int(min(r1[j], nw - 1))
-            if a <= z:
-                marks[a:z + 1, j] = True
-    return marks
-
-
-def _phase_text(pm, xi, psi_deg, ur, wr, curves, exact):
-    from rich.console import Console
-    from rich.text import Text
-
-    from coincli import toss as T
-
-    nw, nu = pm.codes.shape
-    marks = _curve_marks(pm, curves, ur, wr) if curves else None
     colour = stdout_is_terminal() and not env_no_color()
-    f = pm.fractions()
-    src = "exact contact-time curves" if exact else "eq. (10), t_f = 2u/g"
-    lines = Text()
-    lines.append(f"Pre-images of a toss (Fig. 3): xi = {xi:g}, psi = {psi_deg:g} deg, contact "
-                 f"{pm.contact}\n")
-    label_w = 8
-    for i in range(nw - 1, -1, -1):
-        w = wr[0] + (i + 1) * (wr[1] - wr[0]) / nw
-        label = f"{w:7.4g} " if (nw - 1 - i) % 5 == 0 else " " * label_w
-        lines.append(label)
-        for j in range(nu):
-            code = int(pm.codes[i, j])
-            curve = marks is not None and marks[i, j]
-            if colour:
-                name = T.NAMES[code]
-                lines.append("•" if curve else " ", style=f"bold {CURVE_COLOUR} on "
-                             f"{PHASE_COLOURS[name]}" if curve else f"on {PHASE_COLOURS[name]}")
-            else:
-                ch = T.LETTERS[code]
-                lines.append(ch.lower() if curve else ch)
-        lines.append("\n")
-    axis = [" "] * nu
-    ticks = []
-    for k in range(5):
-        j = round(k * (nu - 1) / 4)
-        val = ur[0] + (j + 0.5) * (ur[1] - ur[0]) / nu
-        ticks.append((j, f"{val:.3g}"))
-    for j, s in ticks:
-        j = min(j, nu - len(s))  # the last label ends at the last column
-        for m, ch in enumerate(s):
-            if 0 <= j + m < nu:
-                axis[j + m] = ch
-    lines.append(" " * label_w + "".join(axis) + "\n")
-    lines.append(" " * label_w + "u (m/s) ->   omega (rad/s) on the left\n")
-    if colour:
-        for name in T.NAMES:
-            lines.append("  ")
-            lines.append("  ", style=f"on {PHASE_COLOURS[name]}")
-            lines.append(f" {name} {getattr(f, name):.1%}")
-        if curves:
-            lines.append("   ")
-            lines.append("•", style=f"bold {CURVE_COLOUR}")
-            lines.append(f" boundary, {src}")
-    else:
-        lines.append(f"  H heads {f.heads:.1%}   S sides {f.sides:.1%}   T tails {f.tails:.1%}")
-        if curves:
-            lines.append(f"   h/s/t: a boundary passes ({src})")
-    lines.append("\n")
-    vig = pm_vigorous(xi, psi_deg)
-    lines.append(f"Vigorous limit (Table I): heads {vig.heads:.3f}, sides {vig.sides:.3f}, tails "
-                 f"{vig.tails:.3f}\n")
-    console = Console(file=sys.stdout, highlight=False, soft_wrap=True, emoji=False,
-                      markup=False, no_color=not colour, force_terminal=colour or None,
-                      width=max(nu + label_w + 2, 40))
-    console.print(lines, end="")
+    pic = phase_text(d, colour=colour, title=phase_title(d, ph.contact))
+    if not colour:
+        sys.stdout.write(pic)
+        return
+    from rich.console import Console
+
+    Console(file=sys.stdout, highlight=False, soft_wrap=True, emoji=False, markup=False,
+            force_terminal=True).print(pic, end="")
 
 
-def pm_vigorous(xi, psi_deg):
-    from coincli.models import conditional
-
-    return conditional(xi, _rad(psi_deg))
-
-
-def _phase_figure(path, xi, psi_deg, ur, wr, nu, nw, exact, no_curves, dia, g, ct):
+def _phase_figure(path, ph):
     from coincli import plot as P
-
     from coincli._files import FileKindError, check_output_path
 
     try:
@@ -796,17 +874,16 @@ def _phase_figure(path, xi, psi_deg, ur, wr, nu, nw, exact, no_curves, dia, g, c
         P.require_matplotlib()
     except P.MatplotlibMissing as exc:
         raise compute_error(str(exc)) from None
-    data = _usage(P.phase_data, xi, psi_deg, u_range=ur, omega_range=wr, nu=nu, nw=nw,
-                  exact_curves=exact, diameter=dia, g=g, contact=ct)
-    if no_curves:
-        data.curves = []
+    data = _phase.data(ph, ph.cols or _phase.FIGURE_CELLS, ph.rows or _phase.FIGURE_CELLS,
+                       figure=True)
     fig = P.phase_figure(data)
     try:
-        size = P.save_figure(fig, path)
+        P.save_figure(fig, path)
     except FileKindError as exc:
         raise usage_error(f"--out: {exc}") from None
     except OSError as exc:
         raise compute_error(f"cannot write {path!r}: {exc.strerror or exc}") from None
-    if stderr_is_terminal():
-        sys.stderr.write(f"coin: wrote {path} ({size:,} bytes)\n")
-
+    w, h = (float(v) for v in fig.get_size_inches())
+    dims = (f"{round(w * 150)} x {round(h * 150)} pixels" if path.lower().endswith(".png") else
+            f"{w:g} x {h:g} inches")
+    sys.stderr.write(f"coin: wrote {path} ({dims})\n")

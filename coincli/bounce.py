@@ -1,0 +1,1092 @@
+r"""Tosses that land on a surface: a rigid-body engine for bouncing coins (MuJoCo).
+
+Every closed form of :mod:`coincli.models` and the deterministic tosses of :mod:`coincli.toss`
+assume the paper's landing: the coin is *caught* at its first contact.  This module answers the
+other question, what a coin does on a table: it bounces, rolls and settles.  It is an optional
+engine, ``pip install 'coincli[physics]'`` (MuJoCo's ``mujoco-core`` bindings); nothing else in
+``coincli`` imports MuJoCo.
+
+The set-up
+    The coin is MuJoCo's native cylinder (radius ``a = D/2``, half-length ``h/2 = xi a``) on a
+    plane; its plane-cylinder collider is analytic (3 contacts lying flat, 2 on the side, 1 on
+    the rim).  Mass and inertia come from the geometry and a density: MuJoCo's cylinder gives
+    ``I1 = m (a^2/4 + h^2/12)`` and ``I3 = m a^2/2``, the paper's (tests/test_bounce.py checks
+    it against :func:`inertia`).
+
+    The launch is the paper's (Sec. II), as ``coin toss`` uses it: heads up, the centre at ``z0``
+    above the launch plane, thrown up at ``u``, angular momentum ``M = I1 omega`` (``omega`` the
+    precession rate ``omega_N`` of eq. 2) at the angle ``psi`` from the normal.  Added here: the
+    surface lies ``height`` below the launch plane (0: the paper's catch plane), and the coin may
+    move sideways at ``vx`` in a random horizontal direction.
+
+Free flight is exact, not simulated
+    Between contacts the coin is a torque-free symmetric top under gravity: the normal precesses
+    about the fixed angular momentum ``L`` at ``Omega = |L| / I1`` and the body spins about its
+    axis at ``lambda = (L.n)(1/I3 - 1/I1)``; the centre follows a parabola.  The first contact is
+    the certified root of :func:`coincli.toss.toss_many` (``contact="thick"``: the cylinder's
+    lowest corner); later flights use the same certified scan, generalised to any tilt
+    (:func:`_first_touch`).  MuJoCo starts :data:`LEAD_STEPS` steps before a contact and stops
+    when the coin is airborne again.  (A precessing flight integrated by MuJoCo needs RK4 to keep
+    its energy; ``flight="mujoco"`` does that, for the validation tests.)
+
+Landings
+    ``catch``: the toss ends at MuJoCo's first contact; the side up is eq. (7) on the tilt then
+    (:func:`coincli.toss.classify`).  ``bounce``: the coin bounces until its outcome can no
+    longer change: when its energy (kinetic, gravitational and the contact springs' stored
+    energy) is below ``m g (R - 1 um)``, ``R = sqrt(a^2 + h^2/4)`` the half-diagonal, it cannot
+    lift its centre over a corner, so it can never cross ``alpha = theta0`` or
+    ``pi - theta0``: the side is eq. (7) on its tilt at that moment.  A coin still above that
+    energy at ``t_max`` is *unsettled*, counted on its own.
+
+The surface
+    Users know a coefficient of restitution (the rebound speed ratio of a flat drop) and friction
+    coefficients; MuJoCo has neither restitution nor a material.  Its soft contact pulls the
+    contact's normal distance ``r`` toward ``r'' = -b r' - k r`` (``solref = (-k, -b)``, MuJoCo's
+    direct stiffness and damping, "Modeling: contact parameters"), a damped oscillator in
+    acceleration units, so the rebound ratio is the same for any effective mass (face or rim).
+    ``k`` is fixed by the timestep (:data:`OMEGA_DT`), and ``b`` is found by a calibration
+    (:func:`calibrate`): bisection on simulated drops until the mean restitution of a flat drop
+    and an edge drop is the one asked for (both then within ~0.02 of it).
+    ``solimp = (0.99, 0.99, ...)``: a constant impedance, so the oscillator is linear (MuJoCo's
+    default impedance varies with penetration and would make ``e`` depend on the impact speed).
+    ``condim = 6``: sliding, torsional and rolling friction (with the default ``condim = 3`` a
+    coin rolling on its rim keeps its energy and circles for ever), on an elliptic friction cone.
+
+Everything is SI; nothing here prints, parses text or exits.  Bad input raises ``ValueError``
+naming the argument; a missing MuJoCo raises :class:`PhysicsMissing`.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+
+from coincli.toss import (
+    DEFAULT_DIAMETER,
+    NAMES,
+    SIDES,
+    STANDARD_G,
+    U_MAX,
+    Frequency,
+    _check,
+    as_dist,
+    classify,
+    default_z0,
+    sample_conditions,
+    wilson_interval,
+)
+
+__all__ = [
+    "PhysicsMissing",
+    "require_mujoco",
+    "INSTALL_HINT",
+    "Surface",
+    "SURFACES",
+    "surface",
+    "Coin",
+    "inertia",
+    "Launch",
+    "launch_state",
+    "Engine",
+    "TossResult",
+    "BounceSimulation",
+    "simulate",
+    "calibrate",
+    "drop_restitution",
+    "SidesFit",
+    "fit_sides",
+    "Design",
+    "design",
+    "DEFAULT_DT",
+    "DEFAULT_DENSITY",
+    "DEFAULT_T_MAX",
+    "LANDINGS",
+    "UNSETTLED",
+]
+
+INSTALL_HINT = "pip install 'coincli[physics]'"
+LANDINGS = ("catch", "bounce")
+UNSETTLED = 3  #: outcome code of a toss still moving at t_max
+DEFAULT_DENSITY = 8920.0  #: kg/m^3, cupronickel (the US quarter's cladding, 75 Cu / 25 Ni)
+#: s.  The convergence study (docs/bounce.md, benchmarks/bounce_convergence.py): halving it
+#: to 5e-5 and 2.5e-5 moved no frequency beyond its 95% interval at xi = 0.3, 0.577 and 1.
+DEFAULT_DT = 1e-4
+DEFAULT_T_MAX = 10.0  #: s of simulated time after launch before a toss counts as unsettled
+#: Contact stiffness: omega_n dt = 0.3, so an impact (half a period, pi / omega_n) spans about
+#: ten steps; stiffer contacts lose their restitution to the integrator, softer ones sink
+#: further (0.7 mm at 2.5 m/s and dt = 1e-4).
+OMEGA_DT = 0.3
+#: The impedance d of solimp, constant: the fraction of the reference acceleration the contact
+#: achieves.  0.99 (MuJoCo's default ramps 0.9 to 0.95) keeps the contact nearly hard and linear.
+IMPEDANCE = 0.99
+EDGE_TILT = 0.6  #: rad, the tilt of the edge drop of the calibration
+LEAD_STEPS = 5  #: MuJoCo starts this many steps before an exactly computed contact
+CHECK_STEPS = 10  #: steps between the checks of energy and flight (1 ms at the default dt)
+JUMP_MIN_STEPS = 30  #: a flight shorter than this many steps is stepped, not solved
+REST_MARGIN = 1e-6  #: m: rest when the energy is below m g (R - REST_MARGIN)
+_ZOOM = 32  #: cells a cell of the flight scan is cut into when it may hold a contact
+BLOCK = 256  #: tosses per random block: the seed of block k is (seed, k), whatever the workers
+
+
+class PhysicsMissing(RuntimeError):
+    """MuJoCo is not installed; the message says how to install it."""
+
+
+def require_mujoco():
+    """Import and return :mod:`mujoco`, or raise :class:`PhysicsMissing` with the one-line hint."""
+    try:
+        import mujoco
+    except ImportError:
+        raise PhysicsMissing("this needs the MuJoCo physics engine, an optional extra: "
+                             f"{INSTALL_HINT}") from None
+    return mujoco
+
+
+# --------------------------------------------------------------------------- surfaces
+
+
+@dataclass(frozen=True)
+class Surface:
+    """What the coin lands on: a coefficient of restitution and three friction coefficients.
+
+    ``restitution`` is the rebound speed ratio of a flat drop (0 to 0.95); ``friction`` the
+    sliding (Coulomb) coefficient; ``torsional`` and ``rolling`` are lengths in metres (MuJoCo's
+    units: the resisting torque per unit normal force about the normal and about a tangent).
+    """
+
+    restitution: float
+    friction: float
+    torsional: float = 1e-4
+    rolling: float = 1e-4
+    name: str = "custom"
+    source: str = "given by the user"
+
+    def __post_init__(self):
+        _check("restitution", self.restitution, RESTITUTION_MIN, RESTITUTION_MAX)
+        _check("friction", self.friction, 0.0, 10.0)
+        _check("torsional friction", self.torsional, 0.0, 0.1, unit="m")
+        _check("rolling friction", self.rolling, 0.0, 0.1, unit="m")
+
+    def describe(self):
+        return (f"{self.name}: restitution {self.restitution:g}, friction {self.friction:g}, "
+                f"torsional {self.torsional:g} m, rolling {self.rolling:g} m")
+
+
+#: Above this the calibrated contact is nearly undamped and MuJoCo's soft contact stops giving a
+#: controllable restitution; no table is that bouncy for a coin.
+RESTITUTION_MAX = 0.95
+#: The deadest contact MuJoCo's explicit damping allows (b dt = 1, see :func:`calibrate`) still
+#: rebounds at 0.053; 0.06 leaves a margin.
+RESTITUTION_MIN = 0.06
+
+# Per-contact torsional and rolling friction.  A flat coin's three rim contacts already resist
+# twisting through their sliding friction, so the torsional term only stands for the size of
+# each contact patch (~0.1 mm).  Rolling resistance is a length, c_rr a, with c_rr the rolling
+# resistance coefficient: ~0.008 for a coin rolling on its rim on a wooden table (it stops
+# within a metre or two from 0.5 m/s: v^2 / (2 c_rr g)), less on stone, more on cloth and rice,
+# which deform.  They matter for a coin rolling on its rim, which without them never stops.
+SURFACES = {
+    "wood": Surface(0.5, 0.3, 1e-4, 1e-4, "wood", "a varnished wooden table: restitution 0.5 "
+                    "(hard metal objects on wood rebound at 0.4-0.6), friction 0.3 (handbook "
+                    "metal-on-wood 0.2-0.6), rolling resistance c_rr ~ 0.008; the figures of the "
+                    "trial in issue 16"),
+    "hard-floor": Surface(0.7, 0.2, 1e-4, 5e-5, "hard-floor", "stone, tile or a hard laminate "
+                          "floor: restitution 0.7, friction 0.2 (Murray & Teare's 'flat hard "
+                          "surface'; handbook metal-on-stone 0.15-0.3), c_rr ~ 0.004"),
+    "felt": Surface(0.2, 0.6, 5e-4, 5e-4, "felt", "a felt or cloth-covered game table: "
+                    "restitution 0.2 (cloth absorbs the impact), friction 0.6, c_rr ~ 0.04 (the "
+                    "cloth deforms)"),
+    "rice": Surface(0.06, 0.8, 1e-3, 1e-3, "rice", "the paper's catch surface (a pan of rice "
+                    "under plastic film, Sec. IV): as dead as the contact model allows (0.06), "
+                    "rough; with --landing bounce it shows how far a nearly inelastic landing is "
+                    "from a catch"),
+}
+
+
+def surface(name=None, *, restitution=None, friction=None, torsional=None, rolling=None):
+    """A preset by name, a custom surface, or a preset with some coefficients replaced."""
+    base = SURFACES.get("wood" if name is None else name)
+    if base is None:
+        raise ValueError(f"surface must be one of {', '.join(SURFACES)}, got {name!r}")
+    changes = {k: v for k, v in (("restitution", restitution), ("friction", friction),
+                                 ("torsional", torsional), ("rolling", rolling)) if v is not None}
+    if not changes:
+        return base
+    label = name or "custom"
+    return replace(base, **changes, name=label if name is None else f"{label} (modified)",
+                   source="given by the user" if name is None else
+                   f"{base.name} preset with {', '.join(changes)} given by the user")
+
+
+# --------------------------------------------------------------------------- the coin
+
+
+@dataclass(frozen=True)
+class Coin:
+    """A solid cylinder: diameter ``D`` (m), aspect ratio ``xi = h/D``, density (kg/m^3)."""
+
+    xi: float
+    diameter: float = DEFAULT_DIAMETER
+    density: float = DEFAULT_DENSITY
+
+    def __post_init__(self):
+        _check("xi", self.xi, 0.0, 100.0, lo_open=True)
+        _check("diameter", self.diameter, 1e-4, 10.0, unit="m")
+        _check("density", self.density, 1.0, 1e5, unit="kg/m^3")
+
+    @property
+    def a(self):
+        return self.diameter / 2
+
+    @property
+    def hh(self):
+        """Half the thickness, ``h/2 = xi a``."""
+        return self.xi * self.diameter / 2
+
+    @property
+    def half_diagonal(self):
+        """``R = sqrt(a^2 + h^2/4)``: the height of the centre balanced on a corner."""
+        return math.hypot(self.a, self.hh)
+
+
+def inertia(coin: Coin):
+    """``(m, I1, I3)`` of a solid cylinder: ``m = rho pi a^2 h``, ``I1 = m (a^2/4 + h^2/12)``
+    about a diameter through the centre, ``I3 = m a^2 / 2`` about the axis (the paper's)."""
+    a, h = coin.a, 2 * coin.hh
+    m = coin.density * math.pi * a * a * h
+    return m, m * (a * a / 4 + h * h / 12), m * a * a / 2
+
+
+# --------------------------------------------------------------------------- the launch
+
+
+@dataclass(frozen=True)
+class Launch:
+    """One toss's initial conditions (SI; ``psi`` and ``azimuth`` in radians)."""
+
+    u: float  #: m/s, upward speed of the centre
+    omega: float  #: rad/s, the precession rate omega_N = M / I1 (eq. 2)
+    psi: float  #: rad, angle between the angular momentum and the normal
+    z0: float  #: m, centre above the launch plane
+    height: float = 0.0  #: m, the surface below the launch plane
+    vx: float = 0.0  #: m/s, horizontal speed
+    azimuth: float = 0.0  #: rad, direction of the horizontal speed from the plane of L and n
+
+
+def _qmul(p, q):
+    pw, px, py, pz = p
+    qw, qx, qy, qz = q
+    return (pw * qw - px * qx - py * qy - pz * qz, pw * qx + px * qw + py * qz - pz * qy,
+            pw * qy - px * qz + py * qw + pz * qx, pw * qz + px * qy - py * qx + pz * qw)
+
+
+def _qrot(q, v):
+    """Rotate vector v by unit quaternion q."""
+    w, x, y, z = q
+    vx, vy, vz = v
+    # t = 2 q_vec x v; v' = v + w t + q_vec x t
+    tx, ty, tz = 2 * (y * vz - z * vy), 2 * (z * vx - x * vz), 2 * (x * vy - y * vx)
+    return (vx + w * tx + (y * tz - z * ty), vy + w * ty + (z * tx - x * tz),
+            vz + w * tz + (x * ty - y * tx))
+
+
+def _qaxis(axis, angle):
+    s = math.sin(0.5 * angle)
+    return (math.cos(0.5 * angle), axis[0] * s, axis[1] * s, axis[2] * s)
+
+
+@dataclass
+class _Flight:
+    """A free flight from time ``t0``: centre ``p``, velocity ``v``, orientation ``q``
+    (body to world), angular momentum direction ``lhat``, precession rate ``big_omega`` and body
+    spin ``lam`` (rad/s)."""
+
+    t0: float
+    p: tuple
+    v: tuple
+    q: tuple
+    lhat: tuple
+    big_omega: float
+    lam: float
+
+    def state(self, t, g):
+        """(position, quaternion, linear velocity (world), angular velocity (body)) at ``t``."""
+        s = t - self.t0
+        p = (self.p[0] + self.v[0] * s, self.p[1] + self.v[1] * s,
+             self.p[2] + self.v[2] * s - 0.5 * g * s * s)
+        v = (self.v[0], self.v[1], self.v[2] - g * s)
+        q = _qmul(_qaxis(self.lhat, self.big_omega * s),
+                  _qmul(self.q, (math.cos(0.5 * self.lam * s), 0.0, 0.0,
+                                 math.sin(0.5 * self.lam * s))))
+        n = _qrot(q, (0.0, 0.0, 1.0))
+        w = tuple(self.big_omega * self.lhat[i] + self.lam * n[i] for i in range(3))
+        qc = (q[0], -q[1], -q[2], -q[3])
+        return p, q, v, _qrot(qc, w)
+
+
+def _flight_from_launch(launch: Launch, i1, i3):
+    """The launch as a :class:`_Flight` at t = 0, the surface at z = 0: heads up (body z up),
+    ``L = I1 omega (sin psi, 0, cos psi)``, so ``cos alpha = cos^2 psi + sin^2 psi cos(omega t)``
+    (eq. 3), and the body spin ``lambda = omega cos psi (I1/I3 - 1)``."""
+    sp, cp = math.sin(launch.psi), math.cos(launch.psi)
+    lam = launch.omega * cp * (i1 / i3 - 1.0)
+    vx, vy = launch.vx * math.cos(launch.azimuth), launch.vx * math.sin(launch.azimuth)
+    return _Flight(0.0, (0.0, 0.0, launch.z0 + launch.height), (vx, vy, launch.u),
+                   (1.0, 0.0, 0.0, 0.0), (sp, 0.0, cp), launch.omega, lam)
+
+
+def launch_state(launch: Launch, coin: Coin, t, g=STANDARD_G):
+    """The exact state of a launched coin at time ``t`` of its first flight (the surface at
+    z = 0): ``(position, quaternion w,x,y,z, velocity, body angular velocity)``."""
+    _, i1, i3 = inertia(coin)
+    return _flight_from_launch(launch, i1, i3).state(t, g)
+
+
+def _flight_from_state(t0, qpos, qvel, i1, i3):
+    """The free flight through a MuJoCo free-joint state (angular velocity in the body frame)."""
+    p = (float(qpos[0]), float(qpos[1]), float(qpos[2]))
+    q = (float(qpos[3]), float(qpos[4]), float(qpos[5]), float(qpos[6]))
+    nq = math.sqrt(sum(c * c for c in q))
+    q = tuple(c / nq for c in q)
+    wb = (float(qvel[3]), float(qvel[4]), float(qvel[5]))
+    lw = _qrot(q, (i1 * wb[0], i1 * wb[1], i3 * wb[2]))  # L in the world frame
+    lnorm = math.sqrt(sum(c * c for c in lw))
+    n = _qrot(q, (0.0, 0.0, 1.0))
+    if lnorm == 0.0:
+        return _Flight(t0, p, tuple(float(c) for c in qvel[:3]), q, (0.0, 0.0, 1.0), 0.0, 0.0)
+    lhat = tuple(c / lnorm for c in lw)
+    ln = sum(lw[i] * n[i] for i in range(3))
+    return _Flight(t0, p, tuple(float(c) for c in qvel[:3]), q, lhat, lnorm / i1,
+                   ln * (1.0 / i3 - 1.0 / i1))
+
+
+def _first_touch(fl: _Flight, a, hh, g, resolution):
+    """The time (s, absolute) up to which the flight certainly stays clear of the plane z = 0,
+    to within ``resolution``: the start of the first cell, at that resolution, whose lower bound
+    of the clearance is not positive.
+
+    The clearance is ``F(t) = z(t) - a sin alpha - hh |cos alpha|`` with
+    ``cos alpha = A + B cos(Omega s) + C sin(Omega s)``.  As in :mod:`coincli.toss`, ``F`` is
+    semi-concave, ``F'' <= K = Omega^2 sin(beta) (a + hh) - g`` (``beta`` the angle between L and
+    the normal), so on a cell of width ``w``, ``F >= min(F(t1), F(t2)) - max(K, 0) w^2 / 8``:
+    cells where this is positive hold no contact, however thin a dip could be.
+    """
+    import numpy as np
+
+    n0 = _qrot(fl.q, (0.0, 0.0, 1.0))
+    ln = sum(fl.lhat[i] * n0[i] for i in range(3))
+    big_a = ln * fl.lhat[2]
+    big_b = n0[2] - big_a
+    big_c = fl.lhat[0] * n0[1] - fl.lhat[1] * n0[0]  # (L x n)_z
+    sin_beta = math.sqrt(max(0.0, 1.0 - ln * ln))
+    om = fl.big_omega
+    k = max(om * om * sin_beta * (a + hh) - g, 0.0)
+    z0, vz = fl.p[2], fl.v[2]
+    t_end = (vz + math.sqrt(vz * vz + 2.0 * g * max(z0, 0.0))) / g  # centre at the plane
+
+    def clearance(s):
+        c = np.clip(big_a + big_b * np.cos(om * s) + big_c * np.sin(om * s), -1.0, 1.0)
+        return z0 + vz * s - 0.5 * g * s * s - a * np.sqrt(1.0 - c * c) - hh * np.abs(c)
+
+    def scan(t1, t2, cells):
+        w = (t2 - t1) / cells
+        s = t1 + w * np.arange(cells + 1)
+        f = clearance(s)
+        low = np.minimum(f[:-1], f[1:]) - k * w * w / 8
+        for j in np.flatnonzero(low <= 0.0):
+            if w <= resolution:
+                return float(s[j])
+            hit = scan(float(s[j]), float(s[j + 1]), _ZOOM)
+            if hit is not None:
+                return hit
+        return None
+
+    step = min(2 * math.pi / (16 * om) if om > 0 else math.inf, max(t_end, 1e-9) / 8)
+    cells = max(1, math.ceil(t_end / step))
+    hit = scan(0.0, t_end, cells)
+    return fl.t0 + (t_end if hit is None else hit)
+
+
+# --------------------------------------------------------------------------- the model
+
+
+def _mjcf(coin: Coin, surf: Surface, dt, k, b, g):
+    """The MJCF model: a plane, a free cylinder, one explicit contact pair.
+
+    Geoms have ``contype = conaffinity = 0`` so that only the ``<pair>`` collides, whose
+    parameters are then exactly these (no mixing of two geoms' values).  ``margin = 0``: a
+    contact exists only while the solids touch, so "no contact" means "airborne".
+    """
+    mu, tor, rol = surf.friction, surf.torsional, surf.rolling
+    # MuJoCo clamps friction below mjMINMU (1e-5); a frictionless surface is that.
+    mu, tor, rol = max(mu, 1e-5), max(tor, 1e-5), max(rol, 1e-5)
+    d = IMPEDANCE
+    return f"""<mujoco model="coin">
+  <option timestep="{dt!r}" gravity="0 0 {-g!r}" integrator="implicitfast" cone="elliptic">
+    <flag energy="enable"/>
+  </option>
+  <worldbody>
+    <geom name="surface" type="plane" size="0 0 1" contype="0" conaffinity="0"/>
+    <body name="coin">
+      <freejoint/>
+      <geom name="coin" type="cylinder" size="{coin.a!r} {coin.hh!r}" density="{coin.density!r}"
+            contype="0" conaffinity="0"/>
+    </body>
+  </worldbody>
+  <contact>
+    <pair geom1="surface" geom2="coin" condim="6" friction="{mu!r} {mu!r} {tor!r} {rol!r} {rol!r}"
+          solref="{-k!r} {-b!r}" solimp="{d!r} {d!r} 0.001 0.5 2" margin="0"/>
+  </contact>
+</mujoco>"""
+
+
+def _stiffness(dt):
+    wn = OMEGA_DT / dt
+    return wn * wn
+
+
+def _model(coin, surf, dt, b, g):
+    mujoco = require_mujoco()
+    m = mujoco.MjModel.from_xml_string(_mjcf(coin, surf, dt, _stiffness(dt), b, g))
+    return mujoco, m, mujoco.MjData(m)
+
+
+def drop_restitution(coin: Coin, surf: Surface, dt, b, *, tilt=0.0, speed=1.0, g=STANDARD_G):
+    """The coefficient of restitution of one simulated drop: the coin tilted by ``tilt`` about a
+    diameter, falling at ``speed`` onto the surface, with contact damping ``b``.
+
+    Energetic (Stronge's) definition: ``e^2 = 1 - dE / (m_eff v^2 / 2)``, ``dE`` the mechanical
+    energy the impact took (gravity's work during the contact accounted for) and ``m_eff`` the
+    effective mass of the touching point at the first-contact pose (``m`` for a flat drop, where
+    this is the rebound speed ratio).  For an edge drop it is the fraction of the compression
+    energy given back; the ratio of the corner's normal speeds (Newton's) is not usable for a
+    soft contact, as the coin turns by ~0.1 rad during the millisecond of contact, which moves
+    the corner.  With friction, a sliding edge impact also loses energy to friction: calibrate and
+    check edges on a frictionless surface.
+    """
+    mujoco, m, d = _model(coin, surf, dt, b, g)
+    a, hh = coin.a, coin.hh
+    depth = a * math.sin(tilt) + hh * abs(math.cos(tilt))
+    d.qpos[:3] = (0.0, 0.0, depth + 0.5 * speed * dt)  # half a step above the surface
+    d.qpos[3:7] = (math.cos(tilt / 2), math.sin(tilt / 2), 0.0, 0.0)
+    d.qvel[:] = 0.0
+    d.qvel[2] = -speed
+    mujoco.mj_forward(m, d)
+    mass, i1 = float(m.body_mass[1]), float(m.body_inertia[1][0])
+    # the point that touches first: the low corner of a tilted coin (the tilt is about the x
+    # axis, so the lever r x n lies along the body's x axis), the lower face of a flat one
+    r = _qrot(tuple(float(c) for c in d.qpos[3:7]), (0.0, -a if tilt > 0 else 0.0, -hh))
+    m_eff = 1.0 / (1.0 / mass + (r[0] ** 2 + r[1] ** 2) / i1)
+    e0 = float(d.energy[0]) + float(d.energy[1])
+    touched = 0
+    # An impact lasts about half a period, pi / omega_n (~10 steps); an overdamped contact never
+    # lets go, and is read after five half periods (its rebound is then ~0).
+    longest = 5 * math.ceil(math.pi / OMEGA_DT) + 2
+    while touched < longest:
+        mujoco.mj_step(m, d)
+        if d.ncon:
+            touched += 1
+        if touched and (d.ncon == 0 or not any(d.efc_force[i] > 0 for i in range(0, d.nefc, 6))):
+            break
+    lost = e0 - float(d.energy[0]) - float(d.energy[1])
+    return math.sqrt(max(0.0, 1.0 - lost / (0.5 * m_eff * speed * speed)))
+
+
+_CALIBRATION: dict = {}
+
+
+def calibrate(coin: Coin, surf: Surface, dt=DEFAULT_DT, g=STANDARD_G):
+    """The contact damping ``b`` (1/s) at which this coin's drops rebound at
+    ``surf.restitution`` (:func:`drop_restitution`, the mean of a flat and an edge drop):
+    bisection in ``log b`` on simulated drops at 1 m/s (the oscillator is linear, so the speed
+    hardly matters).  Cached per (coin, surface, dt, g).
+
+    The linear oscillator would rebound at ``e`` with ``b = 2 zeta omega_n``,
+    ``zeta = -ln e / sqrt(pi^2 + ln^2 e)``; the unilateral contact (it lets go as soon as the
+    force would pull) and the discrete steps shift that by up to 0.1 in ``e``, hence the
+    bisection, bracketed by ``b = 0.003 omega_n`` and the explicit-damping limit ``b = 1/dt``.
+    """
+    key = (coin, surf.restitution, surf.friction, surf.torsional, surf.rolling, dt, g)
+    if key in _CALIBRATION:
+        return _CALIBRATION[key]
+    e = surf.restitution
+    wn = OMEGA_DT / dt
+    # A flat drop and an edge drop (tilted 0.6 rad, on the same surface without friction: a
+    # sliding edge also loses energy to friction, which is not restitution) differ by ~0.03,
+    # the edge rebounding less (the coin turns during the contact): calibrate on their mean, so
+    # both are within ~0.02 of the coefficient asked for.
+    edge = replace(surf, friction=0.0, torsional=0.0, rolling=0.0)
+
+    def rebound(b):
+        return 0.5 * (drop_restitution(coin, surf, dt, b, g=g)
+                      + drop_restitution(coin, edge, dt, b, tilt=EDGE_TILT, g=g))
+
+    # MuJoCo applies the damping explicitly (from the velocity at the start of a step), so it
+    # is stable up to b dt ~ 1: the damping ratio reaches 1 / (2 OMEGA_DT) = 1.67, where a flat
+    # drop still rebounds at RESTITUTION_MIN.
+    lo, hi = 1e-3 * wn, 1.0 / dt
+    e_lo, e_hi = rebound(lo), rebound(hi)
+    if not e_hi <= e <= e_lo:
+        raise ValueError(f"restitution {e:g} is beyond what the contact can give at dt = {dt:g} s "
+                         f"({e_hi:.3f} to {e_lo:.3f})")
+    for _ in range(40):
+        mid = math.sqrt(lo * hi)
+        if rebound(mid) > e:
+            lo = mid
+        else:
+            hi = mid
+        if hi / lo < 1 + 1e-4:
+            break
+    b = math.sqrt(lo * hi)
+    _CALIBRATION[key] = b
+    return b
+
+
+# --------------------------------------------------------------------------- one toss
+
+
+@dataclass
+class TossResult:
+    """One toss on a surface."""
+
+    code: int  #: 0 heads, 1 sides, 2 tails, 3 unsettled
+    outcome: str  #: 'heads', 'sides', 'tails' or 'unsettled'
+    t_first: float  #: s, first contact
+    t_settle: float  #: s, when the outcome could no longer change (nan if unsettled)
+    bounces: int  #: flights after the first impact
+    alpha: float  #: rad, tilt of the normal at the end (catch: at first contact)
+    catch_code: int  #: the outcome the catch (first contact, eq. 7) would have given
+    steps: int  #: MuJoCo steps taken
+    trajectory: list | None = None  #: rows of :data:`TRAJECTORY_COLUMNS` when recorded
+
+
+TRAJECTORY_COLUMNS = ("t", "x", "y", "z", "qw", "qx", "qy", "qz", "vx", "vy", "vz", "wx", "wy",
+                      "wz", "tilt_deg", "energy", "contacts", "phase")
+
+
+class Engine:
+    """One MuJoCo model and data for a coin on a surface; runs tosses one after another.
+
+    ``flight="exact"`` (default) solves free flights in closed form and simulates only near
+    contacts; ``flight="mujoco"`` integrates the whole toss with MuJoCo (RK4 in the air,
+    implicitfast in contact), for validation.  Each toss starts from a reset ``MjData``, so a
+    toss's result does not depend on the tosses run before it.
+    """
+
+    def __init__(self, coin: Coin, surf: Surface, *, dt=DEFAULT_DT, g=STANDARD_G,
+                 landing="bounce", t_max=DEFAULT_T_MAX, flight="exact", damping=None):
+        if landing not in LANDINGS:
+            raise ValueError(f"landing must be one of {', '.join(LANDINGS)}, got {landing!r}")
+        if flight not in ("exact", "mujoco"):
+            raise ValueError(f"flight must be 'exact' or 'mujoco', got {flight!r}")
+        _check("dt", dt, 1e-7, 1e-3, unit="s")
+        _check("g", g, 0.0, 1e3, lo_open=True, unit="m/s^2")
+        _check("t_max", t_max, 0.0, 1e3, lo_open=True, unit="s")
+        self.coin, self.surface, self.dt, self.g = coin, surf, dt, g
+        self.landing, self.t_max, self.flight = landing, t_max, flight
+        self.damping = calibrate(coin, surf, dt, g) if damping is None else damping
+        self.mujoco, self.m, self.d = _model(coin, surf, dt, self.damping, g)
+        self.mass = float(self.m.body_mass[1])
+        self.i1 = float(self.m.body_inertia[1][0])
+        self.i3 = float(self.m.body_inertia[1][2])
+        # MuJoCo's direct stiffness is k / dmax^2, achieved to the impedance d = dmax: k / d
+        self.k_spring = _stiffness(dt) / IMPEDANCE
+        self.barrier = self.mass * g * (coin.half_diagonal - REST_MARGIN)
+        mj = self.mujoco
+        self._rk4, self._implicit = mj.mjtIntegrator.mjINT_RK4, mj.mjtIntegrator.mjINT_IMPLICITFAST
+
+    # -- helpers
+
+    def _set(self, state):
+        p, q, v, w = state
+        d = self.d
+        d.qpos[:3] = p
+        d.qpos[3:7] = q
+        d.qvel[:3] = v
+        d.qvel[3:6] = w
+
+    def _tilt(self):
+        q = self.d.qpos[3:7]
+        nz = 1.0 - 2.0 * (float(q[1]) ** 2 + float(q[2]) ** 2)  # (R e3)_z
+        return math.acos(max(-1.0, min(1.0, nz)))
+
+    def _energy(self):
+        """Kinetic + gravitational (from the surface) + the contact springs' stored energy.
+
+        The springs: the contact pulls each penetration ``r`` back with acceleration ``k r`` in
+        its own effective mass, ``m_eff <= m``; ``m k r^2 / 2`` a contact bounds what each can
+        give back (three contacts of a flat coin share the mass, so this over-counts: safe).
+        """
+        d = self.d
+        e = float(d.energy[0]) + float(d.energy[1])
+        spring = 0.0
+        for i in range(d.ncon):
+            r = -float(d.contact[i].dist)
+            if r > 0:
+                spring += r * r
+        return e + 0.5 * self.mass * self.k_spring * spring
+
+    def _touching(self):
+        d = self.d
+        return d.ncon > 0
+
+    # -- a toss
+
+    def first_contacts(self, launches):
+        """The exact times of first contact of many launches (one vectorized call of
+        :func:`coincli.toss.toss_many` with the cylinder's corner as the contact)."""
+        import numpy as np
+
+        from coincli.toss import toss_many
+
+        arr = {k: np.array([getattr(x, k) for x in launches]) for k in
+               ("u", "omega", "psi", "z0", "height")}
+        return toss_many(self.coin.xi, arr["psi"], arr["u"], arr["omega"],
+                         diameter=self.coin.diameter, g=self.g, contact="thick",
+                         z0=arr["z0"] + arr["height"]).t_f.tolist()
+
+    def run(self, launch: Launch, *, record=False, t_contact=None) -> TossResult:
+        """One toss.  ``t_contact``: its exact first contact, if already known
+        (:meth:`first_contacts`)."""
+        mj, m, d = self.mujoco, self.m, self.d
+        coin, g, dt = self.coin, self.g, self.dt
+        a, hh = coin.a, coin.hh
+        fl = _flight_from_launch(launch, self.i1, self.i3)
+        traj = [] if record else None
+        mj.mj_resetData(m, d)
+        steps = 0
+        if self.flight == "exact":
+            t_f = self.first_contacts([launch])[0] if t_contact is None else t_contact
+            t_start = max(0.0, t_f - LEAD_STEPS * dt)
+            if record:
+                self._record_flight(traj, fl, 0.0, t_start)
+            self._set(fl.state(t_start, g))
+            d.time = t_start
+            m.opt.integrator = self._implicit
+        else:
+            self._set(fl.state(0.0, g))
+            d.time = 0.0
+            m.opt.integrator = self._rk4
+        mj.mj_forward(m, d)
+        # To the first contact, one step at a time.  mj_step detects contacts in the
+        # configuration it starts from, then integrates: the first touching configuration is the
+        # one before the step that found a contact (its tilt and time are kept).
+        t_first, alpha = float(d.time), self._tilt()
+        while not self._touching():
+            if d.time > self.t_max:
+                return self._result(UNSETTLED, math.nan, math.nan, 0, steps, UNSETTLED, traj)
+            t_first, alpha = float(d.time), self._tilt()
+            mj.mj_step(m, d)
+            steps += 1
+            if record:
+                self._record(traj, "mujoco")
+        catch_code = int(classify(alpha, coin.xi))
+        if self.landing == "catch":
+            return self._result(catch_code, t_first, t_first, 0, steps, catch_code, traj, alpha)
+        m.opt.integrator = self._implicit
+        bounces = 0
+        airborne = None  # time the coin last left the surface, while it is in the air
+        jump_min = JUMP_MIN_STEPS * dt
+        no_jump_until = -math.inf  # a flight found too short to solve: step it out
+        while True:
+            mj.mj_step(m, d, nstep=CHECK_STEPS)
+            steps += CHECK_STEPS
+            if record:
+                self._record(traj, "mujoco")
+            if self._energy() < self.barrier:
+                alpha = self._tilt()
+                code = int(classify(alpha, coin.xi))
+                return self._result(code, t_first, float(d.time), bounces, steps, catch_code,
+                                    traj, alpha)
+            if d.time > self.t_max:
+                return self._result(UNSETTLED, t_first, math.nan, bounces, steps, catch_code,
+                                    traj, self._tilt())
+            if self._touching():
+                # a bounce is a flight of at least JUMP_MIN_STEPS; shorter ones are chatter
+                if airborne is not None and d.time - airborne >= jump_min:
+                    bounces += 1
+                airborne = None
+                m.opt.integrator = self._implicit
+                continue
+            if airborne is None:
+                airborne = float(d.time)
+            if self.flight == "mujoco":
+                m.opt.integrator = self._rk4
+                continue
+            if d.time < no_jump_until:
+                continue
+            free = _flight_from_state(float(d.time), d.qpos, d.qvel, self.i1, self.i3)
+            t_hit = _first_touch(free, a, hh, g, 0.5 * LEAD_STEPS * dt)
+            if t_hit - d.time < jump_min:
+                no_jump_until = t_hit
+                continue
+            t_start = t_hit - LEAD_STEPS * dt
+            if record:
+                self._record_flight(traj, free, float(d.time), t_start)
+            self._set(free.state(t_start, g))
+            d.time = t_start
+            mj.mj_forward(m, d)
+
+    def _result(self, code, t_first, t_settle, bounces, steps, catch_code, traj, alpha=math.nan):
+        name = NAMES[code] if code < 3 else "unsettled"
+        return TossResult(code, name, t_first, t_settle, bounces, alpha, catch_code, steps, traj)
+
+    def _record(self, traj, phase):
+        d = self.d
+        traj.append(self._row(float(d.time), tuple(d.qpos[:3]), tuple(d.qpos[3:7]),
+                              tuple(d.qvel[:3]), tuple(d.qvel[3:6]), self._energy(), d.ncon,
+                              phase))
+
+    def _record_flight(self, traj, fl, t1, t2, every=1e-3):
+        n = max(1, math.ceil((t2 - t1) / every))
+        for i in range(n):
+            t = t1 + (t2 - t1) * i / n
+            p, q, v, w = fl.state(t, self.g)
+            ke = 0.5 * self.mass * sum(c * c for c in v) + 0.5 * (
+                self.i1 * (w[0] ** 2 + w[1] ** 2) + self.i3 * w[2] ** 2)
+            traj.append(self._row(t, p, q, v, w, ke + self.mass * self.g * p[2], 0, "flight"))
+
+    def _row(self, t, p, q, v, w, energy, ncon, phase):
+        nz = 1.0 - 2.0 * (q[1] ** 2 + q[2] ** 2)
+        tilt = math.degrees(math.acos(max(-1.0, min(1.0, nz))))
+        return (t, *map(float, p), *map(float, q), *map(float, v), *map(float, w), tilt,
+                float(energy), int(ncon), phase)
+
+
+# --------------------------------------------------------------------------- many tosses
+
+
+@dataclass
+class BounceSimulation:
+    """Result of :func:`simulate`."""
+
+    n: int
+    counts: tuple  #: heads, sides, tails, unsettled
+    frequencies: list  #: :class:`coincli.toss.Frequency` of heads, sides, tails among settled
+    catch_counts: tuple  #: what the catch (first contact, eq. 7) would have said, same tosses
+    agree: int  #: tosses whose outcome is the catch's
+    mean_bounces: float
+    mean_t_settle: float  #: s, among settled tosses
+    steps: int
+    seed: int
+    landing: str
+    surface: Surface
+    damping: float
+    dt: float
+    level: float = 0.95
+    vigorous: object = None  #: the closed-form (catch) prediction for the psi distribution
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def settled(self):
+        return self.n - self.counts[3]
+
+
+_DOMAINS = {"height": (0.0, 100.0), "vx": (0.0, 100.0), "z0": (0.0, 100.0)}
+
+
+def _block_launches(seed, block, count, dists, coin, stream=()):
+    """The launches of block ``block`` of a run: its own generator, seeded ``(seed, block)``, so
+    a toss's conditions do not depend on how blocks are shared among workers.  Draws u, omega,
+    psi (as :func:`coincli.toss.sample_conditions`), then height, horizontal speed, its azimuth,
+    and z0, always a full block."""
+    import numpy as np
+
+    rng = np.random.default_rng([seed, *stream, block])
+    c = sample_conditions(BLOCK, rng, u=dists["u"], omega=dists["omega"], psi=dists["psi"])
+    extra = {k: dists[k].sample(rng, BLOCK) for k in ("height", "vx", "z0")}
+    az = rng.uniform(0.0, 2 * math.pi, BLOCK)
+    out = []
+    for i in range(count):
+        def pick(v, i=i):
+            return float(v if isinstance(v, float) else v[i])
+        out.append(Launch(pick(c["u"]), pick(c["omega"]), pick(c["psi"]), pick(extra["z0"]),
+                          pick(extra["height"]), pick(extra["vx"]), float(az[i])))
+    return out
+
+
+_WORKER: dict = {}
+
+
+def _worker_init(args):
+    coin, surf, dt, g, landing, t_max, flight, damping = args
+    _WORKER["engine"] = Engine(coin, surf, dt=dt, g=g, landing=landing, t_max=t_max,
+                               flight=flight, damping=damping)
+
+
+def _run_block(job):
+    seed, block, count, dists, stream = job
+    eng = _WORKER["engine"]
+    rows = []
+    launches = _block_launches(seed, block, count, dists, eng.coin, stream)
+    t_first = eng.first_contacts(launches) if eng.flight == "exact" else [None] * count
+    for launch, t_f in zip(launches, t_first, strict=True):
+        r = eng.run(launch, t_contact=t_f)
+        rows.append((r.code, r.catch_code, r.bounces, r.t_settle, r.steps))
+    return rows
+
+
+def default_jobs():
+    """Every core this process may use."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # pragma: no cover - not Linux
+        return os.cpu_count() or 1
+
+
+def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=0.0, vx=0.0,
+             z0=None, diameter=DEFAULT_DIAMETER, density=DEFAULT_DENSITY, g=STANDARD_G,
+             dt=DEFAULT_DT, t_max=DEFAULT_T_MAX, jobs=None, level=0.95, flight="exact",
+             progress: Callable[[int], None] | None = None, stream=()) -> BounceSimulation:
+    """Toss ``n`` coins onto ``surf`` (a :class:`Surface`, default wood) with seeded random
+    launches and count the outcomes.
+
+    ``u``, ``omega``, ``psi`` are as :func:`coincli.toss.sample_conditions` takes them (numbers,
+    spec strings or :class:`coincli.toss.Dist`; SI, radians); ``height`` (surface below the
+    launch plane, m), ``vx`` (horizontal speed, m/s) and ``z0`` (centre above the launch plane,
+    m; default the paper's for a thick coin, ``(sqrt 3/2) a + h/2``) likewise.  ``jobs`` worker
+    processes (default: every core); block ``k`` of 256 tosses draws from the seed ``(seed, k)``,
+    so the counts are the same for any number of workers.  ``stream`` (a tuple of whole numbers)
+    names an independent stream of the same seed (:func:`design` uses one per simulated point).
+    """
+    import numpy as np
+
+    from coincli.toss import _count, vigorous_limit
+
+    n = _count(n)
+    coin = Coin(float(xi), float(diameter), float(density))
+    surf = SURFACES["wood"] if surf is None else surf
+    if z0 is None:
+        z0 = default_z0(coin.xi, coin.diameter, "thick")
+    dists = {"u": as_dist(u, "u", 0.0, U_MAX), "omega": as_dist(omega, "omega", 0.0, 1e5),
+             "psi": as_dist(psi, "psi", 0.0, math.pi)}
+    for name, val in (("height", height), ("vx", vx), ("z0", z0)):
+        lo, hi = _DOMAINS[name]
+        dists[name] = as_dist(val, name, lo, hi)
+    jobs = default_jobs() if jobs is None else int(jobs)
+    if jobs < 1:
+        raise ValueError(f"jobs must be >= 1, got {jobs}")
+    damping = calibrate(coin, surf, dt, g)
+    args = (coin, surf, dt, g, landing, t_max, flight, damping)
+    nblocks = -(-n // BLOCK)
+    work = [(seed, k, min(BLOCK, n - k * BLOCK), dists, tuple(stream)) for k in range(nblocks)]
+    results = [None] * nblocks
+    done = 0
+    if jobs == 1 or nblocks == 1:
+        _worker_init(args)
+        for k, job in enumerate(work):
+            results[k] = _run_block(job)
+            done += job[2]
+            if progress is not None:
+                progress(done)
+    else:
+        import concurrent.futures as cf
+        import multiprocessing as mp
+
+        ctx = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
+        with cf.ProcessPoolExecutor(max_workers=min(jobs, nblocks), mp_context=ctx,
+                                    initializer=_worker_init, initargs=(args,)) as pool:
+            futures = {pool.submit(_run_block, job): k for k, job in enumerate(work)}
+            for fut in cf.as_completed(futures):
+                k = futures[fut]
+                results[k] = fut.result()
+                done += work[k][2]
+                if progress is not None:
+                    progress(done)
+    rows = np.array([r for block in results for r in block], dtype=float)
+    code = rows[:, 0].astype(int)
+    catch = rows[:, 1].astype(int)
+    counts = tuple(int(np.sum(code == i)) for i in range(4))
+    catch_counts = tuple(int(np.sum(catch == i)) for i in range(3))
+    settled = code < 3
+    ns = int(settled.sum())
+    freqs = []
+    for i in range(3):
+        if ns:
+            lo, hi = wilson_interval(counts[i], ns, level)
+            freqs.append(Frequency(NAMES[i], counts[i], counts[i] / ns, lo, hi))
+        else:
+            freqs.append(Frequency(NAMES[i], 0, math.nan, 0.0, 1.0))
+    return BounceSimulation(
+        n=n, counts=counts, frequencies=freqs, catch_counts=catch_counts,
+        agree=int(np.sum(code == catch)), mean_bounces=float(rows[:, 2].mean()),
+        mean_t_settle=float(rows[settled, 3].mean()) if ns else math.nan,
+        steps=int(rows[:, 4].sum()), seed=seed, landing=landing, surface=surf, damping=damping,
+        dt=dt, level=level, vigorous=vigorous_limit(coin.xi, dists["psi"]))
+
+
+# --------------------------------------------------------------------------- design
+
+
+@dataclass
+class SidesFit:
+    """``P(sides) = Phi(alpha + beta ln xi)``, a probit in log xi fitted to simulated counts by
+    maximum likelihood (monotone increasing when ``beta > 0``), with the covariance of
+    ``(alpha, beta)`` (inverse Fisher information) and a goodness-of-fit test against the
+    points (deviance, chi-square with points - 2 degrees of freedom)."""
+
+    alpha: float
+    beta: float
+    cov: tuple  #: ((var alpha, cov), (cov, var beta))
+    points: list  #: (xi, tosses, sides) of the settled tosses at each simulated xi
+    deviance: float
+    df: int
+    p_value: float  #: of the goodness-of-fit test (nan when df = 0)
+
+    def p_sides(self, xi):
+        import numpy as np
+        from scipy.special import ndtr
+
+        return ndtr(self.alpha + self.beta * np.log(xi))
+
+    def inverse(self, p):
+        """The xi at which the fitted P(sides) is ``p`` (0 < p < 1)."""
+        from scipy.special import ndtri
+
+        return math.exp((float(ndtri(p)) - self.alpha) / self.beta)
+
+    def interval(self, p, level=0.95):
+        """A ``level`` confidence interval of :meth:`inverse` (delta method on ln xi)."""
+        from statistics import NormalDist
+
+        from scipy.special import ndtri
+
+        q = float(ndtri(p))
+        g = (q - self.alpha) / self.beta
+        da, db = -1.0 / self.beta, -(q - self.alpha) / self.beta**2
+        (vaa, vab), (_, vbb) = self.cov
+        sd = math.sqrt(max(da * da * vaa + 2 * da * db * vab + db * db * vbb, 0.0))
+        z = NormalDist().inv_cdf(0.5 + level / 2)
+        return math.exp(g - z * sd), math.exp(g + z * sd)
+
+
+def fit_sides(points) -> SidesFit:
+    """Fit :class:`SidesFit` to ``points``, ``(xi, n, sides)`` rows (at least two distinct xi
+    with some tosses), by iteratively reweighted least squares (Fisher scoring)."""
+    import numpy as np
+    from scipy.special import ndtr
+    from scipy.stats import chi2, norm
+
+    pts = [(float(x), int(n), int(k)) for x, n, k in points if n > 0]
+    if len({x for x, _, _ in pts}) < 2:
+        raise ValueError("fitting P(sides) needs simulated tosses at two aspect ratios or more")
+    x = np.log([p[0] for p in pts])
+    n = np.array([p[1] for p in pts], dtype=float)
+    k = np.array([p[2] for p in pts], dtype=float)
+    design = np.column_stack([np.ones_like(x), x])
+    f = np.clip((k + 0.5) / (n + 1), 1e-6, 1 - 1e-6)
+    coef = np.linalg.lstsq(design, norm.ppf(f), rcond=None)[0]
+    for _ in range(100):
+        eta = design @ coef
+        mu = np.clip(ndtr(eta), 1e-12, 1 - 1e-12)
+        phi = np.maximum(norm.pdf(eta), 1e-300)
+        w = n * phi * phi / (mu * (1 - mu))
+        z = eta + (k / n - mu) / phi
+        info = design.T @ (w[:, None] * design)
+        new = np.linalg.solve(info, design.T @ (w * z))
+        done = np.max(np.abs(new - coef)) < 1e-12
+        coef = new
+        if done:
+            break
+    eta = design @ coef
+    mu = np.clip(ndtr(eta), 1e-12, 1 - 1e-12)
+    phi = norm.pdf(eta)
+    w = n * phi * phi / (mu * (1 - mu))
+    cov = np.linalg.inv(design.T @ (w[:, None] * design))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        dev = 2 * np.sum(np.where(k > 0, k * np.log(k / (n * mu)), 0.0)
+                         + np.where(n - k > 0, (n - k) * np.log((n - k) / (n * (1 - mu))), 0.0))
+    df = len(pts) - 2
+    return SidesFit(float(coef[0]), float(coef[1]), ((float(cov[0, 0]), float(cov[0, 1])),
+                    (float(cov[1, 0]), float(cov[1, 1]))), pts, float(dev), df,
+                    float(chi2.sf(dev, df)) if df > 0 else math.nan)
+
+
+@dataclass
+class Design:
+    """Result of :func:`design`: the fitted curve and, per target, the aspect ratio with its
+    confidence interval."""
+
+    targets: list
+    xi: list
+    low: list
+    high: list
+    fit: SidesFit
+    tosses: int
+    rounds: int
+    met: bool  #: every interval within tol
+    stopped_by: str  #: 'tol', 'max_tosses' or 'time_limit'
+    seed: int
+    unsettled: int
+
+
+DESIGN_GRID = (0.1, 0.15, 0.22, 0.33, 0.5, 0.75, 1.1, 1.6, 2.4)  #: first sweep of xi
+DESIGN_FIRST = 200  #: tosses at each xi of the first sweep
+DESIGN_ROUND = 400  #: tosses at each of the three xi added near each target per round
+
+
+def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, level=0.95,
+           progress: Callable[[int, int], None] | None = None, clock=None, **kw) -> Design:
+    """The aspect ratios at which tosses onto a surface land on a side with the chances
+    ``targets`` (each in (0, 1)), with ``level`` confidence intervals.
+
+    Simulates a first sweep of xi (:data:`DESIGN_GRID`, :data:`DESIGN_FIRST` tosses each), fits
+    :class:`SidesFit`, then adds rounds of :data:`DESIGN_ROUND` tosses at 0.93, 1 and 1.07 times
+    each target's estimate until every interval is within ``tol`` of its estimate (both ends),
+    or ``max_tosses`` would be passed, or ``time_limit`` seconds (of ``clock``, default
+    ``time.monotonic``) have gone by at the end of a round.  Every simulation is seeded
+    ``(seed, round, point)``: the result is a function of the seed and the number of rounds, so a
+    run stopped by the time limit is reproduced by ``max_tosses`` equal to its tosses.
+    ``kw`` is passed to :func:`simulate` (xi excluded).
+    """
+    import time
+
+    targets = [float(t) for t in targets]
+    for t in targets:
+        if not 0.0 < t < 1.0:
+            raise ValueError(f"a target P(sides) must be strictly between 0 and 1, got {t:g}")
+    clock = clock or time.monotonic
+    start = clock()
+    points: dict = {}
+    tosses = unsettled = 0
+    planned = len(DESIGN_GRID) * DESIGN_FIRST
+
+    def run(xs, n, rnd):
+        nonlocal tosses, unsettled
+        for j, x in enumerate(xs):
+            r = simulate(n, seed, xi=x, stream=(rnd, j), **kw)
+            old = points.get(x, (0, 0))
+            points[x] = (old[0] + r.settled, old[1] + r.counts[SIDES])
+            tosses += n
+            unsettled += r.counts[3]
+            if progress is not None:
+                progress(tosses, planned)
+
+    run(DESIGN_GRID, DESIGN_FIRST, 0)
+    rnd = 0
+    stopped = "tol"
+    while True:
+        fit = fit_sides([(x, n, k) for x, (n, k) in sorted(points.items())])
+        if fit.beta <= 0:
+            raise ValueError("the simulated P(sides) does not grow with xi; no design found")
+        est = [fit.inverse(t) for t in targets]
+        ivs = [fit.interval(t, level) for t in targets]
+        met = all(hi - x <= tol and x - lo <= tol for x, (lo, hi) in zip(est, ivs, strict=True))
+        if met:
+            break
+        nxt = sorted({round(x * f, 6) for x in est for f in (0.93, 1.0, 1.07)})
+        nxt = [x for x in nxt if 1e-3 <= x <= 100.0]
+        if tosses + len(nxt) * DESIGN_ROUND > max_tosses:
+            stopped = "max_tosses"
+            break
+        if clock() - start > time_limit:
+            stopped = "time_limit"
+            break
+        rnd += 1
+        planned = tosses + len(nxt) * DESIGN_ROUND
+        run(nxt, DESIGN_ROUND, rnd)
+    return Design(targets, est, [lo for lo, _ in ivs], [hi for _, hi in ivs], fit, tosses,
+                  rnd, met, stopped, seed, unsettled)
+

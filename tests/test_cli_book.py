@@ -1,0 +1,405 @@
+"""``coin book``: the paper's Problem 1 from the command line."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from cli_helpers import error, ok
+
+from coincli import rigid as R
+
+BOOK = ["book", "--size", "235x155x30"]
+
+
+def _json(out):
+    return json.loads(out)
+
+
+def _moments_mm(a, b, c):
+    """Moments per kg (m^2) of a uniform box, written out again here."""
+    a, b, c = a / 1000, b / 1000, c / 1000
+    return ((b * b + c * c) / 12, (c * c + a * a) / 12, (a * a + b * b) / 12)
+
+
+# --------------------------------------------------------------------------- the motion table
+
+
+def test_the_papers_case_spin_about_the_largest_axis(coin):
+    row = _json(ok(coin(*BOOK, "--spin", "0,0,40", "-f", "json")))[0]
+    I1, I2, I3 = _moments_mm(235, 155, 30)
+    assert (row["I1"], row["I2"], row["I3"]) == pytest.approx((I1, I2, I3), rel=1e-15)
+    gamma = 40 * math.sqrt((I3 - I1) * (I3 - I2) / (I1 * I2))
+    assert row["gamma"] == pytest.approx(gamma, rel=1e-14)
+    assert row["spin_axis"].startswith("3 (largest")
+    assert row["motion"].startswith("steady")
+    assert row["period"] == pytest.approx(2 * math.pi / gamma, rel=1e-14)
+    assert row["lambda"] is None and row["flip_time"] is None
+
+
+def test_a_perturbed_stable_spin_oscillates_at_nearly_gamma(coin):
+    row = _json(ok(coin(*BOOK, "--spin", "0.4,0.3,40", "-f", "json")))[0]
+    mo = R.motion(_moments_mm(235, 155, 30), (0.4, 0.3, 40))
+    assert row["period"] == pytest.approx(mo.period, rel=1e-14)
+    assert row["frequency"] == pytest.approx(mo.frequency, rel=1e-14)
+    assert row["gamma_shift"] == pytest.approx(row["gamma_shift_2"], rel=1e-3)
+    assert abs(row["gamma_shift"]) < 1e-4
+    # omega_3 dips and rises a little: its top is sqrt(w3^2 + I2 (I2 - I1) w2^2 / (I3 (I3 - I1)))
+    I1, I2, I3 = _moments_mm(235, 155, 30)
+    top = math.sqrt(40**2 + I2 * (I2 - I1) * 0.3**2 / (I3 * (I3 - I1)))
+    assert row["omega3_max"] == pytest.approx(top, rel=1e-14) and row["omega3_min"] > 39.99
+    assert row["circulates_about"].startswith("3")
+
+
+def test_a_spin_near_the_middle_axis_flips(coin):
+    row = _json(ok(coin(*BOOK, "--spin", "0.4,40,0.3", "-f", "json")))[0]
+    I1, I2, I3 = _moments_mm(235, 155, 30)
+    lam = 40 * math.sqrt((I3 - I2) * (I2 - I1) / (I1 * I3))
+    assert row["lambda"] == pytest.approx(lam, rel=1e-14)
+    assert row["gamma"] is None
+    assert row["flip_time"] == pytest.approx(row["period"] / 2, rel=1e-15)
+    assert row["flip_asymptote"] == pytest.approx(row["flip_time"], rel=1e-3)
+    assert 0 < row["first_flip"] < row["flip_time"]
+    # the omega_2 swings all the way through: a flip, not a wobble
+    assert row["omega2_min"] == pytest.approx(-row["omega2_max"]) and row["omega2_max"] >= 40
+
+
+def test_quiet_is_the_period_or_the_time_between_flips(coin):
+    stable = float(ok(coin(*BOOK, "--spin", "0.4,0.3,40", "-q")))
+    flips = float(ok(coin(*BOOK, "--spin", "0.4,40,0.3", "-q")))
+    I = _moments_mm(235, 155, 30)
+    assert stable == pytest.approx(R.motion(I, (0.4, 0.3, 40)).period, rel=1e-14)
+    assert flips == pytest.approx(R.motion(I, (0.4, 40, 0.3)).half_period, rel=1e-14)
+
+
+def test_units_per_side_and_on_the_spin(coin):
+    a = _json(ok(coin("book", "--size", "23.5cmx15.5cmx3cm", "--spin", "0,0,40", "-f", "json")))
+    b = _json(ok(coin(*BOOK, "--spin", "0,0,40rad/s", "-f", "json")))
+    assert a[0]["period"] == pytest.approx(b[0]["period"], rel=1e-15)
+    c = _json(ok(coin(*BOOK, "--spin", "0,0,2400rpm", "-f", "json")))[0]
+    assert c["omega3_0"] == pytest.approx(2400 * 2 * math.pi / 60, rel=1e-15)
+    d = _json(ok(coin(*BOOK, "--spin", "0,0,6.5rev/s", "-f", "json")))[0]
+    assert d["omega3_0"] == pytest.approx(6.5 * 2 * math.pi, rel=1e-15)
+
+
+def test_moments_instead_of_a_size(coin):
+    I = _moments_mm(235, 155, 30)
+    text = ",".join(repr(v) for v in I)
+    a = _json(ok(coin("book", "--moments", text, "--spin", "0.4,40,0.3", "-f", "json")))[0]
+    b = _json(ok(coin(*BOOK, "--spin", "0.4,40,0.3", "-f", "json")))[0]
+    assert a["flip_time"] == pytest.approx(b["flip_time"], rel=1e-14)
+
+
+def test_equal_moments_are_handled_exactly(coin):
+    cube = _json(ok(coin("book", "--size", "16x16x16", "--spin", "1,2,3", "-f", "json")))[0]
+    assert cube["motion"].startswith("steady") and cube["omega1_min"] == 1.0
+    square = _json(ok(coin("book", "--size", "20x20x5", "--spin", "0.5,0.2,30", "-f",
+                           "json")))[0]
+    # a square plate is a symmetric top: the exact frequency is Gamma, exactly
+    assert square["gamma_shift"] == pytest.approx(0.0, abs=1e-15)
+    plate = _json(ok(coin("book", "--moments", "1,2,3", "--spin", "0,0,1", "-f", "json")))[0]
+    assert plate["I3"] == 3.0  # I3 = I1 + I2: a flat plate is a body too
+
+
+def test_flight_adds_the_face_up_at_the_catch(coin):
+    row = _json(ok(coin(*BOOK, "--spin", "0.4,40,0.3", "--flight", "0.7", "-f", "json")))[0]
+    series = list(csv.DictReader(io.StringIO(ok(coin(*BOOK, "--spin", "0.4,40,0.3", "--times",
+                                                     "0.7", "-f", "csv")))))
+    assert row["face_up"] == series[0]["up"]
+    assert ok(coin(*BOOK, "--spin", "0,0,40", "--flight", "0.5", "-q")) == "+3\n"
+    assert ok(coin(*BOOK, "--spin", "0,0,40", "--flight", "0.5", "--start", "-3", "-q")) == "-3\n"
+    # spun about a horizontal axis 3, the book turns through its four long faces
+    faces = ok(coin(*BOOK, "--spin", "0,0,40", "--times", "0:0.16:0.01", "--start", "-2", "-q"))
+    assert set(faces.split()) == {"+1", "-1", "+2", "-2"}
+
+
+# --------------------------------------------------------------------------- time series
+
+
+def test_times_give_omega_the_attitude_and_the_face_up(coin):
+    out = ok(coin(*BOOK, "--spin", "0.4,40,0.3", "--times", "0:2:0.01", "-f", "csv"))
+    rows = list(csv.DictReader(io.StringIO(out)))
+    assert len(rows) == 201 and list(rows[0]) == ["t", "omega1", "omega2", "omega3", "qw",
+                                                    "qx", "qy", "qz", "up"]
+    t = np.array([float(r["t"]) for r in rows])
+    w = np.array([[float(r[f"omega{i}"]) for i in (1, 2, 3)] for r in rows])
+    ref = R.omega_at(R.orbit(_moments_mm(235, 155, 30), np.array([0.4, 40, 0.3])), t)
+    assert np.abs(w - ref).max() < 1e-12  # the moments differ in rounding (mm -> m)
+    I = np.array(_moments_mm(235, 155, 30))
+    E = (I * w * w).sum(1)
+    L = np.sqrt(((I * w) ** 2).sum(1))
+    assert np.abs(E / E[0] - 1).max() < 1e-14 and np.abs(L / L[0] - 1).max() < 1e-14
+    q = np.array([[float(r[k]) for k in ("qw", "qx", "qy", "qz")] for r in rows])
+    assert np.abs(np.linalg.norm(q, axis=1) - 1).max() < 1e-15
+    assert rows[0]["up"] == "+3" and {r["up"] for r in rows} >= {"+3", "-3"}
+
+
+@pytest.mark.parametrize("fmt", ["csv", "tsv", "json", "jsonl", "markdown", "table"])
+def test_every_format_of_the_time_series(coin, fmt):
+    out = ok(coin(*BOOK, "--spin", "1,40,0", "--times", "0,0.1,0.2", "-f", fmt))
+    if fmt == "json":
+        assert len(json.loads(out)) == 3
+    elif fmt == "jsonl":
+        assert [json.loads(line)["t"] for line in out.splitlines()] == [0.0, 0.1, 0.2]
+    elif fmt in ("csv", "tsv"):
+        assert len(out.splitlines()) == 4
+    else:
+        assert "face up" in out and "nan" not in out.lower()
+
+
+def test_times_from_stdin(coin):
+    out = ok(coin(*BOOK, "--spin", "1,40,0", "--times", "-", "-f", "csv", stdin="0\n0.5\n1\n"))
+    assert [r["t"] for r in csv.DictReader(io.StringIO(out))] == ["0.0", "0.5", "1.0"]
+
+
+def test_quiet_time_series_prints_the_faces(coin):
+    assert ok(coin(*BOOK, "--spin", "0,0,40", "--times", "0,1,2", "-q")) == "+3\n+3\n+3\n"
+
+
+# --------------------------------------------------------------------------- tosses
+
+TOSS = [*BOOK, "--toss", "-n", "20000", "--spin", "normal:0:20,normal:0:20,normal:0:20"]
+
+
+def test_toss_is_reproducible_and_reports_its_seed(coin):
+    a = ok(coin(*TOSS, "--seed", "7", "-f", "csv"))
+    b = ok(coin(*TOSS, "--seed", "7", "-f", "csv"))
+    assert a == b
+    rows = list(csv.DictReader(io.StringIO(a)))
+    assert {r["seed"] for r in rows} == {"7"}
+    assert sum(int(r["count"]) for r in rows) == 20000
+    geo = R.face_shares((1, 155 / 235, 30 / 235))
+    for r, g in zip(rows, geo, strict=True):
+        assert float(r["ci_low"]) <= float(r["frequency"]) <= float(r["ci_high"])
+        assert float(r["geometric"]) == g
+    # no seed given: one is drawn and printed, and it reproduces the run
+    out = ok(coin(*TOSS, "-f", "json"))
+    seed = json.loads(out)[0]["seed"]
+    assert ok(coin(*TOSS, "-f", "json", "--seed", str(seed))) == out
+    note = ok(coin(*TOSS, "--seed", "7"))
+    assert "seed 7" in note
+
+
+def test_toss_with_a_random_start_matches_the_geometric_model(coin):
+    from scipy.stats import chisquare
+
+    out = ok(coin(*TOSS, "--seed", "2", "--start", "random", "-f", "json"))
+    rows = json.loads(out)
+    counts = [r["count"] for r in rows]
+    expected = [r["geometric"] * 20000 for r in rows]
+    assert chisquare(counts, expected).pvalue > 1e-4
+
+
+def test_toss_shows_where_angular_momentum_disagrees_with_geometry(coin):
+    """Spun about its long axis (stable) from lying flat, a book never shows its ends; spun
+    flat about its thin axis it never turns over."""
+    rows = json.loads(ok(coin(*BOOK, "--toss", "-n", "5000", "--seed", "1", "--spin",
+                              "normal:40:2,normal:0:0.3,normal:0:0.3", "--flight",
+                              "uniform:0.4:0.8", "-f", "json")))
+    assert rows[0]["count"] == rows[1]["count"] == 0 and rows[0]["geometric"] > 0.02
+    rows = json.loads(ok(coin(*BOOK, "--toss", "-n", "5000", "--seed", "1", "--spin",
+                              "normal:0:0.3,normal:0:0.3,normal:40:4", "-f", "json")))
+    assert rows[4]["count"] == 5000
+
+
+def test_toss_distribution_units_and_quiet(coin):
+    a = ok(coin(*BOOK, "--toss", "-n", "3000", "--seed", "3", "--spin",
+                "normal:0:1rev/s,0,6rev/s", "--flight", "500ms", "-q"))
+    b = ok(coin(*BOOK, "--toss", "-n", "3000", "--seed", "3", "--spin",
+                f"normal:0:{2 * math.pi!r},0,{12 * math.pi!r}", "--flight", "0.5", "-q"))
+    assert a == b and len(a.splitlines()) == 6
+    assert sum(float(v) for v in a.split()) == pytest.approx(1.0)
+
+
+def test_normal_rule_gives_a_sixth_to_every_face_geometrically(coin):
+    rows = json.loads(ok(coin(*TOSS, "--seed", "1", "--rule", "normal", "-f", "json")))
+    assert all(r["geometric"] == 1 / 6 for r in rows)
+
+
+# --------------------------------------------------------------------------- files
+
+
+def test_out_writes_a_figure_atomically(coin, tmp_path):
+    path = tmp_path / "book.png"
+    ok(coin(*BOOK, "--spin", "0.4,40,0.3", "--out", str(path)))
+    assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert os.listdir(tmp_path) == ["book.png"]  # no temporary file left behind
+    svg = tmp_path / "faces.svg"
+    ok(coin(*TOSS, "--seed", "1", "-n", "2000", "--out", str(svg)))
+    assert b"<svg" in svg.read_bytes()[:400]
+
+
+def test_out_writes_the_table_in_its_format(coin, tmp_path):
+    path = tmp_path / "series.csv"
+    ok(coin(*BOOK, "--spin", "1,40,0", "--times", "0:1:0.5", "-f", "csv", "--out", str(path)))
+    assert path.read_text() == ok(coin(*BOOK, "--spin", "1,40,0", "--times", "0:1:0.5", "-f",
+                                       "csv"))
+
+
+def test_out_to_a_missing_directory_fails_cleanly(coin, tmp_path):
+    error(coin(*BOOK, "--spin", "1,40,0", "--out", str(tmp_path / "no" / "x.png")), 1,
+          "cannot write")
+
+
+# --------------------------------------------------------------------------- bad input
+
+BAD = [
+    (["book", "--spin", "0,0,40"], "--size"),
+    ([*BOOK, "--moments", "1,2,3", "--spin", "0,0,1"], "one of them"),
+    (["book", "--size", "0x155x30", "--spin", "0,0,1"], "> 0"),
+    (["book", "--size", "-235x155x30", "--spin", "0,0,1"], "side 1"),
+    (["book", "--size", "infx155x30", "--spin", "0,0,1"], "side 1"),
+    (["book", "--size", "nanx155x30", "--spin", "0,0,1"], "side 1"),
+    (["book", "--size", "235x155", "--spin", "0,0,1"], "three lengths"),
+    (["book", "--size", "235x155x30x4", "--spin", "0,0,1"], "three lengths"),
+    (["book", "--moments", "1,2,4", "--spin", "0,0,1"], "no rigid body"),
+    (["book", "--moments", "1,0,1", "--spin", "0,0,1"], "I2"),
+    (["book", "--moments", "1,inf,1", "--spin", "0,0,1"], "I2"),
+    ([*BOOK], "--spin"),
+    ([*BOOK, "--spin", "0,40"], "three components"),
+    ([*BOOK, "--spin", "0,40,nan"], "component 3"),
+    ([*BOOK, "--spin", "0,40,inf"], "component 3"),
+    ([*BOOK, "--spin", "0,40,1e999"], "component 3"),
+    ([*BOOK, "--spin", "0,40,3furlongs"], "component 3"),
+    ([*BOOK, "--spin", "normal:0:1,0,40"], "component 1"),
+    ([*BOOK, "--spin", "0,0,40", "--times", "0:1e30:1e29"], "rad"),
+    ([*BOOK, "--spin", "0,0,40", "--times", "-1"], ">= 0"),
+    ([*BOOK, "--spin", "0,0,40", "--times", "0:1:0"], "step"),
+    ([*BOOK, "--spin", "0,0,40", "--times", "0:1e9:1e-3"], "at most"),
+    ([*BOOK, "--spin", "0,0,40", "--flight", "normal:1:0.1"], "--flight"),
+    ([*BOOK, "--spin", "0,0,40", "--flight", "1e30"], "rad"),
+    ([*BOOK, "--spin", "0,0,40", "--start", "top"], "--start"),
+    ([*BOOK, "--spin", "0,0,40", "--start", "random"], "--toss"),
+    ([*BOOK, "--spin", "0,0,40", "--rule", "nearest"], "--rule"),
+    ([*BOOK, "--spin", "0,0,40", "-n", "5"], "--toss"),
+    ([*BOOK, "--spin", "0,0,40", "--seed", "5"], "--toss"),
+    ([*BOOK, "--spin", "0,0,40", "-f", "xml"], "--format"),
+    ([*BOOK, "--spin", "0,0,40", "--out", "x.gif", "--times", "0"], ".png"),
+    ([*BOOK, "--spin", "0,0,40", "--start", "+1"], "--start"),
+    ([*BOOK, "--spin", "0,0,40", "--rule", "normal"], "--rule"),
+    ([*TOSS, "-n", "0"], "-n"),
+    ([*TOSS, "-n", "1e5"], "-n"),
+    ([*TOSS, "-n", "10000001"], "10000000"),
+    ([*TOSS, "--seed", "-1"], "--seed"),
+    ([*TOSS, "--times", "0"], "--times"),
+    ([*BOOK, "--toss", "--spin", "normal:0:-1,0,0"], "SD >= 0"),
+    ([*BOOK, "--toss", "--spin", "gamma:1:2,0,0"], "unknown distribution"),
+    ([*BOOK, "--toss", "--spin", "uniform:2:1,0,0"], "LOW <= HIGH"),
+    ([*BOOK, "--toss", "--spin", "0,0,40", "--flight", "-0.5"], "--flight"),
+    ([*BOOK, "--toss", "--spin", "0,0,40", "--flight", "normal:-50:1"], "no probability"),
+    ([*BOOK, "--toss", "--spin", "normal:0:1e12,0,0", "--flight", "1"], "rad"),
+]
+
+
+@pytest.mark.parametrize("argv, word", BAD)
+def test_bad_input_is_one_line_and_exit_2(coin, argv, word, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    error(coin(*argv), 2, *([word] if word else []))
+    assert os.listdir(tmp_path) == []
+
+
+@pytest.mark.parametrize("argv", [
+    [*BOOK, "--spin", "1e300,1,1"],
+    [*BOOK, "--spin", "1e-300,1e-300,1e-300"],
+    [*BOOK, "--spin", "5e-324,0,0"],
+    [*BOOK, "--spin", "0,0,0"],
+    [*BOOK, "--spin", "0,40,0"],
+    ["book", "--size", "1e-300x1x1", "--spin", "1,2,3"],
+    ["book", "--size", "1e150x1x1e-150", "--spin", "1,2,3"],
+    ["book", "--moments", "1,1,1", "--spin", "1,2,3"],
+    ["book", "--moments", "1,1,2", "--spin", "0,1,1"],
+    ["book", "--moments", "2,5,7", "--spin", "2,1,1"],
+    # found by fuzzing: two moments 1e-17 apart (tied in doubles), spins near the double range
+    ["book", "--size", "1.1e-05x30527288.7x0.2073", "--spin", "7.5e-08,-19587759.5,1e308"],
+    ["book", "--size", "841481.36x0.00012014x0.00052486", "--spin", "-0.5,8.3e-06,-1e300"],
+])
+def test_extreme_but_valid_inputs_print_no_nan(coin, argv):
+    for fmt in ("table", "csv", "json"):
+        out = ok(coin(*argv, "-f", fmt))
+        assert "nan" not in out.lower()
+    spin = [float(v) for v in argv[argv.index("--spin") + 1].split(",")]
+    t = 1 / max(max(abs(v) for v in spin), 1e-300)
+    out = ok(coin(*argv, "--times", f"0,{t!r}", "-f", "csv"))
+    assert "nan" not in out.lower() and len(out.splitlines()) == 3
+
+
+def test_toss_with_a_spin_near_the_double_range(coin):
+    out = ok(coin("book", "--moments", "4028.55,55030457.9,55033076.0", "--toss", "-n", "300",
+                  "--seed", "1", "--spin", "-419208.97,uniform:0:1e308,3", "--flight", "0",
+                  "-f", "csv"))
+    assert "nan" not in out and out.count("\n") == 7
+    error(coin("book", "--moments", "4028.55,55030457.9,55033076.0", "--toss", "-n", "300",
+               "--spin", "-419208.97,1e308,1e308", "--flight", "0.5"), 2, "rad")
+
+
+def test_help_names_the_examples(coin):
+    out = ok(coin("book", "--help"))
+    for word in ("--size", "--moments", "--spin", "--times", "--toss", "--flight", "--start",
+                 "--rule", "Examples"):
+        assert word in out
+
+
+# --------------------------------------------------------------------------- imports
+
+_PROBE = r"""
+import json, sys
+from coincli.cli import run
+code = run(json.loads(sys.argv[1]))
+sys.stdout.flush()
+mods = sorted(m for m in sys.modules if m.split(".")[0] in ("numpy", "scipy", "rich",
+                                                            "matplotlib"))
+print(json.dumps([code, mods]), file=sys.stderr)
+"""
+
+
+def _loaded(argv):
+    p = subprocess.run([sys.executable, "-c", _PROBE, json.dumps(argv)], capture_output=True,
+                       text=True, timeout=120)
+    code, mods = json.loads(p.stderr.strip().splitlines()[-1])
+    assert code == 0, p.stderr
+    return {m for m in mods}
+
+
+def test_the_motion_table_imports_neither_numpy_scipy_rich_nor_matplotlib():
+    mods = _loaded([*BOOK, "--spin", "0.4,40,0.3"])
+    assert not mods, sorted(mods)[:5]
+
+
+def test_series_and_tosses_import_only_numpy_and_scipy_special(tmp_path):
+    for argv in ([*BOOK, "--spin", "0.4,40,0.3", "--times", "0:1:0.1", "-f", "csv"],
+                 [*BOOK, "--spin", "0.4,40,0.3", "--flight", "0.5"],
+                 [*TOSS, "-n", "100", "--seed", "1"],
+                 [*BOOK, "--spin", "0,0,40", "--times", "0,1", "--out",
+                  str(tmp_path / "x.csv")]):
+        mods = _loaded(argv)
+        assert "numpy" in mods
+        assert not {m for m in mods if m.startswith("matplotlib")}, argv
+        scipy = {m.split(".")[1] for m in mods if m.startswith("scipy.") and
+                 not m.split(".")[1].startswith("_")}
+        assert scipy <= {"special", "linalg", "sparse", "version", "__config__", "constants"}, \
+            (argv, scipy)
+        assert not {m for m in mods if m.startswith(("scipy.stats", "scipy.integrate"))}
+
+
+def test_a_figure_imports_matplotlib(tmp_path):
+    mods = _loaded([*BOOK, "--spin", "0.4,40,0.3", "--out", str(tmp_path / "b.png")])
+    assert "matplotlib" in mods
+
+
+def test_out_refuses_a_directory_before_computing(coin, tmp_path):
+    error(coin(*BOOK, "--spin", "1,40,0", "--times", "0", "-f", "csv", "--out", str(tmp_path)),
+          2, "--out")
+
+
+def test_no_headers_and_negative_spins_with_units(coin):
+    out = ok(coin(*BOOK, "--spin", "-0.4,-6.4rev/s,90deg/s", "--times", "0", "-f", "csv",
+                  "--no-headers"))
+    w = [float(v) for v in out.split(",")[1:4]]
+    assert w == pytest.approx([-0.4, -6.4 * 2 * math.pi, math.pi / 2], rel=1e-15)

@@ -1,0 +1,180 @@
+"""``--landing bounce`` from the command line: simulate, toss, design, plot sides; the install
+hint without MuJoCo; no other command imports MuJoCo."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import subprocess
+import sys
+
+import pytest
+from cli_helpers import error, ok
+
+pytest.importorskip("mujoco")
+
+SIM = ["simulate", "-n", "64", "--seed", "3", "--xi", "0.577", "--u", "normal:2.4:0.3",
+       "--omega", "normal:38:4", "--psi", "90", "--landing", "bounce", "--jobs", "1"]
+
+
+def test_simulate_bounce_table_and_machine_formats(coin):
+    out = ok(coin(*SIM, "--surface", "wood"))
+    assert out.startswith("coin simulate --landing bounce")
+    assert "Simulated table (MuJoCo), not the paper's catch" in out and "seed 3" in out
+    rows = list(csv.DictReader(io.StringIO(ok(coin(*SIM, "--surface", "wood", "-f", "csv")))))
+    assert [r["outcome"] for r in rows] == ["heads", "sides", "tails", "unsettled"]
+    assert sum(int(r["count"]) for r in rows) == 64
+    settled = sum(int(r["count"]) for r in rows[:3])
+    for r in rows[:3]:
+        assert float(r["frequency"]) == int(r["count"]) / settled
+        assert float(r["ci_low"]) <= float(r["frequency"]) <= float(r["ci_high"])
+        assert r["landing"] == "bounce" and r["surface"] == "wood" and r["seed"] == "3"
+    assert abs(sum(float(r["caught"]) for r in rows[:3]) - 1) < 1e-12
+    data = json.loads(ok(coin(*SIM, "--surface", "wood", "-f", "json")))
+    assert [d["count"] for d in data] == [int(r["count"]) for r in rows]  # same seed, same counts
+    q = ok(coin(*SIM, "--surface", "wood", "-q")).split()
+    assert [float(x) for x in q] == [float(r["frequency"]) for r in rows[:3]]
+
+
+def test_simulate_bounce_custom_surface_and_workers(coin):
+    one = ok(coin(*SIM, "--restitution", "0.4", "--friction", "0.3", "-f", "csv"))
+    two = ok(coin(*[a if a != "1" else "2" for a in SIM], "--restitution", "0.4", "--friction",
+                  "0.3", "-f", "csv"))
+    assert one == two  # --jobs 2 gives the same bytes
+    assert ",custom,0.4,0.3," in one
+
+
+def test_landing_catch_is_the_default_and_unchanged(coin):
+    base = ["simulate", "-n", "1000", "--seed", "7", "--xi", "0.577", "--u", "2.4", "--omega",
+            "38", "--psi", "90", "-f", "csv"]
+    assert ok(coin(*base)) == ok(coin(*base, "--landing", "catch"))
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--surface", "wood"], "--surface goes with --landing bounce"),
+    (["--landing", "bounce", "--surface", "marble"], "--surface must be one of"),
+    (["--landing", "bounce", "--restitution", "0.99", "--friction", "0.3"], "--restitution must"),
+    (["--landing", "bounce", "--restitution", "0.5"], "needs --friction too"),
+    (["--landing", "drop"], "--landing must be catch or bounce"),
+    (["--landing", "bounce", "--jobs", "0"], "--jobs must be"),
+    (["--landing", "bounce", "--stream"], "--stream goes with --landing catch"),
+    (["--landing", "bounce", "--release-height", "-3"], "--release-height"),
+])
+def test_simulate_bounce_errors(coin, argv, message):
+    base = ["simulate", "-n", "10", "--xi", "0.577", "--u", "2", "--omega", "38", "--psi", "90"]
+    assert message in error(coin(*base, *argv), 2)
+
+
+def test_toss_bounce_and_trajectory(coin, tmp_path):
+    path = tmp_path / "toss.csv"
+    argv = ["toss", "--xi", "0.577", "--psi", "85", "--u", "2.4", "--omega", "38", "--landing",
+            "bounce", "--surface", "wood"]
+    out = ok(coin(*argv, "--trajectory", str(path)))
+    assert "if caught (eq. 7)" in out and "bounces" in out and "settled at (s)" in out
+    rows = list(csv.DictReader(path.open()))
+    assert rows and float(rows[0]["t"]) == 0.0
+    assert [float(r["t"]) for r in rows] == sorted(float(r["t"]) for r in rows)
+    assert [p.name for p in tmp_path.iterdir()] == ["toss.csv"]  # no temporary left behind
+    one = json.loads(ok(coin(*argv, "-f", "json")))[0]
+    assert one["outcome"] in ("heads", "sides", "tails") and one["landing"] == "bounce"
+    assert ok(coin(*argv, "-q")).strip() == one["outcome"]
+    assert "one toss" in error(coin("toss", "--xi", "0.577", "--psi", "85", "--u", "2.4",
+                                    "--omega", "38,39", "--landing", "bounce"), 2)
+    assert "--trajectory goes with --landing bounce" in error(
+        coin(*argv[:9], "--trajectory", str(path)), 2)
+    bad = tmp_path / "no" / "such" / "dir.csv"
+    assert "cannot write" in error(coin(*argv, "--trajectory", str(bad)), 1)
+
+
+@pytest.mark.slow
+def test_design_bounce(coin):
+    rc, out, warning = coin("design", "--p-sides", "1/3,0.2", "--landing", "bounce", "--seed",
+                            "2", "--max-tosses", "1800", "--jobs", "2", "-f", "csv")
+    assert rc == 0 and warning == ("coin: warning: --max-tosses 1800 reached before --tol 0.01; "
+                                   "the intervals are wider than asked\n")
+    rows = list(csv.DictReader(io.StringIO(out)))
+    assert [float(r["p_sides"]) for r in rows] == [1 / 3, 0.2]
+    for r in rows:
+        assert float(r["xi_low"]) < float(r["xi"]) < float(r["xi_high"])
+        assert abs(float(r["fitted_p_sides"]) - float(r["p_sides"])) < 1e-9
+        assert r["tosses"] == "1800" and r["seed"] == "2"
+    assert float(rows[1]["xi"]) < float(rows[0]["xi"])  # monotone
+    assert "--model, --method and --thickness go with --landing catch" in error(
+        coin("design", "-p", "1/3", "--landing", "bounce", "--model", "geometric"), 2)
+    assert "--seed goes with --landing bounce" in error(coin("design", "-p", "1/3", "--seed",
+                                                           "1"), 2)
+
+
+def test_plot_sides_bounce_terminal(coin):
+    rc, out, note = coin("plot", "sides", "--landing", "bounce", "--seed", "1", "-n", "40",
+                         "--jobs", "1", "--terminal")
+    assert rc == 0 and "seed 1" in note
+    assert note.startswith("coin: note: simulated points: 40 tosses")
+    assert "bounce on wood: fitted probit (simulated)" in out
+    assert "simulated bounce on wood (8 rows)" in out
+
+
+# --------------------------------------------------------------------------- imports
+
+
+_PROBE = r"""
+import json, sys
+from coincli.cli import run
+report = []
+for argv in json.loads(sys.argv[1]):
+    code = run(argv)
+    sys.stdout.flush()
+    report.append([argv, code, "mujoco" in sys.modules])
+print(json.dumps(report), file=sys.stderr)
+"""
+
+
+def test_no_other_command_imports_mujoco():
+    commands = [
+        ["design", "--p-sides", "1/3"],
+        ["table", "--xi", "0.577", "--all"],
+        ["simulate", "-n", "1000", "--seed", "1", "--xi", "0.577", "--u", "2", "--omega", "38",
+         "--psi", "90"],
+        ["toss", "--xi", "0.577", "--psi", "90", "--u", "2", "--omega", "40"],
+        ["phase", "--format", "csv", "--cols", "4", "--rows", "4"],
+        ["plot", "sides", "--terminal"],
+        ["check", "--xi", "0.5", "--sides", "3", "-n", "10"],
+        ["toss", "--xi", "0.577", "--psi", "90", "--u", "2", "--omega", "40", "--landing",
+         "bounce"],
+    ]
+    p = subprocess.run([sys.executable, "-c", _PROBE, json.dumps(commands)],
+                       capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr
+    report = json.loads(p.stderr.strip().splitlines()[-1])
+    for argv, code, loaded in report[:-1]:
+        assert code == 0, argv
+        assert not loaded, f"coin {' '.join(argv)} imported mujoco"
+    assert report[-1][1] == 0 and report[-1][2]  # control: a bounce does
+
+
+_NO_MUJOCO = r"""
+import sys
+class Block:
+    def find_spec(self, name, path=None, target=None):
+        if name == "mujoco" or name.startswith("mujoco."):
+            raise ImportError("No module named 'mujoco'")
+sys.meta_path.insert(0, Block())
+from coincli.cli import run
+sys.exit(run(sys.argv[1:]))
+"""
+
+
+@pytest.mark.parametrize("argv", [
+    ["simulate", "-n", "10", "--xi", "0.577", "--u", "2", "--omega", "38", "--psi", "90",
+     "--landing", "bounce"],
+    ["toss", "--xi", "0.577", "--psi", "90", "--u", "2", "--omega", "40", "--landing", "bounce"],
+    ["design", "-p", "1/3", "--landing", "bounce"],
+    ["plot", "sides", "--landing", "bounce", "--terminal"],
+])
+def test_without_mujoco_one_line_says_how_to_install(argv):
+    p = subprocess.run([sys.executable, "-c", _NO_MUJOCO, *argv], capture_output=True,
+                       text=True, timeout=120)
+    assert p.returncode == 1 and p.stdout == ""
+    assert p.stderr.count("\n") == 1 and "pip install 'coincli[physics]'" in p.stderr
+    assert "Traceback" not in p.stderr
