@@ -201,7 +201,8 @@ def inverse_sections():
     cond = inverse_rows(ref["conditional"], lambda p, psi: conditional_inverse(p, psi),
                         lambda p, psi: _p_region(p))
     marg = inverse_rows(ref["marginal"], lambda label, p: marginal_inverse(p, IR.density(label)),
-                        lambda label, p: f"`{label}`")
+                        lambda label, p: f"`{label}`" if p >= 2.2250738585072014e-308
+                        else "subnormal p (2^-1074), every density")
     lines = inverse_table("`conditional_inverse(p, psi)`", cond)
     if marg:
         lines += inverse_table("`marginal_inverse(p, density)`", marg)
@@ -214,7 +215,7 @@ def issue17_sections():
 
     inv, cond, marg = inverse_sections()
     worst_c = max(r[2] for r in cond if "subnormal" not in r[0])
-    worst_m = max((r[2] for r in marg if "2^-1074" not in r[0]), default=float("nan"))
+    worst_m = max((r[2] for r in marg if "subnormal" not in r[0]), default=float("nan"))
     kappa = max(float(k) for p, _, r, k in IR.load()["conditional"]
                 if p >= 2.2250738585072014e-308 and 0 < r < 1.7976931348623157e308)
     return [
