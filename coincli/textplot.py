@@ -447,7 +447,12 @@ def phase_text(data, *, colour: bool, title: str, width: int | None = None):
     def put(text, style=""):
         segs.append((text, style))
 
-    put(title + "\n")
+    import textwrap
+
+    # A terminal's width (``width``) wraps the title and the notes; a pipe gets them whole.
+    wrap_at = max(int(width), lw + 2 + nu, 20) if width else 10**6
+    width = max(int(width or 0), lw + 2 + nu, 20)  # the legend: the picture's width at least
+    put("\n".join(textwrap.wrap(title, wrap_at)) + "\n")
     put("omega (rad/s)\n")
     for i in range(nw):
         r = nw - 1 - i  # the grid's row of omega, from the bottom
@@ -499,7 +504,6 @@ def phase_text(data, *, colour: bool, title: str, width: int | None = None):
                       f" boundary ({src})"))
     if data.marks:
         items.append(("X", "", " your toss" + ("" if len(data.marks) == 1 else "es")))
-    width = max(int(width or 0), lw + 2 + nu, 20)  # the picture's own width at least
     used = 0
     for key, style, words in items:
         size = 2 + len(key) + len(words)
@@ -511,8 +515,9 @@ def phase_text(data, *, colour: bool, title: str, width: int | None = None):
         put(words)
         used += size
     put("\n")
-    put(f"  vigorous limit (Table I): heads {v.heads:.3f}, sides {v.sides:.3f}, "
-        f"tails {v.tails:.3f}\n")
+    put("\n".join(textwrap.wrap(f"vigorous limit (Table I): heads {v.heads:.3f}, sides "
+                                f"{v.sides:.3f}, tails {v.tails:.3f}", wrap_at,
+                                initial_indent="  ", subsequent_indent="  ")) + "\n")
     if not colour:
         return "".join(t for t, _ in segs)
     from rich.text import Text
@@ -530,10 +535,14 @@ def text_phase(data, cols: int, rows: int, contact: str = "rim"):
     import sys
 
     try:
-        colour = sys.stdout.isatty() and not os.environ.get("NO_COLOR")
+        tty = sys.stdout.isatty()
     except (AttributeError, ValueError):
-        colour = False
-    return phase_text(data, colour=colour, title=phase_title(data, contact))
+        tty = False
+    colour = tty and not os.environ.get("NO_COLOR")
+    from coincli._terminal import terminal_width
+
+    return phase_text(data, colour=colour, title=phase_title(data, contact),
+                      width=terminal_width() if tty else None)
 
 
 def phase_title(data, contact: str = "rim") -> str:

@@ -849,7 +849,10 @@ def phase_cmd(
     from coincli.textplot import phase_text, phase_title
 
     colour = stdout_is_terminal() and not env_no_color()
-    pic = phase_text(d, colour=colour, title=phase_title(d, ph.contact))
+    from coincli._terminal import terminal_width
+
+    pic = phase_text(d, colour=colour, title=phase_title(d, ph.contact),
+                     width=terminal_width() if stdout_is_terminal() else None)
     if not colour:
         sys.stdout.write(pic)
         return
