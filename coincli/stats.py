@@ -259,6 +259,75 @@ def _check_probs(probs, k: int, name: str = "probabilities") -> tuple[float, ...
     return tuple(v / total for v in p)
 
 
+# --------------------------------------------------------------------------- special functions
+# Vectorized numpy over scipy.special (Boost and Cephes underneath).  scipy.stats is never
+# imported: its import alone costs 0.6 s, twice what the answer needs.  The formulas are the
+# ones scipy.stats uses, so the numbers are the same:
+#   binomial log-pmf   gammaln(n+1) - (gammaln(k+1) + gammaln(n-k+1)) + k ln p + (n-k) ln(1-p)
+#   P(X <= k)          I_{1-p}(n - k, k + 1)    (betainc; 1 - p passed as the complement chance)
+#   P(X >= k)          I_p(k, n - k + 1)
+#   chi-square tail    chdtrc(df, x)
+#   beta quantiles     betaincinv / betainccinv (Clopper-Pearson), refined by Newton on betainc
+
+_TABLE_MAX = 1 << 21  #: log-factorials are tabulated up to this n (16 MiB); gammaln beyond
+
+
+class _LogFactorial:
+    """``v -> log(v!)`` for whole numbers ``0 <= v <= nmax``: a table of gammaln(k + 1) (the same
+    numbers, looked up instead of recomputed) when ``nmax`` is small enough, else gammaln."""
+
+    def __init__(self, nmax: int):
+        import numpy as np
+        from scipy.special import gammaln
+
+        self._gammaln = gammaln
+        self._table = (gammaln(np.arange(int(nmax) + 1, dtype=float) + 1.0)
+                       if nmax <= _TABLE_MAX else None)
+
+    def __call__(self, v):
+        import numpy as np
+
+        if self._table is not None:
+            return self._table[np.asarray(v, dtype=np.int64)]
+        return self._gammaln(np.asarray(v, dtype=float) + 1.0)
+
+
+def _binom_logpmf(k, n, p, lf=None):
+    """log P(X = k) for X ~ Binomial(n, p), arrays; scipy.stats.binom.logpmf's formula."""
+    import numpy as np
+    from scipy.special import xlog1py, xlogy
+
+    k = np.asarray(k)
+    n = np.asarray(n)
+    if lf is None:
+        lf = _LogFactorial(int(np.max(n, initial=0)))
+    return (lf(n) - (lf(k) + lf(n - k))) + xlogy(k, p) + xlog1py(n - k, -p)
+
+
+def _binom_cdf(k, n, p1):
+    """P(X <= k) for X ~ Binomial(n, p) with ``p1 = 1 - p`` given (not formed from p)."""
+    import numpy as np
+    from scipy.special import betainc
+
+    k, n = np.asarray(k, dtype=float), np.asarray(n, dtype=float)
+    inside = (k >= 0) & (k < n)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        v = betainc(np.where(inside, n - k, 1.0), np.where(inside, k + 1, 1.0), p1)
+    return np.where(inside, v, np.where(k >= n, 1.0, 0.0))
+
+
+def _binom_upper(k, n, p):
+    """P(X >= k) for X ~ Binomial(n, p)."""
+    import numpy as np
+    from scipy.special import betainc
+
+    k, n = np.asarray(k, dtype=float), np.asarray(n, dtype=float)
+    inside = (k >= 1) & (k <= n)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        v = betainc(np.where(inside, k, 1.0), np.where(inside, n - k + 1, 1.0), p)
+    return np.where(inside, v, np.where(k <= 0, 1.0, 0.0))
+
+
 # --------------------------------------------------------------------------- intervals
 
 
@@ -284,20 +353,129 @@ class Proportion:
     clopper_pearson: Interval
 
 
+def _z(confidence: float) -> float:
+    """The two-sided normal quantile: ``P(|Z| <= z) = confidence``, finite for every level in
+    (0, 1) (``1 - confidence`` is exact for a level of 1/2 or more; erfinv below)."""
+    from scipy.special import erfinv, ndtri
+
+    if confidence >= 0.5:
+        return -float(ndtri((1.0 - confidence) / 2))
+    return math.sqrt(2.0) * float(erfinv(confidence))
+
+
+def wilson_interval(count, n, confidence: float = CONFIDENCE):
+    """Wilson score interval(s) ``(low, high)`` for ``count`` successes in ``n`` (arrays too).
+
+    The ends are the roots of ``(k/n - p)^2 = z^2 p (1 - p) / n``.  The upper one is the sum
+    ``(k + z^2/2 + z sqrt(k (n-k)/n + z^2/4)) / (n + z^2)`` of positive terms, and the lower one
+    comes from the product of the roots, ``k^2 / (n (n + z^2) high)``: no difference of nearly
+    equal numbers, so both keep their relative accuracy at ``k = 0``, ``1``, ``n`` and any ``n``
+    (scipy's ``center - delta`` loses digits to cancellation at small ``k``).  ``low = 0`` at
+    ``k = 0`` and ``high = 1`` at ``k = n`` exactly.
+    """
+    import numpy as np
+
+    conf = _check_level(confidence, "confidence")
+    k = np.asarray(count, dtype=float)
+    m = np.asarray(n, dtype=float)
+    z = _z(conf)
+    z2 = z * z
+    with np.errstate(divide="ignore", invalid="ignore"):
+        denom = m + z2
+        hi = (k + z2 / 2 + z * np.sqrt(k * ((m - k) / m) + z2 / 4)) / denom
+        lo = np.where(k > 0, (k * (k / m)) / (denom * hi), 0.0)
+    hi = np.where(k >= m, 1.0, np.minimum(hi, 1.0))
+    return lo, hi
+
+
+def clopper_pearson_interval(count, n, confidence: float = CONFIDENCE):
+    """Clopper-Pearson ("exact") interval(s) ``(low, high)`` for ``count`` of ``n`` (arrays too).
+
+    With ``a = (1 - confidence) / 2``: ``low`` is the ``a`` quantile of Beta(k, n - k + 1) and
+    ``high`` the ``1 - a`` quantile of Beta(k + 1, n - k) (the chances at which seeing ``k`` or
+    more, ``k`` or fewer, has probability ``a``).  Closed forms where the beta is a power:
+
+    - ``k = 0``: low = 0, high = 1 - a^(1/n);   ``k = n``: low = a^(1/n), high = 1;
+    - ``k = 1``: low = 1 - (1 - a)^(1/n);        ``k = n - 1``: high = (1 - a)^(1/n);
+
+    each written with ``expm1``/``log1p`` so that a small end keeps its relative accuracy.
+    Otherwise ``betaincinv`` (or ``betainccinv`` on the far side, so that a quantile near 1
+    never needs ``1 - a`` rounded), then one Newton step on ``betainc`` (see
+    :func:`_beta_quantile`).  ``a >= 2^-54`` for every accepted confidence, so every end is
+    finite.  Accuracy against mpmath: docs/accuracy.md.
+    """
+    import numpy as np
+
+    conf = _check_level(confidence, "confidence")
+    k = np.asarray(count, dtype=float)
+    m = np.asarray(n, dtype=float)
+    a = (1.0 - conf) / 2  # exact for conf >= 1/2; a relative rounding below
+    la, l1a = math.log(a), math.log1p(-a)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore", under="ignore"):
+        mid_lo = (k >= 2) & (k < m)
+        mid_hi = (k > 0) & (k <= m - 2)
+        lo = np.where(k == m, np.exp(la / m), -np.expm1(l1a / m))
+        lo = np.where(m == 1, np.where(k == 1, a, 0.0), lo)
+        lo = np.where(k == 0, 0.0, lo)
+        hi = np.where(k == 0, -np.expm1(la / m), np.exp(l1a / m))
+        hi = np.where(m == 1, np.where(k == 0, 1.0 - a, 1.0), hi)
+        hi = np.where(k == m, 1.0, hi)
+        if np.any(mid_lo):
+            lo = np.where(mid_lo, _beta_quantile(np.where(mid_lo, k, 1.0),
+                                                 np.where(mid_lo, m - k + 1, 1.0), a, False), lo)
+        if np.any(mid_hi):
+            hi = np.where(mid_hi, _beta_quantile(np.where(mid_hi, k + 1, 1.0),
+                                                 np.where(mid_hi, m - k, 1.0), a, True), hi)
+    return lo, hi
+
+
+def _beta_quantile(a, b, y: float, upper: bool):
+    """x with ``I_x(a, b) = y`` (``upper``: with ``1 - I_x(a, b) = y``), ``0 < y < 1/2``.
+
+    ``betaincinv``/``betainccinv`` from the side where the answer is at most 1/2 (the other end
+    as ``1 - x`` of the mirrored beta, ``I_x(a, b) = 1 - I_{1-x}(b, a)``), then one Newton step
+    ``x -= (I_x - y) / I'_x`` on the same side.  The step uses ``betainc`` at the mirrored
+    argument only where ``x`` itself is below 1/2, so no ``1 - x`` is formed where it would
+    round.  The density ``I'_x`` comes from ``betaln``; its relative error only slows the step,
+    it cannot move the root.
+    """
+    import numpy as np
+    from scipy.special import betainc, betaincc, betainccinv, betaincinv, betaln, xlog1py, xlogy
+
+    a = np.asarray(a, dtype=float)
+    b = np.asarray(b, dtype=float)
+    # the side where the quantile is small: the mean a / (a + b) decides, the Newton step checks
+    small = a <= b
+    # x small: solve on (a, b) directly;  x large: 1 - x solves the mirrored problem
+    aa = np.where(small, a, b)
+    bb = np.where(small, b, a)
+    # lower quantile (I_x(a, b) = y):  small side: I_x(a, b) = y;      mirrored: 1 - I_t(b, a) = y
+    # upper quantile (1 - I_x(a, b) = y): small side: 1 - I_x(a,b) = y; mirrored: I_t(b, a) = y
+    want_lower = np.where(small, not upper, upper)
+    t = np.where(want_lower, betaincinv(aa, bb, y), betainccinv(aa, bb, y))
+    ok = (t > 0) & (t < 1)
+    tt = np.where(ok, t, 0.5)
+    f = np.where(want_lower, betainc(aa, bb, tt) - y, y - betaincc(aa, bb, tt))
+    logd = xlogy(aa - 1, tt) + xlog1py(bb - 1, -tt) - betaln(aa, bb)
+    step = f / np.exp(logd)
+    t2 = tt - step
+    # keep the step only when it is a small correction (the density is trusted near the root)
+    good = ok & np.isfinite(t2) & (np.abs(step) <= 1e-6 * tt) & (t2 > 0)
+    t = np.where(good, t2, t)
+    return np.where(small, t, 1.0 - t)
+
+
 def proportion(count: int, n: int, outcome: str = "sides", confidence: float = CONFIDENCE
                ) -> Proportion:
     """The frequency ``count / n`` with 95% (``confidence``) Wilson and Clopper-Pearson intervals.
 
-    Both come from ``scipy.stats.binomtest(count, n).proportion_ci`` (methods ``"wilson"`` and
-    ``"exact"``).  They stay inside [0, 1] and finite for ``count = 0`` and ``count = n``, at
-    any ``n``.
+    See :func:`wilson_interval` and :func:`clopper_pearson_interval`.  Both stay inside [0, 1]
+    and finite for ``count = 0`` and ``count = n``, at any ``n`` and every confidence in (0, 1).
 
     >>> r = proportion(0, 10**6)
     >>> r.clopper_pearson.low, round(r.clopper_pearson.high, 10)
     (0.0, 3.6889e-06)
     """
-    from scipy.stats import binomtest
-
     c = _whole(count, "count")
     m = _whole(n, "n")
     if m == 0:
@@ -305,14 +483,11 @@ def proportion(count: int, n: int, outcome: str = "sides", confidence: float = C
     if c > m:
         raise ValueError(f"count must be <= n = {m}, got {c}")
     conf = _check_level(confidence, "confidence")
-    res = binomtest(c, m)
-    out = {}
-    for method, label in (("wilson", "wilson"), ("exact", "clopper-pearson")):
-        ci = res.proportion_ci(confidence_level=conf, method=method)
-        lo = min(max(float(ci.low), 0.0), 1.0)
-        hi = min(max(float(ci.high), 0.0), 1.0)
-        out[label] = Interval(lo, hi, label, conf)
-    return Proportion(outcome, c, m, c / m, out["wilson"], out["clopper-pearson"])
+    wl, wh = wilson_interval(c, m, conf)
+    cl, ch = clopper_pearson_interval(c, m, conf)
+    return Proportion(outcome, c, m, c / m,
+                      Interval(float(wl), float(wh), "wilson", conf),
+                      Interval(float(cl), float(ch), "clopper-pearson", conf))
 
 
 def proportions(counts: Counts, confidence: float = CONFIDENCE) -> tuple[Proportion, ...]:
@@ -324,91 +499,187 @@ def proportions(counts: Counts, confidence: float = CONFIDENCE) -> tuple[Proport
 
 
 # --------------------------------------------------------------------------- exact test
+# Batched: many tests (rows of a file, models) in a few numpy passes.
+
+_ROWS_PER_PASS = 1 << 18  #: (tests x rows of outcomes) evaluated together in the trinomial test
 
 
-def _exact_trinomial_logp(x: tuple[int, int, int], p: tuple[float, float, float]) -> float:
-    """Log of the exact p-value for trinomial counts ``x`` (heads, sides, tails), all ``p > 0``.
+def _tails(base, na, q, q1, thr, lf):
+    """For each row: the mass of the outcomes no more likely than ``exp(thr)``.
 
-    Write ``P(h, s, t) = B(s; n, p_s) * B(h; n - s, q)`` with ``q = p_h / (p_h + p_t)`` and ``B``
-    the binomial pmf.  (The names are generic: :func:`exact_pvalue` passes the rarest outcome as
-    ``s`` and the middle one as ``h``, so that ``p_s <= 1/3`` and ``q <= 1/2`` and no chance is
-    lost to ``1 - p`` rounding.)  For each row ``s``:
-
-    - if ``B(s; n, p_s) <= thr`` (the threshold ``P(x_obs) (1 + 1e-7)``) every outcome of the row
-      is at most as likely as the observed one: the whole row counts, mass ``B(s; n, p_s)``;
-    - otherwise ``h -> log P(h, s, n-s-h)`` is concave (a binomial pmf is log-concave), so the
-      outcomes above the threshold form one interval around the mode.  Its ends are found by
-      bisection and the row contributes ``B(s) * (cdf(L) + sf(R - 1))`` for the two tails.
-
-    The result is exact up to floating-point rounding of the pmf and cdf (scipy/Boost, relative
-    accuracy ~1e-14); it equals the brute-force sum over all ``(n+1)(n+2)/2`` outcomes
-    (``tests/test_stats.py`` checks it against ``scipy.stats.multinomial.pmf`` enumeration).
-    When ``#outcomes * P(x_obs) < 5e-324`` the p-value underflows and ``-inf`` is returned.
+    A row is the binomial ``h -> base + log b(h; na, q)`` (``q1 = 1 - q`` given separately).
+    Returns ``(whole, tail)``: ``whole`` marks rows all of whose outcomes are at most as likely
+    as the threshold (their mass is ``exp(base)``); elsewhere ``exp(base) * tail`` is the mass,
+    ``tail = P(h <= L) + P(h >= R)`` with ``(L, R)`` the ends of the interval around the mode
+    where the log-concave row is above the threshold, found by bisection.
     """
     import numpy as np
-    from scipy.special import logsumexp
-    from scipy.stats import binom
 
-    a, r, c = x
-    pa, pr, pc = p
-    n = a + r + c
-    q = pa / (pa + pc)
-    f_obs = float(binom.logpmf(r, n, pr) + binom.logpmf(a, n - r, q))
-    thr = f_obs + math.log1p(TIE_RTOL)
-    n_outcomes = (n + 1) * (n + 2) / 2
-    if thr + math.log(n_outcomes) < _LOG_TINY:
-        return -math.inf
-    with np.errstate(divide="ignore", invalid="ignore", under="ignore"):
-        ks = np.arange(n + 1)
-        row = binom.logpmf(ks, n, pr)
-        full = row <= thr
-        parts = [row[full]]
-        act = ~full
-        rowa, na = row[act], n - ks[act]
+    lq, l1q = np.log(q), np.log1p(-q)
 
-        def f(k):
-            return rowa + binom.logpmf(k, na, q)
+    def f(h, sel=slice(None)):
+        n_, h_ = na[sel], h
+        return base[sel] + (((lf(n_) - (lf(h_) + lf(n_ - h_))) + h_ * lq[sel])
+                            + (n_ - h_) * l1q[sel])
 
-        if rowa.size:
-            mode = np.clip(np.floor((na + 1) * q), 0, na).astype(np.int64)
-            cands = [np.clip(mode + d, 0, na) for d in (-1, 0, 1)]
-            vals = np.stack([f(cc) for cc in cands])
-            best = np.argmax(vals, axis=0)
-            mstar = np.choose(best, cands)
-            fmax = np.choose(best, vals)
-            whole = fmax <= thr
-            parts.append(rowa[whole])
-            keep = ~whole
-            rowa, na, mstar = rowa[keep], na[keep], mstar[keep]
-        if rowa.size:
-            # left end: the largest h < mstar with f(h) <= thr (-1 if none)
-            lo, hi = np.full_like(mstar, -1), mstar.copy()
-            while True:
-                gap = hi - lo > 1
-                if not gap.any():
-                    break
-                mid = (lo + hi) // 2
-                below = f(mid) <= thr
-                lo = np.where(gap & below, mid, lo)
-                hi = np.where(gap & ~below, mid, hi)
-            left = lo
-            # right end: the smallest h > mstar with f(h) <= thr (n - s + 1 if none)
-            lo, hi = mstar.copy(), na + 1
-            while True:
-                gap = hi - lo > 1
-                if not gap.any():
-                    break
-                mid = (lo + hi) // 2
-                below = f(mid) <= thr
-                hi = np.where(gap & below, mid, hi)
-                lo = np.where(gap & ~below, mid, lo)
-            right = hi
-            tails = binom.cdf(left, na, q) + binom.sf(right - 1, na, q)
-            parts.append(rowa + np.log(tails))
-        allparts = np.concatenate(parts)
-        if allparts.size == 0:
-            return -math.inf
-        return min(float(logsumexp(allparts)), 0.0)
+    whole = base <= thr
+    tail = np.zeros_like(base)
+    act = np.flatnonzero(~whole)
+    if act.size == 0:
+        return whole, tail
+    n_a = na[act]
+    mode = np.clip(np.floor((n_a + 1) * q[act]), 0, n_a).astype(np.int64)
+    cands = [np.clip(mode + d, 0, n_a) for d in (-1, 0, 1)]
+    vals = np.stack([f(c, act) for c in cands])
+    best = np.argmax(vals, axis=0)
+    mstar = np.choose(best, cands)
+    fmax = np.choose(best, vals)
+    flat = fmax <= thr[act]
+    whole[act[flat]] = True
+    act, mstar = act[~flat], mstar[~flat]
+    if act.size == 0:
+        return whole, tail
+    n_a, t_a = na[act], thr[act]
+    # left end: the largest h < mstar with f(h) <= thr (-1 if none)
+    lo, hi = np.full_like(mstar, -1), mstar.copy()
+    while True:
+        gap = np.flatnonzero(hi - lo > 1)
+        if gap.size == 0:
+            break
+        mid = (lo[gap] + hi[gap]) // 2
+        below = f(mid, act[gap]) <= t_a[gap]
+        lo[gap] = np.where(below, mid, lo[gap])
+        hi[gap] = np.where(below, hi[gap], mid)
+    left = lo
+    # right end: the smallest h > mstar with f(h) <= thr (na + 1 if none)
+    lo, hi = mstar.copy(), n_a + 1
+    while True:
+        gap = np.flatnonzero(hi - lo > 1)
+        if gap.size == 0:
+            break
+        mid = (lo[gap] + hi[gap]) // 2
+        below = f(mid, act[gap]) <= t_a[gap]
+        hi[gap] = np.where(below, mid, hi[gap])
+        lo[gap] = np.where(below, lo[gap], mid)
+    right = hi
+    tail[act] = (_binom_cdf(left, n_a, q1[act]) + _binom_upper(right, n_a, q[act]))
+    return whole, tail
+
+
+def _binomial_pvalues(k, n, p, p1):
+    """Exact two-sided binomial p-values (scipy.stats.binomtest's ordering), arrays.
+
+    ``p`` is the chance of the counted category and ``p1`` that of the other one (``p <= p1``
+    is best: then ``1 - p`` is never needed).
+    """
+    import numpy as np
+
+    k = np.asarray(k, dtype=np.int64)
+    n = np.asarray(n, dtype=np.int64)
+    p = np.asarray(p, dtype=float)
+    p1 = np.asarray(p1, dtype=float)
+    lf = _LogFactorial(int(np.max(n, initial=0)))
+    with np.errstate(divide="ignore", invalid="ignore", under="ignore", over="ignore"):
+        obs = (lf(n) - (lf(k) + lf(n - k))) + k * np.log(p) + (n - k) * np.log1p(-p)
+        thr = obs + math.log1p(TIE_RTOL)
+        whole, tail = _tails(np.zeros(k.shape), n, p, p1, thr, lf)
+    return np.where(whole, 1.0, np.minimum(tail, 1.0))
+
+
+def _trinomial_logp(x, p):
+    """Log exact p-values of trinomial counts ``x`` (T x 3, int) under chances ``p`` (T x 3, all
+    > 0), columns ordered (rarest, middle, commonest) as :func:`exact_pvalue` arranges them.
+
+    Write ``P(r, a, c) = B(r; n, p_r) * B(a; n - r, q)`` with ``q = p_a / (p_a + p_c)`` and ``B``
+    the binomial pmf.  For each row ``r``:
+
+    - if ``B(r; n, p_r) <= thr`` (the threshold ``P(x_obs) (1 + 1e-7)``) every outcome of the row
+      is at most as likely as the observed one: the whole row counts, mass ``B(r; n, p_r)``;
+    - otherwise ``a -> log P(r, a, n-r-a)`` is concave (a binomial pmf is log-concave), so the
+      outcomes above the threshold form one interval around the mode.  Its ends are found by
+      bisection and the row contributes ``B(r) * (P(a <= L) + P(a >= R))``.
+
+    Every row of every test is one entry of a flat array (in passes of at most
+    :data:`_ROWS_PER_PASS` entries), so a file of many experiments costs a few numpy passes.
+    The result is exact up to floating-point rounding of the pmf and the incomplete beta
+    function; it equals the brute-force sum over all ``(n+1)(n+2)/2`` outcomes
+    (``tests/test_stats.py``).  When ``#outcomes * P(x_obs) < 5e-324`` the p-value underflows
+    and ``-inf`` is returned.
+    """
+    import numpy as np
+
+    x = np.asarray(x, dtype=np.int64).reshape(-1, 3)
+    p = np.asarray(p, dtype=float).reshape(-1, 3)
+    out = np.full(len(x), -np.inf)
+    n_all = x.sum(axis=1)
+    k = 0
+    while k < len(x):  # passes of whole tests
+        rows = np.cumsum(n_all[k:] + 1)
+        j = k + max(1, int(np.searchsorted(rows, _ROWS_PER_PASS, side="right")))
+        out[k:j] = _trinomial_pass(x[k:j], p[k:j])
+        k = j
+    return out
+
+
+def _trinomial_pass(x, p):
+    import numpy as np
+
+    r, a, c = x[:, 0], x[:, 1], x[:, 2]
+    pr, pa, pc = p[:, 0], p[:, 1], p[:, 2]
+    n = r + a + c
+    lf = _LogFactorial(int(n.max()))
+    with np.errstate(divide="ignore", invalid="ignore", under="ignore", over="ignore"):
+        q, q1 = pa / (pa + pc), pc / (pa + pc)
+        f_obs = ((lf(n) - (lf(r) + lf(n - r))) + r * np.log(pr) + (n - r) * np.log1p(-pr)) \
+            + ((lf(n - r) - (lf(a) + lf(n - r - a))) + a * np.log(q) + (n - r - a) * np.log1p(-q))
+        thr = f_obs + math.log1p(TIE_RTOL)
+        n_outcomes = (n + 1.0) * (n + 2.0) / 2
+        live = thr + np.log(n_outcomes) >= _LOG_TINY
+        out = np.full(len(x), -np.inf)
+        t_idx = np.flatnonzero(live)
+        if t_idx.size == 0:
+            return out
+        sizes = n[t_idx] + 1
+        starts = np.concatenate(([0], np.cumsum(sizes)[:-1]))
+        tid = np.repeat(np.arange(t_idx.size), sizes)
+        s = np.arange(int(sizes.sum())) - starts[tid]
+        nt = n[t_idx][tid]
+        prt = pr[t_idx][tid]
+        base = (lf(nt) - (lf(s) + lf(nt - s))) + s * np.log(prt) + (nt - s) * np.log1p(-prt)
+        whole, tail = _tails(base, nt - s, q[t_idx][tid], q1[t_idx][tid], thr[t_idx][tid], lf)
+        contrib = np.where(whole, base, base + np.log(tail))
+        top = np.maximum.reduceat(contrib, starts)
+        safe = np.where(np.isfinite(top), top, 0.0)
+        total = np.add.reduceat(np.exp(contrib - safe[tid]), starts)
+        out[t_idx] = np.minimum(safe + np.log(total), 0.0)
+    return out
+
+
+def _exact_pvalues(x, p):
+    """Exact p-values of T tests at once: counts ``x`` (T x K) under chances ``p`` (T x K),
+    K = 2 or 3, each row of ``p`` summing to 1.  See :func:`exact_pvalue`."""
+    import numpy as np
+
+    x = np.asarray(x, dtype=np.int64)
+    p = np.asarray(p, dtype=float)
+    out = np.ones(len(x))
+    impossible = np.any((p == 0) & (x > 0), axis=1)
+    out[impossible] = 0.0
+    # the rarer categories first: 1 - p loses a chance below 1e-16 (a face of a very thick coin
+    # is 2.5e-19 at xi = 1e9, while its sides chance rounds to 1.0)
+    order = np.argsort(p, axis=1, kind="stable")
+    xs = np.take_along_axis(x, order, axis=1)
+    ps = np.take_along_axis(p, order, axis=1)
+    live = (ps > 0).sum(axis=1)
+    K = x.shape[1]
+    two = ~impossible & (live == 2)
+    if np.any(two):
+        out[two] = _binomial_pvalues(xs[two, K - 2], xs[two, K - 2] + xs[two, K - 1],
+                                     ps[two, K - 2], ps[two, K - 1])
+    three = ~impossible & (live == 3)
+    if np.any(three):
+        out[three] = np.exp(_trinomial_logp(xs[three], ps[three]))
+    return out
 
 
 def exact_pvalue(counts: Sequence[int], probs: Sequence[float]) -> float:
@@ -418,10 +689,11 @@ def exact_pvalue(counts: Sequence[int], probs: Sequence[float]) -> float:
     likely than the observed one (to a relative 1e-7, as in :func:`scipy.stats.binomtest`); see
     the module docstring.  Categories the model gives probability 0 are dropped when their count
     is 0; a positive count in one makes the observation impossible and the p-value 0.  Two
-    categories: ``scipy.stats.binomtest(k, n, p).pvalue``.  Three: :func:`_exact_trinomial_logp`.
+    categories: the binomial test (scipy.stats.binomtest's p-value, from the incomplete beta
+    function).  Three: :func:`_trinomial_logp`.
 
     The value is exact for any ``n`` but the trinomial case costs O(n) memory and time (about
-    0.3 s at ``n = 10^6``); :func:`goodness_of_fit` uses :func:`g_test` above :data:`EXACT_MAX_N`.
+    0.1 s at ``n = 10^6``); :func:`goodness_of_fit` uses :func:`g_test` above :data:`EXACT_MAX_N`.
 
     >>> round(exact_pvalue([35, 33, 32], [1/3, 1/3, 1/3]), 4)
     0.9519
@@ -432,26 +704,29 @@ def exact_pvalue(counts: Sequence[int], probs: Sequence[float]) -> float:
     if len(x) not in (2, 3):
         raise ValueError(f"counts must have 2 or 3 categories, got {len(x)}")
     p = _check_probs(probs, len(x))
-    n = sum(x)
-    if n == 0:
+    if sum(x) == 0:
         raise ValueError("counts are all zero: no tosses to test")
-    if any(pi == 0 and xi > 0 for xi, pi in zip(x, p, strict=True)):
-        return 0.0
-    keep = [i for i, pi in enumerate(p) if pi > 0]
-    x = [x[i] for i in keep]
-    p = [p[i] for i in keep]
-    if len(x) == 1:
-        return 1.0  # only one outcome is possible, and it was observed
-    # Work with the rarer categories' chances: 1 - p loses a chance below 1e-16 (a face of a
-    # very thick coin is 2.5e-19 at xi = 1e9, while its sides chance rounds to 1.0).
-    order = sorted(range(len(x)), key=lambda i: p[i])
-    if len(x) == 2:
-        from scipy.stats import binomtest
+    return float(_exact_pvalues([x], [p])[0])
 
-        i = order[0]
-        return float(min(1.0, binomtest(x[i], n, p[i]).pvalue))
-    r, a, c = order  # r: the rarest outcome, binomial in n; a: the middle one, given r
-    return math.exp(_exact_trinomial_logp((x[a], x[r], x[c]), (p[a], p[r], p[c])))
+
+def _g_tests(x, p):
+    """``(G, df, p)`` arrays of the likelihood-ratio test for T tests (see :func:`g_test`)."""
+    import numpy as np
+    from scipy.special import chdtrc, xlogy
+
+    x = np.asarray(x, dtype=float)
+    p = np.asarray(p, dtype=float)
+    n = x.sum(axis=1, keepdims=True)
+    pos = p > 0
+    impossible = np.any(~pos & (x > 0), axis=1)
+    df = pos.sum(axis=1) - 1
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        terms = np.where(pos, xlogy(x, x / (n * p)), 0.0)
+        g = np.maximum(2.0 * terms.sum(axis=1), 0.0)
+        pv = np.where(df > 0, chdtrc(np.maximum(df, 1), g), 1.0)
+    g = np.where(impossible, np.inf, g)
+    pv = np.where(impossible, 0.0, pv)
+    return g, df, pv
 
 
 def g_test(counts: Sequence[int], probs: Sequence[float]) -> tuple[float, int, float]:
@@ -460,27 +735,40 @@ def g_test(counts: Sequence[int], probs: Sequence[float]) -> tuple[float, int, f
     ``df`` is the number of categories with positive expected count minus 1; a positive count
     where the model expects none gives ``G = inf`` and ``p = 0``.  Asymptotic: reliable when
     every expected count is large (say >= 5); :func:`exact_pvalue` has no such condition.
+    The chi-square tail is ``scipy.special.chdtrc``.
     """
-    from scipy.special import xlogy
-    from scipy.stats import chi2
-
     x = [_whole(v, "counts") for v in counts]
     p = _check_probs(probs, len(x))
-    n = sum(x)
-    if n == 0:
+    if sum(x) == 0:
         raise ValueError("counts are all zero: no tosses to test")
-    g = 0.0
-    for xi, pi in zip(x, p, strict=True):
-        if pi == 0:
-            if xi > 0:
-                return math.inf, sum(1 for v in p if v > 0) - 1, 0.0
-            continue
-        g += float(xlogy(xi, xi / (n * pi)))
-    g = max(2.0 * g, 0.0)
-    df = sum(1 for v in p if v > 0) - 1
-    if df == 0:
-        return g, 0, 1.0
-    return g, df, float(chi2.sf(g, df))
+    g, df, pv = _g_tests([x], [p])
+    return float(g[0]), int(df[0]), float(pv[0])
+
+
+def _log_likelihoods(x, n, p, faces):
+    """Log-probabilities of T observations: ``x`` (T x 3) counts (heads, sides, tails; only the
+    sides column is read where ``faces`` is False), ``p`` (T x 3) normalized chances."""
+    import numpy as np
+    from scipy.special import xlogy
+
+    x = np.asarray(x, dtype=np.int64)
+    n = np.asarray(n, dtype=np.int64)
+    p = np.asarray(p, dtype=float)
+    faces = np.asarray(faces, dtype=bool)
+    lf = _LogFactorial(int(np.max(n, initial=0)))
+    out = np.empty(len(n))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        if np.any(faces):
+            xf, pf = x[faces], p[faces]
+            out[faces] = lf(n[faces]) + np.sum(xlogy(xf, pf) - lf(xf), axis=1)
+        side = ~faces
+        if np.any(side):
+            k, m = x[side, 1], n[side]
+            ps, pface = p[side, 1], p[side, 0] + p[side, 2]
+            # the rarer category's chance: 1 - ps loses a face chance below 1e-16
+            out[side] = np.where(ps <= 0.5, _binom_logpmf(k, m, ps, lf),
+                                 _binom_logpmf(m - k, m, pface, lf))
+    return np.where(np.isnan(out), -np.inf, out)
 
 
 def log_likelihood(counts: Counts, probs) -> float:
@@ -488,16 +776,12 @@ def log_likelihood(counts: Counts, probs) -> float:
 
     ``probs`` is an :class:`Outcome` (or ``(heads, sides, tails)``).  Faces told apart: the
     multinomial log-pmf; sides only: the binomial log-pmf of ``sides`` with ``P(sides)``.  The
-    coefficient is included.  ``-inf`` when the model gives the counts probability 0.
+    coefficient is included (the formulas of scipy.stats' ``multinomial.logpmf`` and
+    ``binom.logpmf``).  ``-inf`` when the model gives the counts probability 0.
     """
-    from scipy.stats import binom, multinomial
-
-    ph, ps, pt = _check_probs(probs, 3)
-    if counts.faces:
-        return float(multinomial.logpmf(list(counts.values), counts.n, [ph, ps, pt]))
-    if ps <= 0.5:
-        return float(binom.logpmf(counts.sides, counts.n, ps))
-    return float(binom.logpmf(counts.n - counts.sides, counts.n, ph + pt))  # no 1 - ps rounding
+    p = _check_probs(probs, 3)
+    x = (counts.heads, counts.sides, counts.tails) if counts.faces else (0, counts.sides, 0)
+    return float(_log_likelihoods([x], [counts.n], [p], [counts.faces])[0])
 
 
 # --------------------------------------------------------------------------- verdicts
@@ -551,6 +835,116 @@ class ModelTest:
     verdict: str
 
 
+class _CountColumns:
+    """Counts of many experiments as arrays: heads, sides, tails (0 where faces were not told
+    apart), n, and ``faces``."""
+
+    def __init__(self, counts: Sequence[Counts]):
+        import numpy as np
+
+        if not all(isinstance(c, Counts) for c in counts):
+            bad = next(c for c in counts if not isinstance(c, Counts))
+            raise ValueError(f"counts must be a Counts (see make_counts), got {bad!r}")
+        self.counts = counts
+        self.faces = np.fromiter((c.heads is not None for c in counts), bool, len(counts))
+        self.sides = np.fromiter((c.sides for c in counts), np.int64, len(counts))
+        self.n = np.fromiter((c.n for c in counts), np.int64, len(counts))
+        self.heads = np.fromiter((c.heads or 0 for c in counts), np.int64, len(counts))
+        self.tails = np.fromiter((c.tails or 0 for c in counts), np.int64, len(counts))
+
+    def __len__(self):
+        return len(self.n)
+
+    def matrix(self):
+        import numpy as np
+
+        return np.stack([self.heads, self.sides, self.tails], axis=1)
+
+
+def _chance_columns(chances, size: int, name: str = "chances"):
+    """(heads, sides, tails) arrays of ``size`` raw chances and the normalized T x 3 matrix;
+    ValueError as :func:`_check_probs` words it, for the first bad row."""
+    import numpy as np
+
+    try:
+        raw = np.stack([np.broadcast_to(np.asarray(v, dtype=float), (size,)) for v in chances])
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be 3 numbers (or arrays of one length), got "
+                         f"{chances!r}") from None
+    if raw.shape[0] != 3:
+        raise ValueError(f"{name} must be 3 numbers, got {raw.shape[0]}")
+    with np.errstate(invalid="ignore", over="ignore"):
+        total = raw.sum(axis=0)
+        bad = ~(np.all(np.isfinite(raw) & (raw >= 0), axis=0) & (np.abs(total - 1.0) <= 1e-6))
+    if np.any(bad):
+        i = int(np.argmax(bad))
+        _check_probs(raw[:, i].tolist(), 3, name)  # raises, with the scalar wording
+    return raw, (raw / total).T
+
+
+class _Tests:
+    """One model's tests of many experiments, as columns; :meth:`get` gives one ModelTest."""
+
+    def __init__(self, model, raw, categories, expected, p_value, exact, method, g, df, ll,
+                 verdicts):
+        self.model, self.raw, self.categories, self.expected = model, raw, categories, expected
+        self.p_value, self.exact, self.method, self.g, self.df = p_value, exact, method, g, df
+        self.log_likelihood, self.verdict = ll, verdicts
+
+    def get(self, i: int) -> ModelTest:
+        faces = len(self.categories[i]) == 3
+        return ModelTest(self.model, Outcome(*(float(v) for v in self.raw[:, i])),
+                         self.categories[i],
+                         tuple(float(v) for v in (self.expected[:, i] if faces
+                                                  else self.expected[:2, i])),
+                         float(self.p_value[i]), bool(self.exact[i]), self.method[i],
+                         float(self.g[i]), int(self.df[i]), float(self.log_likelihood[i]),
+                         self.verdict[i])
+
+
+_CATS3 = ("heads", "sides", "tails")
+_CATS2 = ("sides", "faces")
+
+
+def _model_tests(cc: _CountColumns, chances, model: str, alpha: float, method: str) -> _Tests:
+    """Test every experiment of ``cc`` against a model's ``chances`` (arrays, one per row)."""
+    import numpy as np
+
+    a = _check_level(alpha, "alpha")
+    raw, p = _chance_columns(chances, len(cc), "chances")
+    faces = cc.faces
+    T = len(cc)
+    # tested categories: faces told apart (heads, sides, tails); else (sides, faces)
+    x = np.where(faces[:, None], cc.matrix(),
+                 np.stack([cc.sides, cc.n - cc.sides, np.zeros(T, np.int64)], axis=1))
+    q = np.where(faces[:, None], p,
+                 np.stack([p[:, 1], p[:, 0] + p[:, 2], np.zeros(T)], axis=1))
+    nf = cc.n.astype(float)
+    expected = np.where(faces, nf * raw, np.stack([nf * raw[1], nf * (raw[0] + raw[2]),
+                                                   np.zeros(T)]))
+    g, df, p_asym = np.empty(T), np.empty(T, np.int64), np.empty(T)
+    pv = np.empty(T)
+    exact = np.full(T, method == "exact") | ((method == "auto") & (cc.n <= EXACT_MAX_N))
+    for sel, k in ((faces, 3), (~faces, 2)):
+        if not np.any(sel):
+            continue
+        g[sel], df[sel], p_asym[sel] = _g_tests(x[sel, :k], q[sel, :k])
+        ex = sel & exact
+        pv[sel] = p_asym[sel]
+        if np.any(ex):
+            pv[ex] = _exact_pvalues(x[ex, :k], q[ex, :k])
+    ll = _log_likelihoods(cc.matrix(), cc.n, p, faces)
+    impossible = ll == -np.inf
+    pv = np.where(impossible, 0.0, pv)
+    methods = [("exact multinomial" if f else "exact binomial") if e else
+               f"G-test (asymptotic chi2, df={d})"
+               for f, e, d in zip(faces.tolist(), exact.tolist(), df.tolist(), strict=True)]
+    verdicts = [verdict(v, a, exact=e, impossible=i) for v, e, i in
+                zip(pv.tolist(), exact.tolist(), impossible.tolist(), strict=True)]
+    cats = [_CATS3 if f else _CATS2 for f in faces.tolist()]
+    return _Tests(model, raw, cats, expected, pv, exact, methods, g, df, ll, verdicts)
+
+
 def goodness_of_fit(counts: Counts, chances, model: str = "model", *, alpha: float = ALPHA,
                     method: str = "auto") -> ModelTest:
     """Test ``counts`` against a model's ``chances`` (heads, sides, tails).
@@ -559,36 +953,21 @@ def goodness_of_fit(counts: Counts, chances, model: str = "model", *, alpha: flo
     ``"asymptotic"``.  With faces told apart the test is trinomial; otherwise binomial in
     ``sides`` against ``P(sides)``.
     """
+    _check_method(method)
+    return _model_tests(_CountColumns([counts]), chances, model, alpha, method).get(0)
+
+
+def _check_method(method) -> None:
     if method not in ("auto", "exact", "asymptotic"):
         raise ValueError(f"method must be 'auto', 'exact' or 'asymptotic', got {method!r}")
-    ph, ps, pt = _check_probs(chances, 3, "chances")
-    raw = Outcome(*(float(v) for v in chances))  # reported as the model gave them
-    probs = (ph, ps, pt) if counts.faces else (ps, ph + pt)
-    x = counts.values
-    shown = tuple(raw) if counts.faces else (raw.sides, raw.heads + raw.tails)
-    expected = tuple(counts.n * v for v in shown)
-    g, df, p_asym = g_test(x, probs)
-    exact = method == "exact" or (method == "auto" and counts.n <= EXACT_MAX_N)
-    if exact:
-        p = exact_pvalue(x, probs)
-        how = "exact multinomial" if counts.faces else "exact binomial"
-    else:
-        p = p_asym
-        how = f"G-test (asymptotic chi2, df={df})"
-    ll = log_likelihood(counts, (ph, ps, pt))
-    impossible = ll == -math.inf
-    if impossible:
-        p = 0.0
-    return ModelTest(model, raw, counts.categories, expected, p, exact, how, g, df,
-                     ll, verdict(p, alpha, exact=exact, impossible=impossible))
 
 
-def model_chances(xi: float, densities: Mapping[str, object] | None = None
-                  ) -> dict[str, Outcome]:
+def model_chances(xi, densities: Mapping[str, object] | None = None) -> dict[str, Outcome]:
     """The chances under the geometric and dynamic models, and under each psi density given.
 
     ``densities`` maps a name to a :class:`coincli.densities.Density`; its chances are the
-    psi-average :func:`coincli.averages.marginal`.
+    psi-average :func:`coincli.averages.marginal`.  ``xi`` may be an array (then so are the
+    chances).
     """
     from coincli.models import dynamic, geometric
 
@@ -611,6 +990,68 @@ class CheckResult:
     label: str = ""
 
 
+class Checks(Sequence):
+    """Many experiments checked at once, as columns; ``checks[i]`` is the :class:`CheckResult`
+    of row ``i`` (built on demand: a file of 10^5 rows needs none of them to be written).
+
+    Columns: ``xi``, ``labels``, ``cc`` (the counts), ``intervals[outcome]`` (estimate, Wilson
+    low/high, Clopper-Pearson low/high arrays; NaN where an outcome was not counted) and
+    ``tests`` (one :class:`_Tests` per model, in order).
+    """
+
+    def __init__(self, xi, labels, cc: _CountColumns, intervals, tests, confidence: float):
+        self.xi, self.labels, self.cc = xi, labels, cc
+        self.intervals, self.tests, self.confidence = intervals, tests, confidence
+
+    def __len__(self):
+        return len(self.cc)
+
+    def __getitem__(self, i):
+        if isinstance(i, slice):
+            return [self[k] for k in range(*i.indices(len(self)))]
+        if i < 0:
+            i += len(self)
+        if not 0 <= i < len(self):
+            raise IndexError(i)
+        c = self.cc.counts[i]
+        props = []
+        for name in (_CATS3 if c.faces else ("sides",)):
+            est, wl, wh, cl, ch = (float(v[i]) for v in self.intervals[name])
+            conf = self.confidence
+            props.append(Proportion(name, getattr(c, name), c.n, est,
+                                    Interval(wl, wh, "wilson", conf),
+                                    Interval(cl, ch, "clopper-pearson", conf)))
+        return CheckResult(float(self.xi[i]), c, tuple(props),
+                           tuple(t.get(i) for t in self.tests), self.labels[i])
+
+
+def check_many(counts: Sequence[Counts], xi, chances: Mapping[str, object], *,
+               confidence: float = CONFIDENCE, alpha: float = ALPHA, method: str = "auto",
+               labels: Sequence[str] | None = None) -> Checks:
+    """:func:`check` for many experiments at once: ``xi`` and each model's chances are arrays,
+    one entry per experiment.  The exact tests of all rows run together (see
+    :func:`_trinomial_logp`); the result is columnar (:class:`Checks`)."""
+    import numpy as np
+
+    _check_method(method)
+    conf = _check_level(confidence, "confidence")
+    _check_level(alpha, "alpha")
+    cc = _CountColumns(counts)
+    xs = np.broadcast_to(np.asarray(xi, dtype=float), (len(cc),))
+    n = cc.n
+    intervals = {}
+    for name, k in (("heads", cc.heads), ("sides", cc.sides), ("tails", cc.tails)):
+        wl, wh = wilson_interval(k, n, conf)
+        cl, ch = clopper_pearson_interval(k, n, conf)
+        cols = [k / n, wl, wh, cl, ch]
+        if name != "sides":
+            cols = [np.where(cc.faces, v, np.nan) for v in cols]
+        intervals[name] = cols
+    tests = [_model_tests(cc, ch, name, alpha, method) for name, ch in chances.items()]
+    return Checks(xs, list(labels) if labels is not None else [""] * len(cc), cc, intervals,
+                  tests, conf)
+
+
 def check(counts: Counts, xi: float, chances: Mapping[str, object] | None = None, *,
           confidence: float = CONFIDENCE, alpha: float = ALPHA, method: str = "auto",
           label: str = "") -> CheckResult:
@@ -623,9 +1064,8 @@ def check(counts: Counts, xi: float, chances: Mapping[str, object] | None = None
         raise ValueError(f"counts must be a Counts (see make_counts), got {counts!r}")
     if chances is None:
         chances = model_chances(xi)
-    tests = tuple(goodness_of_fit(counts, ch, name, alpha=alpha, method=method)
-                  for name, ch in chances.items())
-    return CheckResult(float(xi), counts, proportions(counts, confidence), tests, label)
+    return check_many([counts], xi, chances, confidence=confidence, alpha=alpha, method=method,
+                      labels=[label])[0]
 
 
 # --------------------------------------------------------------------------- across experiments
@@ -644,28 +1084,45 @@ def aic(log_lik: float, n_params: int) -> float:
     return 2 * n_params - 2 * log_lik
 
 
-def _loglik_rows(counts: Sequence[Counts], heads, sides, tails) -> float:
-    """Total log-likelihood of several experiments; ``heads`` etc. are arrays, one per row."""
-    import numpy as np
-    from scipy.stats import binom, multinomial
+class _Likelihood:
+    """The total log-likelihood of many experiments as a function of their chances.
 
-    with np.errstate(divide="ignore", invalid="ignore", under="ignore"):
-        total = 0.0
-        tri = [i for i, c in enumerate(counts) if c.faces]
-        bi = [i for i, c in enumerate(counts) if not c.faces]
-        if tri:
-            x = np.array([counts[i].values for i in tri])
-            p = np.stack([heads[tri], sides[tri], tails[tri]], axis=1)
-            p = p / p.sum(axis=1, keepdims=True)
-            total += float(np.sum(multinomial.logpmf(x, x.sum(axis=1), p)))
-        if bi:
-            k = np.array([counts[i].sides for i in bi])
-            m = np.array([counts[i].n for i in bi])
-            ps = np.clip(sides[bi], 0.0, 1.0)
-            pf = np.clip(heads[bi] + tails[bi], 0.0, 1.0)  # not 1 - ps: a thick coin's faces
-            ll = np.where(ps <= 0.5, binom.logpmf(k, m, ps), binom.logpmf(m - k, m, pf))
-            total += float(np.sum(ll))
-    return total if not math.isnan(total) else -math.inf
+    The counts' parts (log-factorials) are summed once; each call adds ``sum x ln p`` over the
+    rows, so a fit that tries many chances pays one pass of numpy per try.  The formulas are
+    :func:`_log_likelihoods`' (multinomial with faces told apart, else binomial in sides with
+    the rarer category's chance)."""
+
+    def __init__(self, cc: _CountColumns):
+        import numpy as np
+
+        lf = _LogFactorial(int(np.max(cc.n, initial=0)))
+        f = cc.faces
+        self.faces = f
+        self.x = cc.matrix()[f]
+        self.k, self.m = cc.sides[~f], cc.n[~f]
+        const = np.concatenate([lf(cc.n[f]) - lf(self.x).sum(axis=1),
+                                lf(self.m) - (lf(self.k) + lf(self.m - self.k))])
+        self.const = math.fsum(const.tolist())
+
+    def __call__(self, heads, sides, tails) -> float:
+        import numpy as np
+        from scipy.special import xlog1py, xlogy
+
+        f = self.faces
+        with np.errstate(divide="ignore", invalid="ignore", under="ignore"):
+            total = self.const
+            if self.x.size:
+                p = np.stack([heads[f], sides[f], tails[f]], axis=1)
+                p = p / p.sum(axis=1, keepdims=True)
+                total += float(np.sum(xlogy(self.x, p)))
+            if self.k.size:
+                k, m = self.k, self.m
+                ps = np.clip(sides[~f], 0.0, 1.0)
+                pf = np.clip(heads[~f] + tails[~f], 0.0, 1.0)  # not 1 - ps: a thick coin's faces
+                ll = np.where(ps <= 0.5, xlogy(k, ps) + xlog1py(m - k, -ps),
+                              xlogy(m - k, pf) + xlog1py(k, -pf))
+                total += float(np.sum(ll))
+        return total if not math.isnan(total) else -math.inf
 
 
 def _spread_chances(xi, sigma: float) -> Outcome:
@@ -674,8 +1131,8 @@ def _spread_chances(xi, sigma: float) -> Outcome:
 
     if sigma == 0:
         return dynamic(xi)
-    from coincli.densities import Normal, Uniform
     from coincli.averages import marginal
+    from coincli.densities import Normal, Uniform
 
     return marginal(xi, Uniform() if math.isinf(sigma) else Normal(HALF_PI, sigma))
 
@@ -702,6 +1159,128 @@ def _sigma_of(u: float) -> float:
     return math.inf if u >= 1.0 else u / (1.0 - u)
 
 
+# One-dimensional search in pure Python: the fit's only optimizer needs.  scipy.optimize would
+# cost 0.1-0.2 s of import for two routines of a few dozen lines; these are the same algorithms
+# (scipy's bounded Brent minimizer, Brent's bracketed root finder as in scipy's brentq) with the
+# same tolerances, so the estimates agree with scipy's to those tolerances.
+
+_SQRT_EPS = math.sqrt(2.2e-16)
+_GOLDEN = 0.5 * (3.0 - math.sqrt(5.0))
+
+
+def _minimize_bounded(func, x1: float, x2: float, xatol: float = 1e-5, maxfun: int = 500):
+    """``(x, f(x))`` minimizing ``func`` on ``[x1, x2]``: Brent's method (golden section with
+    parabolic steps), scipy.optimize.minimize_scalar(method="bounded")'s algorithm."""
+
+    def sign(v: float) -> float:
+        return (v > 0) - (v < 0) + (v == 0)
+
+    a, b = x1, x2
+    fulc = a + _GOLDEN * (b - a)
+    nfc, xf = fulc, fulc
+    rat = e = 0.0
+    x = xf
+    fx = func(x)
+    num = 1
+    ffulc = fnfc = fx
+    xm = 0.5 * (a + b)
+    tol1 = _SQRT_EPS * abs(xf) + xatol / 3.0
+    tol2 = 2.0 * tol1
+    while abs(xf - xm) > (tol2 - 0.5 * (b - a)):
+        golden = True
+        if abs(e) > tol1:  # try a parabola through the three best points
+            golden = False
+            r = (xf - nfc) * (fx - ffulc)
+            q = (xf - fulc) * (fx - fnfc)
+            p = (xf - fulc) * q - (xf - nfc) * r
+            q = 2.0 * (q - r)
+            if q > 0.0:
+                p = -p
+            q = abs(q)
+            r = e
+            e = rat
+            if abs(p) < abs(0.5 * q * r) and q * (a - xf) < p < q * (b - xf):
+                rat = (p + 0.0) / q
+                x = xf + rat
+                if (x - a) < tol2 or (b - x) < tol2:
+                    rat = tol1 * sign(xm - xf)
+            else:
+                golden = True
+        if golden:
+            e = (a - xf) if xf >= xm else (b - xf)
+            rat = _GOLDEN * e
+        x = xf + sign(rat) * max(abs(rat), tol1)
+        fu = func(x)
+        num += 1
+        if fu <= fx:
+            if x >= xf:
+                a = xf
+            else:
+                b = xf
+            fulc, ffulc = nfc, fnfc
+            nfc, fnfc = xf, fx
+            xf, fx = x, fu
+        else:
+            if x < xf:
+                a = x
+            else:
+                b = x
+            if fu <= fnfc or nfc == xf:
+                fulc, ffulc = nfc, fnfc
+                nfc, fnfc = x, fu
+            elif fu <= ffulc or fulc == xf or fulc == nfc:
+                fulc, ffulc = x, fu
+        xm = 0.5 * (a + b)
+        tol1 = _SQRT_EPS * abs(xf) + xatol / 3.0
+        tol2 = 2.0 * tol1
+        if num >= maxfun:
+            break
+    return xf, fx
+
+
+def _root(func, xa: float, xb: float, xtol: float = 1e-12, rtol: float = 8.9e-16,
+          maxiter: int = 100) -> float:
+    """A zero of ``func`` in ``[xa, xb]`` (the signs at the ends differ): Brent's method as in
+    scipy.optimize.brentq (inverse quadratic interpolation, secant, bisection)."""
+    xpre, xcur = xa, xb
+    xblk = fblk = spre = scur = 0.0
+    fpre, fcur = func(xpre), func(xcur)
+    if fpre == 0:
+        return xpre
+    if fcur == 0:
+        return xcur
+    if (fpre > 0) == (fcur > 0):
+        raise ValueError("the function has the same sign at both ends of the bracket")
+    for _ in range(maxiter):
+        if fpre != 0 and fcur != 0 and (fpre < 0) != (fcur < 0):
+            xblk, fblk = xpre, fpre
+            spre = scur = xcur - xpre
+        if abs(fblk) < abs(fcur):
+            xpre, xcur, xblk = xcur, xblk, xcur
+            fpre, fcur, fblk = fcur, fblk, fcur
+        delta = (xtol + rtol * abs(xcur)) / 2
+        sbis = (xblk - xcur) / 2
+        if fcur == 0 or abs(sbis) < delta:
+            return xcur
+        if abs(spre) > delta and abs(fcur) < abs(fpre):
+            if xpre == xblk:  # interpolate
+                stry = -fcur * (xcur - xpre) / (fcur - fpre)
+            else:  # extrapolate
+                dpre = (fpre - fcur) / (xpre - xcur)
+                dblk = (fblk - fcur) / (xblk - xcur)
+                stry = -fcur * (fblk * dblk - fpre * dpre) / (dblk * dpre * (fblk - fpre))
+            if 2 * abs(stry) < min(abs(spre), 3 * abs(sbis) - delta):
+                spre, scur = scur, stry  # a good short step
+            else:
+                spre = scur = sbis
+        else:
+            spre = scur = sbis
+        xpre, fpre = xcur, fcur
+        xcur += scur if abs(scur) > delta else (delta if sbis > 0 else -delta)
+        fcur = func(xcur)
+    return xcur
+
+
 def fit_spread(xi: Sequence[float], counts: Sequence[Counts], *, confidence: float = CONFIDENCE,
                grid: int = 41) -> SpreadFit:
     r"""Maximum-likelihood ``sigma`` of psi ~ Normal(pi/2, sigma) truncated to [0, pi].
@@ -712,10 +1291,12 @@ def fit_spread(xi: Sequence[float], counts: Sequence[Counts], *, confidence: flo
     ``[0, 1]``: ``sigma = 0`` is the dynamic model (Keller flip), ``sigma = inf`` uniform psi.
 
     Method: the log-likelihood on ``grid`` equally spaced ``u`` (both ends included), the best
-    point refined by bounded Brent; the profile-likelihood confidence set
+    point refined by bounded Brent (to 1e-9 in ``u``); the profile-likelihood confidence set
     ``{sigma: 2 (l_max - l(sigma)) <= chi2_1(confidence)}`` from the sign changes on the grid,
-    each end refined by ``brentq``.  At the boundary ``sigma = 0`` the chi2_1 calibration is
-    conservative (the exact limit is a 50:50 mixture of 0 and chi2_1).
+    each end refined by Brent's root finder (to 1e-10 in ``u``).  At the boundary
+    ``sigma = 0`` the chi2_1 calibration is conservative (the exact limit is a 50:50 mixture of
+    0 and chi2_1).  The chances are computed once per distinct ``xi`` and try of ``sigma``, and
+    each try's log-likelihood is one pass over all rows (:class:`_Likelihood`).
 
     The set need not be one interval: the chance of a side is not monotone in ``sigma`` (it
     rises from the dynamic value, peaks near ``sigma ~ 0.4`` and falls to the uniform value), so
@@ -726,8 +1307,7 @@ def fit_spread(xi: Sequence[float], counts: Sequence[Counts], *, confidence: flo
     Raises ValueError when no spread gives the data positive probability.
     """
     import numpy as np
-    from scipy.optimize import brentq, minimize_scalar
-    from scipy.stats import chi2
+    from scipy.special import gammainccinv, gammaincinv
 
     conf = _check_level(confidence, "confidence")
     xs = np.asarray([float(v) for v in xi], dtype=float)
@@ -740,13 +1320,18 @@ def fit_spread(xi: Sequence[float], counts: Sequence[Counts], *, confidence: flo
         raise ValueError("xi must be finite and > 0 for every experiment")
     if int(grid) < 5:
         raise ValueError(f"grid must be >= 5, got {grid!r}")
+    ux, inv = np.unique(xs, return_inverse=True)  # rows share coins: chances once per coin
+    like = _Likelihood(_CountColumns(counts))
     cache: dict[float, float] = {}
+
+    def chances(u: float) -> Outcome:
+        ch = _spread_chances(ux, _sigma_of(u))
+        return Outcome(*(np.asarray(v, dtype=float).reshape(-1)[inv] for v in ch))
 
     def loglik(u: float) -> float:
         u = min(max(float(u), 0.0), 1.0)
         if u not in cache:
-            ch = _spread_chances(xs, _sigma_of(u))
-            cache[u] = _loglik_rows(counts, *(np.asarray(v, dtype=float) for v in ch))
+            cache[u] = like(*chances(u))
         return cache[u]
 
     us = np.linspace(0.0, 1.0, int(grid))
@@ -754,16 +1339,17 @@ def fit_spread(xi: Sequence[float], counts: Sequence[Counts], *, confidence: flo
     if not np.any(np.isfinite(ls)):
         raise ValueError("no spread of psi gives these counts a positive probability")
     j = int(np.argmax(ls))
-    a, b = us[max(j - 1, 0)], us[min(j + 1, len(us) - 1)]
-    res = minimize_scalar(lambda u: -loglik(u), bounds=(a, b), method="bounded",
-                          options={"xatol": 1e-9})
-    u_hat, l_hat = (float(res.x), -float(res.fun)) if -res.fun > ls[j] else (float(us[j]),
-                                                                              float(ls[j]))
+    a, b = float(us[max(j - 1, 0)]), float(us[min(j + 1, len(us) - 1)])
+    u_min, f_min = _minimize_bounded(lambda u: -loglik(u), a, b, xatol=1e-9)
+    u_hat, l_hat = (u_min, -f_min) if -f_min > ls[j] else (float(us[j]), float(ls[j]))
     # The log-likelihood is flat at sigma = 0 (the chances move like sigma^2): a gain below
     # 1e-8 over an end of the range is rounding, not evidence; report the end itself.
     if j in (0, len(us) - 1) and l_hat - ls[j] < 1e-8:
         u_hat, l_hat = float(us[j]), float(ls[j])
-    cut = l_hat - float(chi2.ppf(conf, 1)) / 2
+    # chi2_1(conf) / 2 = gammaincinv(1/2, conf) (scipy.stats.chi2.ppf's formula), from the
+    # upper tail when conf is near 1 (1 - conf is exact there; conf itself rounds to 1)
+    half = gammainccinv(0.5, 1.0 - conf) if conf >= 0.5 else gammaincinv(0.5, conf)
+    cut = l_hat - float(half)
 
     def g(u):
         v = loglik(u)
@@ -775,7 +1361,7 @@ def fit_spread(xi: Sequence[float], counts: Sequence[Counts], *, confidence: flo
     for k in range(1, len(pts)):
         if (gv[k - 1] >= 0) == (gv[k] >= 0):
             continue
-        root = brentq(g, pts[k - 1], pts[k], xtol=1e-10)
+        root = _root(g, pts[k - 1], pts[k], xtol=1e-10)
         if gv[k] >= 0:
             start = root
         else:
@@ -795,7 +1381,6 @@ def fit_spread(xi: Sequence[float], counts: Sequence[Counts], *, confidence: flo
             "the confidence set is not one interval (the chance of a side is not monotone in "
             "sigma); low-high spans its pieces"
         )
-    ch = _spread_chances(xs, sigma)
     return SpreadFit(
         sigma=sigma,
         low=spans[0][0],
@@ -804,7 +1389,7 @@ def fit_spread(xi: Sequence[float], counts: Sequence[Counts], *, confidence: flo
         confidence=conf,
         log_likelihood=l_hat,
         aic=aic(l_hat, 1),
-        chances=Outcome(*(np.asarray(v, dtype=float) for v in ch)),
+        chances=chances(u_hat),
         note="; ".join(notes),
         profile=tuple((_sigma_of(u), cache[u]) for u in us.tolist()),
     )
@@ -826,7 +1411,7 @@ class ModelSummary:
 class FitResult:
     """``coin fit``: each experiment checked, and the models compared across them."""
 
-    rows: tuple[CheckResult, ...]
+    rows: Checks  #: a sequence of CheckResult (columns underneath)
     spread: SpreadFit | None
     models: tuple[ModelSummary, ...]
 
@@ -842,54 +1427,52 @@ def fit(experiments: Sequence[Experiment], densities: Mapping[str, object] | Non
     Models: geometric, dynamic, each named density in ``densities`` (0 free parameters each),
     and, with ``spread=True``, the maximum-likelihood spread of psi (1 free parameter; its
     per-row p-values ignore that the spread was fitted to the same data, so they lean lenient).
+    Every model's chances are computed once per distinct coin, and every row's tests run
+    together (:func:`check_many`).
     """
     import numpy as np
 
-    if not experiments:
-        raise ValueError("experiments is empty: nothing to fit")
-    counts = [e.counts for e in experiments]
-    xs = [e.xi for e in experiments]
-    per_model: dict[str, tuple[list, int]] = {}
-    xa = np.asarray(xs, dtype=float)
     from coincli.models import dynamic, geometric
 
-    per_model["geometric"] = (_rows_of(geometric(xa)), 0)
-    per_model["dynamic"] = (_rows_of(dynamic(xa)), 0)
+    if not experiments:
+        raise ValueError("experiments is empty: nothing to fit")
+    _check_method(method)
+    counts = [e.counts for e in experiments]
+    xa = np.fromiter((e.xi for e in experiments), float, len(experiments))
+    ux, inv = np.unique(xa, return_inverse=True)
+
+    def per_row(ch) -> Outcome:
+        return Outcome(*(np.asarray(v, dtype=float).reshape(-1)[inv] for v in ch))
+
+    per_model: dict[str, tuple[Outcome, int]] = {
+        "geometric": (per_row(geometric(ux)), 0),
+        "dynamic": (per_row(dynamic(ux)), 0),
+    }
     if densities:
         from coincli.averages import marginal
 
         for name, dens in densities.items():
-            per_model[name] = (_rows_of(marginal(xa, dens)), 0)
+            per_model[name] = (per_row(marginal(ux, dens)), 0)
     sp = None
     if spread:
-        sp = fit_spread(xs, counts, confidence=confidence)
-        per_model[SPREAD_MODEL] = (_rows_of(sp.chances), 1)
-    rows = tuple(
-        check(e.counts, e.xi, {name: ch[i] for name, (ch, _) in per_model.items()},
-              confidence=confidence, alpha=alpha, method=method, label=e.label)
-        for i, e in enumerate(experiments)
-    )
-    lls = {name: math.fsum(r.tests[k].log_likelihood for r in rows)
-           for k, name in enumerate(per_model)}
+        sp = fit_spread(xa, counts, confidence=confidence)
+        per_model[SPREAD_MODEL] = (sp.chances, 1)
+    rows = check_many(counts, xa, {name: ch for name, (ch, _) in per_model.items()},
+                      confidence=confidence, alpha=alpha, method=method,
+                      labels=[e.label for e in experiments])
+    lls = {t.model: math.fsum(t.log_likelihood.tolist()) for t in rows.tests}
     if sp is not None:
         lls[SPREAD_MODEL] = sp.log_likelihood  # the same number, without re-summing rounding
     aics = {name: aic(lls[name], k) for name, (_, k) in per_model.items()}
     best = min(aics.values())
+    freq = rows.cc.sides / rows.cc.n
     summaries = tuple(
         ModelSummary(name, k, lls[name], aics[name],
                      (aics[name] - best) if math.isfinite(best) else math.nan,
-                     sse_sides(counts, [c.sides for c in ch]))
+                     math.fsum(((freq - ch.sides) ** 2).tolist()))
         for name, (ch, k) in per_model.items()
     )
     return FitResult(rows, sp, summaries)
-
-
-def _rows_of(ch) -> list[Outcome]:
-    """Outcome of arrays -> one Outcome of floats per row."""
-    import numpy as np
-
-    h, s, t = (np.atleast_1d(np.asarray(v, dtype=float)) for v in ch)
-    return [Outcome(float(a), float(b), float(c)) for a, b, c in zip(h, s, t, strict=True)]
 
 
 # --------------------------------------------------------------------------- the experiments CSV
