@@ -75,6 +75,8 @@ __all__ = [
     "make_counts",
     "Interval",
     "Proportion",
+    "wilson_interval",
+    "clopper_pearson_interval",
     "proportion",
     "proportions",
     "exact_pvalue",
@@ -86,7 +88,9 @@ __all__ = [
     "verdict",
     "model_chances",
     "CheckResult",
+    "Checks",
     "check",
+    "check_many",
     "sse_sides",
     "aic",
     "SpreadFit",
@@ -97,6 +101,8 @@ __all__ = [
     "Experiment",
     "parse_experiments",
     "CSV_COLUMNS",
+    "DELIMITERS",
+    "delimiter_of",
 ]
 
 CONFIDENCE = 0.95  #: default confidence level of the intervals
@@ -504,73 +510,80 @@ def proportions(counts: Counts, confidence: float = CONFIDENCE) -> tuple[Proport
 _ROWS_PER_PASS = 1 << 18  #: (tests x rows of outcomes) evaluated together in the trinomial test
 
 
-def _tails(base, na, q, q1, thr, lf):
-    """For each row: the mass of the outcomes no more likely than ``exp(thr)``.
+def _crossings(c, n, q, t, lf):
+    """Where ``g(h) = c + log b(h; n, q)`` (``h = 0..n``, a log-concave row) crosses ``t``.
 
-    A row is the binomial ``h -> base + log b(h; na, q)`` (``q1 = 1 - q`` given separately).
-    Returns ``(whole, tail)``: ``whole`` marks rows all of whose outcomes are at most as likely
-    as the threshold (their mass is ``exp(base)``); elsewhere ``exp(base) * tail`` is the mass,
-    ``tail = P(h <= L) + P(h >= R)`` with ``(L, R)`` the ends of the interval around the mode
-    where the log-concave row is above the threshold, found by bisection.
+    Arrays in, ``(above, left, right)`` out: ``above`` marks rows whose peak is above ``t``;
+    for those, ``left`` is the largest ``h`` below the mode with ``g(h) <= t`` (-1 if none) and
+    ``right`` the smallest above it (``n + 1`` if none), so the outcomes above ``t`` are
+    ``left < h < right``.  The log-pmf is scipy.stats.binom.logpmf's formula (in its
+    association).  Each end is found by bisection, in a bracket of a few outcomes around the
+    normal approximation ``n q -+ sqrt(2 v (peak - t))`` when its two sides check out (they
+    usually do), else in the whole half-row.
     """
     import numpy as np
 
     lq, l1q = np.log(q), np.log1p(-q)
+    lfn = lf(n)
 
-    def f(h, sel=slice(None)):
-        n_, h_ = na[sel], h
-        return base[sel] + (((lf(n_) - (lf(h_) + lf(n_ - h_))) + h_ * lq[sel])
-                            + (n_ - h_) * l1q[sel])
+    def g(h, i=None):
+        if i is None:
+            return c + (((lfn - (lf(h) + lf(n - h))) + h * lq) + (n - h) * l1q)
+        return c[i] + (((lfn[i] - (lf(h) + lf(n[i] - h))) + h * lq[i]) + (n[i] - h) * l1q[i])
 
-    whole = base <= thr
-    tail = np.zeros_like(base)
-    act = np.flatnonzero(~whole)
-    if act.size == 0:
-        return whole, tail
-    n_a = na[act]
-    mode = np.clip(np.floor((n_a + 1) * q[act]), 0, n_a).astype(np.int64)
-    cands = [np.clip(mode + d, 0, n_a) for d in (-1, 0, 1)]
-    vals = np.stack([f(c, act) for c in cands])
+    mode = np.clip(np.floor((n + 1) * q), 0, n).astype(np.int64)
+    cands = [np.clip(mode + d, 0, n) for d in (-1, 0, 1)]
+    vals = np.stack([g(k) for k in cands])
     best = np.argmax(vals, axis=0)
     mstar = np.choose(best, cands)
-    fmax = np.choose(best, vals)
-    flat = fmax <= thr[act]
-    whole[act[flat]] = True
-    act, mstar = act[~flat], mstar[~flat]
-    if act.size == 0:
-        return whole, tail
-    n_a, t_a = na[act], thr[act]
-    # left end: the largest h < mstar with f(h) <= thr (-1 if none)
-    lo, hi = np.full_like(mstar, -1), mstar.copy()
-    while True:
-        gap = np.flatnonzero(hi - lo > 1)
-        if gap.size == 0:
-            break
-        mid = (lo[gap] + hi[gap]) // 2
-        below = f(mid, act[gap]) <= t_a[gap]
-        lo[gap] = np.where(below, mid, lo[gap])
-        hi[gap] = np.where(below, hi[gap], mid)
-    left = lo
-    # right end: the smallest h > mstar with f(h) <= thr (na + 1 if none)
-    lo, hi = mstar.copy(), n_a + 1
-    while True:
-        gap = np.flatnonzero(hi - lo > 1)
-        if gap.size == 0:
-            break
-        mid = (lo[gap] + hi[gap]) // 2
-        below = f(mid, act[gap]) <= t_a[gap]
-        hi[gap] = np.where(below, mid, hi[gap])
-        lo[gap] = np.where(below, lo[gap], mid)
-    right = hi
-    tail[act] = (_binom_cdf(left, n_a, q1[act]) + _binom_upper(right, n_a, q[act]))
-    return whole, tail
+    peak = np.choose(best, vals)
+    above = peak > t
+    with np.errstate(invalid="ignore"):
+        half = np.sqrt(2.0 * n * q * (1.0 - q) * np.maximum(peak - t, 0.0))
+
+    def bisect(lo, hi, left):
+        """lo < hi bracket the crossing (left: g(lo) <= t or lo = -1, g(hi) > t;
+        right: g(lo) > t, g(hi) <= t or hi = n + 1); narrow it to neighbours."""
+        while True:
+            i = np.flatnonzero(hi - lo > 1)
+            if i.size == 0:
+                return lo, hi
+            mid = (lo[i] + hi[i]) // 2
+            below = g(mid, i) <= t[i]
+            if left:
+                lo[i] = np.where(below, mid, lo[i])
+                hi[i] = np.where(below, hi[i], mid)
+            else:
+                hi[i] = np.where(below, mid, hi[i])
+                lo[i] = np.where(below, lo[i], mid)
+
+    centre = n * q
+    with np.errstate(invalid="ignore"):
+        gl = np.nan_to_num(np.floor(centre - half), nan=0.0).astype(np.int64)
+        gr = np.nan_to_num(np.ceil(centre + half), nan=0.0).astype(np.int64)
+    # left end, in [-1, mstar]: try the bracket [gl - 2, gl + 3] first
+    lo = np.clip(gl - 2, -1, np.maximum(mstar - 1, -1))
+    hi = np.clip(gl + 3, lo + 1, mstar)
+    ok = above & ((lo == -1) | (g(np.maximum(lo, 0)) <= t)) & (g(np.maximum(hi, 0)) > t)
+    lo = np.where(ok, lo, -1)
+    hi = np.where(ok, hi, np.where(above, mstar, 0))
+    left, _ = bisect(lo, hi, True)
+    # right end, in [mstar, n + 1]: try [gr - 2, gr + 3]
+    lo = np.clip(gr - 2, mstar, n)
+    hi = np.clip(gr + 3, lo + 1, n + 1)
+    ok = above & (g(lo) > t) & ((hi == n + 1) | (g(np.minimum(hi, n)) <= t))
+    lo = np.where(ok, lo, np.where(above, mstar, n))
+    hi = np.where(ok, hi, n + 1)
+    _, right = bisect(lo, hi, False)
+    return above, left, right
 
 
 def _binomial_pvalues(k, n, p, p1):
     """Exact two-sided binomial p-values (scipy.stats.binomtest's ordering), arrays.
 
     ``p`` is the chance of the counted category and ``p1`` that of the other one (``p <= p1``
-    is best: then ``1 - p`` is never needed).
+    is best: then ``1 - p`` is never needed).  The outcomes no more likely than the observed one
+    are two tails, ``P(X <= L) + P(X >= R)`` (:func:`_crossings`).
     """
     import numpy as np
 
@@ -582,8 +595,9 @@ def _binomial_pvalues(k, n, p, p1):
     with np.errstate(divide="ignore", invalid="ignore", under="ignore", over="ignore"):
         obs = (lf(n) - (lf(k) + lf(n - k))) + k * np.log(p) + (n - k) * np.log1p(-p)
         thr = obs + math.log1p(TIE_RTOL)
-        whole, tail = _tails(np.zeros(k.shape), n, p, p1, thr, lf)
-    return np.where(whole, 1.0, np.minimum(tail, 1.0))
+        above, left, right = _crossings(np.zeros(k.shape), n, p, thr, lf)
+        tail = _binom_cdf(left, n, p1) + _binom_upper(right, n, p)
+    return np.where(above, np.minimum(tail, 1.0), 1.0)
 
 
 def _trinomial_logp(x, p):
@@ -591,13 +605,13 @@ def _trinomial_logp(x, p):
     > 0), columns ordered (rarest, middle, commonest) as :func:`exact_pvalue` arranges them.
 
     Write ``P(r, a, c) = B(r; n, p_r) * B(a; n - r, q)`` with ``q = p_a / (p_a + p_c)`` and ``B``
-    the binomial pmf.  For each row ``r``:
+    the binomial pmf, and let ``thr = P(x_obs) (1 + 1e-7)``.  Both factors are log-concave, so:
 
-    - if ``B(r; n, p_r) <= thr`` (the threshold ``P(x_obs) (1 + 1e-7)``) every outcome of the row
-      is at most as likely as the observed one: the whole row counts, mass ``B(r; n, p_r)``;
-    - otherwise ``a -> log P(r, a, n-r-a)`` is concave (a binomial pmf is log-concave), so the
-      outcomes above the threshold form one interval around the mode.  Its ends are found by
-      bisection and the row contributes ``B(r) * (P(a <= L) + P(a >= R))``.
+    - the rows ``r`` with ``B(r; n, p_r) <= thr`` are the two tails of the binomial in ``r``:
+      every outcome in them is at most as likely as the observed one, and their mass is
+      ``P(r <= L) + P(r >= R)`` (two incomplete beta functions);
+    - in each other row the outcomes above the threshold form one interval around the row's mode
+      (:func:`_crossings`), and the row contributes ``B(r) * (P(a <= L_r) + P(a >= R_r))``.
 
     Every row of every test is one entry of a flat array (in passes of at most
     :data:`_ROWS_PER_PASS` entries), so a file of many experiments costs a few numpy passes.
@@ -628,30 +642,42 @@ def _trinomial_pass(x, p):
     pr, pa, pc = p[:, 0], p[:, 1], p[:, 2]
     n = r + a + c
     lf = _LogFactorial(int(n.max()))
+    out = np.full(len(x), -np.inf)
     with np.errstate(divide="ignore", invalid="ignore", under="ignore", over="ignore"):
         q, q1 = pa / (pa + pc), pc / (pa + pc)
-        f_obs = ((lf(n) - (lf(r) + lf(n - r))) + r * np.log(pr) + (n - r) * np.log1p(-pr)) \
+        lpr, l1pr = np.log(pr), np.log1p(-pr)
+        f_obs = ((lf(n) - (lf(r) + lf(n - r))) + r * lpr + (n - r) * l1pr) \
             + ((lf(n - r) - (lf(a) + lf(n - r - a))) + a * np.log(q) + (n - r - a) * np.log1p(-q))
         thr = f_obs + math.log1p(TIE_RTOL)
         n_outcomes = (n + 1.0) * (n + 2.0) / 2
-        live = thr + np.log(n_outcomes) >= _LOG_TINY
-        out = np.full(len(x), -np.inf)
-        t_idx = np.flatnonzero(live)
-        if t_idx.size == 0:
+        live = np.flatnonzero(thr + np.log(n_outcomes) >= _LOG_TINY)
+        if live.size == 0:
             return out
-        sizes = n[t_idx] + 1
+        n, pr, q, q1, thr = n[live], pr[live], q[live], q1[live], thr[live]
+        lpr, l1pr = lpr[live], l1pr[live]
+        # rows r at or below the threshold: two binomial tails in r
+        above, lo, hi = _crossings(np.zeros(len(n)), n, pr, thr, lf)
+        outer = _binom_cdf(lo, n, pa[live] + pc[live]) + _binom_upper(hi, n, pr)
+        # the other rows, lo < r < hi, one flat entry each
+        sizes = np.where(above, hi - lo - 1, 0)
         starts = np.concatenate(([0], np.cumsum(sizes)[:-1]))
-        tid = np.repeat(np.arange(t_idx.size), sizes)
-        s = np.arange(int(sizes.sum())) - starts[tid]
-        nt = n[t_idx][tid]
-        prt = pr[t_idx][tid]
-        base = (lf(nt) - (lf(s) + lf(nt - s))) + s * np.log(prt) + (nt - s) * np.log1p(-prt)
-        whole, tail = _tails(base, nt - s, q[t_idx][tid], q1[t_idx][tid], thr[t_idx][tid], lf)
-        contrib = np.where(whole, base, base + np.log(tail))
-        top = np.maximum.reduceat(contrib, starts)
+        tid = np.repeat(np.arange(len(n)), sizes)
+        rr = np.arange(int(sizes.sum())) - starts[tid] + lo[tid] + 1
+        nt = n[tid]
+        base = (lf(nt) - (lf(rr) + lf(nt - rr))) + rr * lpr[tid] + (nt - rr) * l1pr[tid]
+        na, qt, tt = nt - rr, q[tid], thr[tid]
+        row_above, left, right = _crossings(base, na, qt, tt, lf)
+        tails = _binom_cdf(left, na, q1[tid]) + _binom_upper(right, na, qt)
+        contrib = np.where(row_above, base + np.log(tails), base)
+        # log(outer + sum over rows of exp(contrib)), per test
+        top = np.full(len(n), -np.inf)
+        np.maximum.at(top, tid, contrib)
+        top = np.maximum(top, np.log(outer))
         safe = np.where(np.isfinite(top), top, 0.0)
-        total = np.add.reduceat(np.exp(contrib - safe[tid]), starts)
-        out[t_idx] = np.minimum(safe + np.log(total), 0.0)
+        total = np.exp(np.log(outer) - safe)
+        total += np.bincount(tid, weights=np.exp(contrib - safe[tid]), minlength=len(n))
+        res = np.minimum(safe + np.log(total), 0.0)
+        out[live] = np.where(above, res, 0.0)  # no row above: every outcome counts
     return out
 
 
@@ -662,6 +688,12 @@ def _exact_pvalues(x, p):
 
     x = np.asarray(x, dtype=np.int64)
     p = np.asarray(p, dtype=float)
+    # experiments of one coin and one model often repeat their counts: each distinct test once
+    key = np.ascontiguousarray(np.concatenate([x.astype(float), p], axis=1))
+    key = key.view(np.dtype((np.void, key.dtype.itemsize * key.shape[1]))).ravel()
+    _, first, inverse = np.unique(key, return_index=True, return_inverse=True)
+    if len(first) < len(x):
+        return _exact_pvalues(x[first], p[first])[inverse.ravel()]
     out = np.ones(len(x))
     impossible = np.any((p == 0) & (x > 0), axis=1)
     out[impossible] = 0.0
@@ -939,10 +971,21 @@ def _model_tests(cc: _CountColumns, chances, model: str, alpha: float, method: s
     methods = [("exact multinomial" if f else "exact binomial") if e else
                f"G-test (asymptotic chi2, df={d})"
                for f, e, d in zip(faces.tolist(), exact.tolist(), df.tolist(), strict=True)]
-    verdicts = [verdict(v, a, exact=e, impossible=i) for v, e, i in
-                zip(pv.tolist(), exact.tolist(), impossible.tolist(), strict=True)]
+    verdicts = _verdicts(pv, a, exact, impossible)
     cats = [_CATS3 if f else _CATS2 for f in faces.tolist()]
     return _Tests(model, raw, cats, expected, pv, exact, methods, g, df, ll, verdicts)
+
+
+def _verdicts(p, alpha: float, exact, impossible) -> list[str]:
+    """:func:`verdict` of each test; each distinct (p, exact, impossible) worded once."""
+    memo: dict = {}
+    out = []
+    for key in zip(p.tolist(), exact.tolist(), impossible.tolist(), strict=True):
+        text = memo.get(key)
+        if text is None:
+            text = memo[key] = verdict(key[0], alpha, exact=key[1], impossible=key[2])
+        out.append(text)
+    return out
 
 
 def goodness_of_fit(counts: Counts, chances, model: str = "model", *, alpha: float = ALPHA,
@@ -1038,12 +1081,19 @@ def check_many(counts: Sequence[Counts], xi, chances: Mapping[str, object], *,
     _check_level(alpha, "alpha")
     cc = _CountColumns(counts)
     xs = np.broadcast_to(np.asarray(xi, dtype=float), (len(cc),))
-    n = cc.n
+    # the intervals depend on (count, n) alone: each distinct pair once
+    ks = np.concatenate([cc.heads, cc.sides, cc.tails])
+    pairs, inverse = np.unique(np.stack([ks, np.tile(cc.n, 3)], axis=1), axis=0,
+                               return_inverse=True)
+    inverse = inverse.ravel()
+    pk, pn = pairs[:, 0], pairs[:, 1]
+    ends = [*wilson_interval(pk, pn, conf), *clopper_pearson_interval(pk, pn, conf)]
+    T = len(cc)
     intervals = {}
-    for name, k in (("heads", cc.heads), ("sides", cc.sides), ("tails", cc.tails)):
-        wl, wh = wilson_interval(k, n, conf)
-        cl, ch = clopper_pearson_interval(k, n, conf)
-        cols = [k / n, wl, wh, cl, ch]
+    for j, (name, k) in enumerate((("heads", cc.heads), ("sides", cc.sides),
+                                   ("tails", cc.tails))):
+        sel = inverse[j * T:(j + 1) * T]
+        cols = [k / cc.n, *(v[sel] for v in ends)]
         if name != "sides":
             cols = [np.where(cc.faces, v, np.nan) for v in cols]
         intervals[name] = cols
@@ -1520,10 +1570,36 @@ def _csv_count(text: str, name: str) -> int:
     return int(digits or "0")
 
 
-def parse_experiments(text: str, *, max_rows: int = 100_000) -> list[Experiment]:
-    """Parse an experiments CSV; raise :class:`CSVError` naming the line and column.
+#: the separators a file may use, by what a user may call them
+DELIMITERS = {",": ",", "comma": ",", ";": ";", "semicolon": ";", "\t": "\t", "tab": "\t",
+              "\\t": "\t"}
+_DELIMITER_NAMES = {",": "comma", ";": "semicolon", "\t": "tab"}
 
-    The first non-blank, non-``#`` line is the header (case-insensitive, any order).  Columns:
+
+def delimiter_of(name: str) -> str:
+    """The separator ``name`` means (``,``/``comma``, ``;``/``semicolon``, tab/``\t``/``tab``)."""
+    try:
+        return DELIMITERS[name if name == "\t" else name.strip().lower()]
+    except (KeyError, AttributeError):
+        raise ValueError(f"delimiter must be comma (,), semicolon (;) or tab, got {name!r}") \
+            from None
+
+
+def _sniff(header_line: str) -> str:
+    """The separator of a header line: the most frequent of comma, semicolon and tab (comma
+    when there is none, or on a tie)."""
+    counts = {d: header_line.count(d) for d in (",", ";", "\t")}
+    best = max(counts.values())
+    return next(d for d in (",", ";", "\t") if counts[d] == best) if best else ","
+
+
+def parse_experiments(text: str, *, max_rows: int = 100_000, delimiter: str | None = None
+                      ) -> list[Experiment]:
+    """Parse an experiments file; raise :class:`CSVError` naming the line and column.
+
+    Comma-, semicolon- or tab-separated: ``delimiter`` (``,``, ``;`` or a tab), or, when None,
+    the most frequent of the three in the header line.  The first non-blank, non-``#`` line is
+    the header (case-insensitive, any order).  Columns:
 
     - the coin, one of: ``xi``; ``coin`` (a catalog name, :func:`coincli.coins.get_coin`) with
       an optional ``count`` of stacked coins (default 1); ``diameter`` and ``thickness`` (mm, or
@@ -1533,16 +1609,28 @@ def parse_experiments(text: str, *, max_rows: int = 100_000) -> list[Experiment]
     - optionally ``label``.
 
     Rows may use different kinds (an empty cell is absent).  Aliases: ``name`` for ``label``,
-    ``tosses`` for ``n``.  Blank lines and lines starting with ``#`` are skipped.
+    ``tosses`` for ``n``.  Blank lines and lines starting with ``#`` are skipped.  A header
+    that does not parse says which separator it was read with.
     """
     import csv
     import io
 
+    from coincli import coins
     from coincli.parse import parse_length_mm, parse_number
 
     if text.startswith("\ufeff"):
         text = text[1:]
-    reader = csv.reader(io.StringIO(text), skipinitialspace=True, strict=True)
+    sep = delimiter_of(delimiter) if delimiter is not None else None
+    if sep is None:
+        for raw_line in text.splitlines():
+            if raw_line.strip() and not raw_line.lstrip().startswith("#"):
+                sep = _sniff(raw_line)
+                break
+        else:
+            sep = ","
+    read_as = (f"read as {_DELIMITER_NAMES[sep]}-separated"
+               + ("" if delimiter is not None else ", the separator sniffed from the header"))
+    reader = csv.reader(io.StringIO(text), delimiter=sep, skipinitialspace=True, strict=True)
     header: list[str] | None = None
     header_line = 0
     out: list[Experiment] = []
@@ -1558,26 +1646,30 @@ def parse_experiments(text: str, *, max_rows: int = 100_000) -> list[Experiment]
                     name = _CSV_ALIASES.get(name, name)
                     if name not in CSV_COLUMNS:
                         raise _err(line, raw.strip() or f"#{k}",
-                                   f"unknown column; expected some of {', '.join(CSV_COLUMNS)}")
+                                   f"unknown column; expected some of {', '.join(CSV_COLUMNS)} "
+                                   f"({read_as})")
                     if name in header:
                         raise _err(line, raw.strip(), "appears twice in the header")
                     header.append(name)
                 if "sides" not in header:
-                    raise _err(line, None, "the header has no 'sides' column")
+                    raise _err(line, None, f"the header has no 'sides' column ({read_as})")
                 if not ({"xi", "coin", "diameter"} & set(header)):
                     raise _err(line, None,
-                               "the header needs xi, coin (and count), or diameter and thickness")
+                               "the header needs xi, coin (and count), or diameter and thickness "
+                               f"({read_as})")
+                width = len(header)
                 continue
-            if len(cells) > len(header):
-                extra = cells[len(header):]
+            if len(cells) > width:
+                extra = cells[width:]
                 if any(c.strip() for c in extra):
-                    raise _err(line, f"#{len(header) + 1}",
+                    raise _err(line, f"#{width + 1}",
                                f"{len(cells)} fields but the header (line {header_line}) has "
-                               f"{len(header)} columns")
-                cells = cells[:len(header)]
-            row = {name: cells[k].strip() if k < len(cells) else ""
-                   for k, name in enumerate(header)}
-            out.append(_experiment(line, row, parse_number, parse_length_mm))
+                               f"{width} columns ({read_as})")
+                cells = cells[:width]
+            elif len(cells) < width:
+                cells = cells + [""] * (width - len(cells))
+            row = dict(zip(header, (c.strip() for c in cells), strict=True))
+            out.append(_experiment(line, row, parse_number, parse_length_mm, coins))
             if len(out) > max_rows:
                 raise _err(line, None, f"more than {max_rows} experiments")
     except csv.Error as exc:
@@ -1589,9 +1681,25 @@ def parse_experiments(text: str, *, max_rows: int = 100_000) -> list[Experiment]
     return out
 
 
-def _experiment(line: int, row: dict, parse_number, parse_length_mm) -> Experiment:
-    from coincli import coins
+def _fast_count(text: str, name: str) -> int:
+    """A count cell: plain ASCII digits take the fast path; anything else :func:`_csv_count`."""
+    if text.isdigit() and text.isascii() and len(text) <= 15:
+        return int(text)
+    return _csv_count(text, name)
 
+
+def _counts_of(h, s, t, m) -> Counts:
+    """:func:`make_counts` for whole numbers already read: the two usual shapes directly."""
+    if s is not None and h is not None and t is not None and m is None:
+        total = h + s + t
+        if 0 < total <= MAX_COUNT:
+            return Counts(total, s, h, t)
+    elif s is not None and h is None and t is None and m is not None and 0 < m and s <= m:
+        return Counts(m, s)
+    return make_counts(h, s, t, m)
+
+
+def _experiment(line: int, row: dict, parse_number, parse_length_mm, coins) -> Experiment:
     has = {k for k, v in row.items() if v}
     geo = has & {"xi", "coin", "diameter", "thickness"}
     count = None
@@ -1652,12 +1760,12 @@ def _experiment(line: int, row: dict, parse_number, parse_length_mm) -> Experime
     for name in ("heads", "sides", "tails", "n"):
         if name in has:
             try:
-                vals[name] = _csv_count(row[name], name)
+                vals[name] = _fast_count(row[name], name)
             except ValueError as exc:
                 raise _err(line, name, str(exc)) from None
     try:
-        counts = make_counts(vals.get("heads"), vals.get("sides"), vals.get("tails"),
-                             vals.get("n"))
+        counts = _counts_of(vals.get("heads"), vals.get("sides"), vals.get("tails"),
+                            vals.get("n"))
     except CountsError as exc:
         raise _err(line, exc.argument, str(exc)) from None
     return Experiment(line, float(xi), counts, row.get("label") or desc)
