@@ -85,6 +85,7 @@ __all__ = [
     "ModelTest",
     "goodness_of_fit",
     "format_p",
+    "percent",
     "verdict",
     "model_chances",
     "CheckResult",
@@ -829,6 +830,17 @@ def format_p(p: float) -> str:
     return f"p = {mant.rstrip('0').rstrip('.')}e{int(exp)}"
 
 
+def percent(level: float) -> str:
+    """A level as a percentage that names the double exactly, never rounded to a neighbour:
+    ``0.95 -> '95%'``, ``0.9999999999999999 -> '99.99999999999999%'`` (not '100%'),
+    ``1e-300 -> '1e-298%'``."""
+    from decimal import Decimal
+
+    d = (Decimal(repr(float(level))) * 100).normalize()
+    text = format(d, "f") if d.adjusted() >= -6 else format(d, "e")
+    return text + "%"
+
+
 def verdict(p: float, alpha: float = ALPHA, *, exact: bool = True, impossible: bool = False
             ) -> str:
     """A verdict in words that claims no more than the test shows.
@@ -841,7 +853,7 @@ def verdict(p: float, alpha: float = ALPHA, *, exact: bool = True, impossible: b
     if impossible:
         return "rejected: these counts are impossible under the model (probability 0)"
     if p >= a:
-        text = f"consistent at the {100 * a:g}% level ({format_p(p)})"
+        text = f"consistent at the {percent(a)} level ({format_p(p)})"
     else:
         text = f"rejected, {format_p(p)}"
     return text if exact else text + " (asymptotic G-test)"
@@ -1218,21 +1230,33 @@ _SQRT_EPS = math.sqrt(2.2e-16)
 _GOLDEN = 0.5 * (3.0 - math.sqrt(5.0))
 
 
-def _minimize_bounded(func, x1: float, x2: float, xatol: float = 1e-5, maxfun: int = 500):
+def _minimize_bounded(func, x1: float, x2: float, xatol: float = 1e-5, maxfun: int = 500,
+                      known=()):
     """``(x, f(x))`` minimizing ``func`` on ``[x1, x2]``: Brent's method (golden section with
-    parabolic steps), scipy.optimize.minimize_scalar(method="bounded")'s algorithm."""
+    parabolic steps), scipy.optimize.minimize_scalar(method="bounded")'s algorithm.
+
+    ``known``: three or more ``(x, f(x))`` inside the bracket already evaluated (a grid around
+    the minimum); the search then starts from them with a parabolic step instead of spending
+    its first evaluations on golden-section points.
+    """
 
     def sign(v: float) -> float:
         return (v > 0) - (v < 0) + (v == 0)
 
     a, b = x1, x2
-    fulc = a + _GOLDEN * (b - a)
-    nfc, xf = fulc, fulc
     rat = e = 0.0
+    pts = sorted((float(f), float(x)) for x, f in known if a <= x <= b)
+    if len(pts) >= 3:
+        (fx, xf), (fnfc, nfc), (ffulc, fulc) = pts[:3]
+        e = b - a  # allow a parabolic first step
+        num = 0
+    else:
+        fulc = a + _GOLDEN * (b - a)
+        nfc, xf = fulc, fulc
+        fx = func(xf)
+        num = 1
+        ffulc = fnfc = fx
     x = xf
-    fx = func(x)
-    num = 1
-    ffulc = fnfc = fx
     xm = 0.5 * (a + b)
     tol1 = _SQRT_EPS * abs(xf) + xatol / 3.0
     tol2 = 2.0 * tol1
@@ -1289,12 +1313,14 @@ def _minimize_bounded(func, x1: float, x2: float, xatol: float = 1e-5, maxfun: i
 
 
 def _root(func, xa: float, xb: float, xtol: float = 1e-12, rtol: float = 8.9e-16,
-          maxiter: int = 100) -> float:
+          maxiter: int = 100, fa: float | None = None, fb: float | None = None) -> float:
     """A zero of ``func`` in ``[xa, xb]`` (the signs at the ends differ): Brent's method as in
-    scipy.optimize.brentq (inverse quadratic interpolation, secant, bisection)."""
+    scipy.optimize.brentq (inverse quadratic interpolation, secant, bisection).  ``fa``, ``fb``:
+    the values at the ends, when already known."""
     xpre, xcur = xa, xb
     xblk = fblk = spre = scur = 0.0
-    fpre, fcur = func(xpre), func(xcur)
+    fpre = func(xpre) if fa is None else fa
+    fcur = func(xcur) if fb is None else fb
     if fpre == 0:
         return xpre
     if fcur == 0:
@@ -1373,15 +1399,21 @@ def fit_spread(xi: Sequence[float], counts: Sequence[Counts], *, confidence: flo
     ux, inv = np.unique(xs, return_inverse=True)  # rows share coins: chances once per coin
     like = _Likelihood(_CountColumns(counts))
     cache: dict[float, float] = {}
+    best: list = [-math.inf, None, None]  # log L, u and chances of the best try so far
 
     def chances(u: float) -> Outcome:
+        if u == best[1]:
+            return best[2]
         ch = _spread_chances(ux, _sigma_of(u))
         return Outcome(*(np.asarray(v, dtype=float).reshape(-1)[inv] for v in ch))
 
     def loglik(u: float) -> float:
         u = min(max(float(u), 0.0), 1.0)
         if u not in cache:
-            cache[u] = like(*chances(u))
+            ch = chances(u)
+            cache[u] = v = like(*ch)
+            if v > best[0] or best[1] is None:
+                best[:] = [v, u, ch]
         return cache[u]
 
     us = np.linspace(0.0, 1.0, int(grid))
@@ -1390,7 +1422,8 @@ def fit_spread(xi: Sequence[float], counts: Sequence[Counts], *, confidence: flo
         raise ValueError("no spread of psi gives these counts a positive probability")
     j = int(np.argmax(ls))
     a, b = float(us[max(j - 1, 0)]), float(us[min(j + 1, len(us) - 1)])
-    u_min, f_min = _minimize_bounded(lambda u: -loglik(u), a, b, xatol=1e-9)
+    known = [(float(us[k]), -float(ls[k])) for k in range(max(j - 1, 0), min(j + 2, len(us)))]
+    u_min, f_min = _minimize_bounded(lambda u: -loglik(u), a, b, xatol=1e-9, known=known)
     u_hat, l_hat = (u_min, -f_min) if -f_min > ls[j] else (float(us[j]), float(ls[j]))
     # The log-likelihood is flat at sigma = 0 (the chances move like sigma^2): a gain below
     # 1e-8 over an end of the range is rounding, not evidence; report the end itself.
@@ -1401,9 +1434,17 @@ def fit_spread(xi: Sequence[float], counts: Sequence[Counts], *, confidence: flo
     half = gammainccinv(0.5, 1.0 - conf) if conf >= 0.5 else gammaincinv(0.5, conf)
     cut = l_hat - float(half)
 
+    # The ends are where log L crosses the cut.  They are found on the equivalent
+    # sqrt(l_hat - cut) - sqrt(l_hat - log L), which has the same sign and zeros but is nearly
+    # linear in u near the maximum (log L is nearly quadratic there), so the root finder's
+    # interpolation steps land at once instead of bisecting a steep parabola.
+    depth = math.sqrt(max(l_hat - cut, 0.0))
+
     def g(u):
         v = loglik(u)
-        return (v - cut) if math.isfinite(v) else -1e300
+        if not math.isfinite(v):
+            return -1e150
+        return depth - math.sqrt(max(l_hat - v, 0.0))
 
     pts = sorted(set(us.tolist()) | {u_hat})
     gv = [g(u) for u in pts]
@@ -1411,7 +1452,7 @@ def fit_spread(xi: Sequence[float], counts: Sequence[Counts], *, confidence: flo
     for k in range(1, len(pts)):
         if (gv[k - 1] >= 0) == (gv[k] >= 0):
             continue
-        root = _root(g, pts[k - 1], pts[k], xtol=1e-10)
+        root = _root(g, pts[k - 1], pts[k], xtol=1e-10, fa=gv[k - 1], fb=gv[k])
         if gv[k] >= 0:
             start = root
         else:
