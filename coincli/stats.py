@@ -961,8 +961,9 @@ def _model_tests(cc: _CountColumns, chances, model: str, alpha: float, method: s
     # tested categories: faces told apart (heads, sides, tails); else (sides, faces)
     x = np.where(faces[:, None], cc.matrix(),
                  np.stack([cc.sides, cc.n - cc.sides, np.zeros(T, np.int64)], axis=1))
-    q = np.where(faces[:, None], p,
-                 np.stack([p[:, 1], p[:, 0] + p[:, 2], np.zeros(T)], axis=1))
+    side, face = p[:, 1], p[:, 0] + p[:, 2]
+    total2 = side + face  # side or face: renormalized as a pair, as a two-category test is
+    q = np.where(faces[:, None], p, np.stack([side / total2, face / total2, np.zeros(T)], axis=1))
     nf = cc.n.astype(float)
     expected = np.where(faces, nf * raw, np.stack([nf * raw[1], nf * (raw[0] + raw[2]),
                                                    np.zeros(T)]))
