@@ -63,6 +63,11 @@ _RATIO = 4.0  #: geometric grading ratio toward a nearby branch point
 _LAST = 0.9  #: no graded point above this: a sliver [0.9, 1] would cost a subinterval for little
 _S_FLOOR = 1e-18  #: no grading in C toward a branch point closer than this (see module notes)
 _FEATURE_STEPS = np.array([0.0, 1.0, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0])
+#: a regime boundary where a normal is below exp(-_TAIL_SD**2/2) of its peak (and above
+#: exp(-_TAIL_FAR**2/2): smaller tails are below 1e-340 of the mass and round to 0) gets
+#: breakpoints on its far side, at these multiples of the tail's decay length
+_TAIL_SD, _TAIL_FAR = 4.0, 40.0
+_TAIL_STEPS = 2.0 ** np.arange(-2, 7)
 _CHUNK = 1 << 21  #: (xi values) x (breakpoints) per pass, to bound memory for long tables
 # 2/pi as hi + lo: the sums of angles are scaled once, with one rounding
 _TWO_OVER_PI_HI = 0.6366197723675814
@@ -148,6 +153,28 @@ def _features(density: Density) -> list[tuple[float, float]]:
     return list(density.features())
 
 
+def _tail_centres(density: Density) -> list[tuple[float, float]]:
+    """(centre, sd) of a normal whose far tail a regime boundary can cut (see _tail_points):
+    the folded mean ``min(mean, pi - mean)`` (the nearer of the two centres to every point of
+    [0, pi/2]), when the density falls below exp(-_TAIL_SD**2/2) of its peak somewhere there."""
+    if not isinstance(density, Normal):
+        return []
+    mu = min(density.mean, math.pi - density.mean)
+    if max(_tail_exponent(0.0, mu, density.sd), _tail_exponent(HALF_PI, mu, density.sd)) \
+            <= 0.5 * _TAIL_SD**2:
+        return []
+    return [(mu, density.sd)]
+
+
+def _tail_exponent(b, mu, sd):
+    """-log of the normal (folded centre ``mu``) at ``b`` relative to its peak on [0, pi/2],
+    ``max(mu, 0)``: ``z**2/2`` for a centre inside, ``x (x + 2 |mu|/sd)/2`` (x = b/sd) beyond 0."""
+    peak, beyond = max(mu, 0.0), min(max(-mu, 0.0) / sd, 1e300)
+    with np.errstate(over="ignore", invalid="ignore"):
+        x = np.abs(b - peak) / sd
+        return 0.5 * (x * (x + 2 * beyond))
+
+
 _BREAKS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
@@ -190,10 +217,13 @@ def _folded_pdf(density: Density):
         # never exceeds the first, so nothing overflows where E underflows.
         # In units of sd (never sd**2, which underflows for sd below 1e-154): the exponent of
         # the mirror term is (pi - 2 mu)(psi - pi/2)/sd**2 = ((pi - 2 mu)/sd) ((psi - pi/2)/sd).
+        # E relative to its value at the peak max(mu, 0) (Normal.log_shape): a mean far beyond
+        # psi = 0 would overflow z**2 - z0**2 term by term.
         mu = min(density.mean, math.pi - density.mean)
         sd = density.sd
-        ln = density._log_norm
+        ln = density._log_peak
         gap = (math.pi - 2 * mu) / sd
+        peak, beyond = max(mu, 0.0), min(max(-mu, 0.0) / sd, 1e300)
 
         if mu == HALF_PI:
             ln2 = ln + math.log(2.0)
@@ -206,9 +236,9 @@ def _folded_pdf(density: Density):
 
         def normal(psi):
             with np.errstate(over="ignore"):  # z**2 -> inf, exp(-inf) = 0: the right limit
-                z = (psi - mu) / sd
+                z = (psi - peak) / sd
                 mirror = np.exp(np.fmax(gap * ((psi - HALF_PI) / sd), -1e300))  # fmax: inf*0
-                return np.exp(ln - 0.5 * (z * z)) * (1.0 + mirror)
+                return np.exp(ln - 0.5 * (z * (z + 2 * beyond))) * (1.0 + mirror)
         return normal
     return lambda psi: density.pdf(psi) + density.pdf(math.pi - psi)
 
@@ -260,7 +290,7 @@ def _intervals(parts: list[np.ndarray], m: int):
     return rows, a[keep], b[keep]
 
 
-def _layout_one(x: float, breaks: list[float]):
+def _layout_one(x: float, breaks: list[float], tails=()):
     """(params, [(a, b) of pieces A, B, C]) for one finite xi."""
     t = math.atan2(1.0, x) / 2
     beta = math.atan(x)
@@ -275,10 +305,48 @@ def _layout_one(x: float, breaks: list[float]):
     sstar = math.sqrt(beta / t)
     pc = _graded_one(sstar) if sstar >= _S_FLOOR else []
     pc += [math.sqrt((p - lo) / t) for p in breaks if p > lo]
+    for mu, sd in tails:
+        if any(0.5 * _TAIL_SD**2 < _tail_exponent(b, mu, sd) < 0.5 * _TAIL_FAR**2
+               for b in (t, lo)):
+            for into, v in zip((pa, pb, pb, pc), _tail_points(np.array([t]), np.array([beta]),
+                                                              mu, sd), strict=True):
+                into.extend(v[0].tolist())
     return par, [_edges_one(pa), _edges_one(pb), _edges_one(pc)]
 
 
-def _layout_many(xi: np.ndarray, breaks: np.ndarray):
+def _tail_points(t, beta, mu, sd):
+    """Breakpoints in s for the far tail of a normal (centre ``mu``, ``sd``) beyond a regime
+    boundary: rows (one per xi) for pieces A, B (two sets) and C; 1.0 where there are none.
+
+    Where a boundary ``b`` (``t`` or ``pi/2 - t``) lies more than ``_TAIL_SD`` sd from the
+    centre (or as far down a mean's tail beyond psi = 0), the density on its far side decays like ``exp(-(psi - b)/w)`` with
+    ``w = sd^2/|b - mu|``, and the chance of the outcome that starts there is a tail of the
+    density (1e-60, 1e-300) that breakpoints placed about the mean do not resolve.  Points at
+    ``b -+ w 2^k`` (k = -2 .. 6, formed from the offsets, never from ``b`` itself) resolve it to
+    the same relative accuracy as the bulk.  Past ``_TAIL_FAR`` sd the tail underflows.
+    ``w`` is the exact decay length of the normal at ``b`` for a centre beyond 0 too.
+    """
+    out = []
+    steps = _TAIL_STEPS[None, :]
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore", under="ignore"):
+        for b, piece_lo, piece_hi in ((t, "A", "B"), (HALF_PI - t, "B", "C")):
+            d = b - mu
+            far = _tail_exponent(b, mu, sd)
+            far = (far > 0.5 * _TAIL_SD**2) & (far < 0.5 * _TAIL_FAR**2)
+            w = sd * (sd / np.where(far, np.abs(d), 1.0))[:, None] * steps  # offsets from b
+            if piece_lo == "A":  # below t: piece A, s = (t - w)/t; above: piece B, s^2 = w/beta
+                below = 1.0 - w / t[:, None]
+                above = np.sqrt(w / np.where(beta > 0, beta, np.inf)[:, None])
+            else:  # below pi/2 - t: piece B, s^2 = 1 - w/beta; above: piece C, s^2 = w/t
+                below = np.sqrt(1.0 - w / np.where(beta > 0, beta, np.inf)[:, None])
+                above = np.sqrt(w / t[:, None])
+            side = (d < 0)[:, None]  # the centre lies above b: the far side is below it
+            out.append(np.where(far[:, None] & side, np.clip(below, 0.0, 1.0), 1.0))
+            out.append(np.where(far[:, None] & ~side, np.clip(above, 0.0, 1.0), 1.0))
+    return out  # A (below t), B (above t), B (below pi/2 - t), C (above pi/2 - t)
+
+
+def _layout_many(xi: np.ndarray, breaks: np.ndarray, tails=()):
     """(params (7, m), [(rows, a, b) of pieces A, B, C]) for a 1-D array of finite xi."""
     m = xi.size
     t = np.arctan2(1.0, xi) / 2
@@ -298,6 +366,11 @@ def _layout_many(xi: np.ndarray, breaks: np.ndarray):
         pc = [_graded(np.where(sstar >= _S_FLOOR, sstar, 1.0))]
         if nb:
             pc.append(np.sqrt(np.clip((breaks[None, :] - lo[:, None]) / t[:, None], 0, 1)))
+    for mu, sd in tails:
+        ta, tb1, tb2, tc = _tail_points(t, beta, mu, sd)
+        pa.append(ta)
+        pb += [tb1, tb2]
+        pc.append(tc)
     return par, [_intervals(pa, m), _intervals(pb, m), _intervals(pc, m)]
 
 
@@ -363,7 +436,7 @@ _BLOCK = 1 << 15  #: nodes per numpy pass: the temporaries stay in cache
 
 
 def _integrate_one(x: float, density: Density, n: int, breaks: list[float]):
-    p, pieces = _layout_one(x, breaks)
+    p, pieces = _layout_one(x, breaks, _tail_centres(density))
     fold = _folded_pdf(density)
     acc = [0.0] * 5
     for fn, slots, (a, b) in zip(_PIECES, _SLOTS, pieces, strict=True):
@@ -374,7 +447,7 @@ def _integrate_one(x: float, density: Density, n: int, breaks: list[float]):
 
 def _integrate_many(xi: np.ndarray, density: Density, n: int, breaks: np.ndarray):
     m = xi.size
-    par, pieces = _layout_many(xi, breaks)
+    par, pieces = _layout_many(xi, breaks, _tail_centres(density))
     fold = _folded_pdf(density)
     acc = np.zeros((5, m))
     step = max(1, _BLOCK // n)
@@ -425,21 +498,60 @@ def _finish(acc):
 
 
 def _delta(density: Density) -> float | None:
-    """The angle of a normal too narrow for any quadrature (mean +- sd/2 round to the mean)."""
+    """The angle of a normal too narrow for any quadrature (mean +- sd/2 round to the mean),
+    folded onto [0, pi/2] as the quadrature folds it: ``min(mean, pi - mean)``, so that a mean
+    of the double nearest pi is 0 (the coin never precesses) and ``HALF_PI`` is the Keller flip,
+    psi = pi/2 exactly (:func:`_table_i`)."""
     if isinstance(density, Normal) and density.mean + 0.5 * density.sd == density.mean \
             and density.mean - 0.5 * density.sd == density.mean:
-        return min(max(density.mean, 0.0), math.pi)
+        return max(min(density.mean, math.pi - density.mean), 0.0)
     return None
+
+
+def _table_i(xi, psi: float):
+    """Table I at the folded angle of :func:`_delta`: eq. (12) itself at ``HALF_PI``."""
+    return models.dynamic(xi) if psi == HALF_PI else models.conditional(xi, psi)
+
+
+# A normal whose mass lies within _PLANAR_REACH of psi = 0 (folded; a subnormal sd, a mean of
+# 1e-300) is below what the quadrature's nodes resolve.  Every coin with theta0/2 beyond its
+# reach lands heads (exactly: no mass reaches a boundary); for the others (xi above 1e180) all
+# angles are so small that sin x = x and cos x = 1 in double, Table I depends on psi/theta0
+# alone, and the average is the one of the density scaled up by 2**k with xi scaled down by 2**k.
+_PLANAR_REACH = 2.0**-600
+_PLANAR_EXP = -30  #: the scaled reach lies in [2**-31, 2**-30)
+_REACH_SD = 40.0  #: a normal's mass beyond this many sd from its peak underflows
+
+
+def _planar(density: Density):
+    """(reach, k, the scaled density) for such a normal, else None."""
+    if not isinstance(density, Normal):
+        return None
+    mu = min(density.mean, math.pi - density.mean)
+    reach = max(mu, 0.0) + _REACH_SD * density.sd
+    if not reach < _PLANAR_REACH:
+        return None
+    k = _PLANAR_EXP - math.frexp(reach)[1]
+    return reach, k, Normal(math.ldexp(mu, k), math.ldexp(density.sd, k))
 
 
 def _marginal_flat(xi: np.ndarray, density: Density, n: int) -> np.ndarray:
     """(3, len(xi)) chances for a 1-D array of xi in [0, inf]; chunked to bound memory."""
     psi = _delta(density)
     if psi is not None:  # the limit sd -> 0: Table I at the mean
-        return np.array(models.conditional(xi, np.full(xi.shape, psi)), dtype=float)
+        return np.array(_table_i(xi, psi), dtype=float).reshape(3, xi.size)
     out = np.empty((3, xi.size))
     inf = np.isinf(xi)
     out[:, inf] = np.array([[0.0], [1.0], [0.0]])  # every precessing toss lands on a side
+    planar = _planar(density)
+    if planar is not None:
+        reach, k, scaled = planar
+        heads = ~inf & (np.arctan2(1.0, xi) / 2 >= reach)
+        out[:, heads] = np.array([[1.0], [0.0], [0.0]])
+        rest = np.flatnonzero(~inf & ~heads)
+        if rest.size:
+            out[:, rest] = _marginal_flat(np.ldexp(xi[rest], -k), scaled, n)
+        return out
     fin = np.nonzero(~inf)[0]
     if fin.size:
         breaks = _psi_breaks(density)
@@ -455,7 +567,13 @@ def _marginal_scalar(x: float, density: Density, n: int, breaks=None):
         return 0.0, 1.0, 0.0  # every precessing toss lands on a side; psi = 0, pi has no mass
     psi = _delta(density)
     if psi is not None:  # the limit sd -> 0: Table I at the mean
-        return tuple(models.conditional(x, psi))
+        return tuple(_table_i(x, psi))
+    planar = _planar(density)
+    if planar is not None:
+        reach, k, scaled = planar
+        if math.atan2(1.0, x) / 2 >= reach:
+            return 1.0, 0.0, 0.0
+        return _marginal_scalar(math.ldexp(x, -k), scaled, n)
     if breaks is None:
         breaks = _psi_breaks(density).tolist()
     return _finish(_integrate_one(x, density, n, breaks))
@@ -511,87 +629,242 @@ def _check_density(density):
 
 
 # --------------------------------------------------------------------------- inverses
+# P(sides) = p is solved for xi by bracketing, then Chandrupatla's method (inverse quadratic
+# interpolation safeguarded by bisection) down to two adjacent doubles: the tolerance is the
+# answer's own rounding, whatever its size.  For p > 1/2 the equation solved is the complement,
+# P(heads) + P(tails) = 1 - p: 1 - p is exact there, and the forward functions give heads and
+# tails to full relative accuracy, while a double P(sides) near 1 moves in steps of 1.1e-16.
 
-_LOG_LO, _LOG_HI = math.log(5e-324), math.log(1.7e308)
-
-
-def _invert(sides_of, p: float, guess: float) -> float:
-    """Root of sides_of(xi) = p in log xi (relative accuracy in xi), bracketed around guess."""
-    from scipy.optimize import brentq
-
-    def g(u):
-        return sides_of(math.exp(u)) - p
-
-    c = math.log(guess) if 0 < guess < math.inf else 0.0
-    lo, hi, step = c - 1.0, c + 1.0, 2.0
-    while g(lo) > 0 and lo > _LOG_LO:
-        lo, step = max(lo - step, _LOG_LO), step * 2
-    step = 2.0
-    while g(hi) < 0 and hi < _LOG_HI:
-        hi, step = min(hi + step, _LOG_HI), step * 2
-    glo, ghi = g(lo), g(hi)
-    if glo > 0 or ghi < 0:
-        raise ValueError(f"p_sides = {p!r} is not reachable for any xi in [5e-324, 1.7e308]")
-    if glo == 0:
-        return math.exp(lo)
-    if ghi == 0:
-        return math.exp(hi)
-    u = brentq(g, lo, hi, xtol=1e-16, rtol=8.9e-16, maxiter=400)
-    return math.exp(u)
+_XI_MIN = 5e-324  #: the smallest positive double
+_XI_MAX = 1.7976931348623157e308  #: the largest double
+_GROW = 32.0  #: the bracketing step (in log xi) grows by this factor until the root is caught
 
 
-def _vectorize(fn, p):
-    p = models.check_p(p, "p_sides")
-    if isinstance(p, float):
-        return fn(p)
-    return np.vectorize(fn, otypes=[float])(p)
+def _bit_mid(lo, hi):
+    """The double halfway between positive doubles ``lo < hi`` in the order of the doubles (their
+    bit patterns are ordered like their values): bisection that ends in at most 64 steps."""
+    a, b = lo.view(np.int64), hi.view(np.int64)
+    return (a + (b - a) // 2).view(np.float64)
+
+
+def _root(resid, x0, step):
+    """Doubles ``xi > 0`` where ``resid(xi, idx)`` (increasing in xi, numpy in and out; ``idx``
+    names the elements evaluated) changes sign, for each element of ``x0`` (the guesses).
+
+    Bracketing first: from ``x0``, steps of ``step`` (natural log of xi) that grow by
+    ``_GROW`` until the sign changes, within [5e-324, 1.8e308].  Then Chandrupatla's method on
+    the bracket (in log xi while its ends differ by more than 2x, then in xi), its smallest step
+    one ulp of xi, with a bisection of the doubles whenever two steps fail to halve the bracket.
+    It stops at two adjacent doubles (or an exact zero) and returns the one with the smaller
+    ``|resid|``.  A root above the largest double raises ``ValueError`` (the caller words it);
+    one below the smallest positive double gives 0 or 5e-324, whichever fits better.
+    """
+    m = x0.size
+    step = np.broadcast_to(np.asarray(step, dtype=float), (m,)).copy()
+    a = np.clip(np.where(np.isfinite(x0) & (x0 > 0), x0, 1.0), _XI_MIN, _XI_MAX)
+    fa = resid(a, np.arange(m))
+    b, fb = np.full(m, np.nan), np.full(m, np.nan)  # the other end of the bracket
+    c, fc = np.full(m, np.nan), np.full(m, np.nan)  # the previous point
+    out = np.where(fa == 0, a, np.nan)
+    hunt = fa != 0
+    with np.errstate(over="ignore", under="ignore"):
+        while hunt.any():  # -------------------------------------------------- bracketing
+            i = np.flatnonzero(hunt)
+            up = fa[i] < 0
+            at_end = np.where(up, a[i] == _XI_MAX, a[i] == _XI_MIN)
+            if at_end.any():
+                j = i[at_end]
+                if up[at_end].any():
+                    raise ValueError(int(j[up[at_end]][0]))
+                f0 = resid(np.zeros(j.size), j)  # the root lies in (0, 5e-324)
+                out[j] = np.where(np.abs(fa[j]) <= np.abs(f0), _XI_MIN, 0.0)
+                hunt[j] = False
+                i, up = i[~at_end], up[~at_end]
+                if not i.size:
+                    break
+            xt = np.clip(a[i] * np.exp(np.where(up, step[i], -step[i])), _XI_MIN, _XI_MAX)
+            ft = resid(xt, i)
+            caught = np.sign(ft) != np.sign(fa[i])
+            k, n = i[caught], i[~caught]
+            b[k], fb[k] = a[k], fa[k]  # the bracket [xt, a]; c keeps the point before a
+            c[n], fc[n] = a[n], fa[n]
+            a[i], fa[i] = xt, ft
+            step[n] *= _GROW
+            hunt[k] = False
+        zero = (fa == 0) & np.isnan(out)
+        out[zero] = a[zero]
+        live = np.isnan(out)
+        slow = np.zeros(m, dtype=np.int8)  # steps in a row that did not halve the bracket
+        while live.any():  # ---------------------------------------------- Chandrupatla
+            i = np.flatnonzero(live)
+            ai, bi, ci, fai, fbi, fci = a[i], b[i], c[i], fa[i], fb[i], fc[i]
+            lo, hi = np.minimum(ai, bi), np.maximum(ai, bi)
+            logv = hi > 2 * lo
+            ya, yb = np.where(logv, np.log(ai), ai), np.where(logv, np.log(bi), bi)
+            yc = np.where(logv, np.log(np.where(ci > 0, ci, 1.0)), ci)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                xi_ = (ya - yb) / (yc - yb)
+                phi = (fai - fbi) / (fci - fbi)
+                iqi = (phi * phi < xi_) & ((1 - phi) ** 2 < 1 - xi_)
+                t = np.where(iqi, fai / (fbi - fai) * fci / (fbi - fci)
+                             + (yc - ya) / (yb - ya) * fai / (fci - fai) * fbi / (fci - fbi),
+                             np.where(np.isnan(ci), fai / (fai - fbi), 0.5))
+                tl = np.where(logv, 2.0**-52, np.spacing(hi)) / np.abs(yb - ya)
+            t = np.clip(np.where(np.isfinite(t), t, 0.5), np.minimum(tl, 0.5),
+                        1 - np.minimum(tl, 0.5))
+            yt = ya + t * (yb - ya)
+            xt = np.where(logv, np.exp(yt), yt)
+            bisect = ~((xt > lo) & (xt < hi)) | (slow[i] >= 2)
+            xt = np.where(bisect, _bit_mid(lo, hi), xt)
+            ft = resid(xt, i)
+            same = np.sign(ft) == np.sign(fai)
+            c[i], fc[i] = np.where(same, ai, bi), np.where(same, fai, fbi)
+            b[i], fb[i] = np.where(same, bi, ai), np.where(same, fbi, fai)
+            a[i], fa[i] = xt, ft
+            width = hi.view(np.int64) - lo.view(np.int64)
+            new = np.abs(b[i].view(np.int64) - xt.view(np.int64))
+            slow[i] = np.where(2 * new > width, slow[i] + 1, 0)
+            done = (ft == 0) | (new <= 1)
+            out[i[done]] = np.where((ft[done] == 0) | (np.abs(ft[done]) <= np.abs(fb[i[done]])),
+                                    xt[done], b[i[done]])
+            live[i[done]] = False
+    return out
+
+
+def _sides_equation(forward, p):
+    """resid(xi, idx) for P(sides) = p: ``P(sides) - p``, or ``(1 - p) - (P(heads) + P(tails))``
+    for p > 1/2 (both increase with xi).  ``forward(xi) -> (heads, sides, tails)`` arrays."""
+    up = p > 0.5
+    q = 1.0 - p  # exact for p > 1/2 (Sterbenz)
+
+    def resid(x, idx):
+        h, s, t = forward(x)
+        return np.where(up[idx], q[idx] - (h + t), s - p[idx])
+
+    return resid
+
+
+def _solve_p(p_sides, solve):
+    """Validate ``p_sides`` (float or array) and map 0 -> 0, 1 -> inf, the rest through
+    ``solve(p)`` (a 1-D array of distinct p in (0, 1)); a float back for a float."""
+    p = models.check_p(p_sides, "p_sides")
+    arr = np.atleast_1d(np.asarray(p, dtype=float))
+    out = np.where(arr == 1.0, math.inf, 0.0)
+    mid = (arr > 0) & (arr < 1)
+    if mid.any():
+        uniq, inv = np.unique(arr[mid], return_inverse=True)
+        try:
+            out[mid] = solve(uniq)[inv.ravel()]
+        except ValueError as exc:
+            if not isinstance(exc.args[0], int):
+                raise
+            bad = float(uniq[exc.args[0]])
+            raise ValueError(f"p_sides = {bad!r} is not reachable for any xi in "
+                             f"[5e-324, 1.8e308]") from None
+    return float(out[0]) if isinstance(p, float) else out.reshape(np.shape(p))
+
+
+def _rows(scalar_fn, array_fn):
+    """forward(xi array) -> (heads, sides, tails) arrays: ``array_fn`` on many xi, the cheaper
+    ``scalar_fn`` on Python floats for one (a root finder's usual case)."""
+    def forward(x):
+        if x.size == 1:
+            return tuple(np.array([v]) for v in scalar_fn(float(x[0])))
+        return tuple(array_fn(x))
+    return forward
 
 
 def marginal_inverse(p_sides, density: Density | None = None, *, order: int = DEFAULT_ORDER):
-    """The aspect ratio whose psi-averaged chance of a side is ``p_sides``.
+    """The aspect ratio whose psi-averaged chance of a side is ``p_sides`` (a float or an array).
 
-    Root finding (Brent) in ``log xi``, so the tolerance is relative in ``xi`` (about 1e-15),
-    not scipy's absolute default that would be meaningless for a thin coin.  ``p = 0`` gives 0
-    and ``p = 1`` gives ``inf`` (the chance tends to 1 only as ``xi`` grows without bound).
+    Root finding (:func:`_root`) down to adjacent doubles, on ``P(sides) = p`` for p <= 1/2 and
+    on ``P(heads) + P(tails) = 1 - p`` above; an array is solved in one vectorized pass.
+    ``p = 0`` gives 0 and ``p = 1`` gives ``inf`` (the chance tends to 1 only as ``xi`` grows
+    without bound).  A normal too narrow for any quadrature is Table I at its mean, and so is
+    its inverse (:func:`conditional_inverse`, or :func:`coincli.models.dynamic_inverse` at a mean
+    of exactly ``HALF_PI``).  Accuracy: docs/accuracy.md.
     """
     density = _check_density(density)
     n = _check_order(order)
+    psi = _delta(density)
+    if psi is not None:
+        if psi == HALF_PI:
+            return models.dynamic_inverse(p_sides)
+        return conditional_inverse(p_sides, psi)
     breaks = _psi_breaks(density).tolist()
+    forward = _rows(lambda x: _marginal_scalar(x, density, n, breaks),
+                    lambda x: _marginal_flat(x, density, n))
 
-    def sides_of(x):
-        return _marginal_scalar(x, density, n, breaks)[1]
+    def solve(p):
+        guess, step = models.dynamic_inverse(p), 0.25
+        if isinstance(density, Normal) and density.sd < 0.1 and 0 < density.mean < math.pi:
+            guess, step = _table_i_guess(p, min(density.mean, math.pi - density.mean)), 0.01
+        return _root(_sides_equation(forward, p), guess, step)
 
-    def one(p):
-        if p == 0.0:
-            return 0.0
-        if p == 1.0:
-            return math.inf
-        return _invert(sides_of, p, models.dynamic_inverse(p))
-
-    return _vectorize(one, p_sides)
+    return _solve_p(p_sides, solve)
 
 
 def conditional_inverse(p_sides, psi):
-    """The aspect ratio whose chance of a side at the fixed angle ``psi`` (radians) is ``p_sides``.
+    """The aspect ratio whose chance of a side at the fixed angle ``psi`` (radians) is ``p_sides``
+    (a float or an array).
 
     At ``psi = 0`` or ``pi`` the coin never precesses and always lands heads: only
     ``p_sides = 0`` is reachable there.  Otherwise every ``p`` in [0, 1] is (``p = 1`` at
-    ``xi = inf``).
+    ``xi = inf``).  Table I inverted in closed form (:func:`_table_i_guess`) gives the start;
+    root finding on the forward function (:func:`_root`, on the complement for p > 1/2) then
+    takes the answer to adjacent doubles.  Accuracy: docs/accuracy.md.
     """
     psi = models.check_psi(psi)
     if not isinstance(psi, float):
         raise ValueError("psi must be a single angle for conditional_inverse")
+    forward = _rows(lambda x: models.conditional(x, psi), lambda x: models.conditional(x, psi))
 
-    def one(p):
-        if p == 0.0:
-            return 0.0
+    def solve(p):
         if math.sin(psi) == 0.0:
             raise ValueError(
                 "at psi = 0 or 180 degrees the coin never precesses and always lands heads; "
                 "only p_sides = 0 is reachable"
             )
-        if p == 1.0:
-            return math.inf
-        return _invert(lambda x: models.conditional(x, psi).sides, p, models.dynamic_inverse(p))
+        return _root(_sides_equation(forward, p), _table_i_guess(p, psi), 2.0**-40)
 
-    return _vectorize(one, p_sides)
+    return _solve_p(p_sides, solve)
+
+
+def _table_i_guess(p, psi):
+    r"""Table I inverted in closed form: the xi with ``P(sides | psi) = p`` (numpy, 0 < p < 1).
+
+    With ``phi = pi p/2``, ``e = pi/2 - psi`` (psi folded onto [0, pi/2]) and ``c = cos theta0``:
+
+    - heads or sides (``psi < pi/2 - theta0/2``): ``cos(pi P(heads)) = (c - cos^2 psi)/sin^2 psi``
+      gives ``1 - c = 2 sin^2 psi cos^2 phi``;
+    - all three (``cos phi > tan e``, which needs psi > pi/4): ``cos(theta2 - theta1) = cos 2 phi``
+      squared out gives ``c = cos^2 e sin phi sqrt(1 - r^2)`` with ``r = tan^2 e/cos phi``, and
+      ``1 - c = (1 - sin phi) + sin phi (sin^2 e + cos^2 e r^2/(1 + sqrt(1 - r^2)))``, a sum
+      of positive terms;
+
+    then ``xi = c/sqrt((1 - c)(1 + c))``.  Good to about 1e-13 where nothing cancels, and the start
+    of the root finding everywhere (it is not returned as the answer).
+    """
+    psi_m, e = models._fold_psi(models.M, psi)
+    q = 1.0 - p
+    up = p > 0.5
+    with np.errstate(all="ignore"):
+        sphi = np.where(up, np.cos(HALF_PI * q), np.sin(HALF_PI * p))
+        cphi = np.where(up, np.sin(HALF_PI * q), np.cos(HALF_PI * p))
+        se, ce = math.sin(e), math.cos(e)
+        te = se / ce
+        # region C
+        r = te * te / cphi
+        root = np.sqrt((1 - r) * (1 + r))
+        c_c = ce * ce * sphi * root
+        omc_c = 2 * np.sin(0.5 * HALF_PI * q) ** 2 + sphi * (se * se + ce * ce * r * r / (1 + root))
+        # region B: sqrt(1 - c) = sqrt 2 sin psi cos phi, never squared (sin psi may be 1e-300)
+        rt_b = math.sqrt(2.0) * math.sin(psi_m) * cphi
+        omc_b = rt_b * rt_b
+        c_b = np.where(omc_b < 0.5, 1 - omc_b, -math.cos(2 * e) + 2 * ce * ce * sphi * sphi)
+        three = (psi_m > math.pi / 4) & (cphi > te)
+        c = np.where(three, c_c, c_b)
+        omc = np.where(three, omc_c, omc_b)
+        rt = np.where(three, np.sqrt(omc_c), rt_b)
+        xi = c / (rt * np.sqrt(2 - omc))
+    return np.clip(np.where(np.isnan(xi), 1.0, xi), _XI_MIN, _XI_MAX)

@@ -160,6 +160,7 @@ def stack_xis(coin: Coin, counts):
 
 
 MAX_STACK = 2**40  #: the tallest stack :func:`nearest_stack` considers under a searched model
+MAX_STACK_WORDS = "2^40 (about 1.1 x 10^12)"  #: :data:`MAX_STACK` as messages say it
 
 
 class NoStackError(ValueError):
@@ -204,7 +205,7 @@ def nearest_stack(coin: Coin, p_sides: float, sides_of=None) -> StackChoice:
         if sides(hi) < p_sides:
             # the model never gets there (psi = 0 never lands on a side), or only past the cap
             raise NoStackError(
-                f"no stack of up to {MAX_STACK} coins reaches P(sides) = {p_sides:.6g} under "
+                f"no stack of up to {MAX_STACK_WORDS} coins reaches P(sides) = {p_sides:.6g} under "
                 f"this model (it gives {sides(hi):.6g} there)"
             )
         while hi - lo > 1:

@@ -7,12 +7,14 @@ Each density is normalized exactly on ``[0, pi]`` and evaluates on numpy arrays 
 - :class:`Normal`: a normal of any mean and standard deviation truncated to ``[0, pi]``; the
   paper's "normal" ``0.58 exp(-(psi - pi/2)^2)`` is ``Normal(pi/2, 1/sqrt 2)`` (its 0.58 is the
   normalizing constant ``1/(sqrt(pi) erf(pi/2)) = 0.5795...`` rounded);
-- :class:`Table`: points ``(psi, weight)`` joined linearly and renormalized.
+- :class:`Table`: points ``(psi, weight)`` joined linearly and renormalized; ``uniform:LOW:HIGH``
+  is the table of two equal weights at LOW and HIGH.
 
 ``features()`` tells the quadrature where a density changes quickly (a narrow normal) or has
 kinks (a table), so that it can place breakpoints there.  :func:`parse_density` reads the
-command-line syntax (``uniform``, ``cosine``, ``normal``, ``normal:MEAN:SD`` in degrees,
-``table:FILE``).
+command-line syntax (``uniform``, ``uniform:LOW:HIGH``, ``cosine``, ``normal``,
+``normal:MEAN:SD`` in degrees, ``table:FILE``): the one parser of ``--psi-dist`` for every
+command.
 """
 
 from __future__ import annotations
@@ -24,6 +26,10 @@ __all__ = ["Density", "Uniform", "Cosine", "Normal", "Table", "parse_density", "
 
 MAX_TABLE_BYTES = 10_000_000
 MAX_TABLE_POINTS = 100_000
+#: the least area (radians times the largest weight) a table may enclose: a density of at most
+#: 2**1000 per radian, well inside the doubles (the quadrature and the samplers then need no
+#: scaling)
+MIN_TABLE_SPAN = 2.0**-1000
 
 
 class Density:
@@ -44,7 +50,13 @@ class Density:
 
     @property
     def spec(self) -> str:
+        """The text that :func:`parse_density` reads back to this density (machine output)."""
         return self.name
+
+    @property
+    def title(self) -> str:
+        """A human name for tables and legends (the paper's normal is ``normal (paper)``)."""
+        return self.spec
 
 
 class Uniform(Density):
@@ -79,8 +91,11 @@ class _NormalParams:
 class Normal(Density):
     """A normal density of ``mean`` and ``sd`` (radians) truncated to [0, pi], normalized exactly.
 
-    The normalizer ``Z = Phi((pi - mean)/sd) - Phi(-mean/sd)`` is formed from ``erfc`` on the
-    side where it does not cancel.
+    Any finite mean and any sd > 0 (subnormal to 1e308): the normalizer is formed relative to
+    the density's value at :attr:`peak`, the point of [0, pi] nearest the mean, so that nothing
+    cancels, underflows or overflows on the way (:func:`_relative_mass`).  Where the density
+    itself exceeds the doubles (a peak 1/sd above 1.8e308), :meth:`pdf` gives inf there; the
+    averages never need its scale (they divide by their own mass).
     """
 
     def __init__(self, mean: float = math.pi / 2, sd: float = 1 / math.sqrt(2)):
@@ -90,44 +105,121 @@ class Normal(Density):
         if not sd > 0:
             raise ValueError(f"normal sd must be > 0, got {sd!r}")
         self.mean, self.sd = float(mean), float(sd)
-        a, b = -self.mean / self.sd, (math.pi - self.mean) / self.sd
-        r2 = math.sqrt(2)
-        if a >= 0:
-            z = 0.5 * (math.erfc(a / r2) - math.erfc(b / r2))
-        elif b <= 0:
-            z = 0.5 * (math.erfc(-b / r2) - math.erfc(-a / r2))
-        else:
-            z = 1 - 0.5 * (math.erfc(b / r2) + math.erfc(-a / r2))
-        if not z > 0:
-            raise ValueError(
-                f"normal:{math.degrees(mean):g}:{math.degrees(sd):g} puts no measurable mass "
-                "on [0, 180] degrees; move the mean into the range or widen it"
-            )
-        # a sum of logs: z * sd underflows for a subnormal sd
-        self._log_norm = -(math.log(z) + math.log(self.sd) + 0.5 * math.log(2 * math.pi))
+        #: the point of [0, pi] nearest the mean: the density's largest value is there
+        self.peak = min(max(self.mean, 0.0), math.pi)
+        # pdf(peak) = 1/(sd * rel) with rel = int_0^pi exp(-((x - m)^2 - (peak - m)^2)/(2 sd^2)) dx/sd
+        rel = _relative_mass(self.mean, self.sd)
+        self._log_peak = -(math.log(self.sd) + math.log(rel)) if rel > 0 else math.inf
 
     name = "normal"
 
     @property
+    def is_paper(self) -> bool:
+        """The paper's normal, 0.58 exp(-(psi - pi/2)^2): mean pi/2, sd 1/sqrt 2."""
+        return self.mean == math.pi / 2 and self.sd == 1 / math.sqrt(2)
+
+    @property
     def spec(self) -> str:
+        if self.is_paper:
+            return "normal"
         return f"normal:{math.degrees(self.mean):.10g}:{math.degrees(self.sd):.10g}"
+
+    @property
+    def title(self) -> str:
+        return "normal (paper)" if self.is_paper else self.spec
+
+    @property
+    def width(self) -> float:
+        """The length over which the density falls by a factor e near its peak: ``sd`` for a
+        mean in [0, pi], ``sd^2/d`` (an exponential's) for a mean ``d`` beyond an end, if
+        shorter."""
+        d = max(-self.mean, self.mean - math.pi, 0.0)
+        return self.sd * min(1.0, self.sd / d) if d > 0 else self.sd
+
+    def log_shape(self, psi):
+        """``log(pdf(psi)/pdf(peak))`` (numpy): ``-((psi - m)^2 - (peak - m)^2)/(2 sd^2)``,
+        factored as ``-(psi - peak)(psi + peak - 2m)/(2 sd^2)`` in units of sd (never sd^2, which
+        underflows); 0 at the peak, -inf where it underflows."""
+        import numpy as np
+
+        psi = np.asarray(psi, dtype=float)
+        with np.errstate(over="ignore", invalid="ignore"):
+            x = (psi - self.peak) / self.sd
+            y = (psi - self.mean) / self.sd + (self.peak - self.mean) / self.sd
+            out = -0.5 * (x * y)
+        return np.where(x == 0, 0.0, np.where(np.isnan(out), -np.inf, out))
 
     def pdf(self, psi):
         import numpy as np
 
-        x = (np.asarray(psi, dtype=float) - self.mean) / self.sd
-        return np.exp(self._log_norm - 0.5 * x * x)
+        with np.errstate(over="ignore"):
+            return np.exp(min(self._log_peak, 1e300) + self.log_shape(psi))
 
     def features(self):
         return [(self.mean, self.sd)] if self.sd < 0.5 else []
 
 
+def _relative_mass(mean: float, sd: float) -> float:
+    """``int_0^pi exp(-((x - mean)^2 - (peak - mean)^2)/(2 sd^2)) dx / sd``, the mass of the
+    normal on [0, pi] in units of sd relative to its value at ``peak`` (the point of [0, pi]
+    nearest the mean); positive unless the density is narrower than the doubles (then 0).
+
+    Mean inside: ``sqrt(pi/2) (erf(a/sqrt 2) + erf(b/sqrt 2))`` with ``a, b`` the distances to
+    the ends in sd, a sum of positive terms.  Mean a distance ``a`` sd beyond an end, over
+    ``L = pi/sd``: ``int_0^L exp(-a y - y^2/2) dy``, by Gauss-Legendre where the integrand
+    changes by less than e^4 over the range (a wide, flat density: erfc would cancel), else
+    ``sqrt(pi/2) (erfcx(a/sqrt 2) - exp(-L (a + L/2)) erfcx((a + L)/sqrt 2))``, whose second term is
+    below e^-4 of the first.
+    """
+    r2 = math.sqrt(2.0)
+    big = 1.7976931348623157e308
+    lo = max(-mean, mean - math.pi)  # > 0: the mean lies beyond an end, by lo
+    if lo <= 0:
+        a, b = min(mean / sd, big), min((math.pi - mean) / sd, big)
+        return math.sqrt(math.pi / 2) * (math.erf(a / r2) + math.erf(b / r2))
+    a, span = min(lo / sd, big), min(math.pi / sd, big)
+    if span <= 4.0 and a * span <= 4.0:
+        from coincli.averages import _gauss_legendre
+
+        x, w = _gauss_legendre(24)
+        return float(span * sum(wk * math.exp(-a * (span * xk) - 0.5 * (span * xk) ** 2)
+                                for xk, wk in zip(x, w, strict=True)))
+    far = min(a + span, big)
+    return math.sqrt(math.pi / 2) * (_erfcx(a / r2) - math.exp(-span * (a + 0.5 * span))
+                                     * _erfcx(far / r2))
+
+
+def _erfcx(x: float) -> float:
+    """``exp(x^2) erfc(x)`` for x >= 0 without overflow: ``x^2`` split exactly (Dekker) below 26,
+    the continued fraction ``1/(sqrt(pi) (x + 1/(2x + 2/(x + 3/(2x + ...)))))`` above."""
+    if x < 26.0:
+        split = 134217729.0 * x  # x^2 = hi + lo exactly
+        xh = split - (split - x)
+        xl = x - xh
+        hi = x * x
+        lo = ((xh * xh - hi) + 2 * xh * xl) + xl * xl
+        return math.exp(hi) * math.erfc(x) * (1.0 + lo)
+    if x == math.inf:
+        return 0.0
+    f = x  # Lentz-free: 60 terms of the continued fraction are ample for x >= 26
+    for k in range(60, 0, -1):
+        f = x + (k / 2) / f
+    return 1.0 / (math.sqrt(math.pi) * f)
+
+
 class Table(Density):
-    """Points ``(psi_k, w_k)`` (radians, weights >= 0) joined linearly; zero outside them."""
+    """Points ``(psi_k, w_k)`` (radians, weights >= 0) joined linearly; zero outside them.
+
+    The weights may be of any size a double holds (1e-320 to 1e308): they are divided by the
+    largest before the area is summed, so nothing overflows.  Refused, with what is allowed:
+    fewer than two points, psi outside [0, pi] or not strictly increasing, a negative, NaN or
+    infinite weight, all weights zero, and weight spread over less than ``MIN_TABLE_SPAN``
+    radians (its density, 1/span, would leave the doubles; such a table is a fixed angle).
+    """
 
     name = "table"
 
-    def __init__(self, psi, weight, label: str = "table"):
+    def __init__(self, psi, weight, label: str = "table", spec: str | None = None):
         import numpy as np
 
         psi = np.asarray(psi, dtype=float)
@@ -139,18 +231,31 @@ class Table(Density):
         if np.any(psi < 0) or np.any(psi > math.pi + 1e-12):
             raise ValueError("table psi values must lie in [0, 180] degrees")
         if np.any(np.diff(psi) <= 0):
-            raise ValueError("table psi values must be strictly increasing")
+            k = int(np.flatnonzero(np.diff(psi) <= 0)[0])
+            raise ValueError(f"table psi values must be strictly increasing; point {k + 2} "
+                             f"({math.degrees(psi[k + 1]):.17g} deg) does not exceed point "
+                             f"{k + 1} ({math.degrees(psi[k]):.17g} deg)")
         if np.any(w < 0):
             raise ValueError("table weights must be >= 0")
-        area = float(np.sum(np.diff(psi) * (w[1:] + w[:-1]) / 2))  # exact for the interpolant
-        if not area > 0:
+        top = float(w.max())
+        if not top > 0:
             raise ValueError("table weights must not all be zero")
-        self.psi, self.w = np.minimum(psi, math.pi), w / area
+        rel = w / top  # in [0, 1]: the area below cannot overflow
+        area = float(np.sum(np.diff(psi) * (rel[1:] + rel[:-1]) / 2))  # exact for the interpolant
+        if not area >= MIN_TABLE_SPAN:
+            live = np.flatnonzero(rel > 0)
+            lo, hi = psi[max(live[0] - 1, 0)], psi[min(live[-1] + 1, len(psi) - 1)]
+            raise ValueError(
+                f"table weight lies within {math.degrees(hi - lo):.3g} deg (from "
+                f"{math.degrees(lo):.6g} to {math.degrees(hi):.6g}): a density must spread over "
+                f"at least {math.degrees(MIN_TABLE_SPAN):.0e} deg; for a fixed angle use --psi")
+        self.psi, self.w = np.minimum(psi, math.pi), rel / area
         self.label = label
+        self._spec = spec
 
     @property
     def spec(self) -> str:
-        return f"table:{self.label}"
+        return self._spec if self._spec is not None else f"table:{self.label}"
 
     def pdf(self, psi):
         import numpy as np
@@ -180,7 +285,20 @@ class Table(Density):
                     continue
                 raise ValueError(f"{where} line {n}: not two numbers: "
                                  f"{_shown(raw.strip())}") from None
-            pts.append((math.radians(a) if degrees else a, b))
+            x = math.radians(a) if degrees else a
+            top = 180.0 if degrees else math.pi
+            if not 0.0 <= a <= top:
+                raise ValueError(f"{where} line {n}: psi {_shown(parts[0])} is outside [0, "
+                                 f"{top:g}]{' degrees' if degrees else ' radians'}")
+            if not b >= 0.0 or b == math.inf:
+                raise ValueError(f"{where} line {n}: weight {_shown(parts[1])} is not a finite "
+                                 "number >= 0")
+            if pts and not x > pts[-1][0]:
+                raise ValueError(f"{where} line {n}: psi {_shown(parts[0])} does not exceed the "
+                                 f"previous point's {_shown(prev)}; psi values must be strictly "
+                                 "increasing" + (" (as doubles, in radians)" if a > last else ""))
+            pts.append((x, b))
+            prev, last = parts[0], a
             if len(pts) > MAX_TABLE_POINTS:
                 raise ValueError(f"{where}: more than {MAX_TABLE_POINTS} points")
         if not pts:
@@ -192,14 +310,20 @@ class Table(Density):
 PAPER_DENSITIES = {"uniform": Uniform, "cosine": Cosine, "normal": Normal}
 
 
+DENSITY_FORMS = ("uniform, uniform:LOW:HIGH, cosine, normal (the paper's), normal:MEAN:SD "
+                 "(degrees) or table:FILE")
+
+
 def parse_density(text: str) -> Density:
-    """``uniform``, ``cosine``, ``normal`` (the paper's), ``normal:MEAN:SD`` (degrees) or
-    ``table:FILE`` (lines ``psi_degrees,weight``)."""
+    """``uniform``, ``uniform:LOW:HIGH``, ``cosine``, ``normal`` (the paper's),
+    ``normal:MEAN:SD`` (degrees) or ``table:FILE`` (lines ``psi_degrees,weight``)."""
     s = str(text).strip()
     kind, _, rest = s.partition(":")
     kind = kind.lower()
     if kind in ("uniform", "cosine") and not rest:
         return PAPER_DENSITIES[kind]()
+    if kind == "uniform":
+        return _uniform_on(rest, text)
     if kind == "normal":
         if not rest:
             return Normal()
@@ -215,10 +339,32 @@ def parse_density(text: str) -> Density:
         return Normal(math.radians(mean), math.radians(sd))
     if kind == "table" and rest:
         return Table.from_text(_read_table_file(rest), label=rest)
-    raise ValueError(
-        "psi density must be uniform, cosine, normal, normal:MEAN:SD (degrees) or table:FILE; "
-        f"got {text!r}"
-    )
+    raise ValueError(f"psi density must be {DENSITY_FORMS}; got {_shown(str(text))}")
+
+
+def _uniform_on(rest: str, text: str) -> Density:
+    """``uniform:LOW:HIGH`` (degrees, 0 <= LOW < HIGH <= 180): the two-point table of equal
+    weights, sampled and integrated exactly; ``uniform:0:180`` is :class:`Uniform` itself."""
+    from coincli.parse import parse_number
+
+    parts = rest.split(":")
+    rule = "uniform:LOW:HIGH in degrees with 0 <= LOW < HIGH <= 180"
+    if len(parts) != 2:
+        raise ValueError(f"psi density must be {rule}, got {_shown(str(text))}")
+    try:
+        lo, hi = (parse_number(p, "uniform bound (degrees)") for p in parts)
+    except ValueError:
+        raise ValueError(f"psi density must be {rule}, got {_shown(str(text))}") from None
+    if lo == hi and 0 <= lo <= 180:
+        raise ValueError(f"psi density {_shown(str(text))} is a single angle; give it as "
+                         f"--psi {parts[0].strip()}, or make LOW < HIGH")
+    if not 0 <= lo < hi <= 180:
+        raise ValueError(f"psi density must be {rule}, got {_shown(str(text))}")
+    if lo == 0 and hi == 180:
+        return Uniform()
+    rad = [math.pi if v == 180 else math.radians(v) for v in (lo, hi)]
+    return Table(rad, [1.0, 1.0], label=f"uniform {lo:g} to {hi:g} deg",
+                 spec=f"uniform:{lo + 0.0:.10g}:{hi:.10g}")
 
 
 def _shown(text: str, limit: int = 60) -> str:
@@ -238,27 +384,26 @@ def _shown(text: str, limit: int = 60) -> str:
 
 def _read_table_file(path: str) -> str:
     """The text of a psi table file, read in chunks and never more than ``MAX_TABLE_BYTES + 1``
-    bytes (a device such as /dev/zero, or a pipe, has no size to check first); a NUL byte stops
-    it at once.  UTF-8, a leading byte-order mark dropped."""
+    bytes (a device such as /dev/zero has no size to check first); a NUL byte stops it at once.
+    Only a regular file is read (:func:`coincli._files.read_regular`: a FIFO or a device is
+    refused without blocking).  UTF-8, a leading byte-order mark dropped."""
+    from coincli._files import FileKindError, read_regular
+
     name = _shown(path)
-    parts, total = [], 0
     try:
-        with open(path, "rb") as fh:
-            while total <= MAX_TABLE_BYTES:
-                chunk = fh.read(min(1 << 20, MAX_TABLE_BYTES + 1 - total))
-                if not chunk:
-                    break
-                if b"\0" in chunk:
-                    raise ValueError(f"psi table {name} contains a NUL byte; expected a text file "
-                                     "of psi,weight lines")
-                parts.append(chunk)
-                total += len(chunk)
+        data, why = read_regular(path, MAX_TABLE_BYTES)
+    except FileKindError as exc:
+        raise ValueError(f"psi table {name} is {exc.kind}, not a regular file; expected a "
+                         "text file of psi,weight lines") from None
     except OSError as exc:
         raise ValueError(f"cannot read psi table {name}: {exc.strerror or exc}") from None
-    if total > MAX_TABLE_BYTES:
+    if why == "nul":
+        raise ValueError(f"psi table {name} contains a NUL byte; expected a text file "
+                         "of psi,weight lines")
+    if why == "size":
         raise ValueError(f"psi table {name} is larger than {MAX_TABLE_BYTES} bytes; a table is at "
                          f"most {MAX_TABLE_BYTES // 10**6} MB and {MAX_TABLE_POINTS} points")
     try:
-        return b"".join(parts).decode("utf-8-sig")
+        return data.decode("utf-8")
     except UnicodeDecodeError:
         raise ValueError(f"psi table {name} is not UTF-8 text") from None

@@ -10,7 +10,9 @@ r"""Three ways to average over psi (eq. 15), each with an error estimate, and a 
   ``alpha`` with the vertical, ``cos alpha = cos^2 psi + sin^2 psi cos phase``: heads when
   ``cos alpha > cos theta0``, tails when ``cos alpha < -cos theta0``, sides otherwise.  Reports
   the standard error and a 95% (Wilson) interval; with a tolerance it stops as soon as every
-  interval's half-width is within it.
+  interval's half-width is within it, checked after whole batches of fixed sizes, or at a
+  budget of tosses: the stopping point is a function of the inputs and the seed alone (never
+  of the clock), so a seed always gives the same numbers.
 - :func:`quasi_monte_carlo`: the same tosses from scrambled Sobol points
   (``scipy.stats.qmc``), the error from independent scrambles (a t interval over them).
   ``phase="table1"`` integrates the landing phase exactly instead (Table I), a 1-D rule in psi.
@@ -52,7 +54,7 @@ __all__ = [
 ]
 
 METHODS = ("auto", "quad", "mc", "qmc")
-MC_MAX_SAMPLES = 1 << 30  #: default cap on tosses for a tolerance (about a minute)
+MC_MAX_SAMPLES = 1 << 28  #: default cap on tosses (or points) for a tolerance (seconds)
 _Z95 = 1.959963984540054  # the 97.5% point of the standard normal
 _MIN_TOL, _MAX_TOL = 1e-16, 0.5
 
@@ -374,8 +376,7 @@ def _n_arg(n, name="n"):
 
 def monte_carlo(xi, density: Density | None = None, *, tol: float | None = None,
                 n: int | None = None, seed=None, max_samples: int = MC_MAX_SAMPLES,
-                max_seconds: float | None = None, batch: int = 1 << 20,
-                progress=None) -> Estimate:
+                batch: int = 1 << 20, progress=None) -> Estimate:
     """Simulated tosses (Problem 2 of the paper): chances with standard errors and 95% intervals.
 
     Parameters
@@ -385,8 +386,8 @@ def monte_carlo(xi, density: Density | None = None, *, tol: float | None = None,
     density : Density
         The distribution of psi (default: the paper's normal).
     tol : float, optional
-        Stop once every 95% interval's half-width is <= tol (or at ``max_samples`` tosses or
-        after ``max_seconds`` of CPU time, with ``met`` False).
+        Stop once every 95% interval's half-width is <= tol, checked after batches of 4096,
+        8192, ... up to ``batch`` tosses; or at ``max_samples`` tosses, with ``met`` False.
     n : int, optional
         Exactly this many tosses (no early stop).  Default without ``tol``: 2^20.
     seed : int or None
@@ -401,7 +402,6 @@ def monte_carlo(xi, density: Density | None = None, *, tol: float | None = None,
     seed = _seed_arg(seed)
     target = n if n is not None else (max_samples if tol is not None else 1 << 20)
     rng = np.random.default_rng(seed)
-    clock = _Clock(max_seconds)
     heads = np.zeros(flat.size, dtype=np.int64)
     tails = np.zeros(flat.size, dtype=np.int64)
     done = 0
@@ -426,8 +426,6 @@ def monte_carlo(xi, density: Density | None = None, *, tol: float | None = None,
             total = int(min(target, max(done * 2, done * (half / tol) ** 2)))
         if progress is not None:
             progress(done, total)
-        if clock.out():
-            break
         size = min(size * 2, batch)
     k = np.stack([heads, done - heads - tails, tails]).astype(float)
     p = k / done
@@ -444,14 +442,15 @@ def monte_carlo(xi, density: Density | None = None, *, tol: float | None = None,
 def quasi_monte_carlo(xi, density: Density | None = None, *, tol: float | None = None,
                       n: int | None = None, seed=None, scrambles: int = 16,
                       phase: str = "toss", max_samples: int = MC_MAX_SAMPLES,
-                      max_seconds: float | None = None, progress=None) -> Estimate:
+                      progress=None) -> Estimate:
     """Scrambled Sobol points; the error from ``scrambles`` independent scramblings.
 
     ``phase="toss"``: 2-D points (psi, landing phase), the tosses of :func:`monte_carlo`.
     ``phase="table1"``: 1-D points in psi, the landing phase integrated exactly (Table I).
     ``n`` (total points, over all scrambles) is rounded up to ``scrambles`` times a power of
-    two; with ``tol`` the points double until the 95% t interval over the scrambles has a
-    half-width <= tol (or ``max_samples``).  Default: 2^20 points.
+    two; with ``tol`` the points double (from 64 per scramble) until the 95% t interval over
+    the scrambles has a half-width <= tol, or up to ``scrambles`` times the largest power of
+    two within ``max_samples``.  Default: 2^20 points.
     """
     from scipy.stats import qmc
     from scipy.stats import t as student_t
@@ -471,11 +470,14 @@ def quasi_monte_carlo(xi, density: Density | None = None, *, tol: float | None =
     engines = [qmc.Sobol(d=dim, scramble=True, seed=np.random.default_rng(s)) for s in seeds]
     sums = np.zeros((r, 3, flat.size))
     per = 0  # points per scramble so far
-    goal = (n if n is not None else (max_samples if tol is not None else 1 << 20))
-    cap = 1 << max(0, math.ceil(math.log2(max(goal / r, 1))))
+    if n is not None:
+        cap = 1 << max(0, math.ceil(math.log2(max(n / r, 1))))
+    elif tol is not None:  # a budget: never more than max_samples points
+        cap = 1 << max(0, (max_samples // r).bit_length() - 1)
+    else:
+        cap = 1 << max(0, math.ceil(math.log2(max((1 << 20) / r, 1))))
     step = cap if tol is None or n is not None else min(cap, 1 << 6)
     tq = float(student_t.ppf(0.975, r - 1))
-    clock = _Clock(max_seconds)
     met = tol is None
     while per < cap:
         m = min(step, cap - per)
@@ -499,8 +501,6 @@ def quasi_monte_carlo(xi, density: Density | None = None, *, tol: float | None =
                 break
         if progress is not None:
             progress(per * r, cap * r)
-        if clock.out():
-            break
         step = per  # double the points: the first 2^k of a scrambled Sobol sequence are a net
     est = sums / per
     mean = est.mean(axis=0)
@@ -517,22 +517,6 @@ def quasi_monte_carlo(xi, density: Density | None = None, *, tol: float | None =
                     f"quasi-Monte Carlo, {r} scrambles x {per} Sobol {what} (seed {seed})")
 
 
-class _Clock:
-    """CPU seconds since creation against an optional limit."""
-
-    def __init__(self, limit):
-        import time
-
-        if limit is not None and not (isinstance(limit, (int, float)) and limit > 0):
-            raise ValueError(f"max_seconds must be a number > 0, got {limit!r}")
-        self._time = time.process_time
-        self.start = self._time()
-        self.limit = limit
-
-    def out(self) -> bool:
-        return self.limit is not None and self._time() - self.start > self.limit
-
-
 def _table1_sums(flat, psi):
     """Sums over psi samples of Table I's chances, for each xi: (3, len(flat))."""
     out = np.zeros((3, flat.size))
@@ -547,8 +531,7 @@ def _table1_sums(flat, psi):
 
 def estimate(xi, density: Density | None = None, *, tol: float | None = None,
              method: str = "auto", seed=None, n: int | None = None,
-             max_samples: int = MC_MAX_SAMPLES, max_seconds: float | None = None,
-             progress=None) -> Estimate:
+             max_samples: int = MC_MAX_SAMPLES, progress=None) -> Estimate:
     """The psi-averaged chances by ``method`` (auto, quad, mc, qmc) to within ``tol``.
 
     ``auto`` is the cheapest method that meets ``tol``: quadrature with the fewest nodes (the
@@ -566,6 +549,6 @@ def estimate(xi, density: Density | None = None, *, tol: float | None = None,
         return quad(xi, density, tol=tol)
     if m == "mc":
         return monte_carlo(xi, density, tol=tol, n=n, seed=seed, max_samples=max_samples,
-                           max_seconds=max_seconds, progress=progress)
+                           progress=progress)
     return quasi_monte_carlo(xi, density, tol=tol, n=n, seed=seed, max_samples=max_samples,
-                             max_seconds=max_seconds, progress=progress)
+                             progress=progress)

@@ -62,7 +62,9 @@ class ModelSpec(NamedTuple):
     def psi_density(cls, density, label: str | None = None) -> ModelSpec:
         """psi averaged over a :class:`coincli.densities.Density` (eq. 15)."""
         if label is None:
-            label = f"psi ~ {density.spec} (deg; averaged, eq. 15)"
+            unit = " deg" if ":" in density.spec and not density.spec.startswith("table:") \
+                else ""
+            label = f"psi ~ {density.title}{unit}, averaged (eq. 15)"
         return cls("dist", label, density=density)
 
     def with_order(self, order: int) -> ModelSpec:
@@ -80,6 +82,11 @@ class ModelSpec(NamedTuple):
         if self.key == "dist":
             return self.density.spec
         return self.key
+
+    @property
+    def title(self) -> str:
+        """:attr:`name` for people: the paper's normal is ``normal (paper)``."""
+        return self.density.title if self.key == "dist" else self.name
 
     @property
     def gid(self) -> str:

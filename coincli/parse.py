@@ -16,12 +16,20 @@ __all__ = [
     "parse_angle_deg",
     "parse_values",
     "parse_count",
+    "parse_ratio",
+    "parse_seed",
     "MAX_ROWS",
     "MAX_COUNT",
+    "parse_speed_ms",
+    "parse_spin_rads",
+    "split_unit",
+    "SPEED_UNITS",
+    "SPIN_UNITS",
 ]
 
 MAX_ROWS = 1_000_000  #: the most rows a range or list may expand to
 MAX_COUNT = 2**53  #: the largest count (of coins) that a double still holds exactly
+MAX_SEED_DIGITS = 40  #: the longest seed, in decimal digits
 
 _NUM = re.compile(r"^[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?$")
 _INT = re.compile(r"^[+-]?\d+$")
@@ -103,6 +111,52 @@ def _plain(s: str, what: str, shown: str | None = None):
     return Fraction(s)
 
 
+def parse_ratio(text: str, what: str = "xi", *, allow_inf: bool = False) -> float:
+    """A ratio >= 0: a decimal (``0.577``, ``1e-3``) or a fraction (``17/30``, ``1/3.5``).
+
+    A fraction is exact before its one rounding to a float (``17/30`` is the double nearest
+    17/30, as ``parse_probability`` gives ``1/3``); ``inf`` only if allowed.  No NaN, no
+    negative value.
+    """
+    s = str(text).strip()
+    allowed = f"a number >= 0 like 0.577 or 17/30{' (or inf)' if allow_inf else ''}"
+    if allow_inf and s.lower() in ("inf", "+inf", "infinity"):
+        return math.inf
+    num, slash, den = s.partition("/")
+    try:
+        if not slash:
+            if not _NUM.match(s):
+                raise ValueError
+            v = float(s) + 0.0
+        elif num.strip().isdigit() and den.strip().isdigit() and s.isascii():
+            if int(den) == 0:
+                raise ZeroDivisionError
+            v = int(num) / int(den)  # correctly rounded, as float(Fraction) is
+        else:
+            d = _plain(den, what, text)
+            if d == 0:
+                raise ZeroDivisionError
+            v = float(_plain(num, what, text) / d)
+    except ZeroDivisionError:
+        raise ValueError(f"{what} {text!r} divides by zero") from None
+    except OverflowError:
+        v = math.inf
+    except ValueError:
+        raise ValueError(f"{what} must be {allowed}, got {text!r}") from None
+    if not v >= 0 or (math.isinf(v) and not allow_inf):
+        raise ValueError(f"{what} must be {allowed}, got {text!r}")
+    return v
+
+
+def parse_seed(text: str, what: str = "--seed") -> int:
+    """A seed: a whole number >= 0 of at most 40 digits (numpy's SeedSequence takes any)."""
+    s = str(text).strip()
+    if not (s.isascii() and s.isdigit()) or len(s) > MAX_SEED_DIGITS:
+        raise ValueError(f"{what} must be a whole number >= 0 (at most {MAX_SEED_DIGITS} digits), "
+                         f"got {text!r}")
+    return int(s)
+
+
 def parse_length_mm(text: str, what: str = "length") -> float:
     """A length in millimetres: ``24.26``, ``24.26mm``, ``2.4cm``, ``0.955in``; finite, > 0."""
     s = str(text).strip().lower()
@@ -133,6 +187,66 @@ def parse_angle_deg(text: str, what: str = "psi") -> float:
     if not 0.0 <= v <= 180.0:
         raise ValueError(f"{what} must be an angle in [0, 180] degrees, got {text!r}")
     return math.pi if v == 180.0 else math.radians(v)
+
+
+# Speeds in m/s and spins in rad/s, each unit's factor exact (a decimal, or a rational multiple
+# of pi, as text): the value typed times the factor is rounded once.
+_PI = "3.14159265358979323846264338327950288419716939937510582097494459"
+SPEED_UNITS = {"m/s": ("1", 0), "cm/s": ("0.01", 0), "mm/s": ("0.001", 0),
+               "km/h": ("1000/3600", 0), "kph": ("1000/3600", 0), "km/s": ("1000", 0),
+               "ft/s": ("0.3048", 0), "fps": ("0.3048", 0), "in/s": ("0.0254", 0),
+               "mph": ("0.44704", 0)}  #: unit -> (factor to m/s, power of pi)
+SPIN_UNITS = {"rad/s": ("1", 0), "rev/s": ("2", 1), "rps": ("2", 1), "hz": ("2", 1),
+              "rpm": ("2/60", 1), "rev/min": ("2/60", 1), "deg/s": ("1/180", 1),
+              "°/s": ("1/180", 1)}  #: unit -> (factor, power of pi) to rad/s
+_SPEED_SHOWN = "m/s (the default), cm/s, mm/s, km/h, km/s, ft/s, in/s, mph"
+_SPIN_SHOWN = "rad/s (the default), rev/s (= Hz), rpm, deg/s"
+
+
+def split_unit(text: str, units) -> tuple[str, str | None]:
+    """``('240', 'cm/s')`` from ``'240cm/s'`` or ``'240 cm/s'``: the text before a unit of
+    ``units`` (a dict keyed by lower-case names) that ends it, and the unit; ``(text, None)``
+    when none does."""
+    s = str(text).strip()
+    low = s.lower()
+    for unit in sorted(units, key=len, reverse=True):
+        if low.endswith(unit) and len(s) > len(unit):
+            return s[: -len(unit)].strip(), unit
+    return s, None
+
+
+def _quantity(text: str, what: str, units, default: str, shown: str, noun: str,
+              example: str) -> float:
+    num, unit = split_unit(text, units)
+    if not _NUM.match(num):
+        raise ValueError(f"{what} must be a {noun} like {example} (units: {shown}), got {text!r}")
+    factor, pi_power = units[unit or default]
+    if factor == "1" and not pi_power:
+        v = float(num) + 0.0
+    else:
+        from fractions import Fraction
+
+        try:
+            v = float(_plain(num, what) * Fraction(factor) * Fraction(_PI) ** pi_power)
+        except OverflowError:
+            v = math.inf
+    if not (math.isfinite(v) and v >= 0):
+        raise ValueError(f"{what} must be a finite {noun} >= 0 (units: {shown}), got {text!r}")
+    return v
+
+
+def parse_speed_ms(text: str, what: str = "speed") -> float:
+    """A speed in m/s: ``2``, ``2m/s``, ``240cm/s``, ``8.6km/h``, ``7.9ft/s``, ``94in/s``,
+    ``5.4mph``; finite and >= 0, the unit's exact factor applied with one rounding."""
+    return _quantity(text, what, SPEED_UNITS, "m/s", _SPEED_SHOWN, "speed", "2, 240cm/s or "
+                     "8.6km/h")
+
+
+def parse_spin_rads(text: str, what: str = "spin") -> float:
+    """A spin (angular speed) in rad/s: ``40``, ``40rad/s``, ``38rev/s`` (= ``38Hz``),
+    ``2300rpm``, ``13700deg/s``; finite and >= 0, one rounding of the exact value."""
+    return _quantity(text, what, SPIN_UNITS, "rad/s", _SPIN_SHOWN, "spin rate", "240, 38rev/s or "
+                     "2300rpm")
 
 
 def parse_count(text: str, what: str = "count") -> int:

@@ -24,6 +24,7 @@ every common colour-vision deficiency); outcomes and models are also told apart 
 
 from __future__ import annotations
 
+import contextlib
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -145,7 +146,21 @@ class MatplotlibMissing(ImportError):
 
 
 def require_matplotlib():
-    """Import and return matplotlib, or raise :class:`MatplotlibMissing` with the hint."""
+    """Import and return matplotlib, or raise :class:`MatplotlibMissing` with the hint.
+
+    The import is shielded from the user's environment, so that the same figure gives the same
+    bytes everywhere and nothing but the result reaches stderr: matplotlib's logger is set to
+    CRITICAL (an unusable MPLCONFIGDIR or HOME, or an rc file with bad keys, is logged as a
+    warning at import), ``MATPLOTLIBRC`` points at matplotlib's own default file during the
+    import (a user's file could set ``text.usetex`` or be a FIFO that blocks the read),
+    ``MPLBACKEND`` is ignored (the figures draw on their own Agg canvas), and a
+    ``./matplotlibrc`` that is not a regular file is not opened.  :func:`_style` resets every
+    setting to matplotlib's defaults plus coin's own while a figure is drawn.
+    """
+    import sys
+
+    if sys.modules.get("matplotlib") is None:
+        _shielded_import()
     try:
         import matplotlib
     except ImportError:
@@ -156,9 +171,56 @@ def require_matplotlib():
     return matplotlib
 
 
+def _shielded_import() -> None:
+    """Import matplotlib away from the user's environment (see :func:`require_matplotlib`);
+    nothing when it is not installed (the caller says so)."""
+    import importlib.util
+    import logging
+    import os
+
+    logging.getLogger("matplotlib").setLevel(logging.CRITICAL)
+    try:
+        spec = importlib.util.find_spec("matplotlib")
+    except (ImportError, ValueError):
+        spec = None
+    if spec is None or spec.origin is None:
+        return
+    data = os.path.join(os.path.dirname(spec.origin), "mpl-data")
+    saved = {k: os.environ.get(k) for k in ("MATPLOTLIBRC", "MPLBACKEND")}
+    os.environ["MATPLOTLIBRC"] = os.path.join(data, "matplotlibrc")
+    os.environ.pop("MPLBACKEND", None)
+    cwd = None
+    try:
+        import stat
+
+        if not stat.S_ISREG(os.stat("matplotlibrc").st_mode):
+            cwd = os.getcwd()
+            os.chdir(data)  # matplotlib reads ./matplotlibrc first: here, its own default
+    except OSError:
+        pass
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        pass
+    finally:
+        if cwd is not None:
+            os.chdir(cwd)
+        for k, v in saved.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+
+
+@contextlib.contextmanager
 def _style():
+    """matplotlib's default settings and coin's (:data:`_RC`) while a figure is drawn and
+    saved, whatever the user's matplotlibrc says."""
     matplotlib = require_matplotlib()
-    return matplotlib.rc_context(_RC)
+    with matplotlib.rc_context():
+        matplotlib.rcdefaults()
+        matplotlib.rcParams.update(_RC)
+        yield
 
 
 def _new_figure(width: float, height: float):
@@ -216,7 +278,9 @@ def save_figure(fig, path: str, dpi: float = 150.0) -> int:
     The figure is rendered in memory first: if matplotlib's constrained layout gives up (its
     warning "axes sizes collapsed to zero": the figure is too small for its titles, labels and
     legend, which would be drawn over the axes), :class:`FigureTooSmall` is raised and no file
-    is written.  Any other warning is passed on.
+    is written.  Any other warning is passed on.  The file is written by
+    :func:`coincli._files.write_atomic`: whole or not at all, the old file intact on failure;
+    a path that is not a regular file raises :class:`coincli._files.FileKindError`.
     """
     import io
     import warnings
@@ -233,10 +297,9 @@ def save_figure(fig, path: str, dpi: float = 150.0) -> int:
                              "titles, labels and legend")
     for w in caught:
         warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-    data = buf.getvalue()
-    with open(path, "wb") as fh:
-        fh.write(data)
-    return len(data)
+    from coincli._files import write_atomic
+
+    return write_atomic(path, buf.getbuffer())
 
 
 # --------------------------------------------------------------------------- models
@@ -262,9 +325,11 @@ def density_label(density) -> str:
     from coincli.densities import Normal, Table
 
     if isinstance(density, Normal):
+        if density.is_paper:
+            return "ψ ~ normal (paper)"
         return (f"ψ ~ normal, mean {math.degrees(density.mean):.4g}°, "
                 f"sd {math.degrees(density.sd):.3g}°")
-    if isinstance(density, Table):
+    if isinstance(density, Table) and density.spec.startswith("table:"):
         return f"ψ ~ table {density.label}"
     return f"ψ ~ {density.spec}"
 
@@ -484,6 +549,24 @@ def _fmt(v: float) -> str:
     return "∞" if v == math.inf else f"{v:.3g}"
 
 
+def marks_label(one: str, many: str, values: Sequence[str], per_line: int = 5) -> str:
+    """One legend entry naming every mark: ``your designs: ξ = 0.5, 0.577`` (a new line every
+    ``per_line`` values, so that twenty marks do not make the legend wider than the figure)."""
+    vals = list(values)
+    head = f"{one if len(vals) == 1 else many}: "
+    lines = [", ".join(vals[k:k + per_line]) for k in range(0, len(vals), per_line)]
+    return head + ",\n".join(lines)
+
+
+def _note_figure(fig, notes: Sequence[str]) -> None:
+    """What the figure could not show (a mark off the axis), written into the figure itself
+    under the axes, as the text plot lists it: the file tells the whole story."""
+    if notes:
+        t = fig.supxlabel("not shown: " + "; ".join(notes), fontsize=7, color="0.3",
+                          wrap=True)
+        t.set_gid("notes")
+
+
 _LABEL_BOX = {"boxstyle": "round,pad=0.1", "facecolor": "white", "edgecolor": "none",
               "alpha": 0.8}
 _LEADER = {"arrowstyle": "-", "linewidth": 0.5, "color": "0.4", "shrinkA": 0, "shrinkB": 3}
@@ -525,6 +608,9 @@ def sides_figure(data: SidesData, *, width: float = 7.0, height: float = 4.5,
                     gid=f"fair:{m.gid}", zorder=4,
                     label=f"fair three-sided coin, {m.gid}: ξ = {m.xi:.3f}")
         label_gap = 11.0 / (72.0 * height * 0.75)  # ~11 points, as a fraction of the axes
+        inside = [x for x, _ in data.xi_marks if data.xlim[0] <= x <= data.xlim[1]]
+        legend = marks_label("your design", "your designs", [f"ξ = {x:.4g}" if k == 0 else f"{x:.4g}"
+                                             for k, x in enumerate(inside)])
         for k, (x, row) in enumerate(data.xi_marks):
             if not data.xlim[0] <= x <= data.xlim[1]:
                 continue
@@ -532,7 +618,8 @@ def sides_figure(data: SidesData, *, width: float = 7.0, height: float = 4.5,
                        gid=f"design-xi-line:{k}")
             ax.plot([m.xi for m in row], [m.p for m in row], marker="D", markersize=6,
                     color=DESIGN_COLOUR, linestyle="none", gid=f"design-xi:{k}", zorder=5,
-                    label=f"your design: ξ = {x:.4g}" if k == 0 else None)
+                    label=legend)
+            legend = None  # one legend entry names them all
             ys = _spread([m.p for m in row], label_gap)
             for m, y in zip(row, ys, strict=True):
                 xf = _axes_x(data, m.xi) + 0.02
@@ -540,13 +627,15 @@ def sides_figure(data: SidesData, *, width: float = 7.0, height: float = 4.5,
                             textcoords="axes fraction", fontsize=7.5, va="center",
                             color=colours.get(m.gid, DESIGN_COLOUR), arrowprops=_LEADER,
                             bbox=_LABEL_BOX)
+        targets = marks_label("your target", "your targets", [f"P(sides) = {p:.4g}" if k == 0 else f"{p:.4g}"
+                                              for k, (p, _) in enumerate(data.p_marks)])
         for k, (p, row) in enumerate(data.p_marks):
             ax.axhline(p, color=DESIGN_COLOUR, linewidth=1.0, linestyle=(0, (4, 2)), zorder=1,
                        gid=f"design-p-line:{k}")
             shown = [m for m in row if data.xlim[0] <= m.xi <= data.xlim[1]]
             ax.plot([m.xi for m in shown], [m.p for m in shown], marker="v", markersize=7,
                     color=DESIGN_COLOUR, linestyle="none", gid=f"design-p:{k}", zorder=5,
-                    label=f"your target: P(sides) = {p:.4g}" if k == 0 else None)
+                    label=targets if k == 0 else None)
             xs = _spread([_axes_x(data, m.xi) for m in shown], 11.0 / (72.0 * width * 0.85))
             for m, xf in zip(shown, xs, strict=True):
                 ax.annotate(f"ξ = {_fmt(m.xi)}", (m.xi, m.p), xytext=(xf, m.p + 0.045),
@@ -574,8 +663,10 @@ def sides_figure(data: SidesData, *, width: float = 7.0, height: float = 4.5,
         ax.grid(True, which="major")
         ax.set_xlabel("aspect ratio ξ = h/D (thickness / diameter, dimensionless)")
         ax.set_ylabel("P(sides)")
-        ax.set_title(title or "Chance of landing on a side (Yong & Mahadevan, Fig. 5a)")
+        ax.set_title(title or "Chance of landing on a side (Yong & Mahadevan, Fig. 5a)",
+                     parse_math=False)
         ax.legend(loc="upper left" if data.log or data.xlim[1] > 3 else "lower right")
+        _note_figure(fig, data.skipped)
     return fig
 
 
@@ -641,16 +732,23 @@ def psi_figure(data: PsiData, *, width: float = 7.0, height: float = 4.5,
             ax.plot(data.psi_deg, getattr(data, name), color=OUTCOME_COLOURS[name],
                     linestyle=OUTCOME_STYLES[name], label=f"P({name})", gid=f"curve:{name}",
                     zorder=3)
+        tosses = marks_label("your toss", "your tosses", [f"ψ = {d:.4g}°" if k == 0 else f"{d:.4g}°"
+                                           for k, (d, _) in enumerate(data.marks)])
         for k, (d, o) in enumerate(data.marks):
             ax.axvline(d, color=DESIGN_COLOUR, linewidth=1.0, linestyle=":", zorder=2,
                        gid=f"design-psi-line:{k}")
             ax.plot([d, d, d], [o.heads, o.sides, o.tails], marker="D", markersize=6,
                     color=DESIGN_COLOUR, linestyle="none", zorder=5, gid=f"design-psi:{k}",
-                    label=f"your toss: ψ = {d:.4g}°" if k == 0 else None)
-            for name in ("heads", "sides", "tails"):
-                v = getattr(o, name)
-                ax.annotate(f"{v:.3f}", (d, v), xytext=(5, 3), textcoords="offset points",
-                            fontsize=7.5, color=DESIGN_COLOUR)
+                    label=tosses if k == 0 else None)
+            names = ("heads", "sides", "tails")
+            vals = [getattr(o, name) for name in names]
+            # each value in its outcome's colour, the labels pushed apart where values meet
+            ys = _spread([v / 1.02 for v in vals], 11.0 / (72.0 * height * 0.75))
+            for name, v, y in zip(names, vals, ys, strict=True):
+                ax.annotate(f"{v:.3f}", (d, v), xytext=(d + 3.0, y),
+                            textcoords=("data", "axes fraction"), fontsize=7.5, va="center",
+                            color=OUTCOME_COLOURS[name], bbox=_LABEL_BOX, arrowprops=_LEADER,
+                            gid=f"design-psi-value:{k}:{name}")
         ax.axhline(1 / 3, color="0.45", linewidth=0.7, linestyle=":", zorder=1, gid="fair-level")
         ax.set_xlim(0.0, 180.0)
         ax.set_ylim(0.0, 1.02)
@@ -658,7 +756,7 @@ def psi_figure(data: PsiData, *, width: float = 7.0, height: float = 4.5,
         ax.set_xlabel("ψ, angle between angular momentum and the coin's normal (degrees)")
         ax.set_ylabel("probability")
         ax.set_title(title or f"Heads, sides and tails against ψ for ξ = {data.xi:.4g} "
-                     "(Yong & Mahadevan, Fig. 2d)")
+                     "(Yong & Mahadevan, Fig. 2d)", parse_math=False)
         ax.legend(loc="upper center", ncols=2, fontsize=8)
     return fig
 
@@ -677,6 +775,7 @@ class MapData:
     xlim: tuple[float, float]
     xi_marks: list[float] = field(default_factory=list)
     psi_marks: list[float] = field(default_factory=list)  #: degrees
+    skipped: list[str] = field(default_factory=list)  #: marks that could not be drawn
 
 
 def map_data(*, xi_range=None, log: bool = False, nx: int = 301, ny: int = 361, xi_marks=(),
@@ -697,7 +796,10 @@ def map_data(*, xi_range=None, log: bool = False, nx: int = 301, ny: int = 361, 
     xi = _xi_grid(lo, hi, log, int(nx))
     psi_deg = np.linspace(0.0, 180.0, int(ny))
     o = models.conditional(xi[None, :], np.minimum(np.radians(psi_deg), math.pi)[:, None])
-    return MapData(xi, psi_deg, o.heads, o.sides, o.tails, log, (lo, hi), xi_marks, psi_marks)
+    skipped = [f"xi = {x:g} is outside the plotted range {lo:g} to {hi:g}" for x in xi_marks
+               if not lo <= x <= hi]
+    return MapData(xi, psi_deg, o.heads, o.sides, o.tails, log, (lo, hi), xi_marks, psi_marks,
+                   skipped)
 
 
 def ternary_colours(heads, sides, tails):
@@ -726,18 +828,27 @@ def _map_marks(ax, data: MapData, colour: str, legend: bool):
     ax.plot([models.FAIR_XI_DYNAMIC], [90.0], marker="*", markersize=12, color=OKABE_ITO["yellow"],
             markeredgecolor="black", linestyle="none", zorder=6, gid="fair:dynamic",
             label="fair three-sided coin: ξ = 1/√3, ψ = 90°" if legend else None)
-    for k, x in enumerate(data.xi_marks):
+    inside = _inside(data)
+    designs = marks_label("your design", "your designs", [f"ξ = {x:.4g}" if k == 0 else f"{x:.4g}"
+                                          for k, x in enumerate(inside)])
+    for k, x in enumerate(inside):
         ax.axvline(x, color=colour, linewidth=1.2, linestyle=":", zorder=4, gid=f"design-xi:{k}",
-                   label=f"your design: ξ = {x:.4g}" if legend and k == 0 else None)
+                   label=designs if legend and k == 0 else None)
+    tosses = marks_label("your toss", "your tosses", [f"ψ = {d:.4g}°" if k == 0 else f"{d:.4g}°"
+                                       for k, d in enumerate(data.psi_marks)])
     for k, d in enumerate(data.psi_marks):
         ax.axhline(d, color=colour, linewidth=1.2, linestyle=(0, (4, 2)), zorder=4,
-                   gid=f"design-psi:{k}",
-                   label=f"your toss: ψ = {d:.4g}°" if legend and k == 0 else None)
-    pts = [(x, d) for x in data.xi_marks for d in data.psi_marks]
+                   gid=f"design-psi:{k}", label=tosses if legend and k == 0 else None)
+    pts = [(x, d) for x in inside for d in data.psi_marks]
     if pts:
         ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="D", markersize=6,
                 color=colour, markeredgecolor="black", linestyle="none", zorder=6,
                 gid="design-point")
+
+
+def _inside(data: MapData) -> list[float]:
+    lo, hi = data.xlim
+    return [x for x in data.xi_marks if lo <= x <= hi]
 
 
 def _map_axes(ax, data: MapData, ylabel: bool = True):
@@ -780,7 +891,7 @@ def map_figure(data: MapData, *, style: str = "panels", width: float | None = No
                          shrink=0.9)
             axes[0].legend(loc="lower left", fontsize=7, framealpha=0.85)
             fig.suptitle(title or "Heads, sides and tails over aspect ratio and ψ "
-                         "(Yong & Mahadevan, Fig. 2a-c)")
+                         "(Yong & Mahadevan, Fig. 2a-c)", parse_math=False)
         else:
             gs = fig.add_gridspec(1, 2, width_ratios=(4.2, 1.0))
             ax = fig.add_subplot(gs[0, 0])
@@ -792,8 +903,9 @@ def map_figure(data: MapData, *, style: str = "panels", width: float | None = No
             _map_axes(ax, data)
             ax.legend(loc="lower right", fontsize=7, framealpha=0.85)
             ax.set_title(title or "Heads, sides and tails over aspect ratio and ψ "
-                         "(Yong & Mahadevan, Fig. 2a-c)")
+                         "(Yong & Mahadevan, Fig. 2a-c)", parse_math=False)
             _ternary_key(fig.add_subplot(gs[0, 1]))
+        _note_figure(fig, data.skipped)
     return fig
 
 
@@ -923,7 +1035,7 @@ def phase_figure(data: PhaseData, *, width: float = 9.5, height: float = 5.5,
         ax.set_xlabel(data.u_label)
         ax.set_ylabel(data.omega_label)
         ax.set_title(title or f"Phase space of a toss: ξ = {data.xi:.4g}, ψ = "
-                     f"{data.psi_deg:.4g}° (Yong & Mahadevan, Fig. 3)")
+                     f"{data.psi_deg:.4g}° (Yong & Mahadevan, Fig. 3)", parse_math=False)
     return fig
 
 

@@ -155,27 +155,28 @@ class Canvas:
 
 def plot_size(width: int | None = None, height: int | None = None,
               default_rows: int = 21) -> tuple[int, int]:
-    """Columns and rows of the plot area: the terminal's width (at most 110 columns)."""
-    import shutil
-
+    """Columns and rows of the plot area: the terminal's width (:func:`coincli._terminal.
+    terminal_width`, the same as the tables') less the axis labels, 30 to 110 columns."""
     if width is None:
-        width = shutil.get_terminal_size((80, 24)).columns
-        width = min(max(width - 10, 30), 110)
+        from coincli._terminal import terminal_width
+
+        width = min(max(terminal_width() - 10, 30), 110)
     return max(int(width), 10), max(int(height or default_rows), 5)
 
 
 def emit(text, out=None) -> None:
     """Print a rendered plot (colour on a terminal, plain text in a pipe or with NO_COLOR)."""
-    import os
-
     from rich.console import Console
+
+    from coincli._terminal import colour_allowed, terminal_width
 
     # NO_COLOR (no-color.org, set to anything non-empty): rich drops colours by itself but keeps
     # bold, italic, dim and reverse; no colour system at all means no escape codes at all, as
-    # the tables do (coincli.cli._common).
-    plain = bool(os.environ.get("NO_COLOR"))
+    # the tables do (coincli.cli._common).  The width is given: rich reads COLUMNS itself, and
+    # COLUMNS=0 made it print nothing.
+    plain = not colour_allowed()
     console = Console(file=out, highlight=False, soft_wrap=True, emoji=False, markup=False,
-                      color_system=None if plain else "auto")
+                      color_system=None if plain else "auto", width=terminal_width(out))
     console.print(text, end="")
 
 
@@ -334,7 +335,7 @@ def text_map(data, cols: int, rows: int):
         xlabel="aspect ratio xi = h/D" + (", log scale" if data.log else ""),
         ylabel="psi (degrees)",
         xticks=_ticks(*data.xlim, data.log), yticks=[(d, str(d)) for d in range(0, 181, 45)],
-        legend=legend)
+        legend=legend, notes=list(getattr(data, "skipped", ())))
 
 
 def text_phase(data, cols: int, rows: int):

@@ -278,14 +278,18 @@ def _setup(xp, xi, psi, u, om, diameter, g, thick, z0):
     hh = xi * diameter / 2 if thick else 0.0 * a
     if z0 is None:
         z0 = _SQRT3_2 * a + hh
-    sp, cp = xp.sin(psi), xp.cos(psi)
+    sp, cp = _sin_cos_psi(xp, psi)
     # The largest tilt reached is alpha(pi) = 2 min(psi, pi - psi); none without precession.
-    amax = xp.where(om > 0, 2.0 * xp.minimum(psi, math.pi - psi), 0.0)
+    # Its sine and cosine are sin 2 psi and cos 2 psi up to sign: 2 sin psi |cos psi| and
+    # (cos psi - sin psi)(cos psi + sin psi), no further trigonometry.
+    spin = om > 0
+    amax = xp.where(spin, 2.0 * xp.minimum(psi, math.pi - psi), 0.0)
+    s2 = xp.where(spin, 2.0 * sp * xp.abs(cp), 0.0)
     if thick:
-        lmax = xp.where(amax >= xp.atan2(a, hh), xp.hypot(a, hh),
-                        a * xp.sin(amax) + hh * xp.abs(xp.cos(amax)))
+        c2 = xp.where(spin, xp.abs((cp - sp) * (cp + sp)), 1.0)
+        lmax = xp.where(amax >= xp.atan2(a, hh), xp.hypot(a, hh), a * s2 + hh * c2)
     else:
-        lmax = xp.where(amax >= 0.5 * math.pi, a, a * xp.sin(amax))
+        lmax = xp.where(amax >= 0.5 * math.pi, a, a * s2)
     lmax = lmax * (1.0 + 8 * _EPS)  # a rounded-down bound must not shrink the window
     t_end = (u + xp.sqrt(u * u + 2.0 * g * z0)) / g
     d = lmax - z0  # > 0: the launch height is inside the window
@@ -298,14 +302,10 @@ def _setup(xp, xi, psi, u, om, diameter, g, thick, z0):
     # psi = 0 (sp = 0) has no curvature term even when omega^2 overflows (inf * 0 would be NaN).
     k2 = xp.where(sp > 0, om * om * sp * (a + hh * sp), 0.0) - g
     # The launch window [0, w1] often needs no look: z >= z0 there (the centre is rising) and
-    # alpha <= omega t sin psi (|d alpha / d theta| <= sin psi), so L <= L(min(omega w1 sin psi,
-    # amax)) while L(alpha) increases (up to pi/2 for the rim, theta0 for a thick coin).
+    # alpha <= ab = omega t sin psi (|d alpha / d theta| <= sin psi), so L <= a sin(min(ab,
+    # pi/2)) + h/2 <= a min(ab, 1) + h/2 (and never more than Lmax).
     ab = xp.minimum(om * xp.maximum(w1, 0.0) * sp, amax)
-    if thick:
-        lw1 = xp.where(ab >= xp.atan2(a, hh), xp.hypot(a, hh),
-                       a * xp.sin(ab) + hh * xp.abs(xp.cos(ab)))
-    else:
-        lw1 = xp.where(ab >= 0.5 * math.pi, a, a * xp.sin(ab))
+    lw1 = xp.minimum(a * xp.minimum(ab, 1.0) + hh, lmax)
     zscale = z0 + u * u / (2.0 * g)
     # Rounding: a few ulps of the height scale, plus the phase omega t carried to eps omega t.
     tol0 = 16 * _EPS * (zscale + 2.0 * lmax)
@@ -317,78 +317,154 @@ def _setup(xp, xi, psi, u, om, diameter, g, thick, z0):
     return _Setup(om, sp, cp, a, hh, z0, u, g, t_end, lmax, w1, w2s, k2, tol0, tol1, stol, step)
 
 
+def _sin_cos_psi(xp, psi):
+    """``sin psi, cos psi`` for ``psi`` in ``[0, pi]``: by :func:`_half_sincos` for numpy (an
+    array or one number alike, so that a toss gives the same bits alone or in a batch), by the
+    math module for the scalar checks."""
+    if xp is _M():
+        return math.sin(psi), math.cos(psi)
+    arr = xp.asarray(psi, dtype=float)
+    sp, cp = _half_sincos(xp, xp.atleast_1d(arr))
+    if arr.ndim == 0:
+        return float(sp[0]), float(cp[0])
+    return sp.reshape(arr.shape), cp.reshape(arr.shape)
+
+
 def _M():
     from coincli._backend import M
 
     return M
 
 
-# --------------------------------------------------------------------------- F and F' (scalar)
+# --------------------------------------------------------------------------- F and F'
 
 
-def _f_scalar(t, s: _Setup):
-    th = s.om * t
-    sh = abs(math.sin(0.5 * th))
-    ss = s.sp * sh
-    c = math.sqrt(math.cos(0.5 * th) ** 2 + (s.cp * sh) ** 2)
-    low = 2.0 * s.a * ss * c
-    if s.hh:
-        low += s.hh * abs((c - ss) * (c + ss))
-    return s.z0 + t * (s.u - 0.5 * s.g * t) - low
+class _Batch:
+    """The root finder's per-toss constants: each a float (shared by the whole batch) or a 1-D
+    float array with one value a toss.  Built from a :class:`_Setup` by :func:`_batch`.
+
+    ``hom = omega/2``; F reads ``z0, u, hg = g/2, c2a = 2 a sin psi, cp2 = cos^2 psi,
+    c2psi = cos 2 psi, hh``; F' also ``g, c1 = omega a sin psi, c3 = 2 omega (h/2) sin^2 psi``.
+    """
+
+    __slots__ = ("hom", "z0", "u", "g", "hg", "c2a", "cp2", "c2psi", "hh", "c1", "c3", "k2p",
+                 "tol0", "tol1", "stol")
+    _F = ("hom", "z0", "u", "g", "hg", "c2a", "cp2", "c2psi", "hh", "c1", "c3")  # what _ff reads
+
+    def take(self, sel, names=None):
+        """The constants ``names`` (default: all that are set) of the tosses ``sel`` (an index
+        array or a boolean mask)."""
+        out = _Batch.__new__(_Batch)
+        for k in names or [k for k in _Batch.__slots__ if hasattr(self, k)]:
+            v = getattr(self, k)
+            setattr(out, k, v if isinstance(v, float) else v[sel])
+        return out
 
 
-def _fprime_scalar(t, s: _Setup):
-    """Right derivative of F at t."""
-    th = s.om * t
-    phi = math.fmod(th, _TWO_PI)
-    sh, ch = math.sin(0.5 * phi), math.cos(0.5 * phi)  # sh >= 0 on [0, 2 pi)
-    ss = s.sp * sh
-    c = math.sqrt(ch * ch + (s.cp * sh) ** 2)
-    dalpha = s.sp * ch / c if c > 0 else -s.sp  # d alpha / d theta, |.| <= sin psi
-    cos_a = (c - ss) * (c + ss)
-    sin_a = 2.0 * ss * c
-    dlow = s.a * cos_a * dalpha
-    if s.hh:
-        dcos = -sin_a * dalpha
-        dlow += s.hh * (math.copysign(1.0, cos_a) * dcos if cos_a != 0 else abs(dcos))
-    return s.u - s.g * t - s.om * dlow
+def _flat(np, v, n):
+    """A float for a value shared by the batch, else a 1-D float array of length n."""
+    arr = np.asarray(v, dtype=float)
+    if arr.ndim == 0:
+        return float(arr)
+    return np.ascontiguousarray(np.broadcast_to(arr, (n,)))
 
 
-# --------------------------------------------------------------------------- F and F' (numpy)
+def _batch(np, s: _Setup, n):
+    q = _Batch.__new__(_Batch)
+    for k in ("z0", "u", "g", "hh", "tol0", "tol1", "stol"):
+        setattr(q, k, _flat(np, getattr(s, k), n))
+    om, sp, cp = (np.asarray(v, dtype=float) for v in (s.om, s.sp, s.cp))
+    q.hom = _flat(np, 0.5 * om, n)  # half the phase rate (exact)
+    q.hg = _flat(np, 0.5 * np.asarray(s.g, dtype=float), n)
+    q.c2a = _flat(np, 2.0 * s.a * sp, n)
+    q.cp2 = _flat(np, cp * cp, n)
+    q.c2psi = _flat(np, (cp - sp) * (cp + sp), n)
+    with np.errstate(over="ignore", invalid="ignore"):  # omega * a overflows only when refused
+        q.c1 = _flat(np, np.where(sp > 0, om * s.a * sp, 0.0), n)
+        q.c3 = _flat(np, np.where(sp > 0, 2.0 * om * np.asarray(s.hh) * sp * sp, 0.0), n)
+    q.k2p = _flat(np, np.maximum(s.k2, 0.0), n)
+    return q
 
 
-def _f_np(np, t, om, sp, cp, a, hh, z0, u, g, thick):
-    th = om * t
-    half = 0.5 * th
-    sh = np.abs(np.sin(half))
-    ch = np.cos(half)
-    ss = sp * sh
-    cs = cp * sh
-    c = np.sqrt(ch * ch + cs * cs)
-    low = 2.0 * a * ss * c
+# Half-angle sine and cosine by polynomials: numpy's sin and cos are scalar loops, several times
+# the cost of these array operations.  x = j pi/2 + r with j = rint(2x/pi) (Cody and Waite: pi/2
+# to 33 bits, so j * _P1 is exact for j < 2^20, plus its remainder), |r| <= pi/4; sin r and cos r
+# by fdlibm's kernels (errors below an ulp), the quadrant by the parity of j.  No cancellation:
+# the sine is accurate relatively near x = k pi (a coin flat on its face) as numpy's is.
+_P1 = 1.57079632673412561417e+00  # fdlibm pio2_1
+_P1T = 6.07710050650619224932e-11  # pi/2 - _P1 (fdlibm pio2_1t)
+_X_POLY = 1.5e6  # x below this uses the polynomials (j < 2^20), above it np.sin and np.cos
+_KS = (1.58969099521155010221e-10, -2.50507602534068634195e-08, 2.75573137070700676789e-06,
+       -1.98412698298579493134e-04, 8.33333333332248946124e-03, -1.66666666666666324348e-01)
+_KC = (-1.13596475577881948265e-11, 2.08757232129817482790e-09, -2.75573143513906633035e-07,
+       2.48015872894767294178e-05, -1.38888888888741095749e-03, 4.16666666666666019037e-02)
+
+
+def _half_sincos(np, x):
+    """``(|sin x|, cos x * sign(sin x))`` for an array ``x >= 0``: the sine and cosine of ``x``
+    modulo pi, in ``[0, pi)`` (``(0, 1)`` at ``x = 0``), each within an ulp or two."""
+    j = np.rint(x * (2.0 / math.pi))
+    r = x - j * _P1
+    r -= j * _P1T  # x - j pi/2, |r| <= pi/4 (+ rounding)
+    z = r * r
+    s = z * _KS[0]
+    for k in _KS[1:]:
+        s += k
+        s *= z
+    s *= r
+    s += r  # sin r
+    c = z * _KC[0]
+    for k in _KC[1:]:
+        c += k
+        c *= z
+    c *= z
+    c -= 0.5 * z
+    c += 1.0  # cos r
+    # j even, x = k pi + r: |sin x| = |sin r|, cos x sign(sin x) = cos r sign(r);
+    # j odd, x = k pi + pi/2 + r: |sin x| = cos r, cos x sign(sin x) = -sin r.
+    half = 0.5 * j
+    odd = half != np.floor(half)
+    sh = np.where(odd, c, np.abs(s))
+    ch = np.where(odd, -s, np.copysign(c, s))
+    if x.size and not float(x.max()) < _X_POLY:  # element by element: no dependence on the batch
+        big = np.flatnonzero(x >= _X_POLY)
+        sb, cb = np.sin(x[big]), np.cos(x[big])
+        sh[big] = np.abs(sb)
+        ch[big] = np.where(sb < 0, -cb, cb)
+    return sh, ch
+
+
+def _ff(np, t, q: _Batch, thick):
+    """``F(t)``, an upper bound of its right derivative ``F'(t+)`` (exact except at a corner),
+    and ``|sin x|``, ``cos x'`` (arrays over the tosses of ``q``; ``x = omega t / 2``, ``x'`` its
+    representative modulo pi in ``[0, pi)``).
+
+    ``sin(alpha/2) = sin psi |sin x|``, ``cos(alpha/2) = sqrt(cos^2 x + cos^2 psi sin^2 x)``,
+    ``cos alpha = cos^2 x + cos 2psi sin^2 x``; ``L = a sin alpha (+ (h/2)|cos alpha|)``;
+    ``d alpha / d theta = sin psi cos x' / cos(alpha/2)``.  At the corners (``cos(alpha/2) = 0``,
+    the coin upside down; ``cos alpha = 0`` for a thick coin) the corner's term is taken as 0,
+    above the right derivative: the monotonicity certificate stays sound.
+    """
+    sh, ch = _half_sincos(np, q.hom * t)
+    sh2 = sh * sh
+    ch2 = ch * ch
+    ca = np.sqrt(ch2 + q.cp2 * sh2)  # cos(alpha/2)
+    cos_a = ch2 + q.c2psi * sh2
+    low = q.c2a * sh * ca  # a sin alpha
+    dlow = q.c1 * cos_a * ch / (ca + 1e-300)  # omega dL/dtheta (rim)
     if thick:
-        low = low + hh * np.abs((c - ss) * (c + ss))
-    return z0 + t * (u - 0.5 * g * t) - low
+        low += q.hh * np.abs(cos_a)
+        dlow -= q.c3 * np.sign(cos_a) * sh * ch
+    f = q.z0 + t * (q.u - q.hg * t) - low
+    fp = q.u - q.g * t - dlow
+    return f, fp, sh, ch
 
 
-def _f_fprime_np(np, t, om, sp, cp, a, hh, z0, u, g, thick):
-    th = om * t
-    phi = np.mod(th, _TWO_PI)
-    sh, ch = np.sin(0.5 * phi), np.cos(0.5 * phi)
-    ss = sp * sh
+def _alpha(np, sp, cp, sh, ch):
+    """The tilt ``alpha`` from ``|sin x|``, ``cos x`` (``x`` half the precession phase), as
+    :func:`alpha_at`: ``2 atan2(sin psi |sin x|, hypot(cos x, cos psi sin x))``."""
     cs = cp * sh
-    c = np.sqrt(ch * ch + cs * cs)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        dalpha = np.where(c > 0, sp * ch / c, -sp)
-    cos_a = (c - ss) * (c + ss)
-    sin_a = 2.0 * ss * c
-    low = a * sin_a
-    dlow = a * cos_a * dalpha
-    if thick:
-        low = low + hh * np.abs(cos_a)
-        dcos = -sin_a * dalpha
-        dlow = dlow + hh * np.where(cos_a != 0, np.sign(cos_a) * dcos, np.abs(dcos))
-    return z0 + t * (u - 0.5 * g * t) - low, u - g * t - om * dlow
+    return 2.0 * np.arctan2(sp * sh, np.sqrt(ch * ch + cs * cs))  # (no overflow: both <= 1)
 
 
 # --------------------------------------------------------------------------- one toss
@@ -418,8 +494,9 @@ def flight_time(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, c
     exceed the initial depth of the lowest point (0 for rim, ``h/2`` for thick).
     See the module docstring for the algorithm and its guarantee.
     """
-    s = _scalar_setup(xi, psi, u, omega, diameter, g, contact, z0)
-    return _first_root_scalar(s)
+    _scalar_setup(xi, psi, u, omega, diameter, g, contact, z0)
+    return float(toss_many(xi, psi, u, omega, diameter=diameter, g=g, contact=contact,
+                           z0=z0).t_f)
 
 
 def _scalar_setup(xi, psi, u, omega, diameter, g, contact, z0):
@@ -501,86 +578,251 @@ def _check_z0(z0, xi, diameter, thick):
     return z0
 
 
-def _first_root_scalar(s: _Setup):
-    windows = []
-    if s.w1 >= 0:
-        windows.append((0.0, s.w1))
-    windows.append((s.w2s, s.t_end))
-    for w0, w1 in windows:
-        if w1 <= w0:
-            if _f_scalar(w0, s) <= 0:
-                return w0
-            continue
-        f0 = _f_scalar(w0, s)
-        if f0 <= 0:  # only at a window's start, where everything before is certified
-            return w0
-        step = min(s.step, w1 - w0)
-        n = max(1, math.ceil((w1 - w0) / step))
-        t1, f1 = w0, f0
-        for k in range(1, n + 1):
-            t2 = w1 if k == n else w0 + k * step
-            f2 = _f_scalar(t2, s)
-            if not _excluded(s, t1, t2, f1, f2):
-                r = _refine_scalar(s, t1, t2, f1, f2)
-                if r is not None:
-                    return r
-            t1, f1 = t2, f2
-    # z(t_end) = 0 and L >= 0, so F(t_end) <= 0 up to rounding: contact at t_end at the latest.
-    return s.t_end
+_MAX_ROUNDS = 100_000
 
 
-def _excluded(s, t1, t2, f1, f2):
-    """True when [t1, t2] holds no root that rounding could resolve.
+def _first_root(np, s: _Setup, n, thick):
+    """The first root of F for each of the ``n`` tosses of a batch (scalars or 1-D arrays in s).
 
-    Either the semi-concave lower bound is positive beyond rounding, or both ends are positive
-    and the curvature allowance is itself below rounding (a dip that shallow is noise).
+    Returns ``(t_f, |sin x|, cos x')`` at the roots (``x = omega t_f / 2``, as :func:`_ff`).
+
+    Each toss carries a front ``t`` (``F > 0`` certified on ``[0, t]``, ``F(t)`` and ``F'(t+)``
+    known), a cell width ``d`` and its window's end.  A round evaluates F once a toss, at the
+    end of the next cell ``[t, t + d]``, and then, toss by toss:
+
+    - the cell holds no root (the semi-concave lower bound ``min(F1, F2) - K2 d^2/8`` is
+      positive beyond rounding, or ``F`` is certified decreasing and ``F2 > 0``): the front
+      moves to its end and the width grows back (times ``_ZOOM``, up to the base step);
+    - ``F2 <= 0`` and ``F`` is certified decreasing (``F'(t+) + K2 d < 0``): exactly one root,
+      queued for :func:`_newton`;
+    - otherwise the cell shrinks (``d / _ZOOM``), down to the last bits of ``t``, where a
+      non-positive ``F2`` is the contact (a tangency or a corner).
+
+    A front that reaches its window's end moves to the second window, or is the contact at
+    ``t_end`` (where ``z = 0``).  One toss or ten million take the same path.
     """
-    d = t2 - t1
-    curv = max(s.k2, 0.0) * d * d * 0.125
-    m = min(f1, f2)
-    tol = s.tol0 + s.tol1 * t2
-    return m > 0 and (m - curv > tol or curv <= tol)
+    q0 = _batch(np, s, n)
+    out = np.empty(n)
+    osh = np.empty(n)
+    och = np.empty(n)
+    w1 = _flat(np, s.w1, n)
+    w2s = _flat(np, s.w2s, n)
+    t_end = _flat(np, s.t_end, n)
+    step = _flat(np, s.step, n)
+    has1 = np.broadcast_to(np.asarray(w1) >= 0, (n,))
+    t = np.where(has1, 0.0, w2s)
+    wend = np.where(has1, w1, t_end)
+    win2 = ~has1
+    base = np.minimum(step, np.maximum(wend - t, 0.0))
+    d = base.copy()
+    idx = np.arange(n)
+    q = q0
+    f, fp, sh, ch = _ff(np, t, q, thick)
+    hit = f <= 0  # at a window's start (everything before it is certified): contact there
+    st = (t, f, fp, d, base, wend, win2, idx)
+    if hit.any():
+        out[hit], osh[hit], och[hit] = t[hit], sh[hit], ch[hit]
+        keep = ~hit
+        st = tuple(v[keep] for v in st)
+        q = q.take(keep)
+    cells = []  # certified cells: (idx, lo, hi, F(lo), F'(lo), F(hi), F'(hi))
+    ends = []  # contacts at t_end (F(t_end) <= 0 by construction): indices
+    for _round in range(_MAX_ROUNDS):
+        t, f, fp, d, base, wend, win2, idx = st
+        if idx.size == 0:
+            break
+        t2 = t + d
+        np.minimum(t2, wend, out=t2)
+        dd = t2 - t
+        f2, fp2, sh, ch = _ff(np, t2, q, thick)
+        k2d = q.k2p * dd
+        mono = fp + k2d < -q.stol  # F' <= F'(t+) + K2 (s - t) < 0 on the cell
+        pos2 = f2 > 0
+        cert = mono & ~pos2
+        m = np.minimum(f, f2)
+        curv = k2d * dd * 0.125
+        tol = q.tol0 + q.tol1 * t2
+        free = (mono & pos2) | ((m > 0) & ((m - curv > tol) | (curv <= tol)))
+        done = cert
+        if cert.all():
+            cells.append((idx, t, t2, f, fp, f2, fp2))
+            break
+        if cert.any():
+            ci = np.flatnonzero(cert)
+            cells.append((idx[ci], t[ci], t2[ci], f[ci], fp[ci], f2[ci], fp2[ci]))
+        rest = ~(cert | free)
+        move = free
+        if rest.any():
+            tiny = rest & (dd <= 4 * _EPS * t2)
+            hit = tiny & ~pos2  # a root at the last bit of t: a tangency or a corner
+            if hit.any():
+                g = idx[hit]
+                out[g], osh[g], och[g] = t2[hit], sh[hit], ch[hit]
+                done = done | hit
+            move = free | (tiny & pos2)  # (a positive tiny cell: noise; cannot happen, be safe)
+            d = np.where(rest & ~tiny, dd / _ZOOM, d)
+        t = np.where(move, t2, t)
+        f = np.where(move, f2, f)
+        fp = np.where(move, fp2, fp)
+        d = np.where(move, np.minimum(dd * _ZOOM, base), d)
+        ended = move & (t >= wend)
+        if ended.any():
+            # F(t_end) = -L <= 0 up to rounding: contact at t_end at the latest.
+            last = ended & win2
+            ends.append(idx[last])
+            done = done | last
+            nxt = np.flatnonzero(ended & ~win2)  # on to the second window
+            if nxt.size:
+                g = idx[nxt]
+                t0 = np.broadcast_to(w2s if isinstance(w2s, float) else w2s[g], nxt.shape)
+                te = t_end if isinstance(t_end, float) else t_end[g]
+                t[nxt] = t0
+                wend[nxt] = te
+                win2[nxt] = True
+                base[nxt] = np.minimum(step if isinstance(step, float) else step[g],
+                                       np.maximum(te - t0, 0.0))
+                d[nxt] = base[nxt]
+                fn, fpn, shn, chn = _ff(np, t[nxt], q.take(nxt, _Batch._F), thick)
+                f[nxt], fp[nxt] = fn, fpn
+                at = fn <= 0
+                ga = g[at]
+                out[ga], osh[ga], och[ga] = t0[at], shn[at], chn[at]
+                done[nxt[at]] = True
+        st = (t, f, fp, d, base, wend, win2, idx)
+        if done.any():
+            keep = np.flatnonzero(~done)  # gathers then cost what is kept
+            st = tuple(v[keep] for v in st)
+            q = q.take(keep)
+    else:  # pragma: no cover - a bug, never a slow toss
+        raise RuntimeError("the root scan did not terminate")
+    if ends:
+        g = np.concatenate(ends)
+        te = np.broadcast_to(t_end, (n,))[g]
+        out[g] = te
+        _, _, osh[g], och[g] = _ff(np, te, q0.take(g, _Batch._F), thick)
+    if cells:
+        if len(cells) == 1:
+            gi, lo, hi, flo, fplo, fhi, fphi = cells[0]
+        else:
+            gi, lo, hi, flo, fplo, fhi, fphi = (np.concatenate([c[i] for c in cells])
+                                                for i in range(7))
+        in_order = gi.size == n and bool((gi[1:] > gi[:-1]).all())  # all, as in q0
+        qn = q0 if in_order else q0.take(gi, _Batch._F)
+        out[gi], osh[gi], och[gi] = _newton(np, lo, hi, flo, fplo, fhi, fphi, qn, thick)
+    return out, osh, och
 
 
-def _refine_scalar(s, t1, t2, f1, f2):
-    """Leftmost root in [t1, t2] (F(t1) > 0), or None; left-first bisection with exclusion."""
-    stack = [(t1, t2, f1, f2)]
-    while stack:
-        t1, t2, f1, f2 = stack.pop()
-        if _excluded(s, t1, t2, f1, f2):
-            continue
-        d = t2 - t1
-        if f2 <= 0 and _fprime_scalar(t1, s) + max(s.k2, 0.0) * d < -s.stol:
-            return _brentq(s, t1, t2, f2)
-        if d <= 4 * _EPS * t2:  # the last bit of t: a tangency or a root at t2
-            if f2 <= 0:
-                return t2
-            continue
-        tm = t1 + 0.5 * d
-        fm = _f_scalar(tm, s)
-        stack.append((tm, t2, fm, f2))
-        stack.append((t1, tm, f1, fm))
-    return None
+def _newton(np, lo, hi, flo, fplo, fhi, fphi, q, thick):
+    """The single root of a decreasing F in each ``[lo, hi]`` (``F(lo) > 0 >= F(hi)``), with
+    ``|sin x|`` and ``cos x'`` there (as :func:`_ff`).
 
-
-def _brentq(s, t1, t2, f2):
-    if f2 == 0:
-        return t2
-    from scipy.optimize import brentq
-
-    return brentq(_f_scalar, t1, t2, args=(s,), xtol=1e-300, rtol=4 * _EPS, maxiter=200)
+    The start is the root of the cubic Hermite interpolant of F and F' at the ends (from the
+    root of the quadratic through ``F(lo), F'(lo), F(hi)``, a Newton step on the cubic; no
+    evaluation of F).  Then Newton's method on F, bisecting whenever a step would leave the
+    bracket, until F is zero, a step is below the last two bits of ``t`` or the bracket is four
+    ulps wide.  (The first step is taken without a test: it hardly ever converges.)  The sine
+    and cosine of the last evaluation are carried to the root by a rotation through the last
+    (sub-ulp) step.
+    """
+    h = hi - lo
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        m1 = fplo * h  # slopes and coefficients in s = (t - lo) / h
+        df = fhi - flo
+        c2 = df - m1  # the quadratic's
+        sv = 2.0 * flo / (np.sqrt(np.maximum(m1 * m1 - 4.0 * c2 * flo, 0.0)) - m1)
+        m2 = fphi * h
+        c3 = m1 + m2 - 2.0 * df  # the cubic's: flo + m1 s + c2 s^2 + c3 s^3
+        c2 = 3.0 * df - 2.0 * m1 - m2
+        p = flo + sv * (m1 + sv * (c2 + sv * c3))
+        dp = m1 + sv * (2.0 * c2 + 3.0 * c3 * sv)
+        sn = sv - p / dp
+        sv = np.where((sn >= 0) & (sn <= 1), sn, sv)
+        x = lo + sv * h
+    x = np.where(np.isfinite(x), np.clip(x, lo, hi), hi)
+    x[fhi == 0] = hi[fhi == 0]
+    # The first step, for all.
+    f, fp, _, _ = _ff(np, x, q, thick)
+    pos = f > 0
+    lo = np.where(pos, x, lo)
+    hi = np.where(pos, hi, x)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        xn = x - f / fp
+    ok = (xn >= lo) & (xn <= hi) & (fp < 0)  # (at lo or hi: the loop sees it converge)
+    xp, fpp = x, fp  # the last point and slope, for the curvature of the convergence test
+    x = np.where(f == 0, x, np.where(ok, xn, lo + 0.5 * (hi - lo)))  # F(x) = 0: the root
+    n = x.size
+    out = np.empty(n)
+    osh = np.empty(n)
+    och = np.empty(n)
+    g = np.arange(n)
+    qa = q
+    for _ in range(200):
+        if g.size == 0:
+            break
+        f, fp, sa, ca = _ff(np, x, qa, thick)
+        pos = f > 0
+        lo = np.where(pos, x, lo)
+        hi = np.where(pos, hi, x)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = f / fp
+        xn = x - step
+        down = fp < 0
+        ok = (xn >= lo) & (xn <= hi) & down
+        # Converged: F is zero, a Newton step below the last bits of t or so small that the
+        # point it reaches is exact (Newton's error after a step s is F'' s^2 / (2 F'), with
+        # F'' measured between the last two points, which are within 1e-6 of each other), or
+        # a bracket four ulps wide.
+        zero = f == 0
+        ast = np.abs(step)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            curv = np.abs((fp - fpp) / (x - xp))
+        e = ast * (qa.hom if isinstance(qa.hom, float) else qa.hom)  # the phase it turns
+        near = (ast <= 1e-6 * x) & (np.abs(x - xp) <= 1e-6 * x) & (e <= 1e-4)
+        conv = zero | (ok & ((ast <= 2 * _EPS * x) | (near & (curv * ast * ast <= 0.5 * _EPS
+                                                               * x * np.abs(fp))))) | (
+            hi - lo <= 4 * _EPS * hi)
+        stay = zero | (conv & ~ok)
+        # Not converged: Newton strictly inside the bracket (so that it always shrinks), else
+        # bisection.
+        inner = conv | ((xn > lo) & (xn < hi) & down)
+        xnext = np.where(stay, x, np.where(inner, xn, lo + 0.5 * (hi - lo)))
+        if conv.any():
+            # The sine and cosine of x' at the root: at x, turned by e = omega (xnext - x) / 2
+            # (|e| is below ~1e-15: sin e = e, cos e = 1 to the last bit).
+            ci = np.flatnonzero(conv)
+            cg = g[ci]
+            xc = xnext[ci]
+            e = (xc - x[ci]) * (qa.hom if isinstance(qa.hom, float) else qa.hom[ci])
+            e2 = e * e
+            se = e - e * e2 / 6.0  # |e| <= 1e-4: to the last bit
+            ce = 1.0 - 0.5 * e2
+            sc, cc = sa[ci], ca[ci]
+            out[cg] = xc
+            osh[cg] = np.abs(sc * ce + cc * se)
+            och[cg] = cc * ce - sc * se
+            keep = np.flatnonzero(~conv)
+            xp, fpp = x[keep], fp[keep]
+            x, lo, hi, g = xnext[keep], lo[keep], hi[keep], g[keep]
+            qa = qa.take(keep)
+        else:
+            xp, fpp = x, fp
+            x = xnext
+    else:  # pragma: no cover - the bracket halves at least every other step
+        raise RuntimeError("the root refinement did not converge")
+    return out, osh, och
 
 
 def toss(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, contact="rim", z0=None):
-    """Simulate one toss (SI scalars, ``psi`` in radians); return a :class:`Toss`."""
+    """Simulate one toss (SI scalars, ``psi`` in radians); return a :class:`Toss`.
+
+    The same computation as :func:`toss_many` (one toss is a batch of one)."""
     s = _scalar_setup(xi, psi, u, omega, diameter, g, contact, z0)
-    t_f = _first_root_scalar(s)
-    alpha_f = alpha_at(float(psi), omega * t_f)
-    code = classify(alpha_f, float(xi))
+    r = toss_many(xi, psi, u, omega, diameter=diameter, g=g, contact=contact, z0=z0)
+    t_f, code = float(r.t_f), int(r.code)
     return Toss(
         t_f=t_f,
         turns=omega * t_f / _TWO_PI,
-        alpha_f=alpha_f,
+        alpha_f=float(r.alpha_f),
         theta0=math.atan2(1.0, float(xi)),
         vigor=u * omega / g,
         outcome=NAMES[code],
@@ -613,8 +855,9 @@ def toss_many(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, con
               z0=None):
     """Vectorized :func:`toss`: arguments broadcast (numbers or arrays); returns :class:`Tosses`.
 
-    Same model, same certified first-root guarantee as :func:`flight_time`; agrees with it to a
-    few ulps of ``t_f``.  Work is done in batches of 65536 tosses.
+    Same model, same certified first-root guarantee as :func:`flight_time` (which is this
+    function on one toss).  Work is done in batches of 65536 tosses; arguments that are one
+    number stay one number (no array of copies).
     """
     import numpy as np
 
@@ -625,175 +868,38 @@ def toss_many(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, con
         if np.any(np.asarray(z0) <= floor):
             raise ValueError("z0 must be > h/2 for thick contact (the coin would start below the "
                              "catch plane)")
-    arrs = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (
-        xi, psi, u, omega, diameter, g, 0.0 if z0 is None else z0)))
-    shape = arrs[0].shape
-    xi, psi, u, omega, diameter, g, z0v = (x.ravel() for x in arrs)
-    n = xi.size
+    args = [xi, psi, u, omega, diameter, g, z0]
+    shape = np.broadcast_shapes(*(np.shape(v) for v in args if v is not None))
+    n = math.prod(shape)
+    flat = [None if v is None else (float(v) if np.size(v) == 1 else
+                                    np.broadcast_to(np.asarray(v, dtype=float), shape).ravel())
+            for v in args]
     t_f = np.empty(n)
+    alpha_f = np.empty(n)
+    code = np.empty(n, dtype=np.int8)
     for lo in range(0, n, _CHUNK):
         sl = slice(lo, min(n, lo + _CHUNK))
+        m = sl.stop - sl.start
+        xi_c, psi_c, u_c, om_c, dia_c, g_c, z0_c = (v if v is None or isinstance(v, float)
+                                                    else v[sl] for v in flat)
         with np.errstate(over="ignore", invalid="ignore"):  # refused below, not warned about
-            s = _setup(np, xi[sl], psi[sl], u[sl], omega[sl], diameter[sl], g[sl], thick,
-                       None if z0 is None else z0v[sl])
-            problem = _problem(np, s)
+            s = _setup(np, xi_c, psi_c, u_c, om_c, dia_c, g_c, thick, z0_c)
+            problem = np.broadcast_to(_problem(np, s), (m,))
         if problem.any():
             k = int(np.argmax(problem != 0))
-            raise ValueError(_problem_message(
-                int(problem[k]), float(omega[sl][k]), float(u[sl][k]), float(g[sl][k]),
-                float(np.broadcast_to(s.z0, problem.shape)[k]),
-                float(omega[sl][k] * s.t_end[k])))
-        t_f[sl] = _first_root_np(np, s, thick)
-    with np.errstate(invalid="ignore"):
-        alpha_f = alpha_at(psi, omega * t_f)
-    code = classify(alpha_f, xi)
+
+            def at(v, k=k):
+                return float(np.broadcast_to(v, (m,))[k])
+
+            raise ValueError(_problem_message(int(problem[k]), at(om_c), at(u_c), at(g_c),
+                                              at(s.z0), at(om_c) * at(s.t_end)))
+        t, sh, ch = _first_root(np, s, m, thick)
+        t_f[sl] = t
+        a = _alpha(np, s.sp, s.cp, sh, ch)
+        alpha_f[sl] = a
+        code[sl] = classify(a, xi_c)
     return Tosses(t_f.reshape(shape), alpha_f.reshape(shape), code.reshape(shape))
 
-
-_PARAMS = ("om", "sp", "cp", "a", "hh", "z0", "u", "g")
-
-
-def _first_root_np(np, s: _Setup, thick):
-    """First root of F for each toss of a batch (1-D arrays in s).
-
-    Each active toss carries a front ``t`` (``F > 0`` certified on ``[0, t]``), a step ``d`` and
-    its window end.  A round lays at most ``_ZOOM`` cells of width ``d`` from the front (ragged
-    across tosses), moves the front over the excluded ones, and at the first cell that is not
-    excluded either queues it for the solver (certified), zooms in (``d / 8``) or, at the last
-    bit of ``t``, decides.  State is compacted as tosses finish.
-    """
-    n = s.t_end.size
-    out = np.full(n, np.nan)
-    st = {k: np.broadcast_to(np.asarray(getattr(s, k), dtype=float), (n,)).copy()
-          for k in (*_PARAMS, "w2s", "t_end", "tol0", "tol1", "stol", "step")}
-    st["k2p"] = np.maximum(np.broadcast_to(s.k2, (n,)), 0.0)
-    has_w1 = np.broadcast_to(s.w1 >= 0, (n,))
-    st["t"] = np.where(has_w1, 0.0, st["w2s"])
-    st["wend"] = np.where(has_w1, np.broadcast_to(s.w1, (n,)), st["t_end"])
-    st["win"] = np.where(has_w1, 0.0, 1.0)
-    st["base"] = np.minimum(st["step"], np.maximum(st["wend"] - st["t"], 0.0))
-    st["d"] = st["base"].copy()
-    st["gi"] = np.arange(n, dtype=float)
-    solve = []  # (global indices, lo, hi, flo, fhi, params) of certified cells
-    k = _ZOOM
-
-    for _round in range(100_000):
-        na = st["t"].size
-        if na == 0:
-            break
-        ti, di, we = st["t"], st["d"], st["wend"]
-        with np.errstate(invalid="ignore", divide="ignore"):
-            nc = np.where(di > 0, np.ceil((we - ti) / di), 1.0)
-        nc = np.clip(np.nan_to_num(nc, nan=1.0, posinf=k), 1, k).astype(np.int64)
-        npts = nc + 1
-        start = np.cumsum(npts) - npts
-        total = int(start[-1] + npts[-1])
-        row = np.repeat(np.arange(na), npts)
-        j = np.arange(total) - start[row]
-        tt = np.minimum(ti[row] + j * di[row], we[row])
-        ff = _f_np(np, tt, *(st[p][row] for p in _PARAMS), thick)
-        f1, f2 = ff[:-1], ff[1:]
-        dt = tt[1:] - tt[:-1]
-        r1 = row[:-1]
-        m = np.minimum(f1, f2)
-        curv = st["k2p"][r1] * dt * dt * 0.125
-        tl = st["tol0"][r1] + st["tol1"][r1] * tt[1:]
-        keep = (j[:-1] < nc[r1]) & ~((m > 0) & ((m - curv > tl) | (curv <= tl)))
-        pos = np.where(keep, np.arange(total - 1), total)
-        first = np.minimum.reduceat(np.append(pos, total), start)
-        found = first < total
-        done = np.zeros(na, dtype=bool)
-
-        # All cells excluded: the front moves to the last point; zoom back out.
-        nf = np.flatnonzero(~found)
-        st["t"][nf] = tt[start[nf] + npts[nf] - 1]
-        st["d"][nf] = np.minimum(st["d"][nf] * k, st["base"][nf])
-
-        fr = np.flatnonzero(found)
-        if fr.size:
-            c = first[fr]
-            t1, t2, fa, fb = tt[c], tt[c + 1], ff[c], ff[c + 1]
-            now = fa <= 0  # the front itself (a window's start): contact there
-            out[st["gi"][fr[now]].astype(np.int64)] = t1[now]
-            done[fr[now]] = True
-            rest = ~now
-            fr, t1, t2, fa, fb = fr[rest], t1[rest], t2[rest], fa[rest], fb[rest]
-            dd = t2 - t1
-            _, fp = _f_fprime_np(np, t1, *(st[p][fr] for p in _PARAMS), thick)
-            cert = (fb <= 0) & (fp + st["k2p"][fr] * dd < -st["stol"][fr])
-            if cert.any():
-                rc = fr[cert]
-                solve.append((st["gi"][rc].astype(np.int64), t1[cert], t2[cert], fa[cert],
-                              fb[cert], [st[p][rc] for p in _PARAMS]))
-                done[rc] = True
-            un = ~cert
-            fr, t1, t2, fb, dd = fr[un], t1[un], t2[un], fb[un], dd[un]
-            tiny = dd <= 4 * _EPS * t2
-            hit = tiny & (fb <= 0)  # a root at the last bit of t (a tangency or a corner)
-            out[st["gi"][fr[hit]].astype(np.int64)] = t2[hit]
-            done[fr[hit]] = True
-            over = tiny & ~hit  # cannot happen with the noise rule of the exclusion; be safe
-            st["t"][fr[over]] = t2[over]
-            zoom = ~tiny
-            st["t"][fr[zoom]] = t1[zoom]
-            st["d"][fr[zoom]] = dd[zoom] / k
-
-        # Fronts at the end of their window: on to the second window, or contact at t_end.
-        ended = ~done & (st["t"] >= st["wend"])
-        if ended.any():
-            e1 = np.flatnonzero(ended & (st["win"] == 0))
-            st["t"][e1] = st["w2s"][e1]
-            st["wend"][e1] = st["t_end"][e1]
-            st["win"][e1] = 1.0
-            st["base"][e1] = np.minimum(st["step"][e1], st["t_end"][e1] - st["w2s"][e1])
-            st["d"][e1] = st["base"][e1]
-            # F(t_end) = -L <= 0 up to rounding: contact there at the latest.  A second window of
-            # zero length (L = Lmax = 0 throughout) ends there too.
-            fin_mask = ended & (st["win"] == 1)
-            fin_mask[e1] = st["base"][e1] <= 0
-            fin = np.flatnonzero(fin_mask)
-            out[st["gi"][fin].astype(np.int64)] = st["t_end"][fin]
-            done[fin] = True
-        if done.any():
-            live = ~done
-            st = {key: v[live] for key, v in st.items()}
-    else:  # pragma: no cover - a bug, never a slow toss
-        raise RuntimeError("toss_many: the root scan did not terminate")
-
-    if solve:
-        gi = np.concatenate([x[0] for x in solve])
-        lo, hi, flo, fhi = (np.concatenate([x[i] for x in solve]) for i in range(1, 5))
-        params = [np.concatenate([x[5][i] for x in solve]) for i in range(len(_PARAMS))]
-        out[gi] = _newton_bracketed(np, lo, hi, flo, fhi, params, thick)
-    return out
-
-
-def _newton_bracketed(np, lo, hi, flo, fhi, params, thick):
-    """The single root of a decreasing F in each [lo, hi] (F(lo) > 0 >= F(hi))."""
-    x = np.where(fhi == 0, hi, lo + (hi - lo) * (flo / (flo - fhi)))
-    x = np.clip(x, lo, hi)
-    done = fhi == 0
-    act = np.flatnonzero(~done)
-    lo, hi = lo.copy(), hi.copy()
-    for _ in range(100):
-        if act.size == 0:
-            break
-        xa = x[act]
-        f, fp = _f_fprime_np(np, xa, *(p[act] for p in params), thick)
-        pos = f > 0
-        lo[act] = np.where(pos, xa, lo[act])
-        hi[act] = np.where(pos, hi[act], xa)
-        la, ha = lo[act], hi[act]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            step = f / fp
-        xn = xa - step
-        ok = (xn >= la) & (xn <= ha) & (fp < 0)
-        # Converged: F is zero, a Newton step below the last bits of t, or a bracket that tight.
-        conv = (f == 0) | (ok & (np.abs(step) <= 2 * _EPS * xa)) | (ha - la <= 4 * _EPS * ha)
-        nxt = np.where(ok, xn, la + 0.5 * (ha - la))  # Newton inside the bracket, else bisect
-        x[act] = np.where((f == 0) | (conv & ~ok), xa, nxt)
-        act = act[~conv]
-    return x
 
 
 # --------------------------------------------------------------------------- phase space
@@ -1047,26 +1153,46 @@ def _sample_density(np, rng, density, n):
 
 
 def _truncnorm(np, rng, mu, sd, lo, hi, n):
-    """Normal(mu, sd) truncated to [lo, hi], exact: rejection when the mass is large, else the
-    inverse CDF of scipy.stats.truncnorm."""
+    """Normal(mu, sd) truncated to [lo, hi], exact, by rejection (numpy only).
+
+    With a mass above 0.2 the normal itself is the proposal.  Otherwise (Robert, Statistics and
+    Computing 5 (1995) 121), in standard units ``[a, b]`` reflected so that ``b > 0`` and
+    ``a >= 0`` unless the window straddles the mean: a uniform proposal on a window where the
+    density varies by less than a factor e, else the exponential proposal of rate
+    ``(a + sqrt(a^2 + 4))/2`` above ``a``, both accepted at least a third of the time.
+    """
     from statistics import NormalDist
 
+    a, b = (lo - mu) / sd, (hi - mu) / sd
     nd = NormalDist()
-    mass = nd.cdf((hi - mu) / sd) - nd.cdf((lo - mu) / sd) if math.isfinite(hi) or math.isfinite(
-        lo) else 1.0
+    mass = nd.cdf(b) - nd.cdf(a) if math.isfinite(hi) or math.isfinite(lo) else 1.0
+    out = np.empty(n)
+    filled = 0
     if mass > 0.2:
-        out = np.empty(n)
-        filled = 0
         while filled < n:
             draw = rng.normal(mu, sd, max(64, int((n - filled) / mass * 1.1) + 16))
             draw = draw[(draw >= lo) & (draw <= hi)][: n - filled]
             out[filled:filled + draw.size] = draw
             filled += draw.size
         return out
-    from scipy.stats import truncnorm
-
-    return truncnorm.rvs((lo - mu) / sd, (hi - mu) / sd, loc=mu, scale=sd, size=n,
-                         random_state=rng)
+    flip = b <= 0  # the window is below the mean: reflect it above
+    if flip:
+        a, b = -b, -a
+    lo_sq = 0.0 if a < 0 else a * a  # the density's largest value is exp(-lo_sq / 2)
+    uniform = a < 0 or b * b - a * a <= 2.0  # (a < 0: a narrow window around the mean)
+    lam = 0.5 * (a + math.sqrt(a * a + 4.0))
+    while filled < n:
+        m = max(64, 2 * (n - filled) + 16)
+        if uniform:
+            z = rng.uniform(a, b, m)
+            keep = rng.random(m) <= np.exp(0.5 * (lo_sq - z * z))
+        else:
+            z = a + rng.standard_exponential(m) / lam
+            keep = (z <= b) & (rng.random(m) <= np.exp(-0.5 * (z - lam) ** 2))
+        z = z[keep][: n - filled]
+        out[filled:filled + z.size] = z
+        filled += z.size
+    return mu + sd * (-out if flip else out)
 
 
 _KINDS = {"normal": "normal", "norm": "normal", "gauss": "normal", "uniform": "uniform",
@@ -1288,40 +1414,26 @@ def simulate(n, seed, *, xi, u, omega, psi, diameter=DEFAULT_DIAMETER, g=STANDAR
 def vigorous_limit(xi, psi):
     """The vigorous-toss chances (Table I) averaged over a psi distribution (radians).
 
-    ``psi`` is a number, a spec string or a :class:`Dist` on [0, pi].  A fixed value gives
-    :func:`coincli.models.conditional`; otherwise the average is integrated by adaptive
-    quadrature with the regime boundaries ``theta0/2``, ``pi/2 -+ theta0/2``, ... as breakpoints
-    (the chances have square-root corners there).
+    ``psi`` is a number, a spec string, a :class:`Dist` on [0, pi] or a density.  A fixed value
+    gives :func:`coincli.models.conditional`; otherwise :func:`coincli.averages.marginal` (Gauss-
+    Legendre between the regime boundaries, double precision): a normal is the density
+    :class:`coincli.densities.Normal` truncated to [0, pi], as it is sampled, and
+    ``uniform:LOW:HIGH`` the two-point table of equal weights.
     """
     dist = as_dist(psi, "psi", 0.0, math.pi)
     xi = _check("xi", xi, 0.0, allow_inf=True)
-    if dist.kind == "density":
-        from coincli.averages import marginal
-
-        return marginal(xi, dist.density)
     if dist.is_fixed:
         return conditional(xi, min(max(dist.p1, 0.0), math.pi))
-    from scipy.integrate import quad
+    from coincli.averages import marginal
 
-    lo, hi = dist.pdf_interval()
-    lo, hi = max(lo, 0.0), min(hi, math.pi)
-    t = math.atan2(1.0, xi) / 2
-    pts = sorted(p for p in (t, math.pi / 2 - t, math.pi / 2, math.pi / 2 + t, math.pi - t)
-                 if lo < p < hi)
-    if dist.kind == "uniform":
-        def w(x):
-            return 1.0 / (hi - lo)
-        norm = 1.0
+    if dist.kind == "density":
+        density = dist.density
+    elif dist.kind == "uniform":
+        from coincli.densities import Table
+
+        density = Table([max(dist.p1, 0.0), min(dist.p2, math.pi)], [1.0, 1.0], "uniform")
     else:
-        mu, sd = dist.p1, dist.p2
-        if lo < mu < hi:
-            pts = sorted({*pts, mu})
+        from coincli.densities import Normal
 
-        def w(x):
-            return math.exp(-0.5 * ((x - mu) / sd) ** 2)
-        norm = quad(w, lo, hi, points=pts or None, limit=200, epsabs=0, epsrel=1e-12)[0]
-    vals = []
-    for i in (0, 1, 2):
-        vals.append(quad(lambda x, i=i: conditional(xi, x)[i] * w(x), lo, hi, points=pts or None,
-                         limit=200, epsabs=1e-14, epsrel=1e-11)[0] / norm)
-    return Outcome(*vals)
+        density = Normal(dist.p1, dist.p2)
+    return marginal(xi, density)

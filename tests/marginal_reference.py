@@ -175,6 +175,12 @@ def ref_marginal(xi: float, density, dps: int = DPS):
         fold, breaks = mp_density(density)
         fb = [min(p, mp.pi - p) for p in breaks if 0 < p < mp.pi]
         tol = mpf(10) ** (-dps - 5)
+        # a narrow normal's far tail cut by a regime boundary (a chance of 1e-60 or 1e-300):
+        # offsets sd 2^k from each boundary, k = -20 .. 3, resolve any decay length in that range
+        from coincli.densities import Normal
+
+        edge = ([mpf(density.sd) * mpf(2) ** k for k in range(-20, 4)]
+                if isinstance(density, Normal) and density.sd < 0.5 else [])
 
         def quad(f, pts):
             # mpmath's quad stops on an absolute error under eps: each subinterval is mapped to
@@ -195,13 +201,14 @@ def ref_marginal(xi: float, density, dps: int = DPS):
         total = [mpf(0), mpf(0), mpf(0)]
         err = mpf(0)
         # A: [0, t]
-        v, e = quad(fold, _points(mpf(0), t, fb))
+        v, e = quad(fold, _points(mpf(0), t, fb + [t - d for d in edge]))
         total[0] += v
         err += e
         mass = v
         # B: u1 in [0, beta]
         if beta > 0:
-            pts = _points(mpf(0), beta, [p - t for p in fb] + _graded(0, beta, 2 * t))
+            pts = _points(mpf(0), beta, [p - t for p in fb] + _graded(0, beta, 2 * t)
+                          + edge + [beta - d for d in edge])
             cache = {}
 
             def fb_(u1, k):
@@ -219,7 +226,7 @@ def ref_marginal(xi: float, density, dps: int = DPS):
                 err += e
         # C: u2 in [0, t]
         pts = _points(mpf(0), t, [p - (half - t) for p in fb] + (
-            _graded(0, t, beta) if beta > 0 else []))
+            _graded(0, t, beta) if beta > 0 else []) + edge)
         cache = {}
 
         def fc_(u2, k):

@@ -34,6 +34,8 @@ __all__ = [
     "ref_geometric_inverse",
     "ref_dynamic_inverse",
     "ref_boundaries",
+    "ref_conditional_inverse",
+    "inverse_condition",
     "ulp",
     "ulp_error",
 ]
@@ -133,6 +135,71 @@ def _dynamic_inverse(p):
     return (mpmath.tan(mpmath.pi * p / 2),)
 
 
+def _sides_equation(p, psi):
+    """F(u) increasing in u = log xi, zero at the xi with Table I's P(sides | psi) = p: the
+    sides minus p, or (1 - p) minus heads and tails for p > 1/2 (the form that keeps its
+    relative accuracy near p = 1, like the code under test; both are the textbook Table I)."""
+    q = 1 - p
+
+    def f(u):
+        h, s, t = _conditional(mpmath.exp(u), psi)
+        return q - (h + t) if p > 0.5 else s - p
+
+    return f
+
+
+def _root_in_log(f, lo=-800, hi=800):
+    """The root of an increasing f on [lo, hi] (in u = log xi): bisection to 1e-6, then the
+    Illinois variant of regula falsi (it keeps the bracket) until the bracket is below
+    10**-(dps - 5); None when f does not change sign there."""
+    lo, hi = mpf(lo), mpf(hi)
+    flo, fhi = f(lo), f(hi)
+    if flo > 0 or fhi < 0:
+        return None
+    while hi - lo > mpf(10) ** -6:
+        mid = (lo + hi) / 2
+        fm = f(mid)
+        if fm == 0:
+            return mid
+        lo, hi, flo, fhi = (mid, hi, fm, fhi) if fm < 0 else (lo, mid, flo, fm)
+    eps, side = mpf(10) ** -(mp.dps - 5), 0
+    for k in range(10 * mp.dps):
+        if hi - lo <= eps * max(1, abs(lo)) or flo == 0 or fhi == 0:
+            break
+        mid = (lo * fhi - hi * flo) / (fhi - flo)
+        if not lo < mid < hi or k % 8 == 7:  # a bisection now and then: no slow crawl
+            mid = (lo + hi) / 2
+        fm = f(mid)
+        if fm < 0:
+            lo, flo = mid, fm
+            fhi = fhi / 2 if side == -1 else fhi
+            side = -1
+        else:
+            hi, fhi = mid, fm
+            flo = flo / 2 if side == 1 else flo
+            side = 1
+    else:
+        raise ArithmeticError("reference root finding did not converge")
+    return lo if abs(flo) <= abs(fhi) else hi
+
+
+def _conditional_inverse(p, psi):
+    f = _sides_equation(p, psi)
+    psi_m = min(psi, mpmath.pi - psi)
+    if psi_m < mpmath.pi / 4:
+        # heads only below xi_b = cot(2 psi) (psi = theta0/2 there), and P(sides) grows like
+        # sqrt(xi - xi_b) above it: solve in v, u = log xi_b + v**2, where f is smooth
+        ub = mpmath.log(mpmath.cot(2 * psi_m))
+        if ub >= 800:
+            return (mpmath.inf,)
+        v = _root_in_log(lambda v: f(ub + v * v), 0, mpmath.sqrt(800 - ub))
+        return (mpmath.inf,) if v is None else (mpmath.exp(ub + v * v),)
+    u = _root_in_log(f)
+    if u is None:  # beyond e**800 or below e**-800: outside the doubles
+        return (mpf(0) if f(mpf(-800)) > 0 else mpmath.inf,)
+    return (mpmath.exp(u),)
+
+
 def _boundaries(xi):
     t = _theta0(xi) / 2
     pi = mpmath.pi
@@ -170,6 +237,25 @@ def ref_geometric_inverse(p: float):
 def ref_dynamic_inverse(p: float):
     """xi with P_D(sides) = p, as an mpf (inf for p = 1)."""
     return _adaptive(_dynamic_inverse, p)[0]
+
+
+def ref_conditional_inverse(p: float, psi: float):
+    """xi with Table I's P(sides | psi) = p, by root finding on the textbook forms (0 < p < 1,
+    sin psi > 0), as an mpf; 0 or inf where the root lies outside [e**-800, e**800]."""
+    return _adaptive(_conditional_inverse, p, psi)[0]
+
+
+def inverse_condition(xi, p: float, psi: float):
+    """The condition number of xi with respect to the target the code solves for: the relative
+    change in xi per relative change in p (p <= 1/2) or in 1 - p (p > 1/2), at the root xi
+    (an mpf), from Table I differentiated numerically at 60 digits."""
+    with mp.workdps(60 + _guard_digits(p, 1 - p, psi, float(xi))):
+        xi = mpf(xi)
+        f = _sides_equation(mpf(p), mpf(psi))
+        h = mpf(10) ** -25
+        r = mpf(p) if p <= 0.5 else 1 - mpf(p)
+        d = (f(mpmath.log(xi) + h) - f(mpmath.log(xi) - h)) / (2 * h)  # d target / d log xi
+        return abs(r / d) if d else mpmath.inf
 
 
 def ref_boundaries(xi: float):

@@ -437,8 +437,8 @@ ERRORS = [
     (["design", "-p", "0.3", "--bogus"], 2, ["--bogus"]),
     (["nosuchcommand"], 2, ["nosuchcommand"]),
     (["table"], 2, ["--xi", "--quarters", "--count"]),
-    (["table", "--xi", "0.5", "--quarters", "8"], 2, ["exactly one"]),
-    (["table", "--xi", "0.5", "--coin", "nickel"], 2, ["--coin", "--count"]),
+    (["table", "--xi", "0.5", "--quarters", "8"], 2, ["both give the coin"]),
+    (["table", "--xi", "0.5", "--coin", "nickel"], 2, ["--xi and --coin", "--count N"]),
     (["table", "--xi", "-1"], 2, ["--xi", "'-1'", ">= 0"]),
     (["table", "--xi", "0.01:100:0.0000001"], 2, ["--xi", "1000000"]),
     (["table", "--xi", "0:1e308:1e-308"], 2, ["--xi", "at most"]),
@@ -468,16 +468,17 @@ def test_errors_are_one_line_with_exit_code(coin, argv, code, words):
 
 COIN_CONTRADICTIONS = [
     (["stack", "--coin", "dime", "--diameter", "24", "--thickness", "1.75", "--count", "8"],
-     ["--coin", "--diameter D --thickness H", "not both"]),
+     ["--coin and --diameter/--thickness both give the coin", "--diameter D --thickness H"]),
     # typing the default is still a choice of coin
     (["stack", "-c", "quarter", "-d", "24", "-t", "1.75", "--count", "8"],
-     ["--coin", "--diameter", "not both"]),
+     ["--coin and --diameter/--thickness both give the coin"]),
     # named before the custom coin is checked for its other half
     (["stack", "--coin=dime", "--thickness", "2", "--p-sides", "1/3"],
-     ["--coin", "--thickness", "not both"]),
-    (["table", "--quarters", "8", "--coin", "dime"], ["--coin", "--count", "--quarters"]),
+     ["--coin and --diameter/--thickness both give the coin"]),
+    (["table", "--quarters", "8", "--coin", "dime"],
+     ["--coin and --quarters both give the coin", "--count N"]),
     (["table", "--quarters", "8", "--coin", "quarter", "--vs", "psi"],
-     ["--coin", "--count", "--quarters"]),
+     ["--coin and --quarters both give the coin"]),
 ]
 
 
@@ -588,7 +589,7 @@ def test_design_past_the_stack_cap_still_designs_the_coin(coin):
     assert int(r["stack_n"]) > 1 and float(r["stack_xi"]) == coins.stack_xi(
         QUARTER, int(r["stack_n"]))
     # coin stack has nothing to show there: still a computation error, one line
-    _error(coin("stack", "-p", "0.5", "--psi", "1e-10"), 1, "no stack", str(coins.MAX_STACK))
+    _error(coin("stack", "-p", "0.5", "--psi", "1e-10"), 1, "no stack", "2^40 (about 1.1 x 10^12)")
 
 
 def test_psi_180_is_psi_0_the_coin_never_precesses(coin):

@@ -140,13 +140,14 @@ def test_check_bad_counts_are_one_line_exit_2(capsys, counts, words):
 
 
 @pytest.mark.parametrize("argv, words", [
-    (["check", "--sides", "3", "-n", "9"], "give exactly one coin"),
-    (["check", "--xi", "0.5", "--quarters", "2", "--sides", "3", "-n", "9"], "exactly one"),
+    (["check", "--sides", "3", "-n", "9"], "give a coin: --xi X"),
+    (["check", "--xi", "0.5", "--quarters", "2", "--sides", "3", "-n", "9"],
+     "--xi and --quarters both give the coin"),
     (["check", "--xi", "0", "--sides", "3", "-n", "9"], "--xi must be a finite number > 0"),
     (["check", "--xi", "inf", "--sides", "3", "-n", "9"], "--xi"),
-    (["check", "--coin", "nickel", "--sides", "3", "-n", "9"], "--count"),
+    (["check", "--count", "2", "--sides", "3", "-n", "9"], "--count N needs the coin to stack"),
     (["check", "--coin", "nikel", "--count", "2", "--sides", "3", "-n", "9"], "nickel"),
-    (["check", "--diameter", "24", "--sides", "3", "-n", "9"], "go together"),
+    (["check", "--diameter", "24", "--sides", "3", "-n", "9"], "--diameter D needs --thickness"),
     (["check", "--xi", "0.5", "--sides", "3", "-n", "9", "--alpha", "0"], "--alpha"),
     (["check", "--xi", "0.5", "--sides", "3", "-n", "9", "--psi-dist", "nope"], "--psi-dist"),
     (["check", "--xi", "0.5", "--sides", "3", "-n", "9", "-f", "xml"], "--format"),

@@ -94,9 +94,9 @@ def test_dev_zero_on_a_stdin_batch_stops_at_the_first_nul(argv):
 @needs_dev_zero
 @pytest.mark.parametrize("argv, words", [
     (["fit", "-"], ["stdin: contains a NUL byte", "CSV text file"]),
-    (["fit", "/dev/zero"], ["/dev/zero: contains a NUL byte", "CSV text file"]),
+    (["fit", "/dev/zero"], ["/dev/zero: it is a character device, not a regular file"]),
 ])
-def test_fit_of_dev_zero_stops_at_the_first_nul(argv, words):
+def test_fit_of_dev_zero_is_refused_or_stops_at_the_first_nul(argv, words):
     with open("/dev/zero", "rb") as zero:
         result = _process(argv, stdin=zero if argv[-1] == "-" else subprocess.DEVNULL)
     _error(result, 2, *words)
@@ -109,9 +109,9 @@ def test_fit_of_dev_zero_stops_at_the_first_nul(argv, words):
     ["simulate", "--xi", "0.5", "--u", "2.4", "--omega", "38", "-n", "10", "--seed", "1"],
     ["design", "-p", "0.3"],
 ])
-def test_a_psi_table_of_dev_zero_stops_at_the_first_nul(argv):
+def test_a_psi_table_of_dev_zero_is_refused_as_a_device(argv):
     result = _process([*argv, "--psi-dist", "table:/dev/zero"])
-    _error(result, 2, "--psi-dist", "psi table '/dev/zero' contains a NUL byte")
+    _error(result, 2, "--psi-dist", "psi table '/dev/zero' is a character device, not a regular")
 
 
 @pytest.mark.skipif(shutil.which("yes") is None, reason="no `yes` command")

@@ -67,9 +67,9 @@ def test_closed_form_commands_import_neither_numpy_scipy_nor_rich():
 
 
 def test_the_probe_sees_numpy_when_it_is_loaded():
-    # control: a list of targets is one numpy call, a psi density uses scipy quadrature
-    report, _ = _probe([["design", "-p", "0.1,0.2"], ["design", "-p", "0.3", "--psi-dist",
-                                                     "normal:90:18"]])
+    # control: a list of targets is one numpy call; check's tails come from scipy.special
+    report, _ = _probe([["design", "-p", "0.1,0.2"],
+                        ["check", "--xi", "0.5", "--heads", "3", "--sides", "3", "--tails", "3"]])
     assert report[0][1] == 0 and "numpy" in report[0][2]
     assert report[1][1] == 0 and "scipy" in report[1][2]
 

@@ -267,7 +267,6 @@ def test_auto_picks_quadrature_with_the_fewest_nodes():
     (lambda: E.monte_carlo(0.5, n=1.5), r"n must be an integer in \[1, 2\^40\]"),
     (lambda: E.monte_carlo(-1.0), r"xi must be >= 0"),
     (lambda: E.monte_carlo(0.5, "normal"), "density must be a coincli.densities.Density"),
-    (lambda: E.monte_carlo(0.5, max_seconds=0), "max_seconds must be a number > 0"),
     (lambda: E.monte_carlo(0.5, seed=-1), "seed must be a whole number >= 0"),
     (lambda: E.quasi_monte_carlo(0.5, seed=1.5), "seed must be a whole number >= 0"),
     (lambda: E.quasi_monte_carlo(0.5, scrambles=1), r"scrambles must be an integer in \[2, 1024\]"),
@@ -368,11 +367,37 @@ def test_progress_bar_draws_on_stderr_only_after_a_second(monkeypatch):
     bar.close()
 
 
-def test_warning_when_the_time_limit_stops_monte_carlo(capsys, monkeypatch):
+def test_the_run_budget_stops_monte_carlo_deterministically(capsys, monkeypatch):
+    # A --tol out of reach: the run stops at its budget of tosses (not on the clock), warns,
+    # and the same seed gives the same bytes.
     import coincli.cli._accuracy as acc
 
-    monkeypatch.setattr(acc, "MAX_SECONDS", 0.05)
-    code, out, err = _run(["table", "--xi", "0.577", "--psi-dist", "uniform", "--method", "mc",
-                           "--seed", "1", "--tol", "1e-7", "-f", "csv"], capsys)
+    monkeypatch.setattr(acc, "RUN_BUDGET", 1 << 16)
+    argv = ["table", "--xi", "0.577", "--psi-dist", "uniform", "--method", "mc", "--seed", "1",
+            "--tol", "1e-7", "-f", "csv"]
+    code, out, err = _run(argv, capsys)
     assert code == 0 and out.count("\n") == 4
     assert err.startswith("coin: warning: uniform: mc reached") and "not --tol 1e-07" in err
+    assert "--tol not met; it stopped at the run's limit of 65536 tosses" in err
+    assert "mc 65536 tosses" in out and out.splitlines()[0].endswith(",seed")
+    assert out.splitlines()[-1].endswith(",1")
+    assert _run(argv, capsys)[1] == out
+
+
+def test_the_budget_is_one_per_run_shared_by_the_densities(capsys, monkeypatch):
+    import coincli.cli._accuracy as acc
+
+    monkeypatch.setattr(acc, "RUN_BUDGET", 1 << 16)
+    for method, unit in (("mc", "tosses"), ("qmc", "points")):
+        code, out, err = _run(["table", "--xi", "0.577", "--all", "--method", method, "--seed",
+                               "2", "--tol", "1e-7", "-f", "csv"], capsys)
+        assert code == 0 and err.count("coin: warning:") == 3
+        assert f"limit of 65536 {unit}, shared by 3 densities" in err
+        used = [int(line.split(",")[5].split()[1]) for line in out.splitlines()[3:]]
+        assert len(used) == 3 and sum(used) <= 1 << 16, used
+    budget = acc.Budget(3, total=90)
+    assert budget.share() == 30
+    budget.used(10)  # the first met its tolerance early: the others share the rest
+    assert budget.share() == 40
+    budget.used(40)
+    assert budget.share() == 40

@@ -263,17 +263,23 @@ def _grazing(psi, xi, contact, u=2.0, om=776.0):
     """
     from scipy.optimize import brentq
 
-    s = T._scalar_setup(xi, psi, u, om, D, G, contact, None)
+    thick = contact == "thick"
+    s = T._setup(np, xi, psi, u, om, D, G, thick, None)
+    q = T._batch(np, s, 1)
+
+    def f_and_fp(t):
+        return T._ff(np, np.atleast_1d(np.asarray(t, dtype=float)), q, thick)[:2]
+
     ts = np.linspace(0.0, s.t_end, 400_001)
-    f = np.array([T._f_scalar(t, s) for t in ts])
+    f = f_and_fp(ts)[0]
     before = np.minimum.accumulate(f)
     floor = (xi * A if contact == "thick" else 0.0)
     for i in range(1, ts.size - 1):
         if f[i] < f[i - 1] and f[i] <= f[i + 1] and f[i] < before[i - 1] and 0 < f[i] < (
                 s.z0 - floor) * 0.9:
-            t_m = brentq(T._fprime_scalar, ts[i - 1], ts[i + 1], args=(s,), xtol=1e-300,
-                         rtol=4 * EPS)
-            return t_m, T._f_scalar(t_m, s), s.z0
+            t_m = brentq(lambda t: float(f_and_fp(t)[1][0]), ts[i - 1], ts[i + 1],
+                         xtol=1e-300, rtol=4 * EPS)
+            return t_m, float(f_and_fp(t_m)[0][0]), float(s.z0)
     raise AssertionError("no grazing minimum")
 
 

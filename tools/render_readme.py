@@ -1,7 +1,11 @@
 """Re-run every example in README.md and paste what the command prints today.
 
 An example is a fenced ```text block whose lines start with ``$ command``; everything after a
-``$`` line up to the next ``$`` line or the end of the block is that command's output.
+``$`` line up to the next ``$`` line or the end of the block is that command's output: stdout
+and stderr through one pipe, in the order a terminal shows them (Python unbuffered, so an
+error line is not held back behind buffered output).  Commands see an 80 x 24 terminal
+(COLUMNS, LINES) unless the example states its own size (``$ COLUMNS=60 coin ...``), and no
+colour (NO_COLOR).
 
     python tools/render_readme.py           # rewrite README.md in place
     python tools/render_readme.py --check   # exit 1 if README.md is out of date
@@ -20,9 +24,10 @@ BLOCK = re.compile(r"```text\n(.*?)```", re.S)
 
 
 def run(cmd: str) -> str:
-    env = dict(os.environ, NO_COLOR="1", COLUMNS="200")
-    out = subprocess.run(cmd, shell=True, capture_output=True, text=True, cwd=ROOT, env=env)
-    return out.stdout + out.stderr
+    env = dict(os.environ, NO_COLOR="1", COLUMNS="80", LINES="24", PYTHONUNBUFFERED="1")
+    out = subprocess.run(cmd, shell=True, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                         text=True, cwd=ROOT, env=env)
+    return out.stdout
 
 
 def render_block(body: str) -> str:

@@ -52,7 +52,7 @@ def _root(
 # Command modules register themselves on import.  Keep their top level free of numpy/scipy/rich.
 from coincli.cli import design as _design  # noqa: E402,F401
 
-for _name in ("toss", "check", "plot", "methods"):
+for _name in ("toss", "check", "plot", "methods", "book"):
     try:
         __import__(f"coincli.cli.{_name}")
     except ModuleNotFoundError as _exc:  # a command module not written yet
@@ -66,16 +66,90 @@ def _fail(message: str, code: int) -> int:
     try:
         sys.stderr.write(f"coin: error: {clip_message(message)}\n")
         sys.stderr.flush()
-    except (BrokenPipeError, ValueError, OSError):
+    except (AttributeError, ValueError, OSError):  # stderr closed: the exit code still says it
         pass
     return int(code)
 
 
+class StdoutClosed(OSError):
+    """Standard output was closed when ``coin`` started (``coin ... >&-``)."""
+
+
+class _ClosedStdout:
+    """sys.stdout when fd 1 was closed: writing is an error, exit 1; a command that writes only
+    a file (``--out``) still runs."""
+
+    encoding, errors = "utf-8", "strict"
+
+    def write(self, _text):
+        raise StdoutClosed(errno.EBADF, "standard output is closed; nothing can be written")
+
+    def isatty(self):
+        return False
+
+    def fileno(self):
+        raise ValueError("standard output is closed")
+
+    def flush(self):
+        pass
+
+
+class _Discard:
+    """sys.stderr when fd 2 was closed: messages go nowhere, exit codes are unchanged."""
+
+    encoding, errors = "utf-8", "backslashreplace"
+
+    def write(self, text):
+        return len(text)
+
+    def isatty(self):
+        return False
+
+    def fileno(self):
+        raise ValueError("standard error is closed")
+
+    def flush(self):
+        pass
+
+
+def _guard_standard_streams() -> None:
+    """Closed fds 0, 1 and 2 are held open on /dev/null (so no file ``coin`` opens can take
+    their numbers, and a library writing to fd 2 writes nowhere), and Python's None streams are
+    replaced: stdout by one whose writes fail (exit 1, one line), stderr by one that discards.
+    A closed stdin stays None: a command that reads '-' says there is no standard input."""
+    for fd in (0, 1, 2):
+        try:
+            os.fstat(fd)
+        except OSError:
+            try:
+                got = os.open(os.devnull, os.O_RDWR)
+                if got != fd:
+                    os.dup2(got, fd)
+                    os.close(got)
+            except OSError:
+                pass
+    if sys.stdout is None:
+        sys.stdout = _ClosedStdout()
+    if sys.stderr is None:
+        sys.stderr = _Discard()
+
+
 def run(argv=None) -> int:
-    """Run ``coin`` with ``argv`` and return the exit code (never raises, never prints a trace)."""
+    """Run ``coin`` with ``argv`` and return the exit code (never raises, never prints a trace).
+
+    No Python warning reaches stderr (``PYTHONWARNINGS=error`` cannot turn one into a failure):
+    a library's warning is not the user's business once the answer is right; ``--traceback``
+    shows them again.
+    """
+    import warnings
+
     saved_traceback = os.environ.get("COIN_TRACEBACK")
+    _guard_standard_streams()
     try:
-        return _run(argv)
+        with warnings.catch_warnings():
+            if not saved_traceback and "--traceback" not in (argv or sys.argv):
+                warnings.simplefilter("ignore")
+            return _run(argv)
     finally:  # --traceback lasts one run (run() is also called in-process, by tests)
         if saved_traceback is None:
             os.environ.pop("COIN_TRACEBACK", None)
@@ -88,6 +162,8 @@ def _run(argv) -> int:
 
     try:
         argv = list(sys.argv[1:] if argv is None else argv)
+        if os.environ.get(COMPLETE_VAR):
+            return _complete(os.environ[COMPLETE_VAR])
         command = _click_command(argv)
         rv = command.main(argv, prog_name="coin", standalone_mode=False)
         if rv == ExitCode.INTERRUPTED:  # typer turns Ctrl-C into a silent Exit(130)
@@ -98,12 +174,18 @@ def _run(argv) -> int:
         return _fail(exc.message, exc.code)
     except TyperException as exc:
         code = getattr(exc, "exit_code", 2)
+        if type(exc).__name__ == "NoArgsIsHelpError":  # `coin`, `coin plot`: the help, exit 2
+            sys.stdout.write(exc.format_message() + "\n")
+            _flush_stdout()
+            return int(code)
         msg = exc.format_message() if hasattr(exc, "format_message") else str(exc)
         msg = " ".join(msg.split())
         if not msg:  # `coin` alone: the help is already on stdout; no empty error line
             _flush_stdout()
             return int(code)
-        return _fail(f"{msg} (see coin --help)" if code == 2 else msg, code)
+        ctx = getattr(exc, "ctx", None)
+        where = getattr(ctx, "command_path", None) or "coin"
+        return _fail(f"{msg} (see '{where} --help')" if code == 2 else msg, code)
     except typer.Exit as exc:
         return int(exc.exit_code)
     except typer.Abort:
@@ -112,6 +194,8 @@ def _run(argv) -> int:
         return _fail("interrupted", ExitCode.INTERRUPTED)
     except BrokenPipeError:
         return _quiet_broken_pipe()
+    except StdoutClosed as exc:
+        return _fail(exc.strerror, ExitCode.ERROR)
     except SystemExit as exc:
         # typer turns EPIPE raised inside a command into sys.exit(1), even outside standalone
         # mode; the reader going away (`coin ... | head`) is a success.
@@ -147,17 +231,109 @@ def _click_command(argv):
 
     name = next((a for a in argv if not a.startswith("-")), None)
     before = argv[: argv.index(name)] if name is not None else argv
-    if name is None or any(a in ("-h", "--help") for a in before) or any(
-            k.startswith("_COIN") and k.endswith("_COMPLETE") for k in os.environ):
-        return typer.main.get_command(app)
+    if name is None or any(a in ("-h", "--help") for a in before):
+        return _prepare(typer.main.get_command(app))
     commands = [c for c in app.registered_commands
                 if (c.name or typer.main.get_command_name(c.callback.__name__)) == name]
     groups = [g for g in app.registered_groups if g.name == name]
     if not commands and not groups:
-        return typer.main.get_command(app)
+        return _prepare(typer.main.get_command(app))
     lean = copy.copy(app)
     lean.registered_commands, lean.registered_groups = commands, groups
-    return typer.main.get_command(lean)
+    return _prepare(typer.main.get_command(lean))
+
+
+NO_HEADERS_HELP = "With --format csv or tsv: leave out the header line."
+
+
+def _prepare(root):
+    """The click tree as ``coin`` shows it: plain click help (no rich panels: a third of the
+    time of ``--help``, and no second wrapping) laid out in the terminal's width, and every
+    command that takes the shared ``--format`` option also takes ``--no-headers`` (one
+    definition here, so a command added later has it too; :func:`coincli.cli._common.emit`
+    reads it)."""
+    from coincli._terminal import terminal_width
+
+    root.context_settings = {**(root.context_settings or {}),
+                             "terminal_width": terminal_width(), "max_content_width": 80}
+    stack = [root]
+    while stack:
+        cmd = stack.pop()
+        cmd.rich_markup_mode = None
+        cmd.help = _plain_help(cmd.help)
+        for p in cmd.params:
+            if getattr(p, "help", None):
+                p.help = p.help.replace("\\[", "[")
+            if p.param_type_name == "option" and not getattr(p, "is_flag", False) and \
+                    p.metavar is None:
+                p.metavar = _METAVARS.get(type(p.type).__name__) or p.name.upper()
+        stack.extend(getattr(cmd, "commands", {}).values())
+        fmt = next((p for p in cmd.params if "--format" in getattr(p, "opts", ())), None)
+        if fmt is None or any(p.name == "no_headers" for p in cmd.params):
+            continue
+        from typer.core import TyperOption
+
+        flag = TyperOption(param_decls=["no_headers", "--no-headers"], is_flag=True,
+                           default=False, help=NO_HEADERS_HELP)
+        cmd.params.insert(cmd.params.index(fmt) + 1, flag)
+        cmd.callback = _with_no_headers(cmd.callback, fmt.name)
+    return root
+
+
+_METAVARS = {"IntParamType": "N", "IntRange": "N", "FloatParamType": "X", "FloatRange": "X"}
+
+
+def _plain_help(text):
+    """A docstring for click's plain help: rich's escaped brackets unescaped, and an
+    ``Examples:`` paragraph (examples apart by ' ; ') set one example a line, unwrapped."""
+    if not text:
+        return text
+    import re
+
+    text = text.replace("\\[", "[")
+    paras = re.split(r"\n\s*\n", text)
+    for k, para in enumerate(paras):
+        body = " ".join(para.split())
+        if body.startswith("Examples:") and not para.startswith("\b"):
+            examples = [e.strip() for e in re.split(r"\s;\s+", body[len("Examples:"):])]
+            paras[k] = "\b\nExamples:\n" + "\n".join(f"  {e}" for e in examples if e)
+    return "\n\n".join(paras)
+
+
+def _with_no_headers(callback, fmt_name):
+    from coincli.cli._common import usage_error
+
+    def run_command(*args, no_headers=False, **kwargs):
+        if no_headers:
+            fmt = str(kwargs.get(fmt_name) or "table").strip().lower()
+            if fmt not in ("csv", "tsv"):
+                raise usage_error(f"--no-headers goes with --format csv or tsv, not {fmt!r}")
+        return callback(*args, **kwargs)
+
+    return run_command
+
+
+COMPLETE_VAR = "_COIN_COMPLETE"
+SHELLS = ("bash", "zsh", "fish")
+
+
+def _complete(instruction: str) -> int:
+    """Shell completion (``_COIN_COMPLETE=source_bash coin`` prints the script; the script sets
+    ``complete_SHELL`` and the words).  Anything else is one error line, exit 2."""
+    action, _, shell = instruction.partition("_")
+    if action not in ("source", "complete") or shell not in SHELLS:
+        raise CoinError(f"{COMPLETE_VAR} must be source_SHELL or complete_SHELL with SHELL one "
+                        f"of {', '.join(SHELLS)}; got {instruction!r}")
+    if action == "complete" and shell == "bash":
+        words, cword = os.environ.get("COMP_WORDS"), os.environ.get("COMP_CWORD", "")
+        if words is None or not cword.strip().isdigit():
+            raise CoinError(f"{COMPLETE_VAR}=complete_bash needs COMP_WORDS and COMP_CWORD (a "
+                            "whole number), as bash's completion sets them; to install it: "
+                            f"eval \"$({COMPLETE_VAR}=source_bash coin)\"")
+    from typer.completion import shell_complete
+
+    return shell_complete(_prepare(typer.main.get_command(app)), {}, "coin", COMPLETE_VAR,
+                          instruction)
 
 
 def _flush_stdout():

@@ -16,6 +16,7 @@ from typing import Annotated, NamedTuple
 import typer
 
 from coincli.cli._common import Column, compute_error, stderr_is_terminal, usage_error
+from coincli.cli._options import seed_value
 from coincli.modelspec import ModelSpec
 
 TolOpt = Annotated[
@@ -30,15 +31,22 @@ MethodOpt = Annotated[
                  "--tol), quad (Gauss-Legendre), mc (simulated tosses, the paper's Problem 2) or "
                  "qmc (scrambled Sobol tosses).", metavar="METHOD"),
 ]
+DesignMethodOpt = Annotated[
+    str | None,
+    typer.Option("--method", help="How to average over psi: auto (the fewest nodes that meet "
+                 "--tol) or quad (Gauss-Legendre).", metavar="auto|quad"),
+]
 SeedOpt = Annotated[
     str | None,
-    typer.Option("--seed", help="Seed of --method mc or qmc (a whole number >= 0).  Default: "
-                 "fresh entropy, printed in the note.", metavar="SEED"),
-]
+    typer.Option("--seed", help="Seed of --method mc or qmc, a whole number >= 0 (default: "
+                 "drawn, and reported).", metavar="SEED"),
+]  # the shared --seed (coincli.cli._options.SeedOpt), with what it seeds here
 
 METHODS = ("auto", "quad", "mc", "qmc")
-MAX_SECONDS = 60.0  #: a sampling run that has not met --tol by then stops and says so
-_SEED_MAX_DIGITS = 40
+#: the most tosses (mc) or Sobol points (qmc) one command run simulates for --tol, shared by
+#: its densities: a run that has not met --tol by then stops, at a point that depends on the
+#: inputs and the seed alone, and says so (about 10 to 40 seconds of CPU)
+RUN_BUDGET = 1 << 28
 
 
 class Accuracy(NamedTuple):
@@ -73,14 +81,9 @@ def parse(tol: str | None, method: str | None, seed: str | None) -> Accuracy | N
     if seed is not None:
         if m not in ("mc", "qmc"):
             raise usage_error("--seed goes with --method mc or qmc (quadrature is not random)")
-        txt = seed.strip()
-        if not (txt.isascii() and txt.isdigit()) or len(txt) > _SEED_MAX_DIGITS:
-            raise usage_error(f"--seed must be a whole number >= 0, got {seed!r}")
-        s = int(txt)
+        s = seed_value(seed)
     elif m in ("mc", "qmc"):
-        import secrets
-
-        s = secrets.randbits(63)
+        s = seed_value(None)
     return Accuracy(t, m, s)
 
 
@@ -91,10 +94,12 @@ def _check_tol(t: float) -> None:
                          f"got {t!r}")
 
 
-def require_density(acc: Accuracy | None, has_density: bool) -> None:
+def require_density(acc: Accuracy | None, has_density: bool,
+                    options: str = "--tol, --method and --seed",
+                    sources: str = "--psi-dist or --all") -> None:
     if acc is not None and not has_density:
-        raise usage_error("--tol, --method and --seed apply to psi-averaged chances "
-                          "(--psi-dist or --all); the closed forms are exact")
+        raise usage_error(f"{options} apply to psi-averaged chances ({sources}); the closed "
+                          "forms are exact")
 
 
 # --------------------------------------------------------------------------- coin design
@@ -104,7 +109,7 @@ def design_model(acc: Accuracy | None, model: ModelSpec) -> ModelSpec:
     """The model ``coin design`` solves with: the quadrature order --tol picks."""
     if acc is None:
         return model
-    require_density(acc, model.key == "dist")
+    require_density(acc, model.key == "dist", "--tol and --method", "--psi-dist")
     if acc.sampling:
         raise usage_error(f"coin design finds xi by root finding, which needs a smooth, "
                           f"deterministic chance: --method {acc.method} cannot be inverted.  "
@@ -134,21 +139,52 @@ COLUMNS = [
     Column("err_sides", "+- sides", "g2"),
     Column("err_tails", "+- tails", "g2"),
 ]
+SEED_COLUMN = Column("seed", "seed", "int")  #: with --method mc or qmc: the seed of each row
 
 
-def run(acc: Accuracy, density, x, n: int):
-    """(Outcome, per-row extra cells) for one density at x (a float or an array of n xi)."""
+def columns(acc: Accuracy, machine: bool = True) -> list:
+    """The extra columns of ``coin table`` for these options: with sampling, machine output
+    (csv, json, ...) also has the seed's (the human table says it in its note)."""
+    return COLUMNS + ([SEED_COLUMN] if acc.sampling and machine else [])
+
+
+class Budget:
+    """The run's :data:`RUN_BUDGET` of tosses (or points), shared by ``densities`` in turn:
+    each may use what is left divided by the densities still to come (so each gets at least
+    an equal share, and a density that meets --tol early leaves the rest to the others)."""
+
+    def __init__(self, densities: int, total: int | None = None):
+        total = RUN_BUDGET if total is None else total
+        self.left = total
+        self.total = total
+        self.densities = self.to_come = max(int(densities), 1)
+
+    def share(self) -> int:
+        return max(self.left // max(self.to_come, 1), 1)
+
+    def used(self, n: int) -> None:
+        self.left = max(self.left - int(n), 0)
+        self.to_come -= 1
+
+
+def run(acc: Accuracy, density, x, n: int, budget: Budget | None = None):
+    """(Outcome, per-row extra cells) for one density at x (a float or an array of n xi).
+
+    A sampling method with --tol draws at most ``budget.share()`` tosses (or points)."""
     from coincli import estimators as est
 
+    if budget is None:
+        budget = Budget(1)
     bar = Progress(f"{acc.method} {density.spec}")
     try:
         e = est.estimate(x, density, tol=acc.tol, method=acc.method, seed=acc.seed,
-                         max_samples=1 << 40, progress=bar,
-                         max_seconds=MAX_SECONDS if acc.sampling else None)
+                         max_samples=budget.share(), progress=bar)
     except ValueError as exc:
         raise compute_error(str(exc)) from None
     finally:
         bar.close()
+    if acc.sampling:
+        budget.used(e.n)
     if e.method == "quad":  # the calibrated bound itself
         halves = [_tolist(v, n) for v in e.error]
     else:
@@ -162,10 +198,17 @@ def run(acc: Accuracy, density, x, n: int):
         how = f"qmc {e.n} points"
     if acc.tol is not None and not e.met:
         worst = max(max(h) for h in halves)
+        if acc.sampling:
+            shared = (f", shared by {budget.densities} densities" if budget.densities > 1
+                      else "")
+            why = (f": --tol not met; it stopped at the run's limit of {budget.total} "
+                   f"{'tosses' if acc.method == 'mc' else 'points'}{shared}")
+        else:
+            why = "; that is the double-precision limit"
         _warn(f"{density.spec}: {e.method} reached +-{worst:.2g} ({e.detail}), not --tol "
-              f"{acc.tol:g}" + (f", in the {MAX_SECONDS:g} s limit" if acc.sampling else
-                                "; that is the double-precision limit"))
-    extra = [(how, halves[0][k], halves[1][k], halves[2][k]) for k in range(n)]
+              f"{acc.tol:g}{why}")
+    seed = (acc.seed,) if acc.sampling else ()
+    extra = [(how, halves[0][k], halves[1][k], halves[2][k], *seed) for k in range(n)]
     return e.value, extra
 
 

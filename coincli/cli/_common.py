@@ -26,6 +26,8 @@ from typing import Annotated, NamedTuple
 
 import typer
 
+from coincli._files import READ_CHUNK, read_capped
+
 __all__ = [
     "ExitCode",
     "CoinError",
@@ -143,15 +145,15 @@ def stderr_is_terminal() -> bool:
 
 # --------------------------------------------------------------------------- options
 
-FORMATS = ("table", "csv", "tsv", "json", "jsonl")
+FORMATS = ("table", "csv", "tsv", "json", "jsonl", "markdown")
 
 FormatOpt = Annotated[
     str,
     typer.Option(
         "--format",
         "-f",
-        help="Output format: table (default; rich on a terminal, plain text in a pipe), "
-        "csv, tsv, json or jsonl.",
+        help="Output format: table (default: aligned text, folded to fit a terminal), csv, "
+        "tsv, json, jsonl or markdown (a pipe table).",
         metavar="FORMAT",
     ),
 ]
@@ -183,16 +185,24 @@ class Result:
 
     ``rows`` (tuples) or ``data`` (the columns' values, one list per column; ``rows`` then reads
     them on demand).  ``quiet`` is the main number for ``--quiet`` (a value or a list, one per
-    row); ``vertical`` shows a single row as "quantity  value" lines on the human table.
+    row); ``vertical`` shows a single row as "quantity  value" lines on the human table; ``key``
+    is how many leading columns name a row, repeated in each block when a terminal is too narrow
+    for the whole table (default: :func:`key_columns`).  ``chunks``, an iterable of ``data``
+    (a list of columns, lists or arrays, at most :data:`CHUNK_ROWS` rows each), is a streamed
+    batch: each chunk is computed when it is written, and ``quiet`` is then the index of the
+    column ``--quiet`` prints.
     A plain class, not a dataclass: creating a dataclass costs most of a millisecond at import.
     """
 
-    __slots__ = ("title", "columns", "rows", "note", "quiet", "vertical", "data")
+    __slots__ = ("title", "columns", "rows", "note", "quiet", "vertical", "data", "key",
+                 "chunks")
 
     def __init__(self, title: str, columns: Sequence[Column], rows: list, note: str = "",
-                 quiet: object = None, vertical: bool = False, data: list | None = None):
+                 quiet: object = None, vertical: bool = False, data: list | None = None,
+                 key: int | None = None, chunks=None):
         self.title, self.columns, self.rows, self.note = title, columns, rows, note
-        self.quiet, self.vertical, self.data = quiet, vertical, data
+        self.quiet, self.vertical, self.data, self.key = quiet, vertical, data, key
+        self.chunks = chunks
         if data is not None and not rows:
             if len({len(col) for col in data}) > 1:
                 raise ValueError("Result.data: columns of different lengths")
@@ -267,39 +277,185 @@ def _human(v, style: str) -> str:
     return str(v)
 
 
-def emit(result: Result, fmt: str = "table", quiet: bool = False, out=None) -> None:
-    """Write ``result`` to ``out`` (stdout) in the chosen format, in one piece."""
+CHUNK_ROWS = 65_536  #: rows computed, formatted and written at a time by a streamed batch
+
+
+def option_given(name: str) -> bool:
+    """The value of a flag that the shared output options add to every command (``no_headers``),
+    read from the running command's click context; False outside a command."""
+    try:  # typer's vendored click (0.26 to 0.28), already imported by typer
+        from typer._click.globals import get_current_context
+    except ImportError:  # pragma: no cover - a typer that uses click itself
+        from click import get_current_context
+
+    ctx = get_current_context(silent=True)
+    return bool(ctx is not None and ctx.params.get(name))
+
+
+def emit(result: Result, fmt: str = "table", quiet: bool = False, out=None,
+         no_headers: bool | None = None) -> None:
+    """Write ``result`` to ``out`` (stdout) in the chosen format.
+
+    A result with ``chunks`` (a streamed batch) is written a chunk at a time, so memory stays flat
+    in the number of rows; its input was checked before the first chunk (see :class:`Values`).
+    ``no_headers`` (the ``--no-headers`` flag, read from the command line when None) drops the
+    csv/tsv header line.
+    """
     out = out if out is not None else sys.stdout
     fmt = check_format(fmt)
+    if no_headers is None:
+        no_headers = option_given("no_headers")
     if quiet:
-        q = result.quiet
-        vals = q if isinstance(q, list) else [q]
-        _write_rows(out, [vals], "\n", quote=False)
+        if result.chunks is None:
+            q = result.quiet
+            _write_rows(out, [q if isinstance(q, list) else [q]], "\n", quote=False)
+        else:
+            for data in result.chunks:
+                _write_rows(out, [_plain_list(data[result.quiet])], "\n", quote=False)
         return
     names = [c.name for c in result.columns]
     if fmt in ("csv", "tsv"):
         sep = "," if fmt == "csv" else "\t"
-        if result.data is not None and isinstance(result.rows, _RowView):
-            cols = result.data
-        elif result.rows:
-            cols = list(zip(*result.rows, strict=True))
-        else:
-            cols = [[] for _ in names]
-        out.write(sep.join(names) + "\n")
-        _write_rows(out, cols, sep)
+        if not no_headers:
+            out.write(sep.join(names) + "\n")
+        for cols in _column_chunks(result):
+            _write_rows(out, cols, sep)
     elif fmt in ("json", "jsonl"):
-        import json
-
-        objs = [{n: _json_value(v) for n, v in zip(names, row, strict=True)} for row in
-                result.rows]
-        if fmt == "json":
-            out.write(json.dumps(objs, indent=2, allow_nan=False) + "\n")
+        _write_json(out, names, _column_chunks(result), fmt == "json")
+    elif fmt == "markdown":
+        if result.chunks is None:
+            out.write(markdown_table(result))
         else:
-            out.write("".join(json.dumps(o, allow_nan=False) + "\n" for o in objs))
+            first = True
+            for cols in result.chunks:
+                part = markdown_table(_chunk_result(result, cols))
+                if not first:  # the header once; the note after the last chunk
+                    part = part.split("\n", 2)[2]
+                body, _, note = part.partition("\n\n")
+                out.write(body + "\n")
+                first = False
+            if result.note:
+                out.write("\n" + "\n".join(_md_text(p) for p in result.note.split("\n")) + "\n")
     elif stdout_is_terminal() and out is sys.stdout:
-        _rich_table(result)
+        _human_table(result, out, terminal=True)
     else:
-        out.write(plain_table(result))
+        _human_table(result, out, terminal=False)
+
+
+def _chunk_result(result: Result, cols) -> Result:
+    return Result(result.title, result.columns, [], note=result.note, vertical=result.vertical,
+                  data=[_plain_list(c) for c in cols], key=result.key)
+
+
+def _human_table(result: Result, out, terminal: bool) -> None:
+    """The human table (laid out in the terminal's width, bold title and headers unless
+    NO_COLOR or TERM=dumb, on a terminal; as wide as it needs in a pipe).  A streamed batch is
+    laid out by its first chunk and written a chunk at a time: a later cell wider than its
+    column shifts its row, it is never cut."""
+    width, bold = None, False
+    if terminal:
+        from coincli._terminal import colour_allowed, terminal_width
+
+        width, bold = terminal_width(out), colour_allowed()
+    if result.chunks is None:
+        out.write(plain_table(result, width, bold))
+        return
+    chunks = iter(result.chunks)
+    first = next(chunks, None)
+    if first is None:
+        out.write(plain_table(Result(result.title, result.columns, [], result.note), width,
+                              bold))
+        return
+    second = next(chunks, None)
+    whole = _chunk_result(result, first)
+    if second is None:
+        out.write(plain_table(whole, width, bold))
+        return
+    out.write(plain_table(Result(whole.title, whole.columns, whole.rows, "", key=whole.key),
+                          width, bold))
+    headers, rows, right = _human_cells(whole)
+    blocks = _Layout(headers, rows, width).blocks(key_columns(result))
+    for cols in itertools.chain([second], chunks):
+        _, rows, _ = _human_cells(_chunk_result(result, cols))
+        if blocks is not None and len(blocks) == 1:  # one table: the rows go on under it
+            lines = _block_lines(headers, rows, right, *blocks[0], header=False)
+        elif blocks is not None:  # folded: each chunk's blocks, with their headers
+            lines = []
+            for bcols, widths in blocks:
+                lines += ["", *_block_lines(headers, rows, right, bcols, widths, bold)]
+        else:
+            lines = _vertical_lines(headers, rows, width)
+        out.write("\n".join(lines) + "\n")
+    if result.note:
+        out.write("\n".join(_paragraphs(result.note, width)) + "\n")
+
+
+def _column_chunks(result: Result):
+    """The result's columns a chunk at a time (one chunk unless it is streamed)."""
+    if result.chunks is not None:
+        for cols in result.chunks:
+            yield [_plain_list(c) for c in cols]
+        return
+    if result.data is not None and isinstance(result.rows, _RowView):
+        yield [_plain_list(c) for c in result.data]
+    elif result.rows:
+        yield list(zip(*result.rows, strict=True))
+    else:
+        yield [[] for _ in result.columns]
+
+
+def _plain_list(col):
+    """A column as a list of Python values (an ndarray's ``tolist``: numpy's float64 writes
+    itself as ``np.float64(0.5)`` through ``%r``)."""
+    return col.tolist() if hasattr(col, "tolist") else col
+
+
+def _json_cells(col) -> list:
+    """A column's cells as JSON text: floats as repr (non-finite as null / "inf" / "-inf"),
+    ints, true/false, null, strings quoted once per distinct value."""
+    import json
+
+    kinds = set(map(type, col))
+    if kinds <= {float}:
+        if all(map(math.isfinite, col)):
+            return list(map(float.__repr__, col))
+    elif kinds == {int}:
+        return list(map(int.__repr__, col))
+    elif kinds <= {str, type(None)}:
+        cells = {v: json.dumps(v) for v in set(col)}
+        return list(map(cells.__getitem__, col))
+    return [json.dumps(_json_value(v), allow_nan=False) for v in col]
+
+
+def _write_json(out, names, chunks, array: bool) -> None:
+    """JSON (an array of objects, indented as ``json.dumps(indent=2)`` writes it) or JSON lines,
+    written a chunk at a time: the array's brackets and commas are written around the chunks."""
+    import json
+
+    keys = [json.dumps(n) for n in names]
+    if array:
+        template = "  {\n" + ",\n".join(f"    {k.replace('%', '%%')}: %s" for k in keys) + \
+            "\n  }"
+        joiner = ",\n"
+    else:
+        template = "{" + ", ".join(f"{k.replace('%', '%%')}: %s" for k in keys) + "}"
+        joiner = "\n"
+    if not names:
+        template = "  {}" if array else "{}"
+    started = False
+    for cols in chunks:
+        ready = [_json_cells(c) for c in cols]
+        rows = zip(*ready, strict=True) if ready else iter(())
+        while part := list(itertools.islice(rows, _CHUNK)):
+            text = joiner.join(map(template.__mod__, part))
+            if array:
+                text = (",\n" if started else "[\n") + text
+            else:
+                text += "\n"
+            out.write(text)
+            started = True
+    if array:
+        out.write("\n]\n" if started else "[]\n")
 
 
 class _Empty:
@@ -356,47 +512,230 @@ def _csv_cell(text: str, sep: str) -> str:
     return text
 
 
-def _transposed(result: Result) -> Result:
-    row = result.rows[0]
-    return Result(result.title, [Column("quantity", "quantity", "text"), Column("value", "value",
-                  "text")], [(c.header, _human(v, c.style)) for c, v in zip(result.columns, row,
-                                                                      strict=True)], result.note)
-
-
-def plain_table(result: Result) -> str:
-    """The human table as plain text: title, aligned columns, note."""
+def _human_cells(result: Result):
+    """``(headers, rows, right)``: the human table's text, one row of cells per result row (one
+    ``quantity / value`` line per column for a one-row ``vertical`` result), and which columns
+    are right-aligned (numbers)."""
     if result.vertical and len(result.rows) == 1:
-        result = _transposed(result)
-    cells = [[c.header for c in result.columns]]
-    cells += [[_human(v, c.style) for v, c in zip(row, result.columns, strict=True)]
-              for row in result.rows]
-    widths = [max(len(r[i]) for r in cells) for i in range(len(result.columns))]
-    lines = [result.title]
-    for k, r in enumerate(cells):
-        lines.append("  ".join(
-            (s.ljust(w) if (k == 0 or c.style == "text") else s.rjust(w))
-            for s, w, c in zip(r, widths, result.columns, strict=True)).rstrip())
-        if k == 0:
-            lines.append("  ".join("-" * w for w in widths).rstrip())
+        row = result.rows[0]
+        cells = [[c.header, _human(v, c.style)]
+                 for c, v in zip(result.columns, row, strict=True)]
+        return ["quantity", "value"], cells, [False, False]
+    cells = [[_human(v, c.style) for v, c in zip(row, result.columns, strict=True)]
+             for row in result.rows]
+    return [c.header for c in result.columns], cells, [c.style != "text" for c in result.columns]
+
+
+GAP = 2  #: blanks between two columns of a human table
+
+
+def _wrap(text: str, width: int) -> list[str]:
+    """``text`` in lines of at most ``width`` characters, broken at blanks only: a word (and so
+    a number) is never cut; one longer than ``width`` stands alone on its line."""
+    if len(text) <= width:
+        return [text]
+    lines, cur = [], ""
+    for word in text.split():
+        if cur and len(cur) + 1 + len(word) > width:
+            lines.append(cur)
+            cur = word
+        else:
+            cur = f"{cur} {word}" if cur else word
+    lines.append(cur)
+    return lines
+
+
+def _longest_word(text: str) -> int:
+    return max(map(len, text.split()), default=0) if " " in text else len(text)
+
+
+class _Layout:
+    """Column widths for a human table within ``width`` characters (None: no limit).
+
+    A column's natural width is its longest cell or header; its narrowest is its longest word,
+    since cells and headers wrap at blanks only.  A table that does not fit its natural widths is
+    fitted by wrapping the widest wrappable columns; one whose narrowest widths still do not fit
+    is folded into blocks of columns, each repeating the key columns; when even the key columns
+    and one more do not fit, each row is shown as ``quantity  value`` lines.  A number is never
+    cut: it is one word.
+    """
+
+    def __init__(self, headers, rows, width):
+        n = len(headers)
+        self.width = width
+        self.headers, self.rows = headers, rows
+        self.nat = [len(h) for h in headers]
+        self.min = [_longest_word(h) for h in headers]
+        for r in rows:
+            for i in range(n):
+                s = r[i]
+                if len(s) > self.nat[i]:
+                    self.nat[i] = len(s)
+                w = _longest_word(s)
+                if w > self.min[i]:
+                    self.min[i] = w
+
+    def fit(self, cols):
+        """Widths for the columns ``cols`` within the width, or None when they cannot fit."""
+        w = [self.nat[i] for i in cols]
+        if self.width is None:
+            return w
+        avail = self.width - GAP * (len(cols) - 1)
+        excess = sum(w) - avail
+        if excess <= 0:
+            return w
+        slack = [w[k] - self.min[c] for k, c in enumerate(cols)]
+        if sum(slack) < excess:
+            return None
+        while excess > 0:  # narrow the widest column that can still wrap, a character at a time
+            k = max((k for k in range(len(cols)) if slack[k] > 0), key=w.__getitem__)
+            w[k] -= 1
+            slack[k] -= 1
+            excess -= 1
+        for k, c in enumerate(cols):  # a wrapped column is as wide as its longest line
+            if w[k] < self.nat[c]:
+                texts = {self.headers[c], *(r[c] for r in self.rows)}
+                w[k] = max(len(line) for t in texts for line in _wrap(t, w[k]))
+        return w
+
+    def blocks(self, key: int):
+        """[(columns, widths)]: all columns at once, or blocks repeating the first ``key``
+        columns; None when some block cannot fit even one column beside the key."""
+        n = len(self.nat)
+        every = list(range(n))
+        w = self.fit(every)
+        if w is not None:
+            return [(every, w)]
+        key = min(key, n - 1)
+        keys, out, cur = every[:key], [], []
+        for c in every[key:]:
+            if self.fit(keys + cur + [c]) is not None:
+                cur.append(c)
+                continue
+            if not cur:
+                return None
+            out.append(keys + cur)
+            cur = [c]
+            if self.fit(keys + cur) is None:
+                return None
+        if cur:
+            out.append(keys + cur)
+        return [(cols, self.fit(cols)) for cols in out]
+
+
+def _bold(text: str, on: bool) -> str:
+    return f"\x1b[1m{text}\x1b[0m" if on and text else text
+
+
+def _block_lines(headers, rows, right, cols, widths, bold=False, header=True) -> list[str]:
+    """The lines of one block: wrapped headers (bottom-aligned), a rule, the rows."""
+    lines = []
+    if header:
+        heads = [_wrap(headers[c], w) for c, w in zip(cols, widths, strict=True)]
+        depth = max(map(len, heads))
+        for k in range(depth):
+            parts = []
+            for h, w in zip(heads, widths, strict=True):
+                j = k - (depth - len(h))
+                parts.append((h[j] if j >= 0 else "").ljust(w))
+            lines.append(_bold("  ".join(parts).rstrip(), bold))
+        lines.append("  ".join("-" * w for w in widths).rstrip())
+    for r in rows:
+        cells = [_wrap(r[c], w) if len(r[c]) > w else [r[c]]
+                 for c, w in zip(cols, widths, strict=True)]
+        for k in range(max(map(len, cells))):
+            parts = []
+            for c, cell, w in zip(cols, cells, widths, strict=True):
+                s = cell[k] if k < len(cell) else ""
+                parts.append(s.rjust(w) if right[c] else s.ljust(w))
+            lines.append("  ".join(parts).rstrip())
+    return lines
+
+
+def _paragraphs(text: str, width: int | None) -> list[str]:
+    if width is None:
+        return text.split("\n")
+    return [line for para in text.split("\n") for line in _wrap(para, width)]
+
+
+def _vertical_lines(headers, rows, width) -> list[str]:
+    """Each row as ``header  value`` lines, rows apart by a blank line (a terminal too narrow
+    for even two columns of the table)."""
+    lines = []
+    for k, r in enumerate(rows):
+        pairs = [[h, v] for h, v in zip(headers, r, strict=True)]
+        two = _Layout(["", ""], pairs, width)
+        widths = two.fit([0, 1]) or two.min
+        if k:
+            lines.append("")
+        lines += _block_lines(["", ""], pairs, [False, False], [0, 1], widths, header=False)
+    return lines
+
+
+def key_columns(result: Result) -> int:
+    """How many leading columns name a row (repeated in every block of a folded table):
+    ``result.key`` when set; else the first column, and the second too when it is text and the
+    first is not (``xi``, ``model``)."""
+    if result.key is not None:
+        return result.key
+    cols = result.columns
+    if len(cols) > 2 and cols[0].style != "text" and cols[1].style == "text":
+        return 2
+    return 1
+
+
+def plain_table(result: Result, width: int | None = None, bold: bool = False) -> str:
+    """The human table as text: title, aligned columns (headers over a rule), note.
+
+    With a ``width`` (a terminal's), nothing passes it but a word longer than the width: the
+    table is wrapped or folded as :class:`_Layout` says, and a number is never cut.  ``bold``
+    sets the title and headers in bold (a terminal that takes colour).
+    """
+    headers, rows, right = _human_cells(result)
+    transposed = result.vertical and len(result.rows) == 1
+    lines = [_bold(t, bold) for t in _paragraphs(result.title, width)]
+    layout = _Layout(headers, rows, width)
+    blocks = layout.blocks(1 if transposed else key_columns(result))
+    if blocks is not None:
+        for k, (cols, widths) in enumerate(blocks):
+            if k:
+                lines.append("")
+            lines += _block_lines(headers, rows, right, cols, widths, bold)
+    else:  # not even two columns fit: each row as quantity / value lines
+        lines += _vertical_lines(headers, rows, width)
     if result.note:
-        lines.append(result.note)
+        lines += _paragraphs(result.note, width)
     return "\n".join(lines) + "\n"
 
 
-def _rich_table(result: Result) -> None:
-    from rich.console import Console
-    from rich.table import Table
+def markdown_table(result: Result) -> str:
+    """The human table as a Markdown pipe table (numbers right-aligned), then the note."""
+    headers, rows, right = _human_cells(result)
 
-    if result.vertical and len(result.rows) == 1:
-        result = _transposed(result)
-    table = Table(title=result.title, caption=result.note or None, caption_justify="left")
-    for c in result.columns:
-        table.add_column(c.header, justify="left" if c.style == "text" else "right")
-    for row in result.rows:
-        table.add_row(*(_human(v, c.style) for v, c in zip(row, result.columns, strict=True)))
-    # NO_COLOR (no-color.org): rich drops colours itself but keeps bold and italic; a user who
-    # asks for no colour gets plain text in the box, no escape codes at all.
-    Console(color_system=None if env_no_color() else "auto").print(table)
+    def cell(s: str) -> str:
+        return s.replace("\\", "\\\\").replace("|", "\\|").replace("\n", " ")
+
+    lines = ["| " + " | ".join(map(cell, headers)) + " |",
+             "|" + "|".join("---:" if r else ":---" for r in right) + "|"]
+    lines += ["| " + " | ".join(map(cell, r)) + " |" for r in rows]
+    if result.note:
+        lines += ["", *(_md_text(p) for p in result.note.split("\n"))]
+    return "\n".join(lines) + "\n"
+
+
+def _md_text(text: str) -> str:
+    """Prose for Markdown: the characters that would start emphasis, code or HTML escaped."""
+    for ch in "\\`*_<[|":
+        text = text.replace(ch, "\\" + ch)
+    return text
+
+
+def _terminal_table(result: Result) -> None:
+    """The human table on a terminal: laid out in its width, bold title and headers unless
+    NO_COLOR (no-color.org) or TERM=dumb."""
+    from coincli._terminal import colour_allowed, terminal_width
+
+    sys.stdout.write(plain_table(result, terminal_width(sys.stdout), colour_allowed()))
 
 
 # --------------------------------------------------------------------------- values and batches
@@ -406,7 +745,6 @@ MAX_LINE_CHARS = 1000  #: the longest stdin line, in bytes (line end included)
 #: the most bytes read from stdin: 10^7 full-precision doubles ('-2.2250738585072014e-308'),
 #: one a line with CRLF ends, are 260 MB
 MAX_STDIN_BYTES = 300_000_000
-READ_CHUNK = 1 << 20  #: bytes read at a time
 _BOM = b"\xef\xbb\xbf"
 
 
@@ -420,49 +758,6 @@ def stream_reader(stream) -> Callable[[int], bytes]:
         return chunk.encode("utf-8", "surrogateescape") if isinstance(chunk, str) else chunk
 
     return read_bytes
-
-
-def read_capped(read: Callable[[int], bytes], limit: int,
-                max_line: int | None = None) -> tuple[bytes, str | None]:
-    """Read chunks of ``read(n)`` until the end, never more than ``limit + 1`` bytes in all.
-
-    Returns ``(data, why)``, a leading UTF-8 byte-order mark dropped.  ``why`` is None when all
-    was read; ``"size"`` when there are more than ``limit`` bytes (``data`` is then empty);
-    ``"nul"`` at a NUL byte, ``"line"`` when a line runs past ``max_line`` bytes: reading stops
-    there and ``data`` ends just past the bad byte, so a line-by-line check of ``data`` finds the
-    first bad line (the long-line watch only sees lines that cross a chunk boundary; a shorter
-    one is the line check's).  /dev/zero, or a pipe that never ends, costs one chunk.
-    """
-    parts: list[bytes] = []
-    total = run = 0  # run: bytes since the last newline
-    while total <= limit:
-        chunk = read(min(READ_CHUNK, limit + 1 - total))
-        if not chunk:
-            break
-        total += len(chunk)
-        if not parts and chunk.startswith(_BOM):
-            chunk = chunk[len(_BOM):]
-        why = None
-        nul = chunk.find(b"\0")
-        if nul >= 0:
-            chunk, why = chunk[:nul + 1], "nul"
-        if max_line is not None:
-            first = chunk.find(b"\n")
-            if run + (len(chunk) if first < 0 else first) > max_line:  # the open line runs on
-                chunk, why = chunk[:max_line - run + 1], "line"
-            elif first >= 0:
-                last = chunk.rfind(b"\n")
-                run = len(chunk) - last - 1
-                if run > max_line:
-                    chunk, why = chunk[:last + max_line + 2], "line"
-            else:
-                run += len(chunk)
-        parts.append(chunk)
-        if why is not None:
-            return b"".join(parts), why
-    if total > limit:
-        return b"", "size"
-    return b"".join(parts), None
 
 
 def _megabytes(n: int) -> str:

@@ -16,8 +16,10 @@ from typing import Annotated
 import typer
 
 from coincli import parse
-from coincli.cli import app
+from coincli._files import FileKindError, read_regular
+from coincli.cli import _options, app
 from coincli.cli._common import (
+    CHUNK_ROWS,
     Column,
     FormatOpt,
     QuietOpt,
@@ -157,11 +159,11 @@ def _values(arr) -> list:
     return [None if v != v else v for v in arr.tolist()]
 
 
-def _machine_data(ch, lines, extra=None, tail_rows=()):
-    """The columns of the machine table: one row per experiment and model (experiment-major),
-    then ``tail_rows`` (tuples).  ``extra(k)`` gives the fit's extra cells of model ``k``.
-    Each column is made by a function of a range of experiments, so that a long file can be
-    written a chunk of experiments at a time."""
+def _machine_chunks(ch, lines, extra=None, tail_rows=()):
+    """The machine table a chunk at a time (lists of columns, at most CHUNK_ROWS rows): one
+    row per experiment and model (experiment-major), then ``tail_rows`` (tuples).
+    ``extra(k)`` gives the fit's extra cells of model ``k``.  A file of 10^5 experiments is
+    written without ever holding its 10^5 x models x 45 cells."""
     import numpy as np
 
     M = len(ch.tests)
@@ -222,12 +224,26 @@ def _machine_data(ch, lines, extra=None, tail_rows=()):
             makers.append(lambda a, b, cells=cells: cells * (b - a))
     # heads and tails: int columns with None where faces were not told apart
     makers[5], makers[7] = _ints(makers[5]), _ints(makers[7])
-    return [make(0, T) + [r[c] for r in tail_rows] for c, make in enumerate(makers)]
+    step = max(1, CHUNK_ROWS // M)
+    for a in range(0, T, step):
+        yield [make(a, min(a + step, T)) for make in makers]
+    if tail_rows:
+        yield [list(col) for col in zip(*tail_rows, strict=True)]
 
 
 def _ints(make):
     """Counts read back from a float array (NaN for absent) as ints."""
     return lambda a, b: [None if v is None else int(v) for v in make(a, b)]
+
+
+def _count_text(v: float) -> str:
+    """An expected count for people: 33.3333, 495000, 12345679 (never 4.95e+05)."""
+    return f"{v:.6g}" if abs(v) < 1e6 else f"{v:.0f}"
+
+
+def _plural(n: int, one: str, many: str) -> str:
+    """``1 toss``, ``2 tosses``, ``0 experiments``."""
+    return f"{n} {one if n == 1 else many}"
 
 
 def _interval_text(lo: float, hi: float) -> str:
@@ -278,7 +294,7 @@ def _tests_result(title: str, ch, lines, note: str) -> Result:
             e = exp[i]
             shown = e if f else (None, e[0], None)
             body.append((*lead, model, *raw[i],
-                         " / ".join("-" if v is None else f"{v:.4g}" for v in shown),
+                         " / ".join("-" if v is None else _count_text(v) for v in shown),
                          pv[i], ll[i], ver[i]))
     return Result(title, cols, body, note=note)
 
@@ -307,67 +323,27 @@ def _test_note(ch) -> str:
 
 
 def _xi_from_options(xi, quarters, coin, count, diameter, thickness) -> tuple[float, str]:
-    from coincli import coins as catalog
-
-    kinds = [xi is not None, quarters is not None, coin is not None or count is not None,
-             diameter is not None or thickness is not None]
-    if sum(kinds) != 1:
-        raise usage_error("give exactly one coin: --xi X, --quarters N, --coin NAME --count N, "
-                          "or --diameter D --thickness H")
-    if xi is not None:
-        try:
-            v = parse.parse_number(xi, "--xi", allow_inf=True)
-        except ValueError:
-            v = math.nan
-        if not (math.isfinite(v) and v > 0):  # inf (no faces) or 0 (no rim) was never tossed
-            raise usage_error("--xi must be a finite number > 0 (the aspect ratio h/D of the coin "
-                              f"you tossed), got {shown(xi)}")
-        return v, f"xi={xi.strip()}"
-    if diameter is not None or thickness is not None:
-        if diameter is None or thickness is None:
-            raise usage_error("--diameter and --thickness go together")
-        try:
-            d = parse.parse_length_mm(diameter, "--diameter")
-            h = parse.parse_length_mm(thickness, "--thickness")
-        except ValueError as exc:
-            raise usage_error(str(exc)) from None
-        return h / d, f"{diameter.strip()} x {thickness.strip()}"
-    name = "quarter" if quarters is not None else (coin or "quarter")
-    text = quarters if quarters is not None else count
-    what = "--quarters" if quarters is not None else "--count"
-    if text is None:
-        raise usage_error("--coin needs --count N (the number of coins in the stack)")
-    try:
-        c = catalog.get_coin(name)
-        k = parse.parse_count(text, what)
-    except ValueError as exc:
-        raise usage_error(str(exc) if "count" in str(exc) or "quarters" in str(exc)
-                          else f"--coin: {exc}") from None
-    return catalog.stack_xi(c, k), (c.name if k == 1 else f"{c.name} x{k}")
+    """The coin tossed (the shared coin group) and its label."""
+    c = _options.resolve_coin(xi, coin, count, quarters, diameter, thickness,
+                              xi_rule="positive", command="coin check")
+    return c.xi, c.label()
 
 
 @app.command()
 def check(
-    xi: Annotated[str | None, _opt("--xi", "-x", mv="X",
-                                   help="Aspect ratio h/D of the coin tossed.")] = None,
-    quarters: Annotated[str | None, _opt("--quarters", mv="N",
-                                         help="A stack of N US quarters instead of --xi.")] = None,
-    coin: Annotated[str | None, _opt("--coin", "-c", mv="NAME",
-                                     help="Catalog coin, with --count (see `coin coins`).")] = None,
-    count: Annotated[str | None, _opt("--count", mv="N",
-                                      help="Number of stacked --coin coins.")] = None,
-    diameter: Annotated[str | None, _opt("--diameter", "-d", mv="D", help="Coin diameter (mm "
-                                         "or with a unit), with --thickness.")] = None,
-    thickness: Annotated[str | None, _opt("--thickness", "-t", mv="H",
-                                          help="Coin thickness (mm or with a unit).")] = None,
+    xi: _options.XiOpt = None,
+    quarters: _options.QuartersOpt = None,
+    coin: _options.CoinOpt = None,
+    count: _options.CountOpt = None,
+    diameter: _options.DiameterOpt = None,
+    thickness: _options.ThicknessOpt = None,
     heads: Annotated[str | None, _opt("--heads", mv="H", help="Tosses that landed heads.")
                      ] = None,
     sides: Annotated[str | None, _opt("--sides", "-s", mv="S",
                                       help="Tosses that landed on a side.")] = None,
     tails: Annotated[str | None, _opt("--tails", mv="T", help="Tosses that landed tails.")
                      ] = None,
-    tosses: Annotated[str | None, _opt("--tosses", "-n", mv="N", help="Number of tosses (with "
-                                       "--sides alone when faces were not told apart).")] = None,
+    tosses: _options.TossesOpt = None,
     psi_dist: PsiDistsOpt = None,
     alpha: AlphaOpt = "0.05",
     confidence: ConfidenceOpt = "0.95",
@@ -404,10 +380,11 @@ def check(
         ch = stats.check_many([counts], x, chances, confidence=conf, alpha=a, labels=[label])
     except ValueError as exc:
         raise compute_error(str(exc)) from None
-    machine = Result("coin check", MACHINE_COLUMNS, [], data=_machine_data(ch, None),
+    machine = Result("coin check", MACHINE_COLUMNS, [],
+                     data=next(_machine_chunks(ch, None)),
                      quiet=[float(t.p_value[0]) for t in ch.tests])
     coin_text = f"xi = {x:.6g}" if xi is not None else f"{label} (xi = {x:.6g})"
-    title = f"coin check: {coin_text}, {counts.n} tosses"
+    title = f"coin check: {coin_text}, {_plural(counts.n, 'toss', 'tosses')}"
     human = [
         _observed_result(title, ch, None, conf),
         _tests_result("models", ch, None, _test_note(ch) + _models_note(dens)),
@@ -430,7 +407,8 @@ def _read_text(path: str) -> tuple[str, str]:
     """The text of an experiments file, or of stdin for '-', and the name to call it by.
 
     At most :data:`MAX_FILE_BYTES` are read, in chunks, whatever the file claims to be
-    (/dev/zero and pipes have no size); reading stops at a NUL byte.
+    (/dev/zero and pipes have no size); reading stops at a NUL byte.  A named file must be a
+    regular file (:func:`coincli._files.read_regular`).
     """
     if path.strip() == "-":
         if sys.stdin is None:
@@ -441,8 +419,10 @@ def _read_text(path: str) -> tuple[str, str]:
     else:
         name = path
         try:
-            with open(path, "rb") as fh:
-                data, why = read_capped(fh.read, MAX_FILE_BYTES)
+            data, why = read_regular(path, MAX_FILE_BYTES)  # a FIFO or device: refused
+        except FileKindError as exc:
+            raise usage_error(f"cannot read {_clipped(path)}: it is {exc.kind}, not a regular "
+                              "file; give an experiments file, or '-' to read a pipe") from None
         except OSError as exc:
             raise usage_error(f"cannot read {_clipped(path)}: {exc.strerror or exc}") from None
     if why == "size":
@@ -556,16 +536,18 @@ def fit(
                  None if math.isnan(m.delta_aic) else m.delta_aic, m.sse_sides]
         cells += spread_cells if m.model == stats.SPREAD_MODEL else [None] * 3
         tail.append(tuple(cells))
-    machine = Result("coin fit", FIT_COLUMNS, [],
-                     data=_machine_data(res.rows, lines, extra, tail),
-                     quiet=_deg(sp.sigma) if sp is not None else None)
+    if quiet:
+        machine = Result("coin fit", FIT_COLUMNS, [], quiet=_deg(sp.sigma))
+    else:
+        machine = Result("coin fit", FIT_COLUMNS, [],
+                         chunks=_machine_chunks(res.rows, lines, extra, tail))
     if quiet or fmt != "table":
         human = []
     else:
-        n_exp = len(exps)
         human = [
-            _observed_result(f"coin fit: {name}, {n_exp} experiment{'s' * (n_exp != 1)}, "
-                             f"{n_total} tosses", res.rows, lines, conf),
+            _observed_result(f"coin fit: {name}, "
+                             f"{_plural(len(exps), 'experiment', 'experiments')}, "
+                             f"{_plural(n_total, 'toss', 'tosses')}", res.rows, lines, conf),
             _tests_result("models, each experiment", res.rows, lines, _test_note(res.rows)),
             _comparison_result(res, conf),
         ]

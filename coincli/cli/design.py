@@ -15,7 +15,7 @@ import typer
 
 from coincli import coins as coin_catalog
 from coincli import models, parse
-from coincli.cli import _accuracy, app
+from coincli.cli import _accuracy, _options, app
 from coincli.cli._common import (
     Column,
     FormatOpt,
@@ -28,6 +28,15 @@ from coincli.cli._common import (
     values_option,
 )
 from coincli.modelspec import DYNAMIC, GEOMETRIC, ModelSpec
+
+MACHINE_FORMATS = ("csv", "tsv", "json", "jsonl")
+
+
+def _model_names(models, fmt: str) -> list[str]:
+    """Each model's name as a table cell: its spec in machine output (``normal``, reads back
+    as --psi-dist), its human title on a terminal (``normal (paper)``)."""
+    human = fmt.strip().lower() not in MACHINE_FORMATS
+    return [m.title if human else m.name for m in models]
 
 # --------------------------------------------------------------------------- models as options
 
@@ -52,23 +61,19 @@ def _table_i_angle(psi: float) -> float:
 
 
 def psi_model(psi_deg_text: str) -> ModelSpec:
-    try:
-        psi = parse.parse_angle_deg(psi_deg_text, "--psi")
-    except ValueError as exc:
-        raise usage_error(str(exc)) from None
-    label = f"psi = {psi_deg_text.strip()} deg (Table I)"
+    return angle_model(_options.psi_angle(psi_deg_text))
+
+
+def angle_model(deg: float) -> ModelSpec:
+    """Table I at ``deg`` degrees (checked to lie in [0, 180])."""
+    psi = _options.radians(deg)
+    label = f"psi = {deg:.10g} deg (Table I)"
     at = _table_i_angle(psi)
     return (ModelSpec if at == psi else _Psi180).fixed_psi(at, label)
 
 
 def density_model(spec: str) -> ModelSpec:
-    from coincli.densities import parse_density
-
-    try:
-        d = parse_density(spec)
-    except ValueError as exc:
-        raise usage_error(f"--psi-dist: {exc}") from None
-    return ModelSpec.psi_density(d)
+    return ModelSpec.psi_density(_options.psi_density(spec))
 
 
 def choose_model(model: str | None, psi: str | None, psi_dist: str | None) -> ModelSpec:
@@ -95,18 +100,11 @@ ModelOpt = Annotated[
     str | None,
     typer.Option("--model", "-m", help="geometric, dynamic (default) or psi.", metavar="MODEL"),
 ]
-PsiOpt = Annotated[
-    str | None,
-    typer.Option("--psi", help="Fixed angle between angular momentum and normal, degrees "
-                 "[0, 180] (Table I).", metavar="DEG"),
-]
-PsiDistOpt = Annotated[
-    str | None,
-    typer.Option("--psi-dist", help="Distribution of psi: uniform, cosine, normal (the paper's), "
-                 "normal:MEAN:SD (degrees) or table:FILE.", metavar="SPEC"),
-]
+PsiOpt = _options.PsiOpt
+PsiDistOpt = _options.PsiDistOpt
 CoinOpt = Annotated[
-    str, typer.Option("--coin", "-c", help="Catalog coin for stacks (see `coin coins`).")
+    str, typer.Option("--coin", "-c", metavar="NAME", help="Catalog coin of the stack "
+                      "(see coin coins).")
 ]
 
 
@@ -124,12 +122,6 @@ def _length(text: str | None, what: str) -> float | None:
         return parse.parse_length_mm(text, what)
     except ValueError as exc:
         raise usage_error(str(exc)) from None
-
-
-def _given(ctx: typer.Context, name: str) -> bool:
-    """Whether the option ``name`` was typed, rather than left at its default."""
-    source = ctx.get_parameter_source(name)  # click's ParameterSource (typer may vendor click)
-    return source is not None and source.name != "DEFAULT"
 
 
 def _vector(values):
@@ -180,41 +172,45 @@ def _stack_columns(coin, p, model: ModelSpec, xi=None):
 def design(
     p_sides: Annotated[
         str,
-        typer.Option("--p-sides", "-p", help="Target chance of landing on a side: 0.33, 1/3 or "
-                     "33%; a list a,b; a range start:stop:step; or - to read one per line "
-                     "from stdin."),
+        typer.Option("--p-sides", "-p", metavar="P", help="Target chance of a side: 0.33, 1/3 "
+                     "or 33%; a list a,b; a range lo:hi:step; or - (stdin)."),
     ],
     model: ModelOpt = None,
     psi: PsiOpt = None,
     psi_dist: PsiDistOpt = None,
     diameter: Annotated[
         str | None,
-        typer.Option("--diameter", "-d", help="Coin diameter (mm, or with a unit: 0.955in, "
-                     "2.4cm); the thickness is computed.  Default: the --coin's diameter."),
+        typer.Option("--diameter", "-d", metavar="D", help="Diameter (24.26, 2.4cm, 0.955in); "
+                     "the thickness is computed.  Default: the --coin's."),
     ] = None,
     thickness: Annotated[
         str | None,
-        typer.Option("--thickness", "-t", help="Coin thickness (mm or with a unit); the "
+        typer.Option("--thickness", "-t", metavar="H", help="Thickness (mm or a unit); the "
                      "diameter is computed instead."),
     ] = None,
     coin: CoinOpt = "quarter",
     tol: _accuracy.TolOpt = None,
-    method: _accuracy.MethodOpt = None,
+    method: _accuracy.DesignMethodOpt = None,
     fmt: FormatOpt = "table",
     quiet: QuietOpt = False,
 ):
     """The aspect ratio (thickness/diameter) that lands on a side with the chance you want.
 
-    Reports xi, D/h, the thickness for a diameter (or the diameter for a thickness), the nearest
-    stack of a catalog coin with the chances reached by N-1, N and N+1 coins, and what the other
-    model predicts for the same coin.  The stack cells are empty when no stack gets there: at
-    P(sides) = 1, or past 2^40 coins (a fixed psi near 0 or 180 degrees).
+    Reports xi, D/h, the thickness for a diameter (or the diameter for a thickness), the
+    nearest stack of a catalog coin with N-1, N and N+1 coins, and what the other model says.
 
-    Examples: coin design --p-sides 1/3 ;  coin design -p 25% --model geometric --diameter 30 ;
-    seq 0.05 0.05 0.95 | coin design -p - --format csv ;  xi=$(coin design -p 1/3 -q)
+    Examples:
+
+      coin design --p-sides 1/3
+
+      coin design -p 25% --model geometric --diameter 30
+
+      seq 0.05 0.05 0.95 | coin design -p - --format csv
     """
     check_format(fmt)
     m = choose_model(model, psi, psi_dist)
+    if method is not None and method.strip().lower() not in _accuracy.METHODS:
+        raise usage_error(f"--method must be auto or quad; got {method!r}")
     acc = _accuracy.parse(tol, method, None)
     m = _accuracy.design_model(acc, m)
     if diameter is not None and thickness is not None:
@@ -281,151 +277,131 @@ def design(
 _ALL_DENSITIES = ("uniform", "cosine", "normal")
 
 
-def _xi_values(xi_text, quarters, coin_name, count):
-    given = [x is not None for x in (xi_text, quarters, count)]
-    if sum(given) != 1:
-        raise usage_error("give exactly one of --xi, --quarters N, or --coin NAME --count N")
-    if xi_text is not None:
-        if coin_name is not None:
-            raise usage_error("--coin goes with --count, not with --xi")
-        vals = values_option(xi_text, "--xi", lambda s, w: _xi_item(s, w), bounds=(0.0, math.inf))
-        return vals, None
-    if quarters is not None and coin_name is not None:
-        raise usage_error("--coin goes with --count, not with --quarters (a stack of US quarters)")
-    c = _coin("quarter" if quarters is not None else (coin_name or "quarter"))
-    text = quarters if quarters is not None else count
-    counts = values_option(text, "--count" if quarters is None else "--quarters",
-                           lambda s, w: float(parse.parse_count(s, w)))
-    ns = [int(k) for k in counts]
-    return [coin_catalog.stack_xi(c, k) for k in ns], (c, ns)
-
-
-def _xi_item(s, w):
-    v = parse.parse_number(s, w, allow_inf=True)
-    if not v >= 0:
-        raise ValueError(f"{w} must be >= 0 (inf allowed), got {s!r}")
-    return v
+def _table_coins(xi, coin, count, quarters, diameter, thickness) -> _options.Coins:
+    return _options.resolve_coin(xi, coin, count, quarters, diameter, thickness, many=True,
+                                 xi_rule="any", command="coin table")
 
 
 @app.command()
 def table(
-    xi: Annotated[
-        str | None,
-        typer.Option("--xi", "-x", help="Aspect ratio(s): 0.577, a list 0.2,0.577, a range "
-                     "0.1:1:0.05, or - for stdin."),
-    ] = None,
-    quarters: Annotated[
-        str | None, typer.Option("--quarters", help="A stack of N US quarters instead of --xi.")
-    ] = None,
-    coin: Annotated[
-        str | None, typer.Option("--coin", "-c", help="Catalog coin, with --count.")
-    ] = None,
-    count: Annotated[
-        str | None, typer.Option("--count", "-n", help="Number of stacked --coin coins.")
-    ] = None,
-    psi: PsiOpt = None,
-    psi_dist: Annotated[
-        str | None,
-        typer.Option("--psi-dist", help="Add psi-averaged rows: a comma list of uniform, cosine, "
-                     "normal, normal:MEAN:SD (degrees), table:FILE.", metavar="SPECS"),
-    ] = None,
+    xi: _options.XisOpt = None,
+    coin: _options.CoinOpt = None,
+    count: _options.CountsOpt = None,
+    quarters: _options.QuartersManyOpt = None,
+    diameter: _options.DiameterOpt = None,
+    thickness: _options.ThicknessOpt = None,
+    psi: _options.PsisOpt = None,
+    psi_dist: _options.PsiDistsOpt = None,
     all_models: Annotated[
-        bool, typer.Option("--all", help="Also the three densities of Table II (uniform, "
-                           "cosine, normal).")
+        bool, typer.Option("--all", help="Also Table II's densities: uniform, cosine, normal.")
     ] = False,
     vs: Annotated[
-        str | None, typer.Option("--vs", help="psi: tabulate over psi (Table I) for one xi; "
-                                 "--psi then takes degrees as a list or range (default 0:180:15).")
+        str | None, typer.Option("--vs", metavar="psi", help="psi: one row per --psi angle "
+                                 "(default 0:180:15), regimes named.")
     ] = None,
     tol: _accuracy.TolOpt = None,
     method: _accuracy.MethodOpt = None,
     seed: _accuracy.SeedOpt = None,
     fmt: FormatOpt = "table",
     quiet: Annotated[
-        bool, typer.Option("--quiet", "-q", help="Print only P(sides), one line per row of the "
-                           "table: for each coin in turn, geometric, then dynamic, then --psi, "
-                           "then each density (--all, --psi-dist), unlabelled; with --vs psi, "
-                           "one line per angle.")
+        bool, typer.Option("--quiet", "-q", help="Print only P(sides), a line a row: each "
+                           "coin's geometric, then dynamic, then the other models.")
     ] = False,
+    old_n: _options.OldCountOpt = None,
 ):
     """Chances of heads, sides and tails under every model, for one or more coins.
 
-    One row per coin and model: geometric (eq. 11) and dynamic (eq. 12) always; Table I at a
-    fixed --psi; psi-averaged densities with --psi-dist or --all (Table II).
+    One row per coin and model: geometric (eq. 11) and dynamic (eq. 12) always; Table I at
+    each --psi angle; psi-averaged densities with --psi-dist or --all (Table II).
 
-    Examples: coin table --xi 0.577 ;  coin table --xi 0.1:1:0.1 --format csv ;
-    coin table --quarters 8 --all ;  coin table --xi 0.577 --vs psi --psi 0:180:10
+    Examples:
+
+      coin table --xi 0.577
+
+      coin table --xi 0.1:1:0.1 --format csv
+
+      coin table --quarters 8 --all
+
+      coin table --diameter 30 --thickness 17 --psi 60,90
+
+      coin table --xi 17/30 --vs psi --psi 0:180:10
     """
+    _options.refuse_old_count(old_n, "coin table --coin quarter --count {n}")
     check_format(fmt)
     if vs is not None:
         if vs.strip().lower() != "psi":
             raise usage_error(f"--vs takes psi, got {vs!r}")
-        return _table_vs_psi(xi, quarters, coin, count, psi, fmt, quiet)
-    xis, stack = _xi_values(xi, quarters, coin, count)
+        if psi_dist is not None or all_models:
+            raise usage_error("--vs psi tabulates Table I over psi; it takes no --psi-dist or "
+                              "--all")
+        return _table_vs_psi(_table_coins(xi, coin, count, quarters, diameter, thickness), psi,
+                             fmt, quiet)
+    coins = _table_coins(xi, coin, count, quarters, diameter, thickness)
     extra: list[ModelSpec] = []
     if psi is not None:
-        extra.append(psi_model(psi))
-    specs = []
+        extra += [angle_model(d) for d in _options.psi_angles(psi)]
+    dens = []
     if all_models:
-        specs += list(_ALL_DENSITIES)
+        dens += [_options.psi_density(s) for s in _ALL_DENSITIES]
     if psi_dist is not None:
-        specs += [s for s in psi_dist.split(",") if s.strip()] or [psi_dist]
-    extra += [density_model(s) for s in specs]
+        dens += _options.psi_densities(psi_dist)
+    seen = set()
+    for d in dens:
+        if d.spec not in seen:
+            seen.add(d.spec)
+            extra.append(ModelSpec.psi_density(d))
     acc = _accuracy.parse(tol, method, seed)
-    _accuracy.require_density(acc, bool(specs))
-    x = _vector(xis)
+    _accuracy.require_density(acc, bool(dens))
+    x = _vector(coins.xis)
     n = 1 if isinstance(x, float) else len(x)
+    models_ = (GEOMETRIC, DYNAMIC, *extra)
+    names = _model_names(models_, fmt)
     blocks = []
-    for m in (GEOMETRIC, DYNAMIC, *extra):
-        more = [("closed form", None, None, None)] * n
+    budget = _accuracy.Budget(sum(m.key == "dist" for m in extra))  # one limit per run
+    for m, name in zip(models_, names, strict=True):
+        more = [("closed form", None, None, None) + ((None,) if acc is not None and
+                                                      acc.sampling else ())] * n
         try:
             if acc is not None and m.key == "dist":
-                o, more = _accuracy.run(acc, m.density, x, n)
+                o, more = _accuracy.run(acc, m.density, x, n, budget)
             else:
                 o = m.forward(x)
         except ValueError as exc:
             raise compute_error(str(exc)) from None
-        blocks.append((m, _tolist(o.heads, n), _tolist(o.sides, n), _tolist(o.tails, n), more))
+        blocks.append((name, _tolist(o.heads, n), _tolist(o.sides, n), _tolist(o.tails, n), more))
     xs = _tolist(x, n)
+    acc_cols = _accuracy.columns(acc, fmt != "table") if acc is not None else []
+    stacked = coins.counts is not None
     rows = []
     for k in range(n):
-        for m, h, s, t, more in blocks:
-            lead = (stack[0].name, stack[1][k]) if stack else ()
-            rows.append((*lead, xs[k], m.name, h[k], s[k], t[k],
-                         *(more[k] if acc is not None else ())))
-    columns = ([Column("coin", "coin", "text"), Column("count", "count", "int")] if stack
+        for name, h, s, t, more in blocks:
+            lead = (coins.coin_name, coins.counts[k]) if stacked else ()
+            rows.append((*lead, xs[k], name, h[k], s[k], t[k], *more[k][:len(acc_cols)]))
+    columns = ([Column("coin", "coin", "text"), Column("count", "count", "int")] if stacked
                else []) + [
         Column("xi", "xi = h/D"),
         Column("model", "model", "text"),
         Column("p_heads", "P(heads)"),
         Column("p_sides", "P(sides)"),
         Column("p_tails", "P(tails)"),
-    ] + (_accuracy.COLUMNS if acc is not None else [])
+    ] + acc_cols
     note = "vigorous toss starting heads up, caught without bouncing; geometric = eq. 11, " \
            "dynamic = eq. 12 (psi = 90 deg)" + "".join(f"; {m.label}" for m in extra) + \
            (_accuracy.note(acc) if acc is not None else "")
-    k = -2 - (len(_accuracy.COLUMNS) if acc is not None else 0)  # p_sides, from the end
+    k = -2 - len(acc_cols)  # p_sides, from the end
     emit(Result("coin table", columns, rows, note=note,
                 quiet=[r[k] for r in rows if r[k - 3] is not None]), fmt, quiet)
 
 
-def _deg_item(s, w):
-    """Degrees as typed (checked to lie in [0, 180]); no round trip through radians."""
-    parse.parse_angle_deg(s, w)
-    return parse.parse_number(s, w) + 0.0
-
-
-def _table_vs_psi(xi_text, quarters, coin_name, count, psi_text, fmt, quiet):
-    xis, _ = _xi_values(xi_text, quarters, coin_name, count)
-    if len(xis) != 1:
+def _table_vs_psi(coins: _options.Coins, psi_text, fmt, quiet):
+    if len(coins.xis) != 1:
         raise usage_error("--vs psi tabulates one coin: give a single --xi (or one count)")
-    x = float(xis[0])
-    degs = values_option(psi_text or "0:180:15", "--psi",
-                         lambda s, w: _deg_item(s, w))
+    x = float(coins.xis[0])
+    degs = _options.psi_angles(psi_text or "0:180:15")
     rows = []
     t = math.degrees(models.theta0(x)) / 2
     for d in degs:
-        rad = _table_i_angle(math.pi if d == 180.0 else math.radians(d))
+        rad = _table_i_angle(_options.radians(d))
         o = models.conditional(x, rad)
         fold = min(d, 180.0 - d)
         regime = "heads only" if fold < t else ("heads/sides" if fold < 90 - t else "all three")
@@ -444,52 +420,53 @@ def _table_vs_psi(xi_text, quarters, coin_name, count, psi_text, fmt, quiet):
 
 @app.command()
 def stack(
-    ctx: typer.Context,
-    coin: Annotated[str, typer.Option("--coin", "-c", help="Catalog coin (see `coin coins`).")
-                    ] = "quarter",
-    count: Annotated[
-        str | None, typer.Option("--count", "-n", help="How many coins: N, a list, a range, or -.")
-    ] = None,
+    coin: _options.CoinOpt = None,
+    count: _options.CountsOpt = None,
     p_sides: Annotated[
-        str | None, typer.Option("--p-sides", "-p", help="Find the stack nearest this chance "
-                                 "of a side instead (0.33, 1/3, 33%): it and its neighbours.  "
-                                 "A list a,b, a range start:stop:step or - (one per line from "
-                                 "stdin) gives one row per target, its nearest stack (empty "
-                                 "cells where none reaches it, e.g. P(sides) = 1).")
+        str | None, typer.Option("--p-sides", "-p", metavar="P", help="Find the stack nearest "
+                                 "this chance of a side (0.33, 1/3, 33%), and its neighbours; "
+                                 "a list, a range or - for one row each.")
     ] = None,
-    diameter: Annotated[str | None, typer.Option("--diameter", "-d", help="A custom coin's "
-                                                 "diameter (mm or with unit), instead of "
-                                                 "--coin.")] = None,
-    thickness: Annotated[str | None, typer.Option("--thickness", "-t", help="A custom coin's "
-                                                  "thickness (mm or with unit), instead of "
-                                                  "--coin.")] = None,
+    quarters: _options.QuartersManyOpt = None,
+    diameter: _options.DiameterOpt = None,
+    thickness: _options.ThicknessOpt = None,
+    xi: Annotated[str | None, typer.Option("--xi", "-x", hidden=True)] = None,
     model: ModelOpt = None,
     psi: PsiOpt = None,
     psi_dist: PsiDistOpt = None,
     fmt: FormatOpt = "table",
     quiet: QuietOpt = False,
+    old_n: _options.OldCountOpt = None,
 ):
     """Stacks of real coins glued together: their xi = N h / D and chances.
 
-    Examples: coin stack --coin quarter --count 8 ;  coin stack --coin quarter --p-sides 1/3 ;
-    coin stack --diameter 25 --thickness 2 --count 1:12:1 ;
-    seq 0.1 0.1 0.9 | coin stack --coin nickel --p-sides - --format csv
+    The coin is a US quarter unless --coin or --diameter/--thickness says otherwise.
+
+    Examples:
+
+      coin stack --coin quarter --count 8
+
+      coin stack --coin quarter --p-sides 1/3
+
+      coin stack --diameter 25 --thickness 2 --count 1:12:1
+
+      seq 0.1 0.1 0.9 | coin stack --coin nickel --p-sides - --format csv
     """
+    _options.refuse_old_count(old_n, "coin stack --coin quarter --count {n}")
     check_format(fmt)
     m = choose_model(model, psi, psi_dist)
-    if _given(ctx, "coin") and (diameter is not None or thickness is not None):
-        raise usage_error("give --coin NAME (a catalog coin) or --diameter D --thickness H "
-                          "(a custom coin), not both")
-    if (diameter is None) != (thickness is None):
-        raise usage_error("a custom coin needs both --diameter and --thickness")
-    if diameter is not None:
-        try:
-            c = coin_catalog.custom_coin(_length(diameter, "--diameter"),
-                                         _length(thickness, "--thickness"))
-        except ValueError as exc:
-            raise usage_error(str(exc)) from None
-    else:
-        c = _coin(coin)
+    if quarters is not None and p_sides is not None:
+        raise usage_error("--quarters N is a stack already; give --coin quarter --p-sides P to "
+                          "find the count")
+    if xi is not None:
+        raise usage_error("coin stack stacks a coin of known size: give --coin NAME, --quarters "
+                          "N or --diameter D --thickness H (for a coin given by --xi, use coin "
+                          "table --xi X)")
+    coins = _options.resolve_coin(None, coin, count, quarters, diameter, thickness, many=True,
+                                  default="quarter", need_count=False, command="coin stack")
+    c = coins.unit
+    if quarters is not None:
+        count = quarters
     if (count is None) == (p_sides is None):
         raise usage_error("give --count N (how many coins) or --p-sides P (find the count), "
                           "one of them")
@@ -509,8 +486,7 @@ def stack(
         counts = [k for k, _, _ in ch.neighbours]
         best = ch.count
     else:
-        counts = [int(k) for k in values_option(count, "--count",
-                                                lambda s, w: float(parse.parse_count(s, w)))]
+        counts = coins.counts
         best = None
     rows = []
     for k in counts:
@@ -521,10 +497,17 @@ def stack(
     columns = [Column("coin", "coin", "text"), Column("count", "count", "int"),
                Column("height_mm", "height (mm)"), Column("xi", "xi = h/D"),
                Column("p_heads", "P(heads)"), Column("p_sides", "P(sides)"),
-               Column("p_tails", "P(tails)"), Column("mark", "", "text")]
-    note = f"{c.label}: {c.diameter_mm:g} x {c.thickness_mm:g} mm; model: {m.label}"
+               Column("p_tails", "P(tails)"), Column("mark", "mark", "text")]
+    note = f"{_coin_words(c)}; model: {m.label}"
     quiet_val = best if best is not None else [r[5] for r in rows]
     emit(Result("coin stack", columns, rows, note=note, quiet=quiet_val), fmt, quiet)
+
+
+def _coin_words(c: coin_catalog.Coin) -> str:
+    """``US quarter: 24.26 x 1.75 mm``, or ``custom coin 25 x 2 mm`` (its label is its size)."""
+    if c.name == "custom":
+        return f"custom coin {c.diameter_mm:g} x {c.thickness_mm:g} mm"
+    return f"{c.label}: {c.diameter_mm:g} x {c.thickness_mm:g} mm"
 
 
 def _is_batch(text: str) -> bool:
@@ -556,9 +539,8 @@ def _stack_batch(c, p_text: str, m: ModelSpec, fmt: str, quiet: bool) -> None:
                Column("xi", "xi = h/D"), Column("p_heads", "P(heads)"),
                Column("p_sides", "P(sides)"), Column("p_tails", "P(tails)")]
     data = [_tolist(p, n), [c.name] * n, counts, heights, xis, *chances]
-    note = (f"{c.label}: {c.diameter_mm:g} x {c.thickness_mm:g} mm; model: {m.label}; the "
-            f"stack nearest each target (empty where no stack of up to {coin_catalog.MAX_STACK} "
-            "coins reaches it)")
+    note = (f"{_coin_words(c)}; model: {m.label}; the stack nearest each target (empty where "
+            f"no stack of up to {coin_catalog.MAX_STACK_WORDS} coins reaches it)")
     emit(Result("coin stack", columns, [], note=note, quiet=counts, data=data), fmt, quiet)
 
 
@@ -587,8 +569,8 @@ def coins(fmt: FormatOpt = "table", quiet: QuietOpt = False):
 @app.command()
 def fair(
     diameter: Annotated[
-        str | None, typer.Option("--diameter", "-d", help="Diameter for the thickness column "
-                                 "(default: the --coin's).")
+        str | None, typer.Option("--diameter", "-d", metavar="D", help="Diameter for the "
+                                 "thickness column (default: the --coin's).")
     ] = None,
     coin: CoinOpt = "quarter",
     psi_dist: PsiDistOpt = None,
@@ -597,10 +579,17 @@ def fair(
 ):
     """The fair three-sided coin under each model, and what the other model says of it.
 
-    Bertrand's paradox in one screen: von Neumann's geometric answer xi = 1/(2 sqrt 2) and the
-    dynamic answer xi = 1/sqrt 3 disagree, because they assume different ways of tossing.
+    Bertrand's paradox in one screen: von Neumann's geometric answer xi = 1/(2 sqrt 2) and
+    the dynamic answer xi = 1/sqrt 3 disagree: they assume different ways of tossing.  Under
+    a --psi-dist only the sides are 1/3; heads and tails differ.
 
-    Examples: coin fair ;  coin fair --diameter 30 ;  coin fair --psi-dist normal:90:18
+    Examples:
+
+      coin fair
+
+      coin fair --diameter 30
+
+      coin fair --psi-dist normal:90:18
     """
     check_format(fmt)
     c = _coin(coin)
@@ -609,14 +598,14 @@ def fair(
     if psi_dist is not None:
         ms.append(density_model(psi_dist))
     rows = []
-    for m in ms:
+    for m, name in zip(ms, _model_names(ms, fmt), strict=True):
         try:
             x = m.inverse(1 / 3)
         except ValueError as exc:
             raise compute_error(str(exc)) from None
         ch = coin_catalog.nearest_stack(c, 1 / 3, lambda v, m=m: float(m.forward(v).sides))
         own, g, d = m.forward(x), GEOMETRIC.forward(x), DYNAMIC.forward(x)
-        rows.append((m.name, x, 1 / x, dia * x, own.heads, own.sides, own.tails,
+        rows.append((name, x, 1 / x, dia * x, own.heads, own.sides, own.tails,
                      ch.count, ch.xi, float(m.forward(ch.xi).sides), g.sides, d.sides))
     columns = [Column("model", "model", "text"), Column("xi", "xi = h/D"),
                Column("d_over_h", "D/h"), Column("thickness_mm", f"thickness for D = {dia:g} mm"),
@@ -627,4 +616,6 @@ def fair(
                Column("dynamic_p_sides", "dynamic says P(sides)")]
     note = ("fair = P(sides) 1/3; geometric: every orientation equally likely (von Neumann); "
             "dynamic: angular momentum conserved, Keller flip psi = 90 deg")
-    emit(Result("coin fair", columns, rows, note=note, quiet=[r[1] for r in rows]), fmt, quiet)
+    title = ("coin fair" if psi_dist is None else
+             "coin fair: P(sides) = 1/3 (under a psi density only the sides are 1/3)")
+    emit(Result(title, columns, rows, note=note, quiet=[r[1] for r in rows]), fmt, quiet)

@@ -16,8 +16,8 @@ from typing import Annotated
 import typer
 
 from coincli import parse
-from coincli.cli import app
-from coincli.cli._common import compute_error, stderr_is_terminal, usage_error
+from coincli.cli import _options, app
+from coincli.cli._common import compute_error, usage_error
 
 plot_app = typer.Typer(
     name="plot",
@@ -68,9 +68,32 @@ XiRangeOpt = Annotated[
                              metavar="LOW:HIGH")
 ]
 PsiMarkOpt = Annotated[
-    str | None, typer.Option("--psi", help="Mark a tossing angle psi in degrees [0, 180] (a "
-                             "list a,b for several).", metavar="DEG")
+    str | None, typer.Option("--psi", help="Mark tossing angles psi, degrees [0, 180]: a "
+                             "value, a list a,b or a range.", metavar="DEG")
 ]
+
+
+def _mark_coins(xi, coin, count, quarters, diameter, thickness) -> list[float]:
+    """The coins to mark (the shared coin group; at most MAX_MARKS of them), or none."""
+    c = _options.resolve_coin(xi, coin, count, quarters, diameter, thickness, many=True,
+                              required=False, max_values=MAX_MARKS, command="coin plot")
+    return [] if c is None else [float(x) for x in c.xis]
+
+
+def _one_coin(xi, coin, count, quarters, diameter, thickness) -> float:
+    """The one coin of a figure; the dynamically fair coin 1/sqrt 3 when none is given."""
+    c = _options.resolve_coin(xi, coin, count, quarters, diameter, thickness, required=False,
+                              command="coin plot")
+    return 1 / math.sqrt(3) if c is None else c.xi
+
+
+def _one_stdin(**texts) -> None:
+    """Only one option may read stdin ('-')."""
+    dashes = [f"--{k.replace('_', '-')}" for k, v in texts.items()
+              if v is not None and v.strip() == "-"]
+    if len(dashes) > 1:
+        raise usage_error(f"{' and '.join(dashes)} both read stdin ('-'); give one of them a "
+                          "value or a file")
 
 
 def _marks(text: str | None, what: str, item) -> list[float]:
@@ -173,12 +196,17 @@ class _Target:
         self.text = terminal or out in (None, "-")
         self.path = None if self.text else out
         if self.path is not None:
+            from coincli._files import check_output_path
             from coincli.plot import figure_format
 
             try:
                 self.fmt = figure_format(self.path)
+                check_output_path(self.path)  # a FIFO, device or directory: refused up front
             except ValueError as exc:
                 raise usage_error(f"--out: {exc}") from None
+            except OSError as exc:
+                raise compute_error(f"cannot write {self.path!r}: {exc.strerror or exc}") \
+                    from None
 
     def check_matplotlib(self):
         """Before any computing: a figure file needs matplotlib (exit 1 with the hint)."""
@@ -192,19 +220,26 @@ class _Target:
             raise compute_error(str(exc)) from None
 
     def save(self, fig, dpi: float) -> None:
+        from coincli._files import FileKindError
         from coincli.plot import FigureTooSmall, save_figure
 
         try:
             size = save_figure(fig, self.path, dpi)
         except FigureTooSmall as exc:
             raise usage_error(f"{exc}: give a larger --width or --height") from None
+        except FileKindError as exc:
+            raise usage_error(f"--out: {exc}") from None
         except OSError as exc:
             raise compute_error(f"cannot write {self.path!r}: {exc.strerror or exc}") from None
         except MemoryError:
             raise compute_error(f"not enough memory to draw {self.path!r}: lower --dpi, "
                                 "--width or --height") from None
-        if stderr_is_terminal():
-            sys.stderr.write(f"coin: wrote {self.path} ({self.fmt.upper()}, {size:,} bytes)\n")
+        w, h = (float(v) for v in fig.get_size_inches())
+        if self.fmt == "png":
+            dims = f"{round(w * dpi)} x {round(h * dpi)} pixels"
+        else:
+            dims = f"{w:g} x {h:g} inches"
+        sys.stderr.write(f"coin: wrote {self.path} ({dims})\n")
 
     def text_plot(self, build):
         from coincli.textplot import emit, plot_size
@@ -249,21 +284,32 @@ def _compute(fn, *args, **kwargs):
 
 
 def _read_data(path: str):
+    from coincli._files import FileKindError, read_capped, read_regular
+    from coincli.cli._common import stream_reader
     from coincli.stats import parse_experiments
 
     name = "stdin" if path == "-" else path
     try:
         if path == "-":
-            text = sys.stdin.read(MAX_DATA_BYTES + 1)
+            if sys.stdin is None:
+                raise usage_error("--data -: reads your tosses from standard input, but there "
+                                  "is none (it is closed)")
+            data, why = read_capped(stream_reader(sys.stdin), MAX_DATA_BYTES)
         else:
-            with open(path, encoding="utf-8") as fh:
-                text = fh.read(MAX_DATA_BYTES + 1)
+            data, why = read_regular(path, MAX_DATA_BYTES)
+    except FileKindError as exc:
+        raise usage_error(f"--data: cannot read {name!r}: it is {exc.kind}, not a regular file; "
+                          "give a CSV file, or '-' to read a pipe") from None
     except OSError as exc:
         raise usage_error(f"--data: cannot read {name!r}: {exc.strerror or exc}") from None
+    if why == "size":
+        raise usage_error(f"--data: {name!r} is larger than {MAX_DATA_BYTES} bytes")
+    if why == "nul":
+        raise usage_error(f"--data: {name!r} contains a NUL byte; expected a CSV text file")
+    try:
+        text = data.decode("utf-8")
     except UnicodeDecodeError:
         raise usage_error(f"--data: {name!r} is not UTF-8 text") from None
-    if len(text) > MAX_DATA_BYTES:
-        raise usage_error(f"--data: {name!r} is larger than {MAX_DATA_BYTES} bytes")
     try:
         return parse_experiments(text)
     except ValueError as exc:
@@ -272,27 +318,21 @@ def _read_data(path: str):
 
 @plot_app.command("sides")
 def sides(
-    xi: Annotated[
-        str | None, typer.Option("--xi", "-x", help="Mark your coin's aspect ratio h/D (a list "
-                                 "a,b for several).")
-    ] = None,
+    xi: _options.XisOpt = None,
+    coin: _options.CoinOpt = None,
+    count: _options.CountsOpt = None,
+    quarters: _options.QuartersManyOpt = None,
+    diameter: _options.DiameterOpt = None,
+    thickness: _options.ThicknessOpt = None,
     p_sides: Annotated[
-        str | None, typer.Option("--p-sides", "-p", help="Mark a target chance of a side "
-                                 "(0.33, 1/3, 33%) and the xi each model needs.")
+        str | None, typer.Option("--p-sides", "-p", metavar="P", help="Mark target chances of "
+                                 "a side (0.33, 1/3, 33%; a list a,b).")
     ] = None,
-    psi: Annotated[
-        str | None, typer.Option("--psi", help="Add Table I curves at fixed angles psi, degrees "
-                                 "(a list a,b).", metavar="DEG")
-    ] = None,
-    psi_dist: Annotated[
-        str | None, typer.Option("--psi-dist", help="Add psi-averaged curves: a comma list of "
-                                 "uniform, cosine, normal, normal:MEAN:SD (degrees), "
-                                 "table:FILE.", metavar="SPECS")
-    ] = None,
+    psi: _options.PsisOpt = None,
+    psi_dist: _options.PsiDistsOpt = None,
     data: Annotated[
-        str | None, typer.Option("--data", help="Your tosses, the CSV of `coin fit` (xi or "
-                                 "coin/count, heads,sides,tails or sides,n); '-' for stdin.  "
-                                 "Plotted with 95% Wilson intervals.", metavar="FILE")
+        str | None, typer.Option("--data", help="Your tosses, a coin fit CSV, or - (stdin).",
+                                 metavar="FILE")
     ] = None,
     log: LogOpt = False,
     xi_range: XiRangeOpt = None,
@@ -305,23 +345,24 @@ def sides(
 ):
     """P(sides) against the aspect ratio for the geometric and dynamic models (Fig. 5a).
 
-    The fair three-sided coins of both models are marked; --xi and --p-sides mark your design,
-    --data your tosses (with the paper's sum of squared errors in the legend); --psi and
-    --psi-dist add curves for other ways of tossing.
+    The fair coins of both models are marked; the coin options (--xi, --coin/--count,
+    --quarters, --diameter/--thickness) and --p-sides mark your designs, --data your tosses
+    with 95% Wilson intervals; --psi and --psi-dist add curves.
 
-    Examples: coin plot sides --out sides.png ;  coin plot sides --p-sides 1/3 --log --terminal ;
-    coin plot sides --xi 0.5 --data tosses.csv --psi-dist normal:90:18 --out sides.svg
+    Examples:
+
+      coin plot sides --out sides.png
+
+      coin plot sides --p-sides 1/3 --log --terminal
+
+      coin plot sides --quarters 6:10:1 --psi-dist normal:90:18 --out sides.svg
     """
     target = _Target(out, terminal)
-    from coincli.cli.design import density_model  # parses --psi-dist like every command
-
-    xi_marks = _marks(xi, "--xi", _xi_item)
+    _one_stdin(xi=xi, count=count, quarters=quarters, data=data)
+    xi_marks = _mark_coins(xi, coin, count, quarters, diameter, thickness)
     p_marks = _marks(p_sides, "--p-sides", parse.parse_probability)
-    psi_curves = _marks(psi, "--psi", _deg_item)
-    specs = [s for s in (psi_dist or "").split(",") if s.strip()]
-    if psi_dist is not None and not specs:
-        raise usage_error("--psi-dist is empty; give e.g. normal:90:18")
-    dens = [density_model(s).density for s in specs]
+    psi_curves = (_options.psi_angles(psi, max_rows=MAX_MARKS) if psi is not None else [])
+    dens = _options.psi_densities(psi_dist) if psi_dist is not None else []
     rng = _xi_range(xi_range, log)
     exps = _read_data(data) if data is not None else []
     w, h, d = _figure_size(target, width, height, dpi, (7.0, 4.5))
@@ -365,10 +406,12 @@ def _notes(notes) -> None:
 
 @plot_app.command("psi")
 def psi_cmd(
-    xi: Annotated[
-        str | None, typer.Option("--xi", "-x", help="The coin's aspect ratio h/D (default "
-                                 "1/sqrt 3 = 0.57735, the dynamically fair coin).")
-    ] = None,
+    xi: _options.XiOpt = None,
+    coin: _options.CoinOpt = None,
+    count: _options.CountOpt = None,
+    quarters: _options.QuartersOpt = None,
+    diameter: _options.DiameterOpt = None,
+    thickness: _options.ThicknessOpt = None,
     psi: PsiMarkOpt = None,
     out: OutOpt = None,
     terminal: TerminalOpt = False,
@@ -379,21 +422,19 @@ def psi_cmd(
 ):
     """P(heads), P(sides), P(tails) against psi for one coin, regimes shaded (Fig. 2d).
 
-    psi is the angle between the angular momentum and the coin's normal (Table I): below
-    theta0/2 the coin always lands heads, up to 90 - theta0/2 heads or sides, and within
-    theta0/2 of 90 degrees all three.  --psi marks your tossing angle.
+    Below theta0/2 the coin always lands heads, up to 90 - theta0/2 heads or sides, within
+    theta0/2 of 90 degrees all three.  The coin defaults to xi = 1/sqrt 3; --psi marks your
+    tossing angles.
 
-    Examples: coin plot psi --xi 0.577 --out psi.png ;  coin plot psi --xi 1 --psi 70 --terminal
+    Examples:
+
+      coin plot psi --xi 0.577 --out psi.png
+
+      coin plot psi --quarters 8 --psi 70 --terminal
     """
     target = _Target(out, terminal)
-    if xi is None:
-        x = 1 / math.sqrt(3)
-    else:
-        try:
-            x = _xi_item(xi, "--xi")
-        except ValueError as exc:
-            raise usage_error(str(exc)) from None
-    marks = _marks(psi, "--psi", _deg_item)
+    x = _one_coin(xi, coin, count, quarters, diameter, thickness)
+    marks = _options.psi_angles(psi, max_rows=MAX_MARKS) if psi is not None else []
     w, h, d = _figure_size(target, width, height, dpi, (7.0, 4.5))
     target.check_matplotlib()
     with _quiet():
@@ -418,9 +459,12 @@ def map_cmd(
         str, typer.Option("--style", help="panels (three maps, one per outcome) or ternary "
                           "(one map, colours mixed by the three chances).")
     ] = "panels",
-    xi: Annotated[
-        str | None, typer.Option("--xi", "-x", help="Mark your coin's aspect ratio (a list a,b).")
-    ] = None,
+    xi: _options.XisOpt = None,
+    coin: _options.CoinOpt = None,
+    count: _options.CountsOpt = None,
+    quarters: _options.QuartersManyOpt = None,
+    diameter: _options.DiameterOpt = None,
+    thickness: _options.ThicknessOpt = None,
     psi: PsiMarkOpt = None,
     log: LogOpt = False,
     xi_range: XiRangeOpt = None,
@@ -433,18 +477,25 @@ def map_cmd(
 ):
     """The chances of heads, sides and tails over the (xi, psi) plane (Fig. 2a-c).
 
-    Table I evaluated on a grid; the regime boundaries are dashed, the white contour is 1/3, the
-    star is the fair three-sided coin (xi = 1/sqrt 3, psi = 90).  --xi and --psi mark your design.
+    Table I on a grid; regime boundaries dashed, the white contour is 1/3, the star is the
+    fair three-sided coin (xi = 1/sqrt 3, psi = 90).  The coin options and --psi mark your
+    designs.
 
-    Examples: coin plot map --out map.png ;  coin plot map --style ternary --xi 0.5 --psi 80
-    --out map.pdf ;  coin plot map --terminal
+    Examples:
+
+      coin plot map --out map.png
+
+      coin plot map --style ternary --xi 0.5 --psi 80 --out map.pdf
+
+      coin plot map --terminal
     """
     target = _Target(out, terminal)
     st = style.strip().lower()
     if st not in ("panels", "ternary"):
         raise usage_error(f"--style must be panels or ternary, got {style!r}")
-    xi_marks = _marks(xi, "--xi", _xi_item)
-    psi_marks = _marks(psi, "--psi", _deg_item)
+    _one_stdin(xi=xi, count=count, quarters=quarters)
+    xi_marks = _mark_coins(xi, coin, count, quarters, diameter, thickness)
+    psi_marks = _options.psi_angles(psi, max_rows=MAX_MARKS) if psi is not None else []
     rng = _xi_range(xi_range, log)
     from coincli.plot import MAP_SIZES
 
@@ -467,6 +518,7 @@ def map_cmd(
                      psi_marks_deg=psi_marks)
         fig = P.map_figure(d, style=st, width=w, height=h, title=title)
         target.save(fig, dots)
+        _notes(d.skipped)
 
 
 # --------------------------------------------------------------------------- phase

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import math
 import re
-import shutil
 import sys
 from typing import Annotated
 
@@ -641,7 +640,9 @@ def phase_cmd(
                              _size(rows, "--rows", 400, 4000), exact, no_curves, dia, gv, ct)
     text = fmt == "table"
     if text:
-        tw, th = shutil.get_terminal_size((80, 24))
+        from coincli._terminal import terminal_height, terminal_width
+
+        tw, th = terminal_width(), terminal_height()
         nu = _size(cols, "--cols", max(10, min(tw, 400) - 9), 2000)
         nw = _size(rows, "--rows", max(6, min(th, 200) - 7), 2000)
     else:
@@ -782,10 +783,15 @@ def pm_vigorous(xi, psi_deg):
 def _phase_figure(path, xi, psi_deg, ur, wr, nu, nw, exact, no_curves, dia, g, ct):
     from coincli import plot as P
 
+    from coincli._files import FileKindError, check_output_path
+
     try:
         P.figure_format(path)
+        check_output_path(path)  # a FIFO, device or directory: refused before any computing
     except ValueError as exc:
         raise usage_error(f"--out: {exc}") from None
+    except OSError as exc:
+        raise compute_error(f"cannot write {path!r}: {exc.strerror or exc}") from None
     try:
         P.require_matplotlib()
     except P.MatplotlibMissing as exc:
@@ -797,6 +803,8 @@ def _phase_figure(path, xi, psi_deg, ur, wr, nu, nw, exact, no_curves, dia, g, c
     fig = P.phase_figure(data)
     try:
         size = P.save_figure(fig, path)
+    except FileKindError as exc:
+        raise usage_error(f"--out: {exc}") from None
     except OSError as exc:
         raise compute_error(f"cannot write {path!r}: {exc.strerror or exc}") from None
     if stderr_is_terminal():

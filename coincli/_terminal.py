@@ -1,0 +1,61 @@
+"""The terminal: how wide it is, and whether it takes colour.
+
+One width for everything ``coin`` lays out (tables in :mod:`coincli.cli._common`, text plots in
+:mod:`coincli.textplot`, ``coin phase``): :func:`terminal_width`.  ``COLUMNS`` set to a whole
+number from 1 up wins (as in every POSIX tool); anything else there (``0``, empty, a word) is
+ignored and the terminal is asked; when there is no terminal, 80.  Nothing is imported.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+
+__all__ = ["terminal_width", "terminal_height", "colour_allowed", "MAX_WIDTH"]
+
+DEFAULT_SIZE = (80, 24)
+MAX_WIDTH = 10_000  #: a width beyond this (COLUMNS=999999999) is taken as this
+
+
+def _env_size(name: str) -> int | None:
+    text = os.environ.get(name, "").strip()
+    if text.isascii() and text.isdigit() and len(text) < 10 and int(text) > 0:
+        return int(text)
+    return None
+
+
+def _os_size(stream):
+    for s in (stream, sys.__stdout__, sys.__stderr__):
+        try:
+            size = os.get_terminal_size(s.fileno())
+        except (AttributeError, ValueError, OSError):
+            continue
+        if size.columns > 0 and size.lines > 0:
+            return size.columns, size.lines
+    return None
+
+
+def terminal_width(stream=None) -> int:
+    """Columns to lay text out in: ``COLUMNS`` when it is a whole number >= 1, else the size of
+    the terminal behind ``stream`` (stdout by default) or of the process's stdout or stderr,
+    else 80.  At most :data:`MAX_WIDTH`."""
+    cols = _env_size("COLUMNS")
+    if cols is None:
+        size = _os_size(stream if stream is not None else sys.stdout)
+        cols = size[0] if size else DEFAULT_SIZE[0]
+    return min(cols, MAX_WIDTH)
+
+
+def terminal_height(stream=None) -> int:
+    """Lines of the terminal, by the same rules as :func:`terminal_width` (``LINES``, else the
+    terminal, else 24)."""
+    lines = _env_size("LINES")
+    if lines is None:
+        size = _os_size(stream if stream is not None else sys.stdout)
+        lines = size[1] if size else DEFAULT_SIZE[1]
+    return min(lines, MAX_WIDTH)
+
+
+def colour_allowed() -> bool:
+    """Escape codes are welcome: NO_COLOR (no-color.org) unset or empty and TERM not 'dumb'."""
+    return not os.environ.get("NO_COLOR") and os.environ.get("TERM", "") != "dumb"

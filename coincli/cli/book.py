@@ -1,0 +1,615 @@
+"""``coin book``: the paper's Problem 1, a tossed book or die (three different moments).
+
+Thin: parse the box (``--size`` in mm, or ``--moments``), the spin (rad/s about the body axes,
+units allowed), the times and the toss options; call :mod:`coincli.rigid`; build a
+:class:`Result` or a figure; print.  A ValueError from the core is bad input: one line, exit 2.
+The motion table imports no numpy; ``--times``, ``--toss`` and ``--out`` load numpy and
+``scipy.special``; only a figure file loads matplotlib.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+import sys
+from typing import Annotated
+
+import typer
+
+from coincli import parse
+from coincli.cli import app
+from coincli.cli._common import (
+    Column,
+    FormatOpt,
+    QuietOpt,
+    Result,
+    check_format,
+    compute_error,
+    emit,
+    stderr_is_terminal,
+    usage_error,
+    values_option,
+)
+
+MAX_TOSSES = 10**8  # as coincli.toss.MAX_TOSSES (kept here so the module loads without numpy)
+MAX_PHASE = 1e12  # coincli.rigid.MAX_PHASE
+NORMAL_REACH = 10  # a normal spin or flight is checked up to MEAN + 10 SD (P < 1e-23 a draw)
+FIGURE_POINTS = 2001  # samples of omega(t) in a figure without --times
+FACES = ("+1", "-1", "+2", "-2", "+3", "-3")
+STARTS = FACES + ("random",)
+# angular speed units -> rad/s (exact factors as text where they are not 1)
+_SPIN_UNITS = {"rad/s": 1.0, "rev/s": 2 * math.pi, "rps": 2 * math.pi, "rpm": 2 * math.pi / 60,
+               "deg/s": math.pi / 180, "hz": 2 * math.pi}
+_TIME_UNITS = {"s": 1.0, "ms": 1e-3}
+_DIST_KINDS = ("normal", "uniform", "fixed")
+
+
+def _usage(fn, *args, **kwargs):
+    try:
+        return fn(*args, **kwargs)
+    except ValueError as exc:
+        raise usage_error(str(exc)) from None
+
+
+# --------------------------------------------------------------------------- parsing
+
+
+def _with_unit(text: str, what: str, units: dict, default: str) -> float:
+    """A number with an optional unit suffix (``40``, ``6.4rev/s``, ``2300 rpm``) in the
+    default unit (rad/s, s)."""
+    s = text.strip()
+    low = s.lower()
+    factor = 1.0
+    for unit in sorted(units, key=len, reverse=True):
+        if low.endswith(unit) and s[: -len(unit)].strip():
+            s, factor = s[: -len(unit)].strip(), units[unit]
+            break
+    try:
+        v = parse.parse_number(s, what)
+    except ValueError:
+        names = ", ".join(units)
+        raise usage_error(f"{what} must be a number with an optional unit ({names}; default "
+                          f"{default}), got {text!r}") from None
+    v *= factor
+    if not math.isfinite(v):
+        raise usage_error(f"{what} {text!r} is too large: it overflows in {default}")
+    return v
+
+
+def _spin_value(text: str, what: str) -> float:
+    return _with_unit(text, what, _SPIN_UNITS, "rad/s")
+
+
+def _dist(text: str, what: str, units: dict, default: str, lo: float):
+    """A value or a distribution ``normal:MEAN:SD`` / ``uniform:LOW:HIGH`` (``fixed:V``) whose
+    numbers may carry units; returned as a :class:`coincli.toss.Dist` in the default unit."""
+    from coincli import toss as T
+
+    parts = [p.strip() for p in text.split(":")]
+    head = parts[0].lower()
+    if head in _DIST_KINDS or (len(parts) > 1 and head.isalpha()):
+        if head not in _DIST_KINDS:
+            raise usage_error(f"{what}: unknown distribution {text!r}; expected a value, "
+                              "normal:MEAN:SD or uniform:LOW:HIGH")
+        nums = [_with_unit(p, what, units, default) for p in parts[1:]]
+        spec = ":".join([head] + [repr(v) for v in nums])
+    else:
+        if len(parts) != 1:
+            raise usage_error(f"{what}: cannot read {text!r}; expected a value, normal:MEAN:SD "
+                              "or uniform:LOW:HIGH")
+        spec = repr(_with_unit(parts[0], what, units, default))
+    try:
+        return T.parse_dist(spec, what, lo, math.inf, default)
+    except ValueError as exc:
+        raise usage_error(str(exc).replace(repr(spec), repr(text.strip()))) from None
+
+
+def _three(text: str, what: str) -> list[str]:
+    parts = [p.strip() for p in text.split(",")]
+    if len(parts) != 3 or not all(parts):
+        raise usage_error(f"{what} needs three components separated by commas (about body "
+                          f"axes 1, 2, 3), got {text!r}")
+    return parts
+
+
+def _size_mm(text: str) -> tuple[float, float, float]:
+    parts = [p.strip() for p in re.split(r"[x×X*]", text.strip())]
+    if len(parts) != 3 or not all(parts):
+        raise usage_error(f"--size must be three lengths AxBxC (mm, or with units: "
+                          f"23.5cmx15.5cmx3cm), got {text!r}")
+    out = []
+    for k, p in enumerate(parts, start=1):
+        v = _usage(parse.parse_length_mm, p, f"--size side {k}")
+        out.append(v)
+    return tuple(out)
+
+
+def _moments(text: str) -> tuple[float, float, float]:
+    out = []
+    for k, p in enumerate(_three(text, "--moments"), start=1):
+        try:
+            v = parse.parse_number(p, f"--moments I{k}")
+        except ValueError:
+            v = math.nan
+        if not (math.isfinite(v) and v > 0):
+            raise usage_error(f"--moments I{k} must be a finite number > 0 (any unit, kg m^2), "
+                              f"got {p!r}")
+        out.append(v)
+    return tuple(out)
+
+
+def _seed(text: str | None) -> int:
+    if text is None:
+        import secrets
+
+        return secrets.randbits(63)
+    s = text.strip()
+    if not (s.isascii() and s.isdigit()) or len(s) > 40:
+        raise usage_error(f"--seed must be a whole number >= 0, got {text!r}")
+    return int(s)
+
+
+def _tosses(text: str) -> int:
+    s = text.strip()
+    digits = s.removeprefix("+").lstrip("0")
+    if not (s.isascii() and re.fullmatch(r"\+?\d+", s)) or not digits:
+        raise usage_error(f"-n must be a whole number from 1 to {MAX_TOSSES} (10^8), got "
+                          f"{text!r}")
+    if len(digits) > 9 or int(digits) > MAX_TOSSES:
+        raise usage_error(f"-n is more than the {MAX_TOSSES} (10^8) tosses of one run; for more, "
+                          "run again with another --seed and add the counts")
+    return int(digits)
+
+
+def _time_item(text: str, what: str) -> float:
+    v = _with_unit(text, what, _TIME_UNITS, "s")
+    if not v >= 0:
+        raise ValueError(f"{what} must be a time >= 0 s, got {text!r}")
+    return v
+
+
+def _reach(dist) -> float:
+    """The largest |value| a distribution draws: a fixed value, a uniform's ends, a normal's
+    |MEAN| + 10 SD (beyond it the chance is below 1e-23 a draw)."""
+    if dist.kind == "fixed" or dist.p2 == 0:
+        return abs(dist.p1)
+    if dist.kind == "uniform":
+        return max(abs(dist.p1), abs(dist.p2))
+    return abs(dist.p1) + NORMAL_REACH * dist.p2
+
+
+def _fmt(v: float) -> str:
+    short = f"{v:.6g}"
+    return short if float(short) == v else repr(float(v))
+
+
+# --------------------------------------------------------------------------- output files
+
+
+def _is_figure(path: str | None) -> bool:
+    return path is not None and os.path.splitext(path)[1].lower() in (".png", ".svg", ".pdf")
+
+
+def _atomic_write(path: str, write) -> None:
+    """Write through ``write(tmp_path)`` to a temporary file in ``path``'s directory, fsync it,
+    then rename it over ``path``: a reader never sees half a file, and a failure leaves any
+    earlier file whole."""
+    d, base = os.path.split(os.path.abspath(path))
+    stem, ext = os.path.splitext(base)
+    tmp = os.path.join(d, f".{stem}.{os.getpid()}.tmp{ext}")
+    try:
+        write(tmp)
+        fd = os.open(tmp, os.O_RDONLY)
+        try:
+            os.fsync(fd)
+        finally:
+            os.close(fd)
+        os.replace(tmp, path)
+    except OSError as exc:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise compute_error(f"cannot write {path!r}: {exc.strerror or exc}") from None
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+
+
+def _emit(result: Result, fmt: str, quiet: bool, out: str | None) -> None:
+    if out is None or out == "-":
+        emit(result, fmt, quiet)
+        return
+    import io
+
+    buf = io.StringIO()
+    emit(result, fmt, quiet, out=buf)
+    text = buf.getvalue()
+
+    def write(tmp):
+        with open(tmp, "w", encoding="utf-8", newline="") as fh:
+            fh.write(text)
+
+    _atomic_write(out, write)
+    if stderr_is_terminal():
+        sys.stderr.write(f"coin: wrote {out} ({len(text.encode()):,} bytes)\n")
+
+
+def _figure(path: str, build) -> None:
+    from coincli import plot as P
+
+    try:
+        P.require_matplotlib()
+    except P.MatplotlibMissing as exc:
+        raise compute_error(str(exc)) from None
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fig = build()
+        size = [0]
+
+        def write(tmp):
+            size[0] = P.save_figure(fig, tmp)
+
+        _atomic_write(path, write)
+    if stderr_is_terminal():
+        sys.stderr.write(f"coin: wrote {path} ({size[0]:,} bytes)\n")
+
+
+# --------------------------------------------------------------------------- the command
+
+
+@app.command("book")
+def book_cmd(
+    size: Annotated[str | None, typer.Option(
+        "--size", help="The box's three sides AxBxC along body axes 1, 2, 3: mm, or with a unit "
+        "per side (23.5cmx15.5cmx3cm, 1inx1inx1in).", metavar="AxBxC")] = None,
+    moments: Annotated[str | None, typer.Option(
+        "--moments", help="Principal moments I1,I2,I3 instead of a size (any unit; each at most "
+        "the sum of the other two).  Faces are those of the uniform box with these moments.",
+        metavar="I1,I2,I3")] = None,
+    spin: Annotated[str | None, typer.Option(
+        "--spin", help="Angular velocity at launch about body axes 1, 2, 3: w1,w2,w3 in rad/s "
+        "(or with a unit: rev/s, rpm, deg/s).  With --toss each component may be a "
+        "distribution: normal:MEAN:SD or uniform:LOW:HIGH.", metavar="W1,W2,W3")] = None,
+    times: Annotated[str | None, typer.Option(
+        "--times", help="Times (s) for the time series of omega, the attitude and the face up: "
+        "a list a,b,c, a range START:STOP:STEP, or - for stdin.", metavar="TIMES")] = None,
+    toss: Annotated[bool, typer.Option(
+        "--toss", help="Toss many boxes with random spins and flight times; give the chance of "
+        "each face beside the geometric model.")] = False,
+    n: Annotated[str, typer.Option(
+        "-n", "--n", "--tosses", help="Number of tosses with --toss, 1 to 10^8.",
+        metavar="N")] = "10000",
+    seed: Annotated[str | None, typer.Option(
+        "--seed", help="Seed of the random tosses (a whole number >= 0).  Default: fresh "
+        "entropy, printed in the note.", metavar="SEED")] = None,
+    flight: Annotated[str | None, typer.Option(
+        "--flight", help="Flight time from launch to catch, s: a value, or with --toss "
+        "normal:MEAN:SD (truncated at 0) or uniform:LOW:HIGH.  Default 0.5 with --toss; "
+        "without --toss it adds the face up at that catch to the motion table.",
+        metavar="SPEC")] = None,
+    start: Annotated[str, typer.Option(
+        "--start", help="Face up at launch (+1 -1 +2 -2 +3 -3: outward normal along +-body "
+        "axis), or random (a uniformly random attitude).", metavar="FACE")] = "+3",
+    rule: Annotated[str, typer.Option(
+        "--rule", help="Which face is up at the catch: centre (the vertical through the centre "
+        "passes through it: the coin's rule, matched by solid angles) or normal (its outward "
+        "normal is nearest the vertical).", metavar="centre|normal")] = "centre",
+    out: Annotated[str | None, typer.Option(
+        "--out", "-o", help="Write to FILE: a figure when it ends in .png, .svg or .pdf (omega(t) "
+        "and the face up; with --toss the face chances), else the output in --format.",
+        metavar="FILE")] = None,
+    fmt: FormatOpt = "table",
+    quiet: QuietOpt = False,
+):
+    """The paper's Problem 1: a tossed book (a box with three different moments).
+
+    Solves Euler's equations of the free body exactly (Jacobi elliptic functions) from the spin
+    at launch.  The motion table gives each omega component's range, its period, the paper's
+    Gamma (the linearized frequency about the largest or smallest axis) next to the exact
+    frequency, and for a spin near the middle axis the growth rate lambda and the time between
+    flips (the tennis-racket flip) next to the separatrix asymptote.  --times gives omega, the
+    attitude (a quaternion, body to lab) and the face up at each time; --toss the chance of each
+    face of a box caught after its flight, beside the geometric model (each face's solid angle).
+
+    Examples: coin book --size 235x155x30 --spin 0,0,40 ;
+    coin book --size 235x155x30 --spin 0.4,40,0.3 --times 0:2:0.01 --format csv ;
+    coin book --size 235x155x30 --spin 0.4,40,0.3 --out book.png ;
+    coin book --size 16x16x16 --toss -n 100000 --seed 1 --spin normal:0:30,normal:0:30,normal:0:30
+    """
+    check_format(fmt)
+    box = _box(size, moments)
+    start_v = start.strip().lower()
+    if start_v not in STARTS:
+        raise usage_error(f"--start must be one of {', '.join(STARTS)}, got {start!r}")
+    rule_v = rule.strip().lower()
+    if rule_v == "center":
+        rule_v = "centre"
+    if rule_v not in ("centre", "normal"):
+        raise usage_error(f"--rule must be centre or normal, got {rule!r}")
+    if spin is None:
+        raise usage_error("give --spin W1,W2,W3 (rad/s about body axes 1, 2, 3), e.g. "
+                          "--spin 0,0,40")
+    figure = _is_figure(out)
+    if toss:
+        if times is not None:
+            raise usage_error("--times is for one motion; --toss tosses many (give one of them)")
+        _toss(box, spin, n, seed, flight, start_v, rule_v, out, figure, fmt, quiet)
+        return
+    for opt, given in (("-n", n != "10000"), ("--seed", seed is not None)):
+        if given:
+            raise usage_error(f"{opt} is for --toss (many random tosses)")
+    w = tuple(_spin_value(p, f"--spin component {k}")
+              for k, p in enumerate(_three(spin, "--spin"), start=1))
+    if times is not None or figure:
+        _series(box, w, times, start_v, rule_v, out, figure, fmt, quiet)
+        return
+    tf = None
+    if flight is not None:
+        tf = _time_item(flight, "--flight") if ":" not in flight else None
+        if tf is None:
+            raise usage_error("--flight takes one time (s) without --toss, got "
+                              f"{flight!r}")
+    _motion(box, w, tf, start_v, rule_v, out, fmt, quiet)
+
+
+class _Box:
+    __slots__ = ("moments", "sides", "label", "unit", "size_mm")
+
+
+def _box(size, moments) -> _Box:
+    from coincli import rigid as R
+
+    if (size is None) == (moments is None):
+        raise usage_error("give --size AxBxC (mm) or --moments I1,I2,I3, one of them")
+    b = _Box()
+    if size is not None:
+        mm = _size_mm(size)
+        b.size_mm = mm
+        b.moments = _usage(R.box_moments, tuple(v / 1000 for v in mm))  # per kg, m^2
+        top = max(mm)
+        b.sides = tuple(v / top for v in mm)
+        b.label = " x ".join(_fmt(v) for v in mm) + " mm"
+        b.unit = "kg m^2 per kg"
+    else:
+        b.size_mm = None
+        b.moments = _moments(moments)
+        b.sides = _usage(R.box_sides, b.moments)
+        b.label = "moments " + ", ".join(_fmt(v) for v in b.moments)
+        b.unit = "as given"
+    return b
+
+
+def _face_size(box: _Box, face: int) -> str:
+    k = face // 2
+    i, j = (k + 1) % 3, (k + 2) % 3
+    i, j = min(i, j), max(i, j)
+    if box.size_mm is not None:
+        return f"{_fmt(box.size_mm[i])} x {_fmt(box.size_mm[j])} mm"
+    return f"{box.sides[i]:.4g} x {box.sides[j]:.4g} (relative)"
+
+
+_AXIS_ROLE = {"smallest": "smallest moment", "middle": "middle moment",
+              "largest": "largest moment", "tied": "moment equal to another's"}
+
+
+def _motion(box, w, tf, start, rule, out, fmt, quiet):
+    from coincli import rigid as R
+
+    mo = _usage(R.motion, box.moments, w)
+    face = None
+    if tf is not None:
+        import numpy as np
+
+        _check_phase(max(abs(v) for v in w) * math.sqrt(3) * tf, "--flight", f"{tf:g} s")
+        q0 = _start_quaternion(start)
+        o = R.orbit(box.moments, np.asarray(w, dtype=float))
+        q = R.attitude_at(o, tf, q0)
+        face = FACES[int(R.face_up(R.up_vector(q), box.sides, rule))]
+    cols, vals = [], []
+
+    def add(name, header, value, style="g10"):
+        cols.append(Column(name, header, style))
+        vals.append(value)
+
+    ax = lambda i: f"{i + 1} ({_AXIS_ROLE[R._roles(box.moments)[i]]})"  # noqa: E731
+    add("box", "box", box.label, "text")
+    for i in range(3):
+        add(f"I{i + 1}", f"I{i + 1} ({box.unit})", box.moments[i])
+    for i in range(3):
+        add(f"omega{i + 1}_0", f"omega{i + 1} at launch (rad/s)", w[i])
+    kind_text = {"rest": "at rest", "steady": "steady spin (omega constant)",
+                 "periodic": "periodic", "separatrix": "on the separatrix (one flip, never back)"}
+    add("motion", "motion", kind_text[mo.kind], "text")
+    add("spin_axis", "spin axis (nearest L at launch)", ax(mo.spin_axis), "text")
+    add("circulates_about", "omega circulates about axis",
+        ax(mo.axis) if mo.kind in ("periodic", "separatrix") else None, "text")
+    for i in range(3):
+        add(f"omega{i + 1}_min", f"omega{i + 1} min (rad/s)", mo.omega_min[i])
+        add(f"omega{i + 1}_max", f"omega{i + 1} max (rad/s)", mo.omega_max[i])
+    period = mo.period
+    if mo.kind == "steady":
+        period = 2 * math.pi / mo.gamma if mo.gamma_kind == "oscillation" and mo.gamma else \
+            math.inf
+    elif mo.kind == "rest":
+        period = math.inf
+    add("period", "period of omega (s)", period)
+    add("frequency", "exact frequency 2 pi/period (rad/s)",
+        mo.frequency if mo.frequency is not None else (0.0 if period == math.inf else None))
+    osc = mo.gamma_kind == "oscillation"
+    growth = mo.gamma_kind == "growth"
+    add("gamma", "paper's Gamma (rad/s)", mo.gamma if osc else None)
+    add("gamma_shift", "exact/Gamma - 1", mo.gamma_shift if osc else None)
+    add("gamma_shift_2", "  second-order prediction", mo.gamma_shift_2 if osc else None)
+    add("lambda", "growth rate lambda (1/s)", mo.gamma if growth else None)
+    flips = growth and mo.kind in ("periodic", "separatrix", "steady")
+    add("flip_time", "time between flips (s)",
+        (mo.half_period if mo.kind != "steady" else math.inf) if flips else None)
+    add("flip_asymptote", "  separatrix asymptote (s)", mo.flip_asymptote if flips else None)
+    add("first_flip", "first flip at (s)",
+        (mo.first_flip if mo.kind != "steady" else math.inf) if flips else None)
+    add("m", "elliptic parameter m", mo.m)
+    if tf is not None:
+        add("flight", "flight time (s)", tf)
+        add("face_up", f"face up at the catch ({rule} rule, start {start})", face, "text")
+    note = _motion_note(mo, box)
+    names = [c.name for c in cols]
+    main = face if tf is not None else vals[names.index("flip_time" if flips else "period")]
+    _emit(Result("coin book", cols, [tuple(vals)], note, quiet=main, vertical=True), fmt, quiet,
+          out)
+
+
+def _motion_note(mo, box) -> str:
+    base = ("Euler's equations of the free body solved exactly (Jacobi elliptic functions); "
+            "Yong & Mahadevan, arXiv:1008.4559, Problem 1.")
+    if mo.kind == "rest":
+        return base + "  No spin: nothing moves."
+    if mo.gamma_kind == "oscillation":
+        return base + ("  A spin about the largest or the smallest axis is stable: the other two "
+                       "components stay bounded and oscillate at nearly Gamma, Gamma^2 = "
+                       "(Ic-Ia)(Ic-Ib)/(Ia Ib) omega0^2; exact/Gamma - 1 is second order in the "
+                       "perturbation (see the prediction).")
+    if mo.gamma_kind == "growth":
+        return base + ("  A spin about the middle axis is unstable: a small perturbation grows "
+                       "like exp(lambda t), lambda^2 = (I3-I2)(I2-I1)/(I1 I3) omega0^2, and the "
+                       "body flips over every half period (the tennis-racket flip); the time "
+                       "between flips grows like ln(1/perturbation)/lambda.")
+    return base + "  The spin axis's moment equals another's: a neutral (symmetric) spin."
+
+
+def _start_quaternion(start):
+    from coincli import rigid as R
+
+    if start == "random":
+        raise usage_error("--start random is for --toss (a single launch needs a face up)")
+    return R.start_quaternion(start)
+
+
+def _check_phase(phase: float, what: str, shown: str) -> None:
+    if not phase <= MAX_PHASE:
+        raise usage_error(f"{what} {shown} is too long for this spin: the box would turn "
+                          f"{phase:.3g} rad; at most {MAX_PHASE:.0e} rad (|omega| t) can be "
+                          "followed before rounding makes the attitude noise")
+
+
+# --------------------------------------------------------------------------- time series
+
+
+def _series(box, w, times, start, rule, out, figure, fmt, quiet):
+    import numpy as np
+
+    from coincli import rigid as R
+
+    mo = _usage(R.motion, box.moments, w)
+    if times is None:
+        span = _default_span(mo)
+        ts = np.linspace(0.0, span, FIGURE_POINTS)
+    else:
+        vals = values_option(times, "--times", _time_item)
+        ts = np.asarray(vals, dtype=float)
+        if ts.size and not (np.all(np.isfinite(ts)) and ts.min() >= 0):
+            raise usage_error("--times must be times >= 0 s")
+    wmax = max(abs(v) for v in w)
+    if ts.size:
+        _check_phase(wmax * math.sqrt(3) * float(ts.max()), "--times up to",
+                     f"{float(ts.max()):g} s")
+    q0 = _start_quaternion(start)
+    o = R.orbit(box.moments, np.asarray(w, dtype=float))
+    om = R.omega_at(o, ts)
+    q = R.attitude_at(o, ts, q0)
+    up = R.face_up(R.up_vector(q), box.sides, rule)
+    if figure:
+        from coincli import bookplot
+
+        _figure(out, lambda: bookplot.omega_figure(ts, om, up, mo, box.label, start, rule))
+        return
+    labels = np.array(FACES)[up].tolist()
+    data = [ts.tolist()] + [om[:, i].tolist() for i in range(3)] + \
+        [q[:, i].tolist() for i in range(4)] + [labels]
+    cols = [Column("t", "t (s)", "g10")] + [
+        Column(f"omega{i + 1}", f"omega{i + 1} (rad/s)", "g10") for i in range(3)] + [
+        Column(f"q{c}", f"q{c}", "g10") for c in "wxyz"] + [Column("up", "face up", "text")]
+    note = (f"{box.label}; spin {', '.join(_fmt(v) for v in w)} rad/s at launch, face {start} "
+            f"up; attitude as a unit quaternion (w, x, y, z) turning body axes into the lab's "
+            f"(z up); face up by the {rule} rule.")
+    _emit(Result("coin book --times", cols, [], note, quiet=labels, data=data), fmt, quiet, out)
+
+
+def _default_span(mo) -> float:
+    """Three periods of omega (or, near the middle axis, three flips past the first)."""
+    if mo.kind == "rest":
+        return 1.0
+    if mo.kind in ("periodic",) and math.isfinite(mo.period):
+        if mo.gamma_kind == "growth":
+            return mo.first_flip + 2.5 * mo.period
+        return 3 * mo.period
+    if mo.gamma_kind == "oscillation" and mo.gamma > 0:
+        return 3 * 2 * math.pi / mo.gamma
+    rate = mo.rate or mo.gamma or max(abs(v) for v in mo.omega0)
+    return 20 / rate
+
+
+# --------------------------------------------------------------------------- tosses
+
+
+def _toss(box, spin, n, seed, flight, start, rule, out, figure, fmt, quiet):
+    count = _tosses(n)
+    seed_v = _seed(seed)
+    comps = _three(spin, "--spin")
+    dists = [_dist(p, f"--spin component {k}", _SPIN_UNITS, "rad/s", -math.inf)
+             for k, p in enumerate(comps, start=1)]
+    flight_text = "0.5" if flight is None else flight
+    fd = _dist(flight_text, "--flight", _TIME_UNITS, "s", 0.0)
+    # every toss must be one the core can follow, checked at the top of the distributions
+    wtop = math.sqrt(sum(_reach(d) ** 2 for d in dists))
+    ttop = _reach(fd)
+    _check_phase(wtop * ttop, "--flight", f"{flight_text.strip()} (up to {ttop:g} s) with --spin "
+                 f"{spin.strip()} (up to |omega| = {wtop:g} rad/s)")
+    from coincli import rigid as R
+    from coincli.cli.toss import _progress
+    from coincli.stats import proportion
+
+    import numpy as np
+
+    counts = np.zeros(6, dtype=np.int64)
+    with _progress(count) as tick:
+        done = 0
+        for codes in R.toss_chunks(count, seed_v, moments=box.moments, sides=box.sides,
+                                   spin=dists, flight=fd, start=start, rule=rule):
+            counts += np.bincount(codes, minlength=6)
+            done += codes.size
+            tick(done)
+    geo = R.face_shares(box.sides, rule)
+    rows = []
+    for k in range(6):
+        c = int(counts[k])
+        pr = proportion(c, count, FACES[k])
+        rows.append((FACES[k], _face_size(box, k), c, c / count, pr.wilson.low, pr.wilson.high,
+                     geo[k], c / count - geo[k], seed_v))
+    columns = [
+        Column("face", "face", "text"), Column("face_size", "face size", "text"),
+        Column("count", "count", "int"), Column("frequency", "frequency"),
+        Column("ci_low", "95% low"), Column("ci_high", "95% high"),
+        Column("geometric", "geometric"), Column("difference", "freq - geometric"),
+        Column("seed", "seed", "int"),
+    ]
+    fl = "0.5 s (default)" if flight is None else f"{flight.strip()} s"
+    note = (f"{count} tosses, seed {seed_v}: {box.label}; spin ~ ({', '.join(comps)}) rad/s "
+            f"about body axes 1, 2, 3; flight {fl}; face {start} up at launch; {rule} rule.  "
+            "95% Wilson intervals.  Geometric: every orientation equally likely (each face's "
+            + ("solid angle from the centre / 4 pi)." if rule == "centre" else "1/6).")
+            + "  The two differ where the conserved angular momentum keeps some faces from "
+            "coming up: a spin about a stable axis turns the box about that axis only.")
+    result = Result("coin book --toss", columns, rows, note, quiet=[r[3] for r in rows])
+    if figure:
+        from coincli import bookplot
+
+        _figure(out, lambda: bookplot.faces_figure(rows, box.label, count, seed_v, rule))
+        return
+    _emit(result, fmt, quiet, out)
