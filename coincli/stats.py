@@ -2,7 +2,7 @@ r"""Statistics for real tosses: intervals, exact goodness-of-fit tests, fits of 
 
 A coin designer tosses a prototype a few hundred times and asks whether the counts agree with a
 model (issue 6; the paper did the same with 100 tosses a coin, Sec. IV and Fig. 5).  This module
-is the pure core of ``coin check`` and ``coin fit``: numbers in, numbers and dataclasses out,
+is the pure core of ``coin check`` and ``coin fit``: numbers in, numbers and named tuples out,
 ``ValueError`` naming the argument and its allowed range otherwise.  Nothing here prints.
 
 Counts
@@ -62,7 +62,7 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from collections import namedtuple
 
 from coincli.models import Outcome
 
@@ -168,14 +168,14 @@ class CountsError(ValueError):
         self.argument = argument
 
 
-@dataclass(frozen=True)
-class Counts:
+class Counts(namedtuple("Counts", "n sides heads tails", defaults=(None, None))):
     """Observed tosses: ``sides`` of ``n``, and ``heads``/``tails`` when faces were told apart."""
 
-    n: int
-    sides: int
-    heads: int | None = None
-    tails: int | None = None
+    # n: int
+    # sides: int
+    # heads: int | None
+    # tails: int | None
+    __slots__ = ()
 
     @property
     def faces(self) -> bool:
@@ -338,28 +338,24 @@ def _binom_upper(k, n, p):
 # --------------------------------------------------------------------------- intervals
 
 
-@dataclass(frozen=True)
-class Interval:
+class Interval(namedtuple("Interval", "low high method confidence")):
     """A confidence interval for a proportion."""
 
-    low: float
-    high: float
-    method: str  # "wilson" or "clopper-pearson"
-    confidence: float
-
-
-@dataclass(frozen=True)
-class Proportion:
+    # low: float
+    # high: float
+    # method: str  "wilson" or "clopper-pearson"
+    # confidence: float
+    __slots__ = ()
+class Proportion(namedtuple("Proportion", "outcome count n estimate wilson clopper_pearson")):
     """An observed frequency ``count / n`` with its Wilson and Clopper-Pearson intervals."""
 
-    outcome: str
-    count: int
-    n: int
-    estimate: float
-    wilson: Interval
-    clopper_pearson: Interval
-
-
+    # outcome: str
+    # count: int
+    # n: int
+    # estimate: float
+    # wilson: Interval
+    # clopper_pearson: Interval
+    __slots__ = ()
 def _z(confidence: float) -> float:
     """The two-sided normal quantile: ``P(|Z| <= z) = confidence``, finite for every level in
     (0, 1) (``1 - confidence`` is exact for a level of 1/2 or more; erfinv below)."""
@@ -862,23 +858,22 @@ def verdict(p: float, alpha: float = ALPHA, *, exact: bool = True, impossible: b
 # --------------------------------------------------------------------------- one experiment
 
 
-@dataclass(frozen=True)
-class ModelTest:
+class ModelTest(namedtuple("ModelTest", "model chances categories expected p_value exact "
+                                        "method g_statistic df log_likelihood verdict")):
     """How one model fares on one experiment."""
 
-    model: str
-    chances: Outcome  # (heads, sides, tails) as the model gave them (tests renormalize)
-    categories: tuple[str, ...]  # the tested categories: heads/sides/tails or sides/faces
-    expected: tuple[float, ...]  # expected counts, in the order of categories
-    p_value: float
-    exact: bool
-    method: str  # "exact multinomial", "exact binomial" or "G-test (asymptotic chi2, df=k)"
-    g_statistic: float  # likelihood-ratio statistic against the observed frequencies
-    df: int
-    log_likelihood: float
-    verdict: str
-
-
+    # model: str
+    # chances: Outcome  (heads, sides, tails) as the model gave them (tests renormalize)
+    # categories: tuple[str, ...]  the tested categories: heads/sides/tails or sides/faces
+    # expected: tuple[float, ...]  expected counts, in the order of categories
+    # p_value: float
+    # exact: bool
+    # method: str  "exact multinomial", "exact binomial" or "G-test (asymptotic chi2, df=k)"
+    # g_statistic: float  likelihood-ratio statistic against the observed frequencies
+    # df: int
+    # log_likelihood: float
+    # verdict: str
+    __slots__ = ()
 class _CountColumns:
     """Counts of many experiments as arrays: heads, sides, tails (0 where faces were not told
     apart), n, and ``faces``."""
@@ -1035,17 +1030,15 @@ def model_chances(xi, densities: Mapping[str, object] | None = None) -> dict[str
     return out
 
 
-@dataclass(frozen=True)
-class CheckResult:
+class CheckResult(namedtuple("CheckResult", "xi counts proportions tests label", defaults=("",))):
     """One experiment: the frequencies with intervals, and each model's test."""
 
-    xi: float
-    counts: Counts
-    proportions: tuple[Proportion, ...]
-    tests: tuple[ModelTest, ...]
-    label: str = ""
-
-
+    # xi: float
+    # counts: Counts
+    # proportions: tuple[Proportion, ...]
+    # tests: tuple[ModelTest, ...]
+    # label: str
+    __slots__ = ()
 class Checks(Sequence):
     """Many experiments checked at once, as columns; ``checks[i]`` is the :class:`CheckResult`
     of row ``i`` (built on demand: a file of 10^5 rows needs none of them to be written).
@@ -1200,22 +1193,27 @@ def _spread_chances(xi, sigma: float) -> Outcome:
     return marginal(xi, Uniform() if math.isinf(sigma) else Normal(HALF_PI, sigma))
 
 
-@dataclass(frozen=True)
-class SpreadFit:
+class SpreadFit(namedtuple("SpreadFit", "sigma low high pieces confidence log_likelihood aic "
+                                        "chances note profile", defaults=("", ()))):
     """Maximum-likelihood spread of psi (sd of a normal about pi/2 truncated to [0, pi])."""
 
-    sigma: float  #: the estimate, radians; 0 is the Keller flip (dynamic), inf is uniform psi
-    low: float  #: lower end of the profile-likelihood interval
-    high: float  #: upper end (inf when a uniform psi is not excluded)
-    pieces: tuple[tuple[float, float], ...]  #: the confidence set; one piece unless flagged
-    confidence: float
-    log_likelihood: float
-    aic: float
-    chances: Outcome  #: arrays, one entry per experiment, at the estimate
-    note: str = ""
-    profile: tuple[tuple[float, float], ...] = field(default=(), repr=False)  #: (sigma, log L)
+    # sigma: float  the estimate, radians; 0 is the Keller flip (dynamic), inf is uniform psi
+    # low: float  lower end of the profile-likelihood interval
+    # high: float  upper end (inf when a uniform psi is not excluded)
+    # pieces: tuple[tuple[float, float], ...]  the confidence set; one piece unless flagged
+    # confidence: float
+    # log_likelihood: float
+    # aic: float
+    # chances: Outcome  arrays, one entry per experiment, at the estimate
+    # note: str
+    # profile: tuple[tuple[float, float], ...]  (sigma, log L) on the grid
+    __slots__ = ()
 
     n_params = 1
+
+    def __repr__(self):  # the profile is long: left out, as a dataclass field(repr=False) was
+        shown = ", ".join(f"{k}={getattr(self, k)!r}" for k in self._fields if k != "profile")
+        return f"SpreadFit({shown})"
 
 
 def _sigma_of(u: float) -> float:
@@ -1487,27 +1485,26 @@ def fit_spread(xi: Sequence[float], counts: Sequence[Counts], *, confidence: flo
     )
 
 
-@dataclass(frozen=True)
-class ModelSummary:
+class ModelSummary(namedtuple("ModelSummary",
+                               "model n_params log_likelihood aic delta_aic sse_sides")):
     """One model across all experiments."""
 
-    model: str
-    n_params: int
-    log_likelihood: float
-    aic: float
-    delta_aic: float  #: AIC minus the smallest AIC of the models compared
-    sse_sides: float  #: the paper's sum of squared errors of the side frequencies
+    # model: str
+    # n_params: int
+    # log_likelihood: float
+    # aic: float
+    # delta_aic: float  AIC minus the smallest AIC of the models compared
+    # sse_sides: float  the paper's sum of squared errors of the side frequencies
+    __slots__ = ()
 
 
-@dataclass(frozen=True)
-class FitResult:
+class FitResult(namedtuple("FitResult", "rows spread models")):
     """``coin fit``: each experiment checked, and the models compared across them."""
 
-    rows: Checks  #: a sequence of CheckResult (columns underneath)
-    spread: SpreadFit | None
-    models: tuple[ModelSummary, ...]
-
-
+    # rows: Checks  a sequence of CheckResult (columns underneath)
+    # spread: SpreadFit | None
+    # models: tuple[ModelSummary, ...]
+    __slots__ = ()
 SPREAD_MODEL = "psi-spread"  #: the model name of the fitted spread in results
 
 
@@ -1575,16 +1572,14 @@ _CSV_ALIASES = {"name": "label", "tosses": "n", "diameter_mm": "diameter",
                 "thickness_mm": "thickness"}
 
 
-@dataclass(frozen=True)
-class Experiment:
+class Experiment(namedtuple("Experiment", "line xi counts label")):
     """One row of an experiments file: a coin's aspect ratio and its tosses."""
 
-    line: int  #: line number in the file (1-based)
-    xi: float
-    counts: Counts
-    label: str  #: the label column, else a description of the coin ("nickel x3", "xi=0.583")
-
-
+    # line: int  line number in the file (1-based)
+    # xi: float
+    # counts: Counts
+    # label: str  the label column, else a description of the coin ("nickel x3", "xi=0.583")
+    __slots__ = ()
 class CSVError(ValueError):
     """A malformed experiments file; the message names the line and column."""
 

@@ -224,7 +224,7 @@ def _machine_chunks(ch, lines, extra=None, tail_rows=()):
             makers.append(lambda a, b, cells=cells: cells * (b - a))
     # heads and tails: int columns with None where faces were not told apart
     makers[5], makers[7] = _ints(makers[5]), _ints(makers[7])
-    step = max(1, CHUNK_ROWS // M)
+    step = max(1, min(CHUNK_ROWS, 8192) // M)  # 45 columns: 8192 rows of cells at a time
     for a in range(0, T, step):
         yield [make(a, min(a + step, T)) for make in makers]
     if tail_rows:
