@@ -388,7 +388,9 @@ def wilson_interval(count, n, confidence: float = CONFIDENCE):
         hi = (k + z2 / 2 + z * np.sqrt(k * ((m - k) / m) + z2 / 4)) / denom
         lo = np.where(k > 0, (k * (k / m)) / (denom * hi), 0.0)
     hi = np.where(k >= m, 1.0, np.minimum(hi, 1.0))
-    return lo, hi
+    # both ends tend to k/n as the level tends to 0: keep the estimate inside after rounding
+    est = k / m
+    return np.minimum(lo, est), np.maximum(hi, est)
 
 
 def clopper_pearson_interval(count, n, confidence: float = CONFIDENCE):
@@ -403,7 +405,7 @@ def clopper_pearson_interval(count, n, confidence: float = CONFIDENCE):
 
     each written with ``expm1``/``log1p`` so that a small end keeps its relative accuracy.
     Otherwise ``betaincinv`` (or ``betainccinv`` on the far side, so that a quantile near 1
-    never needs ``1 - a`` rounded), then one Newton step on ``betainc`` (see
+    never needs ``1 - a`` rounded), polished by the secant method on ``betainc`` (see
     :func:`_beta_quantile`).  ``a >= 2^-54`` for every accepted confidence, so every end is
     finite.  Accuracy against mpmath: docs/accuracy.md.
     """
@@ -432,40 +434,131 @@ def clopper_pearson_interval(count, n, confidence: float = CONFIDENCE):
     return lo, hi
 
 
+_FEW = 64  #: up to this many terms, a binomial tail is summed term by term
+
+
+def _binom_head(k, n, t):
+    """``P(X <= k)`` for ``X ~ Binomial(n, t)``, ``k <= _FEW``, by its ``k + 1`` terms from
+    ``(1 - t)^n`` up (each the last times ``(n - j) t / ((j + 1)(1 - t))``): positive terms, a
+    few roundings each, at any ``n`` (``betaincc`` loses up to 1e-11 relative at ``n = 10^9``
+    for small ``k``)."""
+    import numpy as np
+
+    with np.errstate(all="ignore"):
+        log_term = n * np.log1p(-t)
+        log_ratio = np.log(t) - np.log1p(-t)
+        top = log_term.copy()
+        logs = [log_term]
+        for j in range(int(np.max(k, initial=0))):
+            log_term = log_term + (np.log((n - j) / (j + 1.0)) + log_ratio)
+            logs.append(np.where(j + 1 <= k, log_term, -np.inf))
+            top = np.maximum(top, logs[-1])
+        total = sum(np.exp(v - top) for v in logs)
+        return np.exp(top) * total
+
+
 def _beta_quantile(a, b, y: float, upper: bool):
     """x with ``I_x(a, b) = y`` (``upper``: with ``1 - I_x(a, b) = y``), ``0 < y < 1/2``.
 
-    ``betaincinv``/``betainccinv`` from the side where the answer is at most 1/2 (the other end
-    as ``1 - x`` of the mirrored beta, ``I_x(a, b) = 1 - I_{1-x}(b, a)``), then one Newton step
-    ``x -= (I_x - y) / I'_x`` on the same side.  The step uses ``betainc`` at the mirrored
-    argument only where ``x`` itself is below 1/2, so no ``1 - x`` is formed where it would
-    round.  The density ``I'_x`` comes from ``betaln``; its relative error only slows the step,
-    it cannot move the root.
+    Solved on the side where the answer is at most about 1/2 (the other end as ``1 - x`` of the
+    mirrored beta, ``I_x(a, b) = 1 - I_{1-x}(b, a)``), so no ``1 - x`` rounds away a small
+    answer.  Started from ``betaincinv``/``betainccinv`` and polished by the secant method on
+    ``betainc``/``betaincc`` inside a bracket (bisection when a step leaves it): Boost's inverse
+    is off by up to 1e-8 relative at ``a + b ~ 10^15`` (and by half at ``a = 2``,
+    ``b = 2^53``), while the forward function is accurate there, and the quantile is well
+    conditioned (its relative error is the forward one times ``y / (x I'(x)) <= 1``).  No
+    derivative is needed: ``betaln`` at such parameters is a difference of numbers near 10^17.
     """
     import numpy as np
-    from scipy.special import betainc, betaincc, betainccinv, betaincinv, betaln, xlog1py, xlogy
 
     a = np.asarray(a, dtype=float)
     b = np.asarray(b, dtype=float)
-    # the side where the quantile is small: the mean a / (a + b) decides, the Newton step checks
-    small = a <= b
-    # x small: solve on (a, b) directly;  x large: 1 - x solves the mirrored problem
+    small = a <= b  # the mean a / (a + b) is at most 1/2: solve for x itself ...
+    x = _beta_quantile_on(a, b, y, upper, small)
+    # ... unless the answer lies on the other side of 1/2 (a far tail): solve again there
+    again = (small & (x > 0.5)) | (~small & (x < 0.5))
+    if np.any(again):
+        x = np.where(again, _beta_quantile_on(a, b, y, upper, ~small), x)
+    return x
+
+
+def _beta_quantile_on(a, b, y: float, upper: bool, small):
+    """:func:`_beta_quantile`, solved for x where ``small`` and for 1 - x elsewhere."""
+    import numpy as np
+    from scipy.special import betainc, betaincc, betainccinv, betaincinv
+
     aa = np.where(small, a, b)
     bb = np.where(small, b, a)
-    # lower quantile (I_x(a, b) = y):  small side: I_x(a, b) = y;      mirrored: 1 - I_t(b, a) = y
-    # upper quantile (1 - I_x(a, b) = y): small side: 1 - I_x(a,b) = y; mirrored: I_t(b, a) = y
-    want_lower = np.where(small, not upper, upper)
-    t = np.where(want_lower, betaincinv(aa, bb, y), betainccinv(aa, bb, y))
-    ok = (t > 0) & (t < 1)
-    tt = np.where(ok, t, 0.5)
-    f = np.where(want_lower, betainc(aa, bb, tt) - y, y - betaincc(aa, bb, tt))
-    logd = xlogy(aa - 1, tt) + xlog1py(bb - 1, -tt) - betaln(aa, bb)
-    step = f / np.exp(logd)
-    t2 = tt - step
-    # keep the step only when it is a small correction (the density is trusted near the root)
-    good = ok & np.isfinite(t2) & (np.abs(step) <= 1e-6 * tt) & (t2 > 0)
-    t = np.where(good, t2, t)
-    return np.where(small, t, 1.0 - t)
+    # lower quantile: I_x(a, b) = y; mirrored: I_t(b, a) = 1 - y, i.e. 1 - I_t = y.  Upper
+    # quantile: 1 - I_x(a, b) = y; mirrored: I_t(b, a) = y.
+    lower = np.where(small, not upper, upper)
+
+    few = ~lower & (aa <= _FEW)
+
+    def resid(t):
+        """Increasing in t, zero at the answer."""
+        with np.errstate(all="ignore"):
+            upper_tail = betaincc(aa, bb, t)
+            if few.any():  # 1 - I_t(a, b) = P(X <= a - 1), X ~ Binomial(a + b - 1, t): a sum
+                upper_tail = np.where(few, _binom_head(aa - 1, aa + bb - 1, t), upper_tail)
+            return np.where(lower, betainc(aa, bb, t) - y, y - upper_tail)
+
+    with np.errstate(all="ignore"):
+        t = np.where(lower, betaincinv(aa, bb, y), betainccinv(aa, bb, y))
+    t = np.where((t > 0) & (t < 1), t, 0.5)
+    f = resid(t)
+    # a bracket [lo, hi] with resid(lo) <= 0 <= resid(hi): widen from the start geometrically
+    lo = np.where(f <= 0, t, 0.0)
+    hi = np.where(f >= 0, t, 1.0)
+    flo = np.where(f <= 0, f, -y)
+    fhi = np.where(f >= 0, f, 1.0 - y)
+    probe_lo, probe_hi = t.copy(), t.copy()
+    for _ in range(1100):  # 2^-1074 is the smallest double
+        need = (f > 0) & (lo == 0.0) & (probe_lo > 0)
+        if not need.any():
+            break
+        probe_lo = np.where(need, probe_lo / 2, probe_lo)
+        fp = resid(probe_lo)
+        got = need & (fp <= 0)
+        lo, flo = np.where(got, probe_lo, lo), np.where(got, fp, flo)
+        hi, fhi = np.where(need & (fp > 0), probe_lo, hi), np.where(need & (fp > 0), fp, fhi)
+    for _ in range(64):
+        need = (f < 0) & (hi == 1.0) & (probe_hi < 1)
+        if not need.any():
+            break
+        probe_hi = np.where(need, 1 - (1 - probe_hi) / 2, probe_hi)
+        fp = resid(probe_hi)
+        got = need & (fp >= 0)
+        hi, fhi = np.where(got, probe_hi, hi), np.where(got, fp, fhi)
+        lo, flo = np.where(need & (fp < 0), probe_hi, lo), np.where(need & (fp < 0), fp, flo)
+    # secant from the start toward the far end of the bracket, safeguarded by bisection
+    x0, f0 = t, f
+    x1 = np.where(f > 0, lo, hi)
+    f1 = np.where(f > 0, flo, fhi)
+    done = (f == 0)
+    best = t.copy()
+    for _ in range(100):
+        with np.errstate(all="ignore"):
+            step = f1 * (x1 - x0) / (f1 - f0)
+            x2 = x1 - step
+        inside = np.isfinite(x2) & (x2 > lo) & (x2 < hi)
+        x2 = np.where(inside, x2, 0.5 * (lo + hi))
+        x2 = np.where(done, best, x2)
+        f2 = resid(x2)
+        lo, flo = np.where(f2 <= 0, x2, lo), np.where(f2 <= 0, f2, flo)
+        hi, fhi = np.where(f2 >= 0, x2, hi), np.where(f2 >= 0, f2, fhi)
+        best = np.where(done, best, x2)
+        done = done | (f2 == 0) | (hi - lo <= 4e-16 * hi) | (x2 == x1)
+        if done.all():
+            break
+        x0, f0, x1, f1 = x1, f1, x2, f2
+    # the bracket end with the smaller residual, if it beats the last step
+    fb = np.abs(resid(best))
+    for end, fe in ((lo, flo), (hi, fhi)):
+        better = (np.abs(fe) < fb) & (end > 0) & (end < 1)
+        best = np.where(better, end, best)
+        fb = np.where(better, np.abs(fe), fb)
+    return np.where(small, best, 1.0 - best)
 
 
 def proportion(count: int, n: int, outcome: str = "sides", confidence: float = CONFIDENCE
