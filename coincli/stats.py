@@ -431,7 +431,10 @@ def clopper_pearson_interval(count, n, confidence: float = CONFIDENCE):
         if np.any(mid_hi):
             hi = np.where(mid_hi, _beta_quantile(np.where(mid_hi, k + 1, 1.0),
                                                  np.where(mid_hi, m - k, 1.0), a, True), hi)
-    return lo, hi
+        # low < k/n < high in exact arithmetic; at a level near 0 both ends are within an ulp
+        # or two of the median, on either side after rounding: keep the estimate inside
+        est = k / m
+    return np.minimum(lo, est), np.maximum(hi, est)
 
 
 _FEW = 64  #: up to this many terms, a binomial tail is summed term by term

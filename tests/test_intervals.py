@@ -60,7 +60,7 @@ def test_interval_grid_against_mpmath(n):
             _check(k, n, conf)
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=120, deadline=None)
 @given(n=st.integers(1, 2**53), frac=st.floats(0, 1), conf=st.one_of(
     st.floats(5e-324, 1.0, exclude_max=True),
     st.sampled_from([5e-324, 1e-300, 0.5, 1 - 2**-53, 1 - 1e-15, 0.9999999999999999])))
@@ -72,8 +72,7 @@ def test_every_accepted_confidence_gives_a_finite_interval(n, frac, conf):
     for iv in (p.wilson, p.clopper_pearson):
         assert math.isfinite(iv.low) and math.isfinite(iv.high)
         assert 0.0 <= iv.low <= iv.high <= 1.0
-        # the estimate inside (a lower end may round onto it when the level is tiny)
-        assert iv.low <= p.estimate * (1 + 1e-15) and iv.high >= p.estimate * (1 - 1e-15)
+        assert iv.low <= p.estimate <= iv.high
 
 
 def test_arrays_and_scalars_agree():
