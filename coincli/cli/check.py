@@ -263,17 +263,38 @@ def _observed_result(title: str, ch, lines, confidence: float) -> Result:
              Column("wilson", f"{pct} Wilson", "text"),
              Column("cp", f"{pct} Clopper-Pearson", "text")]
     cc = ch.cc
-    per = {name: [v.tolist() for v in ch.intervals[name]] for name in _OUTCOMES}
-    counts = {"heads": cc.heads.tolist(), "sides": cc.sides.tolist(), "tails": cc.tails.tolist()}
-    xi = ch.xi.tolist()
-    body = []
-    for i, f in enumerate(cc.faces.tolist()):
-        lead = [lines[i], ch.labels[i], xi[i]] if with_line else []
-        for name in (_OUTCOMES if f else ("sides",)):
-            est, wl, wh, cl, chh = (col[i] for col in per[name])
-            body.append((*lead, name, counts[name][i], est, _interval_text(wl, wh),
-                         _interval_text(cl, chh)))
-    return Result(title, cols, body)
+
+    def rows(a: int, b: int) -> list[tuple]:
+        per = {name: [v[a:b].tolist() for v in ch.intervals[name]] for name in _OUTCOMES}
+        counts = {"heads": cc.heads[a:b].tolist(), "sides": cc.sides[a:b].tolist(),
+                  "tails": cc.tails[a:b].tolist()}
+        xi = ch.xi[a:b].tolist()
+        body = []
+        for j, f in enumerate(cc.faces[a:b].tolist()):
+            lead = [lines[a + j], ch.labels[a + j], xi[j]] if with_line else []
+            for name in (_OUTCOMES if f else ("sides",)):
+                est, wl, wh, cl, chh = (col[j] for col in per[name])
+                body.append((*lead, name, counts[name][j], est, _interval_text(wl, wh),
+                             _interval_text(cl, chh)))
+        return body
+
+    return _chunked(title, cols, rows, len(ch), 3)
+
+
+def _chunked(title: str, cols, rows, n: int, per: int, note: str = "") -> Result:
+    """A human table of ``n`` experiments: one chunk when small, else streamed by chunks of
+    experiments (``rows(a, b)`` gives their rows, at most ``per`` each), so that a file of 10^5
+    experiments is never held as text at once."""
+    step = max(1, min(CHUNK_ROWS, 8192) // per)
+    if n <= step:
+        return Result(title, cols, rows(0, n), note=note)
+
+    def chunks():
+        for a in range(0, n, step):
+            body = rows(a, min(a + step, n))
+            yield [list(c) for c in zip(*body, strict=True)]
+
+    return Result(title, cols, [], note=note, chunks=chunks())
 
 
 def _tests_result(title: str, ch, lines, note: str) -> Result:
@@ -284,19 +305,22 @@ def _tests_result(title: str, ch, lines, note: str) -> Result:
              Column("p_sides", "P(sides)"), Column("p_tails", "P(tails)"),
              Column("expected", "expected H / S / T", "text"), Column("p_value", "p-value"),
              Column("log_likelihood", "log-likelihood"), Column("verdict", "verdict", "text")]
-    faces = ch.cc.faces.tolist()
-    tests = [(t.model, t.raw.T.tolist(), t.expected.T.tolist(), t.p_value.tolist(),
-              t.log_likelihood.tolist(), t.verdict) for t in ch.tests]
-    body = []
-    for i, f in enumerate(faces):
-        lead = [lines[i], ch.labels[i]] if with_line else []
-        for model, raw, exp, pv, ll, ver in tests:
-            e = exp[i]
-            shown = e if f else (None, e[0], None)
-            body.append((*lead, model, *raw[i],
-                         " / ".join("-" if v is None else _count_text(v) for v in shown),
-                         pv[i], ll[i], ver[i]))
-    return Result(title, cols, body, note=note)
+    def rows(a: int, b: int) -> list[tuple]:
+        tests = [(t.model, t.raw[:, a:b].T.tolist(), t.expected[:, a:b].T.tolist(),
+                  t.p_value[a:b].tolist(), t.log_likelihood[a:b].tolist(), t.verdict[a:b])
+                 for t in ch.tests]
+        body = []
+        for j, f in enumerate(ch.cc.faces[a:b].tolist()):
+            lead = [lines[a + j], ch.labels[a + j]] if with_line else []
+            for model, raw, exp, pv, ll, ver in tests:
+                e = exp[j]
+                shown = e if f else (None, e[0], None)
+                body.append((*lead, model, *raw[j],
+                             " / ".join("-" if v is None else _count_text(v) for v in shown),
+                             pv[j], ll[j], ver[j]))
+        return body
+
+    return _chunked(title, cols, rows, len(ch), len(ch.tests), note)
 
 
 def _emit_all(human: list[Result], machine: Result, fmt: str, quiet: bool) -> None:
