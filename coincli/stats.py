@@ -437,7 +437,8 @@ def clopper_pearson_interval(count, n, confidence: float = CONFIDENCE):
     return np.minimum(lo, est), np.maximum(hi, est)
 
 
-_FEW = 64  #: up to this many terms, a binomial tail is summed term by term
+_FEW = 64  #: up to this many terms, a binomial tail is summed term by term ...
+_FEW_FROM = 1e7  #: ... when n is past this (below, betaincc is within a few ulps)
 
 
 def _binom_head(k, n, t):
@@ -474,15 +475,16 @@ def _beta_quantile(a, b, y: float, upper: bool):
     """
     import numpy as np
 
-    a = np.asarray(a, dtype=float)
-    b = np.asarray(b, dtype=float)
+    a, b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(b, dtype=float))
+    shape = a.shape
+    a, b = a.reshape(-1), b.reshape(-1)
     small = a <= b  # the mean a / (a + b) is at most 1/2: solve for x itself ...
     x = _beta_quantile_on(a, b, y, upper, small)
     # ... unless the answer lies on the other side of 1/2 (a far tail): solve again there
     again = (small & (x > 0.5)) | (~small & (x < 0.5))
     if np.any(again):
         x = np.where(again, _beta_quantile_on(a, b, y, upper, ~small), x)
-    return x
+    return x.reshape(shape)
 
 
 def _beta_quantile_on(a, b, y: float, upper: bool, small):
@@ -496,14 +498,15 @@ def _beta_quantile_on(a, b, y: float, upper: bool, small):
     # quantile: 1 - I_x(a, b) = y; mirrored: I_t(b, a) = y.
     lower = np.where(small, not upper, upper)
 
-    few = ~lower & (aa <= _FEW)
+    # where betaincc loses digits (a small a at a huge b) its value is summed instead
+    few = np.flatnonzero(~lower & (aa <= _FEW) & (bb > _FEW_FROM))
 
     def resid(t):
         """Increasing in t, zero at the answer."""
         with np.errstate(all="ignore"):
             upper_tail = betaincc(aa, bb, t)
-            if few.any():  # 1 - I_t(a, b) = P(X <= a - 1), X ~ Binomial(a + b - 1, t): a sum
-                upper_tail = np.where(few, _binom_head(aa - 1, aa + bb - 1, t), upper_tail)
+            if few.size:  # 1 - I_t(a, b) = P(X <= a - 1), X ~ Binomial(a + b - 1, t): a sum
+                upper_tail[few] = _binom_head(aa[few] - 1, aa[few] + bb[few] - 1, t[few])
             return np.where(lower, betainc(aa, bb, t) - y, y - upper_tail)
 
     with np.errstate(all="ignore"):
