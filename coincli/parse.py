@@ -260,8 +260,19 @@ def parse_count(text: str, what: str = "count") -> int:
     return int(digits)
 
 
+def _range_bound(text: str, what: str) -> float:
+    """A range's start, stop or step: a decimal, or a fraction such as ``1/10``."""
+    if "/" in text:
+        try:
+            return parse_ratio(text, what)
+        except ValueError:
+            raise ValueError(f"{what} must be a number like 0.1 or 1/10, got {text!r}") from None
+    return parse_number(text, what)
+
+
 def parse_values(text: str, what: str, item=parse_number, *, max_rows: int = MAX_ROWS) -> list:
-    """``a``, a list ``a,b,c`` or an inclusive range ``start:stop:step`` (step > 0).
+    """``a``, a list ``a,b,c`` or an inclusive range ``start:stop:step`` (step > 0; its three
+    numbers decimals or fractions such as ``1/10``).
 
     Each item is parsed by ``item(text, what)``; a range is computed as ``start + k*step`` (no
     accumulated rounding) and includes ``stop`` when it is within a millionth of a step of it.
@@ -274,7 +285,7 @@ def parse_values(text: str, what: str, item=parse_number, *, max_rows: int = MAX
         parts = s.split(":")
         if len(parts) != 3:
             raise ValueError(f"{what} range must be start:stop:step, got {text!r}")
-        start, stop, step = (parse_number(p, f"{what} range") for p in parts)
+        start, stop, step = (_range_bound(p, f"{what} range") for p in parts)
         if not step > 0:
             raise ValueError(f"{what} range step must be > 0, got {parts[2]!r}")
         if stop < start:

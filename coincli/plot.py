@@ -549,10 +549,12 @@ def _fmt(v: float) -> str:
     return "∞" if v == math.inf else f"{v:.3g}"
 
 
-def marks_label(one: str, many: str, values: Sequence[str], per_line: int = 5) -> str:
-    """One legend entry naming every mark: ``your designs: ξ = 0.5, 0.577`` (a new line every
-    ``per_line`` values, so that twenty marks do not make the legend wider than the figure)."""
-    vals = list(values)
+def marks_label(one: str, many: str, name: str, values: Sequence[str],
+                per_line: int = 5) -> str:
+    """One legend entry naming every mark: ``your designs: ξ = 0.5, 0.577`` (``name`` before
+    the first value; a new line every ``per_line`` values, so that twenty marks do not make the
+    legend wider than the figure)."""
+    vals = [f"{name}{v}" if k == 0 else v for k, v in enumerate(values)]
     head = f"{one if len(vals) == 1 else many}: "
     lines = [", ".join(vals[k:k + per_line]) for k in range(0, len(vals), per_line)]
     return head + ",\n".join(lines)
@@ -609,8 +611,7 @@ def sides_figure(data: SidesData, *, width: float = 7.0, height: float = 4.5,
                     label=f"fair three-sided coin, {m.gid}: ξ = {m.xi:.3f}")
         label_gap = 11.0 / (72.0 * height * 0.75)  # ~11 points, as a fraction of the axes
         inside = [x for x, _ in data.xi_marks if data.xlim[0] <= x <= data.xlim[1]]
-        legend = marks_label("your design", "your designs", [f"ξ = {x:.4g}" if k == 0 else f"{x:.4g}"
-                                             for k, x in enumerate(inside)])
+        legend = marks_label("your design", "your designs", "ξ = ", [f"{x:.4g}" for x in inside])
         for k, (x, row) in enumerate(data.xi_marks):
             if not data.xlim[0] <= x <= data.xlim[1]:
                 continue
@@ -627,8 +628,8 @@ def sides_figure(data: SidesData, *, width: float = 7.0, height: float = 4.5,
                             textcoords="axes fraction", fontsize=7.5, va="center",
                             color=colours.get(m.gid, DESIGN_COLOUR), arrowprops=_LEADER,
                             bbox=_LABEL_BOX)
-        targets = marks_label("your target", "your targets", [f"P(sides) = {p:.4g}" if k == 0 else f"{p:.4g}"
-                                              for k, (p, _) in enumerate(data.p_marks)])
+        targets = marks_label("your target", "your targets", "P(sides) = ",
+                              [f"{p:.4g}" for p, _ in data.p_marks])
         for k, (p, row) in enumerate(data.p_marks):
             ax.axhline(p, color=DESIGN_COLOUR, linewidth=1.0, linestyle=(0, (4, 2)), zorder=1,
                        gid=f"design-p-line:{k}")
@@ -732,8 +733,8 @@ def psi_figure(data: PsiData, *, width: float = 7.0, height: float = 4.5,
             ax.plot(data.psi_deg, getattr(data, name), color=OUTCOME_COLOURS[name],
                     linestyle=OUTCOME_STYLES[name], label=f"P({name})", gid=f"curve:{name}",
                     zorder=3)
-        tosses = marks_label("your toss", "your tosses", [f"ψ = {d:.4g}°" if k == 0 else f"{d:.4g}°"
-                                           for k, (d, _) in enumerate(data.marks)])
+        tosses = marks_label("your toss", "your tosses", "ψ = ",
+                             [f"{d:.4g}°" for d, _ in data.marks])
         for k, (d, o) in enumerate(data.marks):
             ax.axvline(d, color=DESIGN_COLOUR, linewidth=1.0, linestyle=":", zorder=2,
                        gid=f"design-psi-line:{k}")
@@ -829,13 +830,11 @@ def _map_marks(ax, data: MapData, colour: str, legend: bool):
             markeredgecolor="black", linestyle="none", zorder=6, gid="fair:dynamic",
             label="fair three-sided coin: ξ = 1/√3, ψ = 90°" if legend else None)
     inside = _inside(data)
-    designs = marks_label("your design", "your designs", [f"ξ = {x:.4g}" if k == 0 else f"{x:.4g}"
-                                          for k, x in enumerate(inside)])
+    designs = marks_label("your design", "your designs", "ξ = ", [f"{x:.4g}" for x in inside])
     for k, x in enumerate(inside):
         ax.axvline(x, color=colour, linewidth=1.2, linestyle=":", zorder=4, gid=f"design-xi:{k}",
                    label=designs if legend and k == 0 else None)
-    tosses = marks_label("your toss", "your tosses", [f"ψ = {d:.4g}°" if k == 0 else f"{d:.4g}°"
-                                       for k, d in enumerate(data.psi_marks)])
+    tosses = marks_label("your toss", "your tosses", "ψ = ", [f"{d:.4g}°" for d in data.psi_marks])
     for k, d in enumerate(data.psi_marks):
         ax.axhline(d, color=colour, linewidth=1.2, linestyle=(0, (4, 2)), zorder=4,
                    gid=f"design-psi:{k}", label=tosses if legend and k == 0 else None)

@@ -376,3 +376,101 @@ def test_seed_option_is_shared():
     for bad in ("-1", "1.5", "x", "9" * 41):
         with pytest.raises(CoinError, match="--seed must be a whole number >= 0"):
             _options.seed_value(bad)
+
+
+# --------------------------------------------------------------------------- figures
+
+
+@pytest.fixture
+def plotmod():
+    pytest.importorskip("matplotlib")
+    from coincli import plot
+
+    return plot
+
+
+def _legend_texts(fig) -> list[str]:
+    out = []
+    for ax in fig.axes:
+        leg = ax.get_legend()
+        if leg is not None:
+            out += [t.get_text() for t in leg.get_texts()]
+    return out
+
+
+def test_legends_name_every_marked_design(plotmod):
+    d = plotmod.sides_data(xi_marks=[0.5, 0.6, 0.7], p_marks=[0.25, 1 / 3], points=21)
+    texts = _legend_texts(plotmod.sides_figure(d))
+    assert "your designs: ξ = 0.5, 0.6, 0.7" in texts
+    assert "your targets: P(sides) = 0.25, 0.3333" in texts
+    many = [0.1 * k for k in range(1, 13)]  # twelve marks: five a line
+    texts = _legend_texts(plotmod.sides_figure(plotmod.sides_data(xi_marks=many, points=21)))
+    (entry,) = [t for t in texts if t.startswith("your designs")]
+    assert entry.count("\n") == 2 and all(f"{x:.4g}" in entry for x in many)
+    texts = _legend_texts(plotmod.psi_figure(plotmod.psi_data(0.577, [70, 100], points=31)))
+    assert "your tosses: ψ = 70°, 100°" in texts
+    m = plotmod.map_data(nx=11, ny=11, xi_marks=[0.5, 1.0], psi_marks_deg=[80])
+    texts = _legend_texts(plotmod.map_figure(m, style="ternary"))
+    assert "your designs: ξ = 0.5, 1" in texts and "your toss: ψ = 80°" in texts
+
+
+def test_psi_value_labels_use_the_outcome_colours(plotmod):
+    from matplotlib.colors import to_hex
+
+    fig = plotmod.psi_figure(plotmod.psi_data(0.577, [70], points=31))
+    labels = {t.get_gid(): t for t in fig.axes[0].texts if (t.get_gid() or "").startswith(
+        "design-psi-value:")}
+    assert set(labels) == {f"design-psi-value:0:{n}" for n in ("heads", "sides", "tails")}
+    o = models.conditional(0.577, math.radians(70))
+    for name in ("heads", "sides", "tails"):
+        t = labels[f"design-psi-value:0:{name}"]
+        assert to_hex(t.get_color()) == plotmod.OUTCOME_COLOURS[name].lower()
+        assert t.get_text() == f"{getattr(o, name):.3f}"
+
+
+def test_marks_off_the_axis_are_noted_in_the_figure_file(plotmod, coin, tmp_path):
+    d = plotmod.sides_data(xi_marks=[0.5, 3.0], xi_range=(0.0, 1.0), points=21)
+    fig = plotmod.sides_figure(d)
+    (note,) = [t for t in fig.texts if t.get_gid() == "notes"]
+    assert note.get_text() == "not shown: xi = 3 is outside the plotted range 0 to 1"
+    m = plotmod.map_data(nx=11, ny=11, xi_range=(0.0, 1.0), xi_marks=[3.0])
+    assert m.skipped == ["xi = 3 is outside the plotted range 0 to 1"]
+    fig = plotmod.map_figure(m)
+    assert [t.get_text() for t in fig.texts if t.get_gid() == "notes"] == [
+        "not shown: xi = 3 is outside the plotted range 0 to 1"]
+    # the file says it too (SVG text), and stderr says what was written, then the note
+    path = tmp_path / "m.svg"
+    rc, out, err = coin("plot", "map", "--xi", "3", "--xi-range", "0:1", "--out", str(path))
+    assert rc == 0 and out == ""
+    assert err.splitlines() == [f"coin: wrote {path} (12 x 4.4 inches)",
+                                "coin: note: xi = 3 is outside the plotted range 0 to 1"]
+    assert "not shown" in path.read_text() or 'id="notes"' in path.read_text()
+    # the terminal lists it as well
+    text = _ok(coin("plot", "map", "--xi", "3", "--xi-range", "0:1", "--terminal"))
+    assert "xi = 3 is outside the plotted range 0 to 1" in text
+
+
+def test_a_written_figure_says_so(coin, tmp_path):
+    pytest.importorskip("matplotlib")
+    path = tmp_path / "p.png"
+    rc, out, err = coin("plot", "psi", "--psi", "70", "--out", str(path), "--width", "7",
+                        "--height", "4.5", "--dpi", "100")
+    assert (rc, out) == (0, "")
+    assert err == f"coin: wrote {path} (700 x 450 pixels)\n"
+    from matplotlib.image import imread
+
+    assert imread(str(path)).shape[:2] == (450, 700)
+
+
+def test_only_one_option_reads_stdin(coin):
+    _error(coin("plot", "sides", "--xi", "-", "--data", "-", "--terminal", stdin="0.5\n"), 2,
+           "--xi and --data both read stdin")
+
+
+def test_range_bounds_take_fractions_as_values_do(coin):
+    a = _ok(coin("table", "--xi", "1/10:1/2:1/10", "-f", "csv"))
+    b = _ok(coin("table", "--xi", "0.1:0.5:0.1", "-f", "csv"))
+    assert a == b
+    assert _ok(coin("design", "-p", "0:1:1/4", "-q")) == _ok(coin("design", "-p",
+                                                                   "0,0.25,0.5,0.75,1", "-q"))
+    _error(coin("table", "--xi", "1/0:1:1"), 2, "--xi range must be a number like 0.1 or 1/10")

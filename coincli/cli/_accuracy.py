@@ -21,15 +21,13 @@ from coincli.modelspec import ModelSpec
 
 TolOpt = Annotated[
     str | None,
-    typer.Option("--tol", help="Absolute error wanted on each psi-averaged chance (e.g. 1e-6): "
-                 "the cheapest method that meets it is used (quadrature with the fewest nodes) "
-                 "and the error is shown.", metavar="TOL"),
+    typer.Option("--tol", help="Absolute error wanted on each psi-averaged chance, e.g. "
+                 "1e-6 (the error is shown).", metavar="TOL"),
 ]
 MethodOpt = Annotated[
     str | None,
-    typer.Option("--method", help="How to average over psi: auto (the cheapest that meets "
-                 "--tol), quad (Gauss-Legendre), mc (simulated tosses, the paper's Problem 2) or "
-                 "qmc (scrambled Sobol tosses).", metavar="METHOD"),
+    typer.Option("--method", help="Averaging over psi: auto, quad (Gauss-Legendre), mc or qmc "
+                 "(simulated tosses).", metavar="METHOD"),
 ]
 DesignMethodOpt = Annotated[
     str | None,

@@ -37,11 +37,7 @@ _OUTCOMES = ("heads", "sides", "tails")
 
 # --------------------------------------------------------------------------- shared options
 
-PsiDistsOpt = Annotated[
-    str | None,
-    typer.Option("--psi-dist", help="Also test psi-averaged models: a comma list of uniform, "
-                 "cosine, normal, normal:MEAN:SD (degrees), table:FILE.", metavar="SPECS"),
-]
+PsiDistsOpt = _options.PsiDistsOpt
 AlphaOpt = Annotated[
     str, typer.Option("--alpha", help="Significance level of the verdicts.", metavar="A")
 ]
@@ -65,18 +61,10 @@ def _level(text: str, what: str) -> float:
 
 
 def _densities(specs: str | None) -> dict:
+    """--psi-dist, parsed as every command parses it, by machine name."""
     if specs is None:
         return {}
-    from coincli.densities import parse_density
-
-    out = {}
-    for s in [s for s in specs.split(",") if s.strip()] or [specs]:
-        try:
-            d = parse_density(s)
-        except ValueError as exc:
-            raise usage_error(f"--psi-dist: {exc}") from None
-        out[d.spec] = d
-    return out
+    return {d.spec: d for d in _options.psi_densities(specs)}
 
 
 def _whole(text: str | None, what: str) -> int | None:

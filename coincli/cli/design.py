@@ -199,13 +199,8 @@ def design(
     Reports xi, D/h, the thickness for a diameter (or the diameter for a thickness), the
     nearest stack of a catalog coin with N-1, N and N+1 coins, and what the other model says.
 
-    Examples:
-
-      coin design --p-sides 1/3
-
-      coin design -p 25% --model geometric --diameter 30
-
-      seq 0.05 0.05 0.95 | coin design -p - --format csv
+    Examples: coin design --p-sides 1/3 ;  coin design -p 25% --model geometric --diameter 30 ;
+    seq 0.05 0.05 0.95 | coin design -p - --format csv
     """
     check_format(fmt)
     m = choose_model(model, psi, psi_dist)
@@ -314,17 +309,9 @@ def table(
     One row per coin and model: geometric (eq. 11) and dynamic (eq. 12) always; Table I at
     each --psi angle; psi-averaged densities with --psi-dist or --all (Table II).
 
-    Examples:
-
-      coin table --xi 0.577
-
-      coin table --xi 0.1:1:0.1 --format csv
-
-      coin table --quarters 8 --all
-
-      coin table --diameter 30 --thickness 17 --psi 60,90
-
-      coin table --xi 17/30 --vs psi --psi 0:180:10
+    Examples: coin table --xi 0.577 ;  coin table --xi 0.1:1:0.1 --format csv ;
+    coin table --quarters 8 --all ;  coin table --diameter 30 --thickness 17 --psi 60,90 ;
+    coin table --xi 17/30 --vs psi --psi 0:180:10
     """
     _options.refuse_old_count(old_n, "coin table --coin quarter --count {n}")
     check_format(fmt)
@@ -387,6 +374,7 @@ def table(
     ] + acc_cols
     note = "vigorous toss starting heads up, caught without bouncing; geometric = eq. 11, " \
            "dynamic = eq. 12 (psi = 90 deg)" + "".join(f"; {m.label}" for m in extra) + \
+           (f"; {_coin_words(coins.unit)}" if stacked else "") + \
            (_accuracy.note(acc) if acc is not None else "")
     k = -2 - len(acc_cols)  # p_sides, from the end
     emit(Result("coin table", columns, rows, note=note,
@@ -442,15 +430,9 @@ def stack(
 
     The coin is a US quarter unless --coin or --diameter/--thickness says otherwise.
 
-    Examples:
-
-      coin stack --coin quarter --count 8
-
-      coin stack --coin quarter --p-sides 1/3
-
-      coin stack --diameter 25 --thickness 2 --count 1:12:1
-
-      seq 0.1 0.1 0.9 | coin stack --coin nickel --p-sides - --format csv
+    Examples: coin stack --coin quarter --count 8 ;  coin stack --coin quarter --p-sides 1/3 ;
+    coin stack --diameter 25 --thickness 2 --count 1:12:1 ;
+    seq 0.1 0.1 0.9 | coin stack --coin nickel --p-sides - --format csv
     """
     _options.refuse_old_count(old_n, "coin stack --coin quarter --count {n}")
     check_format(fmt)
@@ -583,13 +565,7 @@ def fair(
     the dynamic answer xi = 1/sqrt 3 disagree: they assume different ways of tossing.  Under
     a --psi-dist only the sides are 1/3; heads and tails differ.
 
-    Examples:
-
-      coin fair
-
-      coin fair --diameter 30
-
-      coin fair --psi-dist normal:90:18
+    Examples: coin fair ;  coin fair --diameter 30 ;  coin fair --psi-dist normal:90:18
     """
     check_format(fmt)
     c = _coin(coin)

@@ -38,34 +38,30 @@ MAX_DIAMETER_M = 1e100  # the toss engine's largest diameter
 
 OutOpt = Annotated[
     str | None,
-    typer.Option("--out", "-o", help="Figure file: .png, .svg or .pdf (needs matplotlib).  "
-                 "'-' or no --out: a text plot on stdout.", metavar="FILE"),
+    typer.Option("--out", "-o", help="Figure file .png, .svg or .pdf; - or none: a text "
+                 "plot.", metavar="FILE"),
 ]
 TerminalOpt = Annotated[
-    bool, typer.Option("--terminal", help="Draw a text plot in the terminal (no matplotlib "
-                       "needed).")
+    bool, typer.Option("--terminal", help="A text plot on stdout (needs no matplotlib).")
 ]
 # Sizes are parsed here, not by click: click's FloatRange lets nan through (nan < 1 is False) and
 # its messages do not say what is allowed.  Limits: coincli.plot.FIGURE_INCHES, DPI_RANGE and
 # MAX_PIXELS (width x dpi times height x dpi, so a figure cannot exhaust the memory).
-DpiOpt = Annotated[str, typer.Option("--dpi", help="Resolution of a PNG, 10 to 2000 dots per "
-                                     "inch (also rasterized parts of SVG/PDF); at most 50 "
-                                     "million pixels in all.", metavar="DPI")]
+DpiOpt = Annotated[str, typer.Option("--dpi", help="Dots per inch of a PNG, 10 to 2000 (50 "
+                                     "Mpixel at most).", metavar="DPI")]
 WidthOpt = Annotated[
-    str | None, typer.Option("--width", help="Figure width in inches, 1 to 100 (default depends "
-                             "on the figure).", metavar="INCHES")
+    str | None, typer.Option("--width", help="Figure width, 1 to 100 inches.",
+                             metavar="INCHES")
 ]
 HeightOpt = Annotated[
-    str | None, typer.Option("--height", help="Figure height in inches, 1 to 100.",
+    str | None, typer.Option("--height", help="Figure height, 1 to 100 inches.",
                              metavar="INCHES")
 ]
 TitleOpt = Annotated[str | None, typer.Option("--title", help="Replace the figure's title.")]
-LogOpt = Annotated[bool, typer.Option("--log", help="Logarithmic xi axis (0.01 to 100 unless "
-                                      "--xi-range says otherwise).")]
+LogOpt = Annotated[bool, typer.Option("--log", help="Logarithmic xi axis (0.01 to 100).")]
 XiRangeOpt = Annotated[
-    str | None, typer.Option("--xi-range", help="The xi axis as LOW:HIGH (default 0:2, or "
-                             "0.01:100 with --log, widened to show your marks).",
-                             metavar="LOW:HIGH")
+    str | None, typer.Option("--xi-range", help="The xi axis LOW:HIGH (default: 0:2, widened "
+                             "to show your marks).", metavar="LOW:HIGH")
 ]
 PsiMarkOpt = Annotated[
     str | None, typer.Option("--psi", help="Mark tossing angles psi, degrees [0, 180]: a "
@@ -224,7 +220,7 @@ class _Target:
         from coincli.plot import FigureTooSmall, save_figure
 
         try:
-            size = save_figure(fig, self.path, dpi)
+            save_figure(fig, self.path, dpi)
         except FigureTooSmall as exc:
             raise usage_error(f"{exc}: give a larger --width or --height") from None
         except FileKindError as exc:
@@ -349,13 +345,8 @@ def sides(
     --quarters, --diameter/--thickness) and --p-sides mark your designs, --data your tosses
     with 95% Wilson intervals; --psi and --psi-dist add curves.
 
-    Examples:
-
-      coin plot sides --out sides.png
-
-      coin plot sides --p-sides 1/3 --log --terminal
-
-      coin plot sides --quarters 6:10:1 --psi-dist normal:90:18 --out sides.svg
+    Examples: coin plot sides --out sides.png ;  coin plot sides --p-sides 1/3 --log --terminal ;
+    coin plot sides --quarters 6:10:1 --psi-dist normal:90:18 --out sides.svg
     """
     target = _Target(out, terminal)
     _one_stdin(xi=xi, count=count, quarters=quarters, data=data)
@@ -426,11 +417,8 @@ def psi_cmd(
     theta0/2 of 90 degrees all three.  The coin defaults to xi = 1/sqrt 3; --psi marks your
     tossing angles.
 
-    Examples:
-
-      coin plot psi --xi 0.577 --out psi.png
-
-      coin plot psi --quarters 8 --psi 70 --terminal
+    Examples: coin plot psi --xi 0.577 --out psi.png ;
+    coin plot psi --quarters 8 --psi 70 --terminal
     """
     target = _Target(out, terminal)
     x = _one_coin(xi, coin, count, quarters, diameter, thickness)
@@ -481,13 +469,8 @@ def map_cmd(
     fair three-sided coin (xi = 1/sqrt 3, psi = 90).  The coin options and --psi mark your
     designs.
 
-    Examples:
-
-      coin plot map --out map.png
-
-      coin plot map --style ternary --xi 0.5 --psi 80 --out map.pdf
-
-      coin plot map --terminal
+    Examples: coin plot map --out map.png ;
+    coin plot map --style ternary --xi 0.5 --psi 80 --out map.pdf ;  coin plot map --terminal
     """
     target = _Target(out, terminal)
     st = style.strip().lower()
