@@ -61,8 +61,8 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Mapping, Sequence
 from collections import namedtuple
+from collections.abc import Mapping, Sequence
 
 from coincli.models import Outcome
 

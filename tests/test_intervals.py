@@ -11,12 +11,12 @@ from __future__ import annotations
 import math
 import warnings
 
+import interval_reference as ref
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-import interval_reference as ref
 from coincli import stats
 
 CP_TOL = 8e-15

@@ -112,8 +112,8 @@ def test_clopper_pearson_closed_forms_at_the_ends():
         for conf in (0.5, 0.95, 0.99, 1 - 1e-10, 0.9999999999999999):
             a = (1 - mpf(conf)) / 2
             # v^(1/n) and 1 - v^(1/n), the latter without cancellation
-            root = lambda lv: mp.exp(lv / n)  # noqa: E731
-            one_minus_root = lambda lv: -mp.expm1(lv / n)  # noqa: E731
+            root = lambda lv, n=n: mp.exp(lv / n)  # noqa: E731
+            one_minus_root = lambda lv, n=n: -mp.expm1(lv / n)  # noqa: E731
             la, l1a = mp.log(a), mp.log1p(-a)
             checks = [(stats.proportion(0, n, confidence=conf).clopper_pearson.high,
                        one_minus_root(la)),
@@ -365,8 +365,8 @@ def test_verdict_levels_and_asymptotic():
 
 
 def test_model_chances_with_a_density():
-    from coincli.densities import Uniform
     from coincli.averages import marginal
+    from coincli.densities import Uniform
 
     ch = stats.model_chances(3**-0.5, {"uniform": Uniform()})
     assert list(ch) == ["geometric", "dynamic", "uniform"]
@@ -390,8 +390,8 @@ QUARTER_STACKS = np.array([k * 1.75 / 24.0 for k in range(1, 9)])  # the paper's
 
 
 def _simulate(sigma, seed, n=100, faces=True, xi=QUARTER_STACKS):
-    from coincli.densities import Normal
     from coincli.averages import marginal
+    from coincli.densities import Normal
 
     ch = np.stack(marginal(xi, Normal(math.pi / 2, sigma)), axis=1)
     ch /= ch.sum(axis=1, keepdims=True)

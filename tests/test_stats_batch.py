@@ -13,8 +13,8 @@ import math
 
 import numpy as np
 import pytest
-
 import stats_reference as old
+
 from coincli import stats
 from coincli.densities import Cosine, Normal
 from coincli.models import dynamic, geometric
