@@ -10,8 +10,11 @@ Counts
     ``n`` when they were not (a binomial: side or face).  :func:`make_counts` validates them.
 
 Intervals
-    Wilson score and Clopper-Pearson ("exact") intervals for each observed frequency, both from
-    :meth:`scipy.stats.binomtest(...).proportion_ci <scipy.stats._result_classes.BinomTestResult>`.
+    Wilson score (:func:`wilson_interval`) and Clopper-Pearson ("exact",
+    :func:`clopper_pearson_interval`) intervals for each observed frequency: the Wilson ends
+    without cancellation, the Clopper-Pearson ends as beta quantiles (closed forms at
+    ``k = 0, 1, n - 1, n``; otherwise scipy.special's inverse polished by the secant method), both
+    finite for every level in (0, 1) and within 19 ulps of mpmath up to ``n = 2^53``.
 
 Goodness of fit (:func:`exact_pvalue`, :func:`goodness_of_fit`)
     The exact test orders outcomes by their probability under the model (the "probability" or
@@ -23,13 +26,14 @@ Goodness of fit (:func:`exact_pvalue`, :func:`goodness_of_fit`)
     the sum over all outcomes ``x`` with ``sum(x) = n`` that are no more likely than the observed
     one.  The relative tolerance ``1e-7`` is scipy's: outcomes tied in exact arithmetic (e.g.
     heads and tails swapped under a model with equal chances) are not split by rounding.  The
-    binomial p-value is :func:`scipy.stats.binomtest`'s.  The trinomial one is computed exactly
-    as the binomial one row by row (see :func:`_exact_trinomial_logp`): for each number of sides
-    ``s`` the heads count is binomial given ``s``; its probability is log-concave in the heads
-    count, so the outcomes of that row no more likely than the observed one are two tails, found
-    by bisection and summed with ``binom.cdf``/``binom.sf``.  Every outcome is accounted for; no
-    sampling, no asymptotics.  It takes well under a second up to ``n = 10^6``
-    (:data:`EXACT_MAX_N`); beyond that ``method="auto"`` switches to the likelihood-ratio G-test,
+    binomial p-value is :func:`scipy.stats.binomtest`'s (its two tails, :func:`_crossings`).  The
+    trinomial one (:func:`_trinomial_logp`): the rows of the rarest outcome whose whole mass is
+    below the threshold are two binomial tails; in every other row the middle outcome is
+    binomial given the rarest, log-concave, so the row's outcomes no more likely than the
+    observed one are two tails again.  Tails are incomplete beta functions.  Every outcome is
+    accounted for; no sampling, no asymptotics; all tests of a file run together, each distinct
+    one once.  It takes 0.02 s at ``n = 10^6`` (:data:`EXACT_MAX_N`); beyond that
+    ``method="auto"`` switches to the likelihood-ratio G-test,
 
     .. math:: G = 2 \sum_i O_i \ln(O_i / E_i) \sim \chi^2_{k-1},
 
@@ -37,8 +41,8 @@ Goodness of fit (:func:`exact_pvalue`, :func:`goodness_of_fit`)
 
 Log-likelihoods
     The full multinomial (binomial) log-probability of the observed counts, multinomial
-    coefficient included (:func:`scipy.stats.multinomial.logpmf`), so that values from different
-    models of the same data are comparable and AIC differences are meaningful.
+    coefficient included (the formula of ``scipy.stats.multinomial.logpmf``), so that values from
+    different models of the same data are comparable and AIC differences are meaningful.
 
 Spread of psi (:func:`fit_spread`)
     The tossing style enters through the angle psi between the angular momentum and the normal.
@@ -54,7 +58,8 @@ Model comparison
     fitted) and ``k = 1`` for the fitted spread; the paper's sum of squared errors of the side
     frequencies (``0.20`` geometric against ``0.01`` dynamic in Sec. IV) is :func:`sse_sides`.
 
-numpy and scipy are imported inside the functions that need them (the CLI's start-up budget).
+numpy and scipy.special are imported inside the functions that need them (the CLI's start-up
+budget); scipy.stats and scipy.optimize are not used at all (0.6 s and 0.2 s of import).
 """
 
 from __future__ import annotations
@@ -274,7 +279,8 @@ def _check_probs(probs, k: int, name: str = "probabilities") -> tuple[float, ...
 #   P(X <= k)          I_{1-p}(n - k, k + 1)    (betainc; 1 - p passed as the complement chance)
 #   P(X >= k)          I_p(k, n - k + 1)
 #   chi-square tail    chdtrc(df, x)
-#   beta quantiles     betaincinv / betainccinv (Clopper-Pearson), refined by Newton on betainc
+#   beta quantiles     betaincinv / betainccinv (Clopper-Pearson), polished by the secant
+#                      method on betainc / betaincc
 
 _TABLE_MAX = 1 << 21  #: log-factorials are tabulated up to this n (16 MiB); gammaln beyond
 
