@@ -519,30 +519,27 @@ def _beta_quantile_on(a, b, y: float, upper: bool, small):
         t = np.where(lower, betaincinv(aa, bb, y), betainccinv(aa, bb, y))
     t = np.where((t > 0) & (t < 1), t, 0.5)
     f = resid(t)
-    # a bracket [lo, hi] with resid(lo) <= 0 <= resid(hi): widen from the start geometrically
+    # a bracket [lo, hi] with resid(lo) <= 0 <= resid(hi), widened from the start by relative
+    # steps 1e-14, 1.6e-13, ... (one step when the start is already good to 14 digits)
     lo = np.where(f <= 0, t, 0.0)
     hi = np.where(f >= 0, t, 1.0)
-    flo = np.where(f <= 0, f, -y)
-    fhi = np.where(f >= 0, f, 1.0 - y)
-    probe_lo, probe_hi = t.copy(), t.copy()
-    for _ in range(1100):  # 2^-1074 is the smallest double
-        need = (f > 0) & (lo == 0.0) & (probe_lo > 0)
-        if not need.any():
+    flo = np.where(f <= 0, f, -np.inf)
+    fhi = np.where(f >= 0, f, np.inf)
+    d = 1e-14
+    for _ in range(40):
+        down = (f > 0) & (flo == -np.inf)
+        up = (f < 0) & (fhi == np.inf)
+        if not (down.any() or up.any()):
             break
-        probe_lo = np.where(need, probe_lo / 2, probe_lo)
-        fp = resid(probe_lo)
-        got = need & (fp <= 0)
-        lo, flo = np.where(got, probe_lo, lo), np.where(got, fp, flo)
-        hi, fhi = np.where(need & (fp > 0), probe_lo, hi), np.where(need & (fp > 0), fp, fhi)
-    for _ in range(64):
-        need = (f < 0) & (hi == 1.0) & (probe_hi < 1)
-        if not need.any():
-            break
-        probe_hi = np.where(need, 1 - (1 - probe_hi) / 2, probe_hi)
-        fp = resid(probe_hi)
-        got = need & (fp >= 0)
-        hi, fhi = np.where(got, probe_hi, hi), np.where(got, fp, fhi)
-        lo, flo = np.where(need & (fp < 0), probe_hi, lo), np.where(need & (fp < 0), fp, flo)
+        probe = np.where(down, t * (1 - min(d, 1.0)), t + (1 - t) * min(d, 1 - 2**-52))
+        fp = resid(probe)
+        lo_new = (down | up) & (fp <= 0)
+        hi_new = (down | up) & (fp >= 0)
+        lo, flo = np.where(lo_new, probe, lo), np.where(lo_new, fp, flo)
+        hi, fhi = np.where(hi_new, probe, hi), np.where(hi_new, fp, fhi)
+        d *= 16
+    flo = np.where(np.isfinite(flo), flo, -y)  # resid at 0 (never evaluated: an ideal end)
+    fhi = np.where(np.isfinite(fhi), fhi, 1.0)
     # secant from the start toward the far end of the bracket, safeguarded by bisection
     x0, f0 = t, f
     x1 = np.where(f > 0, lo, hi)
