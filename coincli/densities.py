@@ -273,6 +273,7 @@ class Table(Density):
     def from_text(cls, text: str, label: str = "table", degrees: bool = True) -> Table:
         """Parse lines ``psi,weight`` (or whitespace-separated); ``#`` comments; psi in degrees."""
         pts = []
+        prev, last = "", 0.0
         where = _shown(label)[1:-1]  # error messages repeat at most 60 characters of user text
         for n, raw in enumerate(text.splitlines(), start=1):
             line = raw.split("#", 1)[0].strip()

@@ -361,15 +361,20 @@ def tosses_label(points) -> str:
 
 
 def experiment_points(experiments, confidence: float = 0.95) -> list[ExperimentPoint]:
-    """Frequencies of sides of :class:`coincli.stats.Experiment` rows, with Wilson intervals."""
-    from coincli.stats import proportion
+    """Frequencies of sides of :class:`coincli.stats.Experiment` rows, with Wilson intervals
+    (all rows in one call of :func:`coincli.stats.wilson_interval`)."""
+    import numpy as np
 
-    out = []
-    for e in experiments:
-        pr = proportion(e.counts.sides, e.counts.n, "sides", confidence)
-        out.append(ExperimentPoint(e.label, float(e.xi), e.counts.n, e.counts.sides,
-                                   pr.estimate, pr.wilson.low, pr.wilson.high))
-    return out
+    from coincli.stats import wilson_interval
+
+    if not experiments:
+        return []
+    k = np.array([e.counts.sides for e in experiments], dtype=float)
+    n = np.array([e.counts.n for e in experiments], dtype=float)
+    low, high = wilson_interval(k, n, confidence)
+    return [ExperimentPoint(e.label, float(e.xi), e.counts.n, e.counts.sides,
+                            e.counts.sides / e.counts.n, lo, hi)
+            for e, lo, hi in zip(experiments, low.tolist(), high.tolist(), strict=True)]
 
 
 # --------------------------------------------------------------------------- sides (Fig. 5a)
@@ -517,9 +522,14 @@ def sse(data: SidesData, gid: str) -> float | None:
     """The paper's sum of squared errors of the side frequencies against one curve's model."""
     if not data.experiments:
         return None
+    import numpy as np
+
     spec = next(c.spec for c in data.curves if c.spec.gid == gid)
-    return math.fsum((e.frequency - float(spec.forward(e.xi).sides)) ** 2
-                     for e in data.experiments)
+    xi = np.array([e.xi for e in data.experiments])
+    ux, inv = np.unique(xi, return_inverse=True)  # the model once per distinct coin, vectorized
+    p = np.atleast_1d(np.asarray(spec.forward(ux).sides, dtype=float))[inv.ravel()]
+    f = np.array([e.frequency for e in data.experiments])
+    return math.fsum(((f - p) ** 2).tolist())
 
 
 def _spread(values, gap: float) -> list[float]:

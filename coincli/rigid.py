@@ -291,7 +291,7 @@ def ellip_rf(x, y, z):
     (Carlson 1995; DLMF 19.36.1), on floats or numpy arrays: a few ulps, with no cancellation
     however small ``x`` and ``y`` are (``F`` near ``K`` next to the separatrix needs that)."""
     xp = _xp(x, y, z)
-    x0, y0, z0 = x, y, z
+    x0, y0 = x, y
     A0 = (x + y + z) / 3
     A = A0
     big = xp.maximum(xp.maximum(xp.abs(A0 - x), xp.abs(A0 - y)), xp.abs(A0 - z))

@@ -227,7 +227,6 @@ def test_a_big_tables_work_is_bounded(coin, tmp_path):
 def test_fewer_nodes_on_a_tables_short_subintervals_change_nothing():
     """The per-subinterval node counts of a table with thousands of points agree with 16 nodes
     everywhere, and with 32, to the rounding of such a table's steep segments (1e-14)."""
-    from coincli import averages as A
 
     rng = np.random.default_rng(9)
     d = Table(np.linspace(0.0, math.pi, 5000), rng.random(5000))

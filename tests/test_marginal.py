@@ -12,7 +12,6 @@ import numpy as np
 import pytest
 
 from coincli import averages as mg
-from coincli import marginal
 from coincli import models
 from coincli.densities import Cosine, Normal, Table, Uniform
 from coincli.averages import error_bound, marginal, order_for_tol

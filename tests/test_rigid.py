@@ -411,7 +411,7 @@ def test_flip_time_against_separatrix_asymptote(ea, ec):
     """Time between flips (half the period) against (1/lambda) ln(16 ...): the relative
     difference falls like eps^2 |ln eps| (checked: below 3 eps^2 |ln eps| down to 1e-7)."""
     I = (1.0, 2.0, 3.0)
-    prev = None
+    prev = prev_eps = None
     for eps in [1e-1, 1e-2, 1e-3, 1e-5, 1e-7]:
         w = (40 * eps * ea, 40.0, 40 * eps * ec)
         mo = R.motion(I, w)

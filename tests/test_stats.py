@@ -85,7 +85,10 @@ def test_bad_counts_name_the_argument(kwargs, argument, fragment):
 
 @pytest.mark.parametrize("k, n", [(0, 1), (1, 1), (0, 10), (3, 10), (33, 100), (50, 100),
                                   (0, 10**6), (10**6, 10**6), (1, 10**6)])
-def test_intervals_are_scipys_and_sane(k, n):
+def test_intervals_agree_with_scipys_and_are_sane(k, n):
+    # Wilson: scipy's formula to rounding.  Clopper-Pearson: scipy finds the ends by brentq on
+    # binom.sf (about 1e-9 relative at k = 1 of 10^6); ours are the exact beta quantiles
+    # (tests/test_intervals.py checks them against mpmath), so they agree to scipy's tolerance.
     r = stats.proportion(k, n)
     ref = binomtest(k, n)
     w = ref.proportion_ci(0.95, method="wilson")
@@ -93,19 +96,45 @@ def test_intervals_are_scipys_and_sane(k, n):
     assert r.estimate == k / n
     assert (r.wilson.low, r.wilson.high) == pytest.approx((w.low, w.high), rel=1e-12, abs=0)
     assert (r.clopper_pearson.low, r.clopper_pearson.high) == pytest.approx(
-        (cp.low, cp.high), rel=1e-12, abs=0)
+        (cp.low, cp.high), rel=2e-7, abs=0)
     for iv in (r.wilson, r.clopper_pearson):
         assert 0.0 <= iv.low <= r.estimate <= iv.high <= 1.0
         assert math.isfinite(iv.low) and math.isfinite(iv.high)
 
 
 def test_clopper_pearson_closed_forms_at_the_ends():
-    # k = 0: upper = 1 - (alpha/2)^(1/n); k = n: lower = (alpha/2)^(1/n)
-    for n in (1, 10, 1000, 10**6):
-        assert stats.proportion(0, n).clopper_pearson.high == pytest.approx(
-            -math.expm1(math.log(0.025) / n), rel=1e-9)
-        assert stats.proportion(n, n).clopper_pearson.low == pytest.approx(
-            math.exp(math.log(0.025) / n), rel=1e-12)
+    # a = alpha/2.  k = 0: high = 1 - a^(1/n); k = n: low = a^(1/n); k = 1: low = 1 - (1-a)^(1/n);
+    # k = n - 1: high = (1 - a)^(1/n).  In mpmath, at 40 digits.
+    from mpmath import mp, mpf
+
+    mp.dps = 40
+    for n in (1, 2, 10, 41, 1000, 10**6, 10**12, 2**53):
+        for conf in (0.5, 0.95, 0.99, 1 - 1e-10, 0.9999999999999999):
+            a = (1 - mpf(conf)) / 2
+            # v^(1/n) and 1 - v^(1/n), the latter without cancellation
+            root = lambda lv, n=n: mp.exp(lv / n)  # noqa: E731
+            one_minus_root = lambda lv, n=n: -mp.expm1(lv / n)  # noqa: E731
+            la, l1a = mp.log(a), mp.log1p(-a)
+            checks = [(stats.proportion(0, n, confidence=conf).clopper_pearson.high,
+                       one_minus_root(la)),
+                      (stats.proportion(n, n, confidence=conf).clopper_pearson.low, root(la))]
+            if n > 1:
+                checks += [(stats.proportion(1, n, confidence=conf).clopper_pearson.low,
+                            one_minus_root(l1a)),
+                           (stats.proportion(n - 1, n, confidence=conf).clopper_pearson.high,
+                            root(l1a))]
+            for got, want in checks:
+                # 2 ulp for the expm1/log1p forms; a^(1/n) = exp(log(a)/n) carries the rounding
+                # of log(a)/n times |log(a)/n| <= 37
+                assert abs(mpf(got) / want - 1) <= 2.3e-16 * max(2, float(-mp.log(a)) / n + 1), \
+                    (n, conf, got, want)
+
+
+def test_the_issue_17_example_is_exact():
+    # coin check --xi 0.583 --heads 1 --sides 20 --tails 20 --confidence 0.99: the heads interval
+    # starts at 1 - 0.995^(1/41) = 1.2224964455056342e-4 (scipy: ...4452608593e-4)
+    r = stats.proportion(1, 41, "heads", 0.99)
+    assert r.clopper_pearson.low == pytest.approx(1.2224964455056342e-4, rel=2e-16)
 
 
 def test_interval_arguments():
@@ -336,8 +365,8 @@ def test_verdict_levels_and_asymptotic():
 
 
 def test_model_chances_with_a_density():
-    from coincli.densities import Uniform
     from coincli.averages import marginal
+    from coincli.densities import Uniform
 
     ch = stats.model_chances(3**-0.5, {"uniform": Uniform()})
     assert list(ch) == ["geometric", "dynamic", "uniform"]
@@ -361,8 +390,8 @@ QUARTER_STACKS = np.array([k * 1.75 / 24.0 for k in range(1, 9)])  # the paper's
 
 
 def _simulate(sigma, seed, n=100, faces=True, xi=QUARTER_STACKS):
-    from coincli.densities import Normal
     from coincli.averages import marginal
+    from coincli.densities import Normal
 
     ch = np.stack(marginal(xi, Normal(math.pi / 2, sigma)), axis=1)
     ch /= ch.sum(axis=1, keepdims=True)

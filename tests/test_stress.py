@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import math
 
-import mpmath
 import numpy as np
 import pytest
 from mpmath import mp, mpf

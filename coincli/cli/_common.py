@@ -1127,7 +1127,6 @@ class Values:
 
 def _stdin_values(what: str, item, bounds, stdin=None) -> Values:
     """Read, check and hold a stdin batch (see :class:`Values`)."""
-    import numpy as np
 
     arrays, n, spool = [], 0, None
     for first, piece in _stdin_pieces(what, stdin if stdin is not None else sys.stdin):

@@ -98,7 +98,7 @@ def _range(text: str, what: str, parse_one, unit: str, top: float) -> tuple[floa
         lo_t = lo_t + u_hi
     try:
         lo, hi = parse_one(lo_t, what), parse_one(hi_t, what)
-    except ValueError as exc:
+    except ValueError:
         raise usage_error(f"{rule}, got {text!r}") from None
     if not (0 <= lo < hi <= top and hi - lo >= MIN_SPAN):
         raise usage_error(f"{rule}, got {text!r}")

@@ -19,6 +19,7 @@ from coincli import parse
 from coincli._files import FileKindError, read_regular
 from coincli.cli import _options, app
 from coincli.cli._common import (
+    CHUNK_ROWS,
     Column,
     FormatOpt,
     QuietOpt,
@@ -94,18 +95,6 @@ def _deg(v: float | None) -> float | None:
 # --------------------------------------------------------------------------- rows
 
 
-def _observed_cells(row) -> list:
-    """freq, Wilson low/high, Clopper-Pearson low/high for heads, sides, tails (None if unknown)."""
-    by = {p.outcome: p for p in row.proportions}
-    cells = []
-    for name in _OUTCOMES:
-        p = by.get(name)
-        cells += ([None] * 5 if p is None else
-                  [p.estimate, p.wilson.low, p.wilson.high, p.clopper_pearson.low,
-                   p.clopper_pearson.high])
-    return cells
-
-
 def _observed_columns() -> list[Column]:
     cols = []
     for name in _OUTCOMES:
@@ -115,13 +104,6 @@ def _observed_columns() -> list[Column]:
                  Column(f"{name}_cp_low", f"{name} Clopper-Pearson low"),
                  Column(f"{name}_cp_high", f"{name} Clopper-Pearson high")]
     return cols
-
-
-def _expected3(t) -> tuple:
-    """Expected (heads, sides, tails); faces not told apart: (None, sides, None)."""
-    if len(t.expected) == 3:
-        return t.expected
-    return (None, t.expected[0], None)
 
 
 MACHINE_COLUMNS = [
@@ -160,28 +142,86 @@ FIT_COLUMNS = MACHINE_COLUMNS + [
 ]
 
 
-def _experiment_rows(row, line, extra=None) -> list[tuple]:
-    """One machine row per model for one checked experiment."""
-    c = row.counts
-    out = []
-    for t in row.tests:
-        eh, es, et = _expected3(t)
-        cells = ["experiment", line, row.label, row.xi, c.n, c.heads, c.sides, c.tails, t.model,
-                 float(t.chances.heads), float(t.chances.sides), float(t.chances.tails),
-                 eh, es, et, t.method, t.exact, t.p_value, t.g_statistic, t.df,
-                 t.log_likelihood, t.verdict, *_observed_cells(row)]
-        if extra is not None:
-            cells += extra(t.model)
-        out.append(tuple(cells))
-    return out
+def _values(arr) -> list:
+    """numpy values as Python ones, NaN as None (an empty cell)."""
+    return [None if v != v else v for v in arr.tolist()]
 
 
-def _interval_text(iv) -> str:
-    return f"{iv.low:.4g} to {iv.high:.4g}"
+def _machine_chunks(ch, lines, extra=None, tail_rows=()):
+    """The machine table a chunk at a time (lists of columns, at most CHUNK_ROWS rows): one
+    row per experiment and model (experiment-major), then ``tail_rows`` (tuples).
+    ``extra(k)`` gives the fit's extra cells of model ``k``.  A file of 10^5 experiments is
+    written without ever holding its 10^5 x models x 45 cells."""
+    import numpy as np
+
+    M = len(ch.tests)
+    T = len(ch)
+    cc = ch.cc
+    faces = cc.faces
+
+    def per_exp(arr):
+        return lambda a, b: [v for v in _values(arr[a:b]) for _ in range(M)]
+
+    def per_exp_list(seq):
+        return lambda a, b: [v for v in seq[a:b] for _ in range(M)]
+
+    def per_test(stack):
+        return lambda a, b: _values(stack[a:b].ravel())
+
+    def per_test_list(lists):
+        return lambda a, b: [lst[i] for i in range(a, b) for lst in lists]
+
+    def const(v):
+        return lambda a, b: [v] * ((b - a) * M)
+
+    tests = ch.tests
+    nan = np.nan
+    raw = [np.stack([t.raw[j] for t in tests], axis=1) for j in range(3)]
+    exp_cols = []
+    for j in range(3):
+        e = np.stack([t.expected[j] if j != 1 else
+                      np.where(faces, t.expected[1], t.expected[0]) for t in tests], axis=1)
+        if j != 1:
+            e = np.where(faces[:, None], e, nan)
+        exp_cols.append(e)
+    makers = [
+        const("experiment"),
+        per_exp_list(lines) if lines is not None else const(None),
+        per_exp_list(ch.labels),
+        per_exp(np.asarray(ch.xi, dtype=float)),
+        per_exp(cc.n),
+        per_exp(np.where(faces, cc.heads, nan) if not faces.all() else cc.heads),
+        per_exp(cc.sides),
+        per_exp(np.where(faces, cc.tails, nan) if not faces.all() else cc.tails),
+        lambda a, b: [t.model for _ in range(a, b) for t in tests],
+        per_test(raw[0]), per_test(raw[1]), per_test(raw[2]),
+        per_test(exp_cols[0]), per_test(exp_cols[1]), per_test(exp_cols[2]),
+        per_test_list([t.method for t in tests]),
+        per_test(np.stack([t.exact for t in tests], axis=1)),
+        per_test(np.stack([t.p_value for t in tests], axis=1)),
+        per_test(np.stack([t.g for t in tests], axis=1)),
+        per_test(np.stack([t.df for t in tests], axis=1)),
+        per_test(np.stack([t.log_likelihood for t in tests], axis=1)),
+        per_test_list([t.verdict for t in tests]),
+    ]
+    for name in _OUTCOMES:
+        makers += [per_exp(v) for v in ch.intervals[name]]
+    if extra is not None:
+        for c in range(len(extra(0))):
+            cells = [extra(k)[c] for k in range(M)]
+            makers.append(lambda a, b, cells=cells: cells * (b - a))
+    # heads and tails: int columns with None where faces were not told apart
+    makers[5], makers[7] = _ints(makers[5]), _ints(makers[7])
+    step = max(1, min(CHUNK_ROWS, 8192) // M)  # 45 columns: 8192 rows of cells at a time
+    for a in range(0, T, step):
+        yield [make(a, min(a + step, T)) for make in makers]
+    if tail_rows:
+        yield [list(col) for col in zip(*tail_rows, strict=True)]
 
 
-def _expected_text(t) -> str:
-    return " / ".join("-" if v is None else _count_text(v) for v in _expected3(t))
+def _ints(make):
+    """Counts read back from a float array (NaN for absent) as ints."""
+    return lambda a, b: [None if v is None else int(v) for v in make(a, b)]
 
 
 def _count_text(v: float) -> str:
@@ -194,38 +234,81 @@ def _plural(n: int, one: str, many: str) -> str:
     return f"{n} {one if n == 1 else many}"
 
 
-def _observed_result(title: str, rows, confidence: float, with_line: bool) -> Result:
-    pct = f"{100 * confidence:g}%"
+def _interval_text(lo: float, hi: float) -> str:
+    return f"{lo:.4g} to {hi:.4g}"
+
+
+def _observed_result(title: str, ch, lines, confidence: float) -> Result:
+    """Frequencies with their intervals, one row per experiment and counted outcome."""
+    from coincli.stats import percent
+
+    pct = percent(confidence)
+    with_line = lines is not None
     cols = ([Column("line", "line", "int"), Column("label", "label", "text"),
              Column("xi", "xi")] if with_line else [])
     cols += [Column("outcome", "outcome", "text"), Column("count", "count", "int"),
              Column("frequency", "frequency"),
              Column("wilson", f"{pct} Wilson", "text"),
              Column("cp", f"{pct} Clopper-Pearson", "text")]
-    body = []
-    for line, r in rows:
-        for p in r.proportions:
-            lead = [line, r.label, r.xi] if with_line else []
-            body.append((*lead, p.outcome, p.count, p.estimate, _interval_text(p.wilson),
-                         _interval_text(p.clopper_pearson)))
-    return Result(title, cols, body)
+    cc = ch.cc
+
+    def rows(a: int, b: int) -> list[tuple]:
+        per = {name: [v[a:b].tolist() for v in ch.intervals[name]] for name in _OUTCOMES}
+        counts = {"heads": cc.heads[a:b].tolist(), "sides": cc.sides[a:b].tolist(),
+                  "tails": cc.tails[a:b].tolist()}
+        xi = ch.xi[a:b].tolist()
+        body = []
+        for j, f in enumerate(cc.faces[a:b].tolist()):
+            lead = [lines[a + j], ch.labels[a + j], xi[j]] if with_line else []
+            for name in (_OUTCOMES if f else ("sides",)):
+                est, wl, wh, cl, chh = (col[j] for col in per[name])
+                body.append((*lead, name, counts[name][j], est, _interval_text(wl, wh),
+                             _interval_text(cl, chh)))
+        return body
+
+    return _chunked(title, cols, rows, len(ch), 3)
 
 
-def _tests_result(title: str, rows, note: str, with_line: bool) -> Result:
+def _chunked(title: str, cols, rows, n: int, per: int, note: str = "") -> Result:
+    """A human table of ``n`` experiments: one chunk when small, else streamed by chunks of
+    experiments (``rows(a, b)`` gives their rows, at most ``per`` each), so that a file of 10^5
+    experiments is never held as text at once."""
+    step = max(1, min(CHUNK_ROWS, 8192) // per)
+    if n <= step:
+        return Result(title, cols, rows(0, n), note=note)
+
+    def chunks():
+        for a in range(0, n, step):
+            body = rows(a, min(a + step, n))
+            yield [list(c) for c in zip(*body, strict=True)]
+
+    return Result(title, cols, [], note=note, chunks=chunks())
+
+
+def _tests_result(title: str, ch, lines, note: str) -> Result:
+    with_line = lines is not None
     cols = ([Column("line", "line", "int"), Column("label", "label", "text")]
             if with_line else [])
     cols += [Column("model", "model", "text"), Column("p_heads", "P(heads)"),
              Column("p_sides", "P(sides)"), Column("p_tails", "P(tails)"),
              Column("expected", "expected H / S / T", "text"), Column("p_value", "p-value"),
              Column("log_likelihood", "log-likelihood"), Column("verdict", "verdict", "text")]
-    body = []
-    for line, r in rows:
-        for t in r.tests:
-            lead = [line, r.label] if with_line else []
-            body.append((*lead, t.model, float(t.chances.heads), float(t.chances.sides),
-                         float(t.chances.tails), _expected_text(t), t.p_value, t.log_likelihood,
-                         t.verdict))
-    return Result(title, cols, body, note=note)
+    def rows(a: int, b: int) -> list[tuple]:
+        tests = [(t.model, t.raw[:, a:b].T.tolist(), t.expected[:, a:b].T.tolist(),
+                  t.p_value[a:b].tolist(), t.log_likelihood[a:b].tolist(), t.verdict[a:b])
+                 for t in ch.tests]
+        body = []
+        for j, f in enumerate(ch.cc.faces[a:b].tolist()):
+            lead = [lines[a + j], ch.labels[a + j]] if with_line else []
+            for model, raw, exp, pv, ll, ver in tests:
+                e = exp[j]
+                shown = e if f else (None, e[0], None)
+                body.append((*lead, model, *raw[j],
+                             " / ".join("-" if v is None else _count_text(v) for v in shown),
+                             pv[j], ll[j], ver[j]))
+        return body
+
+    return _chunked(title, cols, rows, len(ch), len(ch.tests), note)
 
 
 def _emit_all(human: list[Result], machine: Result, fmt: str, quiet: bool) -> None:
@@ -239,8 +322,8 @@ def _emit_all(human: list[Result], machine: Result, fmt: str, quiet: bool) -> No
         emit(res, fmt)
 
 
-def _test_note(rows) -> str:
-    tests = sorted({t.method for r in rows for t in r.tests})
+def _test_note(ch) -> str:
+    tests = sorted({m for t in ch.tests for m in set(t.method)})
     return (
         f"test: {', '.join(tests)}; p = the chance, under the model, of counts no more likely "
         "than those observed.  'consistent' means the tosses do not contradict the model, not "
@@ -306,16 +389,17 @@ def check(
     dens = _densities(psi_dist)
     try:
         chances = stats.model_chances(x, dens)
-        row = stats.check(counts, x, chances, confidence=conf, alpha=a, label=label)
+        ch = stats.check_many([counts], x, chances, confidence=conf, alpha=a, labels=[label])
     except ValueError as exc:
         raise compute_error(str(exc)) from None
-    machine = Result("coin check", MACHINE_COLUMNS, _experiment_rows(row, None),
-                     quiet=[t.p_value for t in row.tests])
+    machine = Result("coin check", MACHINE_COLUMNS, [],
+                     data=next(_machine_chunks(ch, None)),
+                     quiet=[float(t.p_value[0]) for t in ch.tests])
     coin_text = f"xi = {x:.6g}" if xi is not None else f"{label} (xi = {x:.6g})"
     title = f"coin check: {coin_text}, {_plural(counts.n, 'toss', 'tosses')}"
     human = [
-        _observed_result(title, [(None, row)], conf, False),
-        _tests_result("models", [(None, row)], _test_note([row]) + _models_note(dens), False),
+        _observed_result(title, ch, None, conf),
+        _tests_result("models", ch, None, _test_note(ch) + _models_note(dens)),
     ]
     _emit_all(human, machine, fmt, quiet)
 
@@ -378,13 +462,13 @@ def _file_name(path: str) -> str:
     return _clipped(path, 4096)
 
 
-def _experiments(text: str, name: str) -> list:
+def _experiments(text: str, name: str, delimiter: str | None = None) -> list:
     """The experiments of ``text``; each count, and each row's total, at most 2**53."""
     from coincli import stats
 
     name = _file_name(name)
     try:
-        exps = stats.parse_experiments(text)
+        exps = stats.parse_experiments(text, delimiter=delimiter)
     except ValueError as exc:
         raise usage_error(f"{name} {exc}") from None
     for e in exps:
@@ -406,6 +490,9 @@ def fit(
     psi_dist: PsiDistsOpt = None,
     no_spread: Annotated[bool, typer.Option("--no-spread", help="Skip the fit of the spread "
                                             "of psi.")] = False,
+    delimiter: Annotated[str | None, typer.Option(
+        "--delimiter", help="Separator of FILE: comma, semicolon or tab (default: the one the "
+        "header uses).", metavar="SEP")] = None,
     alpha: AlphaOpt = "0.05",
     confidence: ConfidenceOpt = "0.95",
     fmt: FormatOpt = "table",
@@ -431,8 +518,13 @@ def fit(
     dens = _densities(psi_dist)
     if quiet and no_spread:
         raise usage_error("--quiet prints the fitted spread of psi; it cannot go with --no-spread")
+    try:
+        sep = None if delimiter is None else stats.delimiter_of(delimiter)
+    except ValueError as exc:
+        raise usage_error(f"--{exc}") from None
     text, name = _read_text(file)
-    exps = _experiments(text, name)
+    exps = _experiments(text, name, sep)
+    del text
     try:
         res = stats.fit(exps, dens, confidence=conf, alpha=a, spread=not no_spread)
     except ValueError as exc:
@@ -440,30 +532,37 @@ def fit(
     sp = res.spread
     spread_cells = ([_deg(sp.sigma), _deg(sp.low), _deg(sp.high)] if sp is not None
                     else [None] * 3)
+    models = [t.model for t in res.rows.tests]
 
-    def extra(model):
-        return [None] * 4 + (spread_cells if model == stats.SPREAD_MODEL else [None] * 3)
+    def extra(k):
+        return [None] * 4 + (spread_cells if models[k] == stats.SPREAD_MODEL else [None] * 3)
 
-    rows = [(e.line, r) for e, r in zip(exps, res.rows, strict=True)]
-    machine_rows = []
-    for line, r in rows:
-        machine_rows += _experiment_rows(r, line, extra)
+    lines = [e.line for e in exps]
     n_total = sum(e.counts.n for e in exps)
     blank = [None] * len(_observed_columns())
+    tail = []
     for m in res.models:
         cells = ["model", None, "all", None, n_total, None, None, None, m.model,
                  None, None, None, None, None, None, None, None, None, None, None,
-                 m.log_likelihood, None, *blank, m.n_params, m.aic, m.delta_aic, m.sse_sides]
+                 m.log_likelihood, None, *blank, m.n_params, m.aic,
+                 None if math.isnan(m.delta_aic) else m.delta_aic, m.sse_sides]
         cells += spread_cells if m.model == stats.SPREAD_MODEL else [None] * 3
-        machine_rows.append(tuple(cells))
-    machine = Result("coin fit", FIT_COLUMNS, machine_rows,
-                     quiet=_deg(sp.sigma) if sp is not None else None)
-    human = [
-        _observed_result(f"coin fit: {name}, {_plural(len(exps), 'experiment', 'experiments')}, "
-                         f"{_plural(n_total, 'toss', 'tosses')}", rows, conf, True),
-        _tests_result("models, each experiment", rows, _test_note(res.rows), True),
-        _comparison_result(res, conf),
-    ]
+        tail.append(tuple(cells))
+    if quiet:
+        machine = Result("coin fit", FIT_COLUMNS, [], quiet=_deg(sp.sigma))
+    else:
+        machine = Result("coin fit", FIT_COLUMNS, [],
+                         chunks=_machine_chunks(res.rows, lines, extra, tail))
+    if quiet or fmt != "table":
+        human = []
+    else:
+        human = [
+            _observed_result(f"coin fit: {name}, "
+                             f"{_plural(len(exps), 'experiment', 'experiments')}, "
+                             f"{_plural(n_total, 'toss', 'tosses')}", res.rows, lines, conf),
+            _tests_result("models, each experiment", res.rows, lines, _test_note(res.rows)),
+            _comparison_result(res, conf),
+        ]
     _emit_all(human, machine, fmt, quiet)
 
 

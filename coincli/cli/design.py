@@ -28,7 +28,6 @@ from coincli.cli._common import (
     compute_error,
     emit,
     usage_error,
-    values_option,
     values_stream,
 )
 from coincli.modelspec import DYNAMIC, GEOMETRIC, ModelSpec
