@@ -280,7 +280,7 @@ def _graded_one(s_star: float) -> list[float]:
 
 
 def _edges_one(pts) -> tuple[np.ndarray, np.ndarray]:
-    e = sorted({0.0, 1.0, *(min(max(p, 0.0), 1.0) for p in pts)})
+    e = sorted({0.0, 1.0, *(min(max(p, 0.0), 1.0) for p in pts if p == p)})  # no NaN
     e = np.array(e)
     return e[:-1], e[1:]
 
@@ -357,10 +357,12 @@ def _tail_points(t, beta, mu, sd):
             w = sd * (sd / np.where(far, np.abs(d), 1.0))[:, None] * steps  # offsets from b
             if piece_lo == "A":  # below t: piece A, s = (t - w)/t; above: piece B, s^2 = w/beta
                 below = 1.0 - w / t[:, None]
-                above = np.sqrt(w / np.where(beta > 0, beta, np.inf)[:, None])
+                above = np.sqrt(np.minimum(w / np.where(beta > 0, beta, np.inf)[:, None], 1.0))
             else:  # below pi/2 - t: piece B, s^2 = 1 - w/beta; above: piece C, s^2 = w/t
-                below = np.sqrt(1.0 - w / np.where(beta > 0, beta, np.inf)[:, None])
-                above = np.sqrt(w / t[:, None])
+                # an offset beyond the piece's far end is its end (sqrt of a negative: NaN)
+                below = np.sqrt(np.maximum(1.0 - w / np.where(beta > 0, beta, np.inf)[:, None],
+                                           0.0))
+                above = np.sqrt(np.minimum(w / t[:, None], 1.0))
             side = (d < 0)[:, None]  # the centre lies above b: the far side is below it
             out.append(np.where(far[:, None] & side, np.clip(below, 0.0, 1.0), 1.0))
             out.append(np.where(far[:, None] & ~side, np.clip(above, 0.0, 1.0), 1.0))

@@ -219,3 +219,21 @@ def test_narrow_normals_at_the_poles_never_give_nan_or_warnings(recwarn):
             arr = marginal(np.array([0.0, 1e-320, 0.5, 3.0, 1e300]), d)
             assert np.isfinite(np.array(arr)).all()
     assert not [w for w in recwarn if issubclass(w.category, RuntimeWarning)]
+
+
+@pytest.mark.parametrize("spec", ["normal:90:10", "normal:90:18.12", "normal:45:5", "normal:60:0.1",
+                                  "normal:30:0.05", "normal:0:6", "normal:170:3", "uniform:10:80"])
+def test_scalar_path_finite_and_equal_to_the_array_path(spec):
+    """One xi at a time and many at once give the same finite chances (the scalar path once
+    built a NaN breakpoint where a far-tail offset passed the end of its piece: xi = 0.05 with
+    normal:90:10 printed nan)."""
+    from coincli.densities import parse_density
+
+    d = parse_density(spec)
+    xs = np.concatenate([np.geomspace(1e-3, 1e3, 121), [0.05, 0.0725, 1 / math.sqrt(3)]])
+    many = marginal(xs, d)
+    for i, x in enumerate(xs.tolist()):
+        one = marginal(x, d)
+        for got, arr in zip(one, many, strict=True):
+            assert math.isfinite(got) and 0.0 <= got <= 1.0, (spec, x, one)
+            assert got == pytest.approx(float(arr[i]), rel=1e-13, abs=1e-16), (spec, x)
