@@ -17,7 +17,35 @@ import typer
 from coincli import __version__
 from coincli.cli._common import CoinError, ExitCode
 
-app = typer.Typer(
+class _App(typer.Typer):
+    """The root :class:`typer.Typer`, whose command modules are imported when its commands are
+    first read (help, completion, ``typer.main.get_command(app)``), not when ``coin`` starts: a
+    run imports only the module of the command it runs (:func:`_click_command`)."""
+
+    _complete = False  #: every command module imported
+
+    @property
+    def registered_commands(self):
+        if not self._complete:
+            _load(COMMAND_MODULES)
+        return self._commands
+
+    @registered_commands.setter
+    def registered_commands(self, value):
+        self._commands = value
+
+    @property
+    def registered_groups(self):
+        if not self._complete:
+            _load(COMMAND_MODULES)
+        return self._groups
+
+    @registered_groups.setter
+    def registered_groups(self, value):
+        self._groups = value
+
+
+app = _App(
     name="coin",
     help="Design thick coins: the chances of heads, sides and tails of a tossed cylinder "
     "(Yong & Mahadevan).  Example: coin design --p-sides 1/3",
@@ -49,15 +77,43 @@ def _root(
         os.environ["COIN_TRACEBACK"] = "1"
 
 
-# Command modules register themselves on import.  Keep their top level free of numpy/scipy/rich.
-from coincli.cli import design as _design  # noqa: E402,F401
+# Command modules register their commands on ``app`` when imported, in this order (the order of
+# the root's help).  Keep their top level free of numpy/scipy/rich.
+COMMAND_MODULES = ("design", "toss", "check", "plot", "methods", "book")
 
-for _name in ("toss", "check", "plot", "methods", "book"):
+#: the module that registers each command: a run imports that one alone.  Only a shortcut: a
+#: name missing here, or registered elsewhere, is found by importing every module.
+COMMAND_MODULE = {"design": "design", "table": "design", "stack": "design", "coins": "design",
+                  "fair": "design", "toss": "toss", "simulate": "toss", "phase": "toss",
+                  "check": "check", "fit": "check", "plot": "plot", "book": "book"}
+
+
+def _load(modules) -> None:
+    """Import command ``modules`` (names under ``coincli.cli``); all of them completes ``app``,
+    its commands then in the order of :data:`COMMAND_MODULES` whatever was imported first."""
+    complete = tuple(modules) == COMMAND_MODULES
+    saved, app._complete = app._complete, True  # the modules' decorators append, not load
     try:
-        __import__(f"coincli.cli.{_name}")
-    except ModuleNotFoundError as _exc:  # a command module not written yet
-        if _exc.name != f"coincli.cli.{_name}":
-            raise
+        for name in modules:
+            try:
+                __import__(f"coincli.cli.{name}")
+            except ModuleNotFoundError as exc:  # a command module not written yet
+                if exc.name != f"coincli.cli.{name}":
+                    raise
+    finally:
+        app._complete = saved or complete
+    if complete:
+        rank = {f"coincli.cli.{m}": k for k, m in enumerate(COMMAND_MODULES)}
+
+        def order(info):
+            fn = info.callback if hasattr(info, "callback") and info.callback else None
+            if fn is None and getattr(info, "typer_instance", None) is not None:
+                fn = info.typer_instance.registered_callback
+                fn = fn.callback if fn is not None else None
+            return rank.get(getattr(fn, "__module__", ""), len(rank))
+
+        app._commands.sort(key=order)
+        app._groups.sort(key=order)
 
 
 def _fail(message: str, code: int) -> int:
@@ -234,11 +290,14 @@ def _click_command(argv):
     before = argv[: argv.index(name)] if name is not None else argv
     if name is None or any(a in ("-h", "--help") for a in before):
         return _prepare(typer.main.get_command(_listing(app)))
-    commands = [c for c in app.registered_commands if _command_name(c) == name]
-    groups = [g for g in app.registered_groups if g.name == name]
+    if name in COMMAND_MODULE:
+        _load([COMMAND_MODULE[name]])
+    commands = [c for c in app._commands if _command_name(c) == name]
+    groups = [g for g in app._groups if g.name == name]
     if not commands and not groups:
         return _prepare(typer.main.get_command(_listing(app)))
     lean = copy.copy(app)
+    lean._complete = True
     lean.registered_commands, lean.registered_groups = commands, groups
     return _prepare(typer.main.get_command(lean))
 
@@ -272,6 +331,7 @@ def _listing(typer_app):
         stub.typer_instance = sub
         groups.append(stub)
     lean = copy.copy(typer_app)
+    lean._complete = True
     lean.registered_commands, lean.registered_groups = commands, groups
     return lean
 
