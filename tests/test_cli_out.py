@@ -634,3 +634,50 @@ def test_a_range_is_generated_as_the_list_would_be(coin):
         rows = list(csv.DictReader(io.StringIO(_ok(coin("table", "--xi", text, "-f", "csv")))))
         assert [float(r["xi"]) for r in rows[::2]] == want, text
         assert [r["model"] for r in rows[:2]] == ["geometric", "dynamic"]
+
+
+def _naive_rows(cols, sep: str) -> str:
+    """The reference for :func:`coincli.cli._common._write_rows`: one cell at a time."""
+    from coincli.cli._common import _csv_cell, _machine
+
+    cols = [c.tolist() if hasattr(c, "tolist") else list(c) for c in cols]
+    return "".join(sep.join(_csv_cell(_machine(v), sep) for v in row) + "\n"
+                   for row in zip(*cols, strict=True))
+
+
+def _writer_columns(rng, n: int):
+    """Columns of the kinds a batch writes, each as an array and as a list: distinct doubles of
+    every magnitude, few distinct values (with and without a missing one), a twin, a constant,
+    signed zeros, NaN and infinities, whole numbers and texts with a separator or a quote."""
+    import numpy as np
+
+    wide = rng.standard_normal(n) * 10.0 ** rng.integers(-300, 300, n)
+    few = rng.choice([0.1, 1 / 3, 2.5e-300, 7e22, -1.0], n)
+    with_none = [None if v == -1.0 else v for v in few.tolist()]
+    odd = rng.choice([0.0, -0.0, np.nan, np.inf, -np.inf, 0.5], n)
+    cols = [wide, few, few.tolist(), with_none, wide.copy(), np.full(n, 24.26), odd,
+            odd.tolist(), rng.integers(-5, 5, n), rng.integers(0, 3, n).tolist(),
+            rng.choice(["quarter", "a,b", 'say "x"', "100%"], n).tolist(), ["k"] * n,
+            np.repeat(rng.standard_normal((n + 1) // 2), 2)[:n]]
+    return cols
+
+
+@pytest.mark.parametrize("n", [0, 1, 3, 64, 1000, 20_000])
+def test_the_batch_writer_writes_what_one_cell_at_a_time_writes(n):
+    """Every shortcut of the csv/tsv writer (a constant folded into the separators, a twin's
+    text reused, few distinct values formatted once, one %-format a block) gives the bytes of
+    formatting each cell on its own: shortest round-trip text, empty for None."""
+    import numpy as np
+
+    from coincli.cli._common import _write_rows
+
+    rng = np.random.default_rng(n)
+    cols = _writer_columns(rng, n)
+    for sep in (",", "\t"):
+        for pick in (cols, cols[:1], cols[1:2], cols[3:4], cols[5:6], cols[6:8], cols[::-1]):
+            out = io.StringIO()
+            _write_rows(out, pick, sep)
+            assert out.getvalue() == _naive_rows(pick, sep), (sep, len(pick))
+    out = io.StringIO()
+    _write_rows(out, [cols[0]], "\n", quote=False)  # -q: one value a line
+    assert out.getvalue() == "".join(f"{v!r}\n" for v in cols[0].tolist())
