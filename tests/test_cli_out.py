@@ -681,3 +681,59 @@ def test_the_batch_writer_writes_what_one_cell_at_a_time_writes(n):
     out = io.StringIO()
     _write_rows(out, [cols[0]], "\n", quote=False)  # -q: one value a line
     assert out.getvalue() == "".join(f"{v!r}\n" for v in cols[0].tolist())
+
+
+_MODULES_PROBE = r"""
+import json, sys
+from coincli.cli import run
+sys.stdout = open("/dev/null", "w")
+code = run(json.loads(sys.argv[1]))
+loaded = sorted(m for m in sys.modules if m.startswith("coincli.cli.") or m == "decimal")
+print(json.dumps([code, loaded]), file=sys.stderr)
+"""
+
+COMMAND_RUNS = {  # command module -> one run of each of its commands
+    "design": [["design", "-p", "0.33"], ["table", "--xi", "0.577"], ["fair"], ["coins"],
+               ["stack", "--coin", "quarter", "--count", "8"]],
+    "toss": [["toss", "--xi", "0.577", "--psi", "90", "--u", "2", "--omega", "40"]],
+    "check": [["check", "--xi", "0.5", "--heads", "30", "--sides", "30", "--tails", "30"],
+              ["fit", str(TOSSES)]],
+    "book": [["book", "--size", "235x155x30", "--spin", "0.4,40,0.3", "--times", "0:1:0.5"]],
+    "plot": [["plot", "psi"]],
+}
+
+
+@pytest.mark.parametrize("module", sorted(COMMAND_RUNS))
+def test_a_run_imports_only_its_own_command_module(module):
+    """A command imports its own module (and the shared helpers it uses), not every command's:
+    the others cost milliseconds of every start-up.  check and fit never import decimal."""
+    from coincli.cli import COMMAND_MODULES
+
+    others = {f"coincli.cli.{m}" for m in COMMAND_MODULES} - {f"coincli.cli.{module}"}
+    for argv in COMMAND_RUNS[module]:
+        p = subprocess.run([sys.executable, "-c", _MODULES_PROBE, json.dumps(argv)],
+                           capture_output=True, text=True, env=_env(), timeout=120)
+        code, loaded = json.loads(p.stderr.strip().splitlines()[-1])
+        assert code == 0, (argv, p.stderr)
+        assert f"coincli.cli.{module}" in loaded, argv
+        assert not others & set(loaded), (argv, sorted(others & set(loaded)))
+        if module == "check":
+            assert "decimal" not in loaded, argv
+
+
+def test_the_root_help_lists_every_command_in_one_order():
+    """The root's help lists every command module's commands, in COMMAND_MODULES' order, however
+    the process met them first (a run of one command imports its module alone)."""
+    probe = ("import sys\nfrom coincli.cli import run\nsys.stdout = open('/dev/null', 'w')\n"
+             "run(['fit', sys.argv[1]])\nrun(['book', '--size', '235x155x30', '--spin', "
+             "'0.4,40,0.3', '--times', '0:1'])\nsys.stdout = sys.__stdout__\nrun(['--help'])\n")
+    warm = subprocess.run([sys.executable, "-c", probe, str(TOSSES)], capture_output=True,
+                          text=True, env=_env(COLUMNS="80"), timeout=120)
+    cold = subprocess.run([*COIN, "--help"], capture_output=True, text=True,
+                          env=_env(COLUMNS="80"), timeout=60)
+    assert warm.returncode == 0 and cold.returncode == 0, warm.stderr
+    assert warm.stdout == cold.stdout
+    names = [line.split()[0] for line in cold.stdout.split("Commands:")[1].splitlines()
+             if line.startswith("  ") and not line.startswith("   ")]
+    assert names[:5] == ["design", "table", "stack", "coins", "fair"] and "plot" in names
+    assert {"toss", "simulate", "phase", "check", "fit", "book"} <= set(names)
