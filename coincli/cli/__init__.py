@@ -299,7 +299,34 @@ def _click_command(argv):
     lean = copy.copy(app)
     lean._complete = True
     lean.registered_commands, lean.registered_groups = commands, groups
+    _resolve_annotations(lean)
     return _prepare(typer.main.get_command(lean))
+
+
+_ANNOTATION_CODE: dict = {}
+
+
+def _resolve_annotations(typer_app) -> None:
+    """Evaluate the string annotations (``from __future__ import annotations``) of the
+    callbacks typer is about to inspect, compiling each distinct text once.  typer evaluates
+    each one twice (``inspect.signature(eval_str=True)`` and ``typing.get_type_hints``), and
+    ``eval`` of a string compiles it every time: most of the cost of building a command."""
+    infos = [*typer_app.registered_commands, typer_app.registered_callback]
+    for group in typer_app.registered_groups:
+        sub = group.typer_instance
+        infos += [*sub.registered_commands, sub.registered_callback, group]
+        infos += [g for g in sub.registered_groups]  # deeper groups keep typer's own path
+    for info in infos:
+        fn = getattr(info, "callback", None)
+        ann = getattr(fn, "__annotations__", None)
+        if not ann:
+            continue
+        for name, text in ann.items():
+            if isinstance(text, str):
+                code = _ANNOTATION_CODE.get(text)
+                if code is None:
+                    code = _ANNOTATION_CODE[text] = compile(text, "<annotation>", "eval")
+                ann[name] = eval(code, fn.__globals__)  # noqa: S307 - the code's own text
 
 
 def _command_name(info) -> str:
