@@ -237,6 +237,10 @@ def test_stack_takes_quarters_and_refuses_a_bare_xi(coin):
     assert out == _ok(coin("stack", "--coin", "quarter", "--count", "8", "-q"))
     _error(coin("stack", "--quarters", "8", "--p-sides", "1/3"), 2, "--coin quarter --p-sides")
     _error(coin("stack", "--xi", "0.5", "--p-sides", "1/3"), 2, "coin table --xi X")
+    # a diameter alone: stack's error never suggests the --xi it refuses; table's does
+    err = _error(coin("stack", "--diameter", "30", "--count", "2"), 2, "needs --thickness H")
+    assert "--xi" not in err
+    _error(coin("table", "--diameter", "30"), 2, "needs --thickness H (or --xi X)")
 
 
 def test_table_takes_a_custom_coin_and_psi_lists(coin):

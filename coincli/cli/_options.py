@@ -145,7 +145,8 @@ class Coins:
         return name if n == 1 else f"{name} x{n}"
 
 
-def _check_group(xi, coin, count, quarters, diameter, thickness, *, default) -> str:
+def _check_group(xi, coin, count, quarters, diameter, thickness, *, default,
+                 takes_xi: bool = True) -> str:
     """The kind of coin the options give ("xi", "coin", "quarters", "size", or "default"),
     or the one usage error every command gives for a contradiction or a missing part."""
     kinds = []
@@ -175,7 +176,8 @@ def _check_group(xi, coin, count, quarters, diameter, thickness, *, default) -> 
             raise usage_error("--count N stacks a --coin or a --diameter/--thickness coin; --xi "
                               "is already the whole coin's h/D (drop --count)")
     if diameter is not None and thickness is None and xi is None:
-        raise usage_error("--diameter D needs --thickness H (or --xi X) to make a coin")
+        raise usage_error("--diameter D needs --thickness H" + (" (or --xi X)" if takes_xi else "")
+                          + " to make a coin")
     if thickness is not None and diameter is None:
         raise usage_error("--thickness H needs --diameter D to make a coin")
     if not kinds:
@@ -252,7 +254,7 @@ def resolve_coin(xi: str | None = None, coin: str | None = None, count: str | No
                  default: str | None = None, required: bool = True, xi_rule: str = "finite",
                  need_size: bool = False, need_count: bool = True,
                  max_values: int | None = None, command: str = "this command",
-                 stream: bool = False) -> Coins | None:
+                 stream: bool = False, takes_xi: bool = True) -> Coins | None:
     """The coin(s) given by the options of the coin group, or the one-line usage error.
 
     ``many``: ``--xi``, ``--count`` and ``--quarters`` take lists, ranges and ``-`` (stdin).
@@ -265,9 +267,11 @@ def resolve_coin(xi: str | None = None, coin: str | None = None, count: str | No
     ``max_values``: the most coins a list, range or stdin may give (``coin plot``'s marks).
     ``stream`` (with ``many``): several ``--xi`` values, or several counts, come back as a
     :class:`coincli.cli._common.Values` (``xis`` None for counts), read and checked whole but
-    held in chunks, for a command that computes a chunk at a time.
+    held in chunks, for a command that computes a chunk at a time.  ``takes_xi``: False for a
+    command that refuses --xi itself (``coin stack``): its errors then never suggest one.
     """
-    kind = _check_group(xi, coin, count, quarters, diameter, thickness, default=default)
+    kind = _check_group(xi, coin, count, quarters, diameter, thickness, default=default,
+                        takes_xi=takes_xi)
     if kind == "none":
         if required:
             raise usage_error(f"give a coin: {COIN_FORMS}")

@@ -576,7 +576,7 @@ def stack(
                           "table --xi X)")
     coins = _options.resolve_coin(None, coin, count, quarters, diameter, thickness, many=True,
                                   default="quarter", need_count=False, command="coin stack",
-                                  stream=True)
+                                  stream=True, takes_xi=False)
     c = coins.unit
     if quarters is not None:
         count = quarters
