@@ -25,7 +25,7 @@ from typing import Annotated
 import typer
 
 from coincli import parse
-from coincli.cli._common import usage_error, values_option, values_stream
+from coincli.cli._common import shown, usage_error, values_option, values_stream
 
 __all__ = [
     "XiOpt", "XisOpt", "CoinOpt", "CountOpt", "CountsOpt", "QuartersOpt", "QuartersManyOpt",
@@ -430,9 +430,29 @@ def _deg_item(text: str, what: str) -> float:
     return v + 0.0
 
 
+PSI_AND_DIST = "give --psi DEG (a fixed angle) or --psi-dist SPEC (a distribution), not both"
+
+
+def refuse_psi_and_dist(psi, psi_dist) -> None:
+    """The one usage error for --psi and --psi-dist given together."""
+    if psi is not None and psi_dist is not None:
+        raise usage_error(PSI_AND_DIST)
+
+
+def _a_list(text: str) -> bool:
+    return any(c in text for c in ",:") and str(text).strip() != "-"
+
+
 def psi_angle(text: str, what: str = "--psi") -> float:
-    """One angle in degrees, in [0, 180]."""
-    return _one(text, what, _deg_item)
+    """One angle in degrees, in [0, 180]; a list or range is refused as such (a command that
+    takes many uses :func:`psi_angles`)."""
+    try:
+        return _deg_item(text, what)
+    except ValueError as exc:
+        if _a_list(text):
+            raise usage_error(f"{what} takes one angle here (degrees, 0 to 180), not a list or "
+                              f"range; got {shown(text)}") from None
+        raise usage_error(str(exc)) from None
 
 
 def psi_angles(text: str, what: str = "--psi", *, max_rows: int = parse.MAX_ROWS) -> list[float]:
@@ -455,6 +475,9 @@ def psi_density(spec: str, what: str = "--psi-dist"):
     try:
         return parse_density(spec)
     except ValueError as exc:
+        if "," in spec and not spec.strip().lower().startswith("table:"):
+            raise usage_error(f"{what} takes one density here, not a list; got {shown(spec)} "
+                              "(give one SPEC, e.g. normal:90:18)") from None
         raise usage_error(f"{what}: {exc}") from None
 
 

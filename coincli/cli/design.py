@@ -84,9 +84,7 @@ def choose_model(model: str | None, psi: str | None, psi_dist: str | None) -> Mo
     m = (model or "").strip().lower()
     if m not in ("", "geometric", "dynamic", "psi"):
         raise usage_error(f"--model must be geometric, dynamic or psi; got {model!r}")
-    if psi is not None and psi_dist is not None:
-        raise usage_error("give either --psi (a fixed angle) or --psi-dist (a distribution), "
-                          "not both")
+    _options.refuse_psi_and_dist(psi, psi_dist)
     if m in ("geometric", "dynamic") and (psi is not None or psi_dist is not None):
         raise usage_error(f"--model {m} takes no --psi or --psi-dist; use --model psi")
     if psi is not None:
