@@ -737,3 +737,16 @@ def test_the_root_help_lists_every_command_in_one_order():
              if line.startswith("  ") and not line.startswith("   ")]
     assert names[:5] == ["design", "table", "stack", "coins", "fair"] and "plot" in names
     assert {"toss", "simulate", "phase", "check", "fit", "book"} <= set(names)
+
+
+def test_a_command_missing_from_the_module_map_still_runs():
+    """COMMAND_MODULE is only a shortcut: a command it does not name (one added later) is found
+    by importing every command module, and runs (not the parameterless listing entry)."""
+    probe = ("import sys\nfrom coincli import cli\ndel cli.COMMAND_MODULE['fit']\n"
+             "sys.exit(cli.run(['fit', sys.argv[1], '-q']))\n")
+    p = subprocess.run([sys.executable, "-c", probe, str(TOSSES)], capture_output=True,
+                       text=True, env=_env(), timeout=120)
+    direct = subprocess.run([*COIN, "fit", str(TOSSES), "-q"], capture_output=True, text=True,
+                            env=_env(), timeout=120)
+    assert p.returncode == 0 and p.stderr == "", p.stderr
+    assert p.stdout == direct.stdout and float(p.stdout) > 0

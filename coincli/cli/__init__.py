@@ -294,7 +294,10 @@ def _click_command(argv):
         _load([COMMAND_MODULE[name]])
     commands = [c for c in app._commands if _command_name(c) == name]
     groups = [g for g in app._groups if g.name == name]
-    if not commands and not groups:
+    if not commands and not groups:  # not in the map: look in every module
+        commands = [c for c in app.registered_commands if _command_name(c) == name]
+        groups = [g for g in app.registered_groups if g.name == name]
+    if not commands and not groups:  # an unknown name: click says so, suggesting one
         return _prepare(typer.main.get_command(_listing(app)))
     lean = copy.copy(app)
     lean._complete = True
