@@ -318,7 +318,6 @@ def _resolve_annotations(typer_app) -> None:
     for group in typer_app.registered_groups:
         sub = group.typer_instance
         infos += [*sub.registered_commands, sub.registered_callback, group]
-        infos += [g for g in sub.registered_groups]  # deeper groups keep typer's own path
     for info in infos:
         fn = getattr(info, "callback", None)
         ann = getattr(fn, "__annotations__", None)
