@@ -750,3 +750,16 @@ def test_a_command_missing_from_the_module_map_still_runs():
                             env=_env(), timeout=120)
     assert p.returncode == 0 and p.stderr == "", p.stderr
     assert p.stdout == direct.stdout and float(p.stdout) > 0
+
+
+@pytest.mark.parametrize("group", [[], ["plot"]], ids=["coin", "coin plot"])
+def test_command_listings_never_stop_at_an_abbreviation(coin, group):
+    """A command's one-line summary is its first sentence, cut with '...' to the width: never
+    'Fig.' or 'eq.' taken for a sentence's end (coin phase read '...(u, omega): Fig.')."""
+    text = _ok(coin(*group, "--help"))
+    lines = [ln for ln in text.split("Commands:")[1].splitlines() if ln.startswith("  ")]
+    assert len(lines) >= 4
+    for ln in lines:
+        last = ln.split()[-1]
+        assert not re.fullmatch(r"\(?(Figs?|[Ee]qs?|Sec|e\.g|i\.e|vs)\.", last), ln
+        assert "\0" not in ln

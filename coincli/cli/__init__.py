@@ -383,6 +383,7 @@ def _prepare(root):
         cmd = stack.pop()
         cmd.rich_markup_mode = None
         cmd.help = _plain_help(cmd.help)
+        cmd.get_short_help_str = _short_help(cmd)
         for p in cmd.params:
             if getattr(p, "help", None):
                 p.help = p.help.replace("\\[", "[")
@@ -403,6 +404,30 @@ def _prepare(root):
 
 
 _METAVARS = {"IntParamType": "N", "IntRange": "N", "FloatParamType": "X", "FloatRange": "X"}
+
+#: a word ending in '.' that does not end a sentence (click's short help stops at the first)
+_ABBREVIATIONS = r"\b(?:Figs?|[Ee]qs?|Secs?|Refs?|Tab|vs|cf|e\.g|i\.e|No)\. (?=\S)"
+
+
+def _short_help(cmd):
+    """``cmd.get_short_help_str`` for a command listing that reads past an abbreviation: the
+    first sentence of 'The pre-images ... (u, omega): Fig. 3 of the paper.' is not '...: Fig.'.
+    """
+    whole = cmd.get_short_help_str
+
+    def short_help(limit: int = 45) -> str:
+        if cmd.short_help or not cmd.help:
+            return whole(limit)
+        import re
+
+        saved = cmd.help  # the abbreviation's blank, a non-blank for click, back after
+        cmd.help = re.sub(_ABBREVIATIONS, lambda m: m.group()[:-1] + "\0", saved)
+        try:
+            return whole(limit).replace("\0", " ")
+        finally:
+            cmd.help = saved
+
+    return short_help
 
 
 def _plain_help(text):
