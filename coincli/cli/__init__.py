@@ -325,10 +325,25 @@ def _resolve_annotations(typer_app) -> None:
             continue
         for name, text in ann.items():
             if isinstance(text, str):
-                code = _ANNOTATION_CODE.get(text)
-                if code is None:
-                    code = _ANNOTATION_CODE[text] = compile(text, "<annotation>", "eval")
-                ann[name] = eval(code, fn.__globals__)  # noqa: S307 - the code's own text
+                ann[name] = _annotation(text, fn.__globals__)
+
+
+def _annotation(text: str, namespace: dict):
+    """The value of an annotation's text: a (dotted) name looked up, anything else compiled
+    once a distinct text and evaluated."""
+    parts = text.split(".")
+    if all(p.isidentifier() for p in parts) and parts[0] in namespace:
+        value = namespace[parts[0]]
+        try:
+            for attr in parts[1:]:
+                value = getattr(value, attr)
+            return value
+        except AttributeError:
+            pass
+    code = _ANNOTATION_CODE.get(text)
+    if code is None:
+        code = _ANNOTATION_CODE[text] = compile(text, "<annotation>", "eval")
+    return eval(code, namespace)  # noqa: S307 - the code's own annotation
 
 
 def _command_name(info) -> str:
