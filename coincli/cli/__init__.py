@@ -306,14 +306,12 @@ def _click_command(argv):
     return _prepare(typer.main.get_command(lean))
 
 
-_ANNOTATION_CODE: dict = {}
-
-
 def _resolve_annotations(typer_app) -> None:
-    """Evaluate the string annotations (``from __future__ import annotations``) of the
-    callbacks typer is about to inspect, compiling each distinct text once.  typer evaluates
-    each one twice (``inspect.signature(eval_str=True)`` and ``typing.get_type_hints``), and
-    ``eval`` of a string compiles it every time: most of the cost of building a command."""
+    """Look up the string annotations (``from __future__ import annotations``) that are plain
+    (dotted) names, like ``FormatOpt`` or ``_options.CoinOpt``, for the callbacks typer is
+    about to inspect.  typer evaluates each annotation twice (``inspect.signature(eval_str=True)``
+    and ``typing.get_type_hints``), compiling its text each time: most of the cost of building
+    a command.  Any other annotation is left to typer (coin's source evaluates no text)."""
     infos = [*typer_app.registered_commands, typer_app.registered_callback]
     for group in typer_app.registered_groups:
         sub = group.typer_instance
@@ -325,25 +323,25 @@ def _resolve_annotations(typer_app) -> None:
             continue
         for name, text in ann.items():
             if isinstance(text, str):
-                ann[name] = _annotation(text, fn.__globals__)
+                value = _named(text, fn.__globals__)
+                if value is not _NOT_A_NAME:
+                    ann[name] = value
 
 
-def _annotation(text: str, namespace: dict):
-    """The value of an annotation's text: a (dotted) name looked up, anything else compiled
-    once a distinct text and evaluated."""
+_NOT_A_NAME = object()
+
+
+def _named(text: str, namespace: dict):
+    """The object a dotted name ``text`` names in ``namespace``; _NOT_A_NAME otherwise."""
     parts = text.split(".")
-    if all(p.isidentifier() for p in parts) and parts[0] in namespace:
-        value = namespace[parts[0]]
-        try:
-            for attr in parts[1:]:
-                value = getattr(value, attr)
-            return value
-        except AttributeError:
-            pass
-    code = _ANNOTATION_CODE.get(text)
-    if code is None:
-        code = _ANNOTATION_CODE[text] = compile(text, "<annotation>", "eval")
-    return eval(code, namespace)  # noqa: S307 - the code's own annotation
+    if not all(p.isidentifier() for p in parts) or parts[0] not in namespace:
+        return _NOT_A_NAME
+    value = namespace[parts[0]]
+    for attr in parts[1:]:
+        value = getattr(value, attr, _NOT_A_NAME)
+        if value is _NOT_A_NAME:
+            break
+    return value
 
 
 def _command_name(info) -> str:
