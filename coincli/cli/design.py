@@ -439,7 +439,7 @@ def table(
     models_ = (GEOMETRIC, DYNAMIC, *extra)
     names = _model_names(models_, fmt)
     blocks = []
-    budget = _accuracy.Budget(sum(m.key == "dist" for m in extra))  # one limit per run
+    budget = _accuracy.plan(acc, [m.density for m in extra if m.key == "dist"], x)  # per run
     for m, name in zip(models_, names, strict=True):
         more = [("closed form", None, None, None) + ((None,) if acc is not None and
                                                       acc.sampling else ())] * n
