@@ -430,8 +430,18 @@ def table(
     _accuracy.require_density(acc, bool(dens))
     models_ = (GEOMETRIC, DYNAMIC, *extra)
     many = coins.counts if isinstance(coins.counts, Values) else coins.xis
-    if isinstance(many, Values) and len(many) > 1 and acc is None and \
-            all(m.closed_form for m in models_):
+    if isinstance(many, Values) and len(many) > 1 and acc is None:
+        # closed forms and quadrature alike are computed a chunk of coins at a time (the
+        # quadrature of one xi does not depend on the others); a table density's work is
+        # bounded for the whole run before the first chunk
+        for m in extra:
+            if m.key == "dist":
+                from coincli.averages import check_table_work
+
+                try:
+                    check_table_work(m.density, len(many))
+                except ValueError as exc:
+                    raise compute_error(str(exc)) from None
         return _table_stream(coins, models_, extra, fmt, quiet)
     coins = _materialized(coins)
     x = _vector(coins.xis)
@@ -487,8 +497,9 @@ def _table_note(extra) -> str:
 
 
 def _table_stream(coins: _options.Coins, models_, extra, fmt: str, quiet: bool) -> None:
-    """``coin table`` over many coins under closed forms: one row per coin and model, computed
-    from arrays and written a chunk of coins at a time (memory flat in the number of rows).
+    """``coin table`` over many coins under closed forms and quadrature over psi: one row per
+    coin and model, computed from arrays and written a chunk of coins at a time (memory flat
+    in the number of rows).
     The coins are a Values of xi, or of counts of a stacked coin."""
     import numpy as np
 
