@@ -62,3 +62,20 @@ def test_streamed_density_json_parses(coin):
     assert len(rows) == 25 and {row["model"] for row in rows} == {
         "geometric", "dynamic", "uniform", "cosine", "normal"}
     assert all(0 <= row[k] <= 1 for row in rows for k in ("p_heads", "p_sides", "p_tails"))
+
+
+@pytest.mark.parametrize("deg", ["0.5", "0.001953125", "30", "60.123456789", "89.99"])
+def test_psi_and_its_mirror_are_one_model_to_the_last_bit(coin, deg):
+    # Table I is symmetric in psi <-> 180 - psi; the mirror is taken in degrees (exact), so
+    # design and table give the same numbers both ways (were 3e-15 apart at 0.5 deg)
+    mirror = repr(180.0 - float(deg))
+    for p in ("1e-300", "0.3", "0.9999999999999999"):
+        a = coin("design", "-p", p, "--psi", deg, "-q")
+        b = coin("design", "-p", p, "--psi", mirror, "-q")
+        assert a[0] == b[0] == 0 and a[1] == b[1], (deg, p, a, b)
+    rows = _rows(coin, "--xi", "1e-3,0.5,57,1e16", "--psi", f"{deg},{mirror}")
+    ours = [r for r in rows if r["model"].startswith("psi=")]
+    assert [r["model"] for r in ours[:2]] == [f"psi={float(deg):.10g}", f"psi={float(mirror):.10g}"]
+    for a, b in zip(ours[::2], ours[1::2], strict=True):
+        assert (a["p_heads"], a["p_sides"], a["p_tails"]) == (b["p_heads"], b["p_sides"],
+                                                              b["p_tails"])

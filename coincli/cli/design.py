@@ -44,23 +44,25 @@ def _model_names(models, fmt: str) -> list[str]:
 # --------------------------------------------------------------------------- models as options
 
 
-class _Psi180(ModelSpec):
-    """Table I at psi = 180 deg, computed at its mirror image psi = 0 and named ``psi=180``."""
+class _Mirrored(ModelSpec):
+    """Table I at psi > 90 deg, computed at its mirror image 180 deg - psi and named by psi."""
 
     __slots__ = ()
 
     @property
     def name(self) -> str:
-        return "psi=180"
+        return f"psi={180.0 - math.degrees(self.psi):.10g}"
 
 
-def _table_i_angle(psi: float) -> float:
-    """The angle to evaluate Table I at for ``psi`` (radians) as :func:`parse.parse_angle_deg`
-    gives it: 180 deg arrives as ``math.pi``, 1.2e-16 rad short of pi, which the model takes at
-    its word (such a coin precesses, and lands on a side once xi > 4e15).  Table I is symmetric,
-    P(i | psi) = P(i | 180 deg - psi), so 180 deg is exactly 0 deg: the coin never precesses.
+def _table_i_angle(deg: float) -> float:
+    """The angle (radians) to evaluate Table I at for ``deg`` degrees.  Table I is symmetric,
+    P(i | psi) = P(i | 180 deg - psi), and past 90 deg the mirror angle is taken in degrees,
+    where ``180 - deg`` is exact: ``--psi 179.5`` is ``--psi 0.5`` to the last bit (in radians
+    pi - psi would carry pi's rounding, 1e-16 rad, 1e-14 relative at 0.5 deg), and 180 deg is
+    exactly 0 deg: the coin never precesses (``math.pi``, 1.2e-16 rad short of pi, would
+    precess, and land on a side once xi > 4e15).
     """
-    return 0.0 if psi == math.pi else psi
+    return _options.radians(180.0 - deg) if deg > 90.0 else _options.radians(deg)
 
 
 def psi_model(psi_deg_text: str) -> ModelSpec:
@@ -69,10 +71,8 @@ def psi_model(psi_deg_text: str) -> ModelSpec:
 
 def angle_model(deg: float) -> ModelSpec:
     """Table I at ``deg`` degrees (checked to lie in [0, 180])."""
-    psi = _options.radians(deg)
     label = f"psi = {deg:.10g} deg (Table I)"
-    at = _table_i_angle(psi)
-    return (ModelSpec if at == psi else _Psi180).fixed_psi(at, label)
+    return (_Mirrored if deg > 90.0 else ModelSpec).fixed_psi(_table_i_angle(deg), label)
 
 
 def density_model(spec: str) -> ModelSpec:
@@ -531,7 +531,7 @@ def _table_vs_psi(coins: _options.Coins, psi_text, fmt, quiet):
     rows = []
     t = math.degrees(models.theta0(x)) / 2
     for d in degs:
-        o = ModelSpec.fixed_psi(_table_i_angle(_options.radians(d))).forward(x)
+        o = ModelSpec.fixed_psi(_table_i_angle(d)).forward(x)
         fold = min(d, 180.0 - d)
         regime = "heads only" if fold < t else ("heads/sides" if fold < 90 - t else "all three")
         rows.append((x, d, regime, o.heads, o.sides, o.tails))
