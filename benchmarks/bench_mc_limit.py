@@ -14,6 +14,8 @@ Run from the repository root (a few minutes on a busy 2-CPU machine):
   tolerance it refuses (``--tol 1e-5``) and at the smallest one it accepts (subprocesses, wall
   and CPU of the child, median).
 - ``--method qmc`` at ``--tol 1e-5``, for comparison.
+- A streamed batch: ``coin table`` over 10^6 xi with ``--psi-dist normal`` (wall, CPU and peak
+  resident memory of the child, once), against the same xi under the closed forms alone.
 """
 
 from __future__ import annotations
@@ -44,8 +46,8 @@ def _child(argv: list[str]) -> tuple[float, float, int]:
     """(wall, child CPU seconds, exit code) of one ``coin`` run."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t = time.perf_counter()
-    p = subprocess.run([sys.executable, "-m", "coincli", *argv], capture_output=True,
-                       env=dict(os.environ, NO_COLOR="1"))
+    p = subprocess.run([sys.executable, "-m", "coincli", *argv], stdout=subprocess.DEVNULL,
+                       stderr=subprocess.DEVNULL, env=dict(os.environ, NO_COLOR="1"))
     wall = time.perf_counter() - t
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
@@ -104,6 +106,20 @@ def main(argv=None) -> int:
                     f"{_report.median([c for _, c, _ in runs]):.2f} s", str(runs[0][2])])
         print(f"  {label}: {cli[-1]}", file=sys.stderr)
 
+    probe = ("import resource, subprocess, sys, time\n"
+             "t = time.perf_counter()\n"
+             "p = subprocess.run(sys.argv[1:], stdout=subprocess.DEVNULL)\n"
+             "r = resource.getrusage(resource.RUSAGE_CHILDREN)\n"
+             "print(time.perf_counter() - t, r.ru_utime + r.ru_stime, r.ru_maxrss, p.returncode)\n")
+    batch = []
+    for label, a in (("closed forms only", []), ("`--psi-dist normal`", ["--psi-dist", "normal"])):
+        out = subprocess.run([sys.executable, "-c", probe, sys.executable, "-m", "coincli",
+                              "table", "--xi", "0.01:100:0.0001", *a, "-f", "csv"],
+                             capture_output=True, text=True).stdout.split()
+        batch.append([label, f"{float(out[0]):.1f} s", f"{float(out[1]):.1f} s",
+                      f"{int(out[2]) / 1024:.0f} MiB", out[3]])
+        print(f"  batch {label}: {batch[-1]}", file=sys.stderr)
+
     body = ["## The Monte Carlo run limit (`benchmarks/bench_mc_limit.py`)", "",
             f"Command: `python benchmarks/bench_mc_limit.py`.  {where}.", "",
             f"One run's limit is {RUN_BUDGET:,} tosses (2^{RUN_BUDGET.bit_length() - 1}), "
@@ -115,7 +131,11 @@ def main(argv=None) -> int:
                            "smallest --tol"], rows),
             f"`coin table --xi {XI} --psi-dist normal -f csv` with (subprocesses, "
             f"median of {args.repeat}; CPU of the child):", "",
-            _report.table(["options", "wall", "CPU", "exit"], cli)]
+            _report.table(["options", "wall", "CPU", "exit"], cli),
+            "A streamed batch: `coin table --xi 0.01:100:0.0001 -f csv` (999,901 xi), once; "
+            "the rows are computed and written a chunk of coins at a time, psi-averaged or "
+            "not, so the peak memory does not grow with them:", "",
+            _report.table(["models", "wall", "CPU", "peak memory", "exit"], batch)]
     text = "\n".join(body)
     print(text)
     if not args.no_write:
