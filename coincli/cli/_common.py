@@ -1239,6 +1239,10 @@ def _fast_floats(data: bytes, what: str, bounds, item, first: int = 1):
         return None
     lo, hi = bounds
     bad = ~((arr >= lo) & (arr <= hi))
+    for k in np.flatnonzero(arr == 0.0).tolist():  # a nonzero text that underflowed to 0
+        if tokens[k].partition(b"e")[0].partition(b"E")[0].strip(b"+-.0"):
+            bad[k] = True
+            break
     if bad.any():
         k = int(np.argmax(bad))
         t = tokens[k].decode()
