@@ -79,3 +79,24 @@ def test_psi_and_its_mirror_are_one_model_to_the_last_bit(coin, deg):
     for a, b in zip(ours[::2], ours[1::2], strict=True):
         assert (a["p_heads"], a["p_sides"], a["p_tails"]) == (b["p_heads"], b["p_sides"],
                                                               b["p_tails"])
+
+
+def test_design_never_prints_an_overflowed_length_as_inf(coin):
+    # D/h = 1e323 and a thickness of 5.7e315 mm are finite: past the largest double they are
+    # empty cells; inf stays where it is exact (xi = 0: D/h; xi = inf: the thickness)
+    cases = [(("-p", "5e-324"), "d_over_h"), (("-p", "5e-324,0.3"), "d_over_h"),
+             (("-p", "0.9999999999999999", "--diameter", "1e300"), "thickness_mm"),
+             (("-p", "0.9999999999999999,0.5", "--diameter", "1e300"), "thickness_mm"),
+             (("-p", "1e-300", "--thickness", "1e300"), "diameter_mm"),
+             (("-p", "1e-300,0.5", "--thickness", "1e300"), "diameter_mm")]
+    for argv, col in cases:
+        code, out, err = coin("design", *argv, "-f", "csv")
+        assert code == 0 and err == ""
+        rows = list(csv.DictReader(io.StringIO(out)))
+        assert rows[0][col] == "", (argv, rows[0])
+        assert "inf" not in out and "nan" not in out, (argv, out)
+        assert float(rows[0]["xi"]) > 0
+    code, out, _ = coin("design", "-p", "0,1", "-f", "csv")
+    rows = list(csv.DictReader(io.StringIO(out)))
+    assert (rows[0]["xi"], rows[0]["d_over_h"]) == ("0.0", "inf")
+    assert (rows[1]["xi"], rows[1]["thickness_mm"]) == ("inf", "inf")

@@ -143,9 +143,36 @@ def _tolist(v, n):
 
 
 def _column(v, n):
-    """A result column: an array stays an array (the writers format it in C), a float is
-    repeated ``n`` times."""
-    return v if hasattr(v, "dtype") and getattr(v, "ndim", 0) == 1 else [v] * n
+    """A result column: an array stays an array (the writers format it in C), a list is
+    itself, a float (or None) is repeated ``n`` times."""
+    if isinstance(v, list) or (hasattr(v, "dtype") and getattr(v, "ndim", 0) == 1):
+        return v
+    return [v] * n
+
+
+def _ratio(a: float, b: float) -> float | None:
+    """a / b for finite positive a, b; None where the quotient passes the largest double."""
+    q = a / b
+    return None if q == math.inf else q
+
+
+def _product(a: float, b: float) -> float | None:
+    q = a * b
+    return None if q == math.inf else q
+
+
+def _no_overflow(v, xi):
+    """An array column with its cells that overflowed (inf although xi is finite and
+    nonzero) as None: a list then; the array itself when none did."""
+    import numpy as np
+
+    bad = np.isinf(v) & (xi > 0) & (xi < np.inf)
+    if not bad.any():
+        return v
+    out = v.tolist()
+    for k in np.flatnonzero(bad).tolist():
+        out[k] = None
+    return out
 
 
 # --------------------------------------------------------------------------- design
@@ -291,9 +318,10 @@ def design(
         other_sides = other.forward(xi).sides
         n = 1 if isinstance(p, float) else len(p)
         if isinstance(xi, float):
-            d_over_h = math.inf if xi == 0 else 1 / xi
-            thick_col = dia * xi if dia is not None else thick
-            dia_col = dia if dia is not None else (math.inf if xi == 0 else thick / xi)
+            d_over_h = math.inf if xi == 0 else _ratio(1.0, xi)
+            thick_col = (_product(dia, xi) if xi != math.inf else math.inf) if dia is not None \
+                else thick
+            dia_col = dia if dia is not None else (math.inf if xi == 0 else _ratio(thick, xi))
         else:
             import numpy as np
 
@@ -304,6 +332,10 @@ def design(
                 else:
                     thick_col = np.full(xi.shape, thick)
                     dia_col = np.where(xi == 0, np.inf, thick / np.where(xi == 0, 1, xi))
+            # a finite length or ratio past the largest double (xi below 5.6e-309 or a 1e300
+            # diameter) is an empty cell, not inf: inf is kept for xi = 0 and xi = inf
+            d_over_h, thick_col, dia_col = (_no_overflow(v, xi) for v in (d_over_h, thick_col,
+                                                                         dia_col))
         # -q prints xi alone: no stack search (it is most of the time of a long -q batch)
         stack = [[None] * n] * 5 if quiet else _stack_columns(c, p, m, xi)
         return [
