@@ -100,3 +100,24 @@ def test_design_never_prints_an_overflowed_length_as_inf(coin):
     rows = list(csv.DictReader(io.StringIO(out)))
     assert (rows[0]["xi"], rows[0]["d_over_h"]) == ("0.0", "inf")
     assert (rows[1]["xi"], rows[1]["thickness_mm"]) == ("inf", "inf")
+
+
+def test_stack_counts_under_a_density_stream(coin, monkeypatch):
+    # many counts under a psi density: arrays a chunk at a time (was one scalar quadrature a
+    # row held in memory: 24 s of CPU and 167 MB for 200,000 counts, now 2.8 s and 50 MB)
+    import coincli.cli._common as common
+
+    argv = ("stack", "--count", "1,2,40,1000,100000", "--psi-dist", "normal:30:0.05", "-f",
+            "csv")
+    whole = coin(*argv)
+    assert whole[0] == 0
+    monkeypatch.setattr(common.Values.chunks, "__defaults__", (2,))  # chunks of 2 counts
+    assert coin(*argv) == whole
+    rows = list(csv.DictReader(io.StringIO(whole[1])))
+    for r in rows:
+        one = coin("stack", "--count", r["count"], "--psi-dist", "normal:30:0.05", "-f", "csv")
+        (single,) = csv.DictReader(io.StringIO(one[1]))
+        for k in ("height_mm", "xi"):
+            assert single[k] == r[k]
+        for k in ("p_heads", "p_sides", "p_tails"):
+            assert float(single[k]) == pytest.approx(float(r[k]), rel=4e-16, abs=0)

@@ -643,7 +643,15 @@ def stack(
         best = ch.count
     else:
         counts = coins.counts
-        if isinstance(counts, Values) and len(counts) > 1 and m.closed_form:
+        if isinstance(counts, Values) and len(counts) > 1 and (m.closed_form or
+                                                                m.key == "dist"):
+            if m.key == "dist":  # a table density's work, for the whole run, before a row
+                from coincli.averages import check_table_work
+
+                try:
+                    check_table_work(m.density, len(counts), what="counts")
+                except ValueError as exc:
+                    raise compute_error(str(exc)) from None
             return _stack_counts_stream(c, counts, m, fmt, quiet)
         counts = _materialized(coins).counts
         best = None
@@ -682,7 +690,8 @@ _STACK_COLUMNS = [Column("coin", "coin", "text"), Column("count", "count", "int"
 
 
 def _stack_counts_stream(c, counts, m: ModelSpec, fmt: str, quiet: bool) -> None:
-    """``coin stack --count`` for many counts under a closed form: arrays, a chunk at a time."""
+    """``coin stack --count`` for many counts under a closed form or a psi density (quadrature,
+    one xi independent of the others): arrays, a chunk at a time."""
     import numpy as np
 
     def compute(k):
