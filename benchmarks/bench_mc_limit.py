@@ -14,8 +14,9 @@ Run from the repository root (a few minutes on a busy 2-CPU machine):
   tolerance it refuses (``--tol 1e-5``) and at the smallest one it accepts (subprocesses, wall
   and CPU of the child, median).
 - ``--method qmc`` at ``--tol 1e-5``, for comparison.
-- A streamed batch: ``coin table`` over 10^6 xi with ``--psi-dist normal`` (wall, CPU and peak
-  resident memory of the child, once), against the same xi under the closed forms alone.
+- Streamed batches: ``coin table`` over 10^6 xi and ``coin stack`` over 200,000 counts with
+  ``--psi-dist normal`` (wall, CPU and peak resident memory of the child, once), against the
+  same under the closed forms alone.
 """
 
 from __future__ import annotations
@@ -112,10 +113,16 @@ def main(argv=None) -> int:
              "r = resource.getrusage(resource.RUSAGE_CHILDREN)\n"
              "print(time.perf_counter() - t, r.ru_utime + r.ru_stime, r.ru_maxrss, p.returncode)\n")
     batch = []
-    for label, a in (("closed forms only", []), ("`--psi-dist normal`", ["--psi-dist", "normal"])):
+    for label, a in (("`table --xi 0.01:100:0.0001`, closed forms only",
+                      ["table", "--xi", "0.01:100:0.0001"]),
+                     ("`table --xi 0.01:100:0.0001 --psi-dist normal`",
+                      ["table", "--xi", "0.01:100:0.0001", "--psi-dist", "normal"]),
+                     ("`stack --count 1:200000:1`, closed form", ["stack", "--count",
+                                                                  "1:200000:1"]),
+                     ("`stack --count 1:200000:1 --psi-dist normal`",
+                      ["stack", "--count", "1:200000:1", "--psi-dist", "normal"])):
         out = subprocess.run([sys.executable, "-c", probe, sys.executable, "-m", "coincli",
-                              "table", "--xi", "0.01:100:0.0001", *a, "-f", "csv"],
-                             capture_output=True, text=True).stdout.split()
+                              *a, "-f", "csv"], capture_output=True, text=True).stdout.split()
         batch.append([label, f"{float(out[0]):.1f} s", f"{float(out[1]):.1f} s",
                       f"{int(out[2]) / 1024:.0f} MiB", out[3]])
         print(f"  batch {label}: {batch[-1]}", file=sys.stderr)
@@ -132,10 +139,10 @@ def main(argv=None) -> int:
             f"`coin table --xi {XI} --psi-dist normal -f csv` with (subprocesses, "
             f"median of {args.repeat}; CPU of the child):", "",
             _report.table(["options", "wall", "CPU", "exit"], cli),
-            "A streamed batch: `coin table --xi 0.01:100:0.0001 -f csv` (999,901 xi), once; "
-            "the rows are computed and written a chunk of coins at a time, psi-averaged or "
-            "not, so the peak memory does not grow with them:", "",
-            _report.table(["models", "wall", "CPU", "peak memory", "exit"], batch)]
+            "Streamed batches, `-f csv`, once each (999,901 xi; 200,000 counts): the rows are "
+            "computed and written a chunk of coins at a time, psi-averaged or not, so the peak "
+            "memory does not grow with them:", "",
+            _report.table(["command", "wall", "CPU", "peak memory", "exit"], batch)]
     text = "\n".join(body)
     print(text)
     if not args.no_write:

@@ -104,7 +104,7 @@ def test_design_never_prints_an_overflowed_length_as_inf(coin):
 
 def test_stack_counts_under_a_density_stream(coin, monkeypatch):
     # many counts under a psi density: arrays a chunk at a time (was one scalar quadrature a
-    # row held in memory: 24 s of CPU and 167 MB for 200,000 counts, now 2.8 s and 50 MB)
+    # row held in memory: 24 s of CPU and 167 MB for 200,000 counts; bench_mc_limit)
     import coincli.cli._common as common
 
     argv = ("stack", "--count", "1,2,40,1000,100000", "--psi-dist", "normal:30:0.05", "-f",

@@ -46,7 +46,7 @@ METHODS = ("auto", "quad", "mc", "qmc")
 #: needs are known from the chances); a qmc run that has not met --tol by then stops, at a
 #: point that depends on the inputs and the seed alone, and says so
 RUN_BUDGET = 1 << 26
-RUN_SECONDS = "2.7 to 6.2 s"  #: RUN_BUDGET's CPU time here (benchmarks/bench_core.py, mc_limit)
+RUN_SECONDS = "2.6 to 6.8 s"  #: RUN_BUDGET's CPU time here (benchmarks/bench_mc_limit.py)
 
 
 class Accuracy(NamedTuple):
