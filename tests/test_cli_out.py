@@ -641,3 +641,15 @@ def test_a_range_is_generated_as_the_list_would_be(coin):
         rows = list(csv.DictReader(io.StringIO(_ok(coin("table", "--xi", text, "-f", "csv")))))
         assert [float(r["xi"]) for r in rows[::2]] == want, text
         assert [r["model"] for r in rows[:2]] == ["geometric", "dynamic"]
+
+
+@pytest.mark.skipif(not hasattr(os, "openpty"), reason="needs a pseudo-terminal")
+def test_a_folded_vs_psi_table_repeats_psi():
+    """Each block of `coin table --vs psi` folded at 40 columns names its rows by xi and psi
+    (the second block once repeated only xi, the same on every row)."""
+    code, screen, err = on_a_pty(["table", "--xi", "0.577", "--vs", "psi", "--psi", "0:180:30"], 40)
+    assert code == 0 and err == ""
+    blocks = [b for b in _ESC.sub("", screen).split("\n\n") if "P(" in b]
+    assert len(blocks) >= 2
+    for b in blocks:
+        assert "psi" in b.splitlines()[0] or "psi" in b.splitlines()[1], b
