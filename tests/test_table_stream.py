@@ -121,3 +121,18 @@ def test_stack_counts_under_a_density_stream(coin, monkeypatch):
             assert single[k] == r[k]
         for k in ("p_heads", "p_sides", "p_tails"):
             assert float(single[k]) == pytest.approx(float(r[k]), rel=4e-16, abs=0)
+
+
+def test_plot_psi_marks_what_table_prints_past_90_degrees(coin):
+    # plot psi took 180 deg as the double nearest pi: at xi = 1e16 it marked heads 0.2677,
+    # sides 0.7323 where table (and its own legend: heads only above 180 - t) says heads 1
+    code, out, err = coin("plot", "psi", "--xi", "1e16", "--psi", "179.5,180,100")
+    assert code == 0, err
+    text = out + err
+    rows = {r["model"]: r for r in _rows(coin, "--xi", "1e16", "--psi", "179.5,180,100")}
+    for deg in ("179.5", "180", "100"):
+        r = rows[f"psi={deg}"]
+        want = (f"your toss psi = {deg} deg: heads {float(r['p_heads']):.4g}, sides "
+                f"{float(r['p_sides']):.4g}, tails {float(r['p_tails']):.4g}")
+        assert want in text, (want, text)
+    assert "psi = 180 deg: heads 1, sides 0, tails 0" in text
