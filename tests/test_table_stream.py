@@ -136,3 +136,13 @@ def test_plot_psi_marks_what_table_prints_past_90_degrees(coin):
                 f"{float(r['p_sides']):.4g}, tails {float(r['p_tails']):.4g}")
         assert want in text, (want, text)
     assert "psi = 180 deg: heads 1, sides 0, tails 0" in text
+
+
+@pytest.mark.parametrize("deg", ["100.1", "120", "179.5", "180"])
+def test_a_too_narrow_normal_past_90_is_psi_at_its_mean(coin, deg):
+    # normal:MEAN:1e-30 inverts through Table I at its mean; past 90 deg at the same mirror
+    # angle as --psi MEAN (it was pi - mean in radians: 1e-15 relative apart)
+    for p in ("1e-300", "0.3", "0.9999999999999999"):
+        a = coin("design", "-p", p, "--psi", deg, "-q")
+        b = coin("design", "-p", p, "--psi-dist", f"normal:{deg}:1e-30", "-q")
+        assert a[0] == b[0] and a[1] == b[1], (deg, p, a, b)
