@@ -678,10 +678,20 @@ _AGE_MULTI = 3  #: rounds after which a toss lays several cells a round
 _MULTI = 8  #: cells a round then
 
 
-def _first_root(np, s: _Setup, n, thick):
+def _first_root(np, s: _Setup, n, thick, bands=None):
     """The first root of F for each of the ``n`` tosses of a batch (scalars or 1-D arrays in s).
 
     Returns ``(t_f, |sin x|, cos x')`` at the roots (``x = omega t_f / 2``, as :func:`_ff`).
+
+    With ``bands = (sin(theta0/2), cos(theta0/2))`` (the outcome boundaries of eq. 7 in
+    ``sin(alpha/2) = sin psi |sin x|``) only outcomes are wanted: a fourth array is returned,
+    the outcome code of each toss decided without refining its root (-1 elsewhere, where the
+    three arrays hold the root as above; elsewhere they are not set).  A cell ``[t1, t2]`` with
+    ``F > 0`` certified before ``t1`` and ``F(t2)`` below zero beyond rounding (or certified
+    decreasing through zero) holds the first root, as the refinement would find it; when
+    ``sin(alpha/2)`` over the whole cell lies inside one outcome's band (by its values at the
+    ends, and 0 or ``sin psi`` where the cell crosses a multiple of ``pi/2`` in ``x``), with a
+    margin of ``1e-9``, far beyond the rounding of ``alpha_f``, that is the outcome.
 
     Each toss carries a front ``t`` (``F > 0`` certified on ``[0, t]``, ``F(t)`` and ``F'(t+)``
     known), a cell width ``d`` and its window's end.  A round evaluates F once a toss, at the
@@ -717,7 +727,11 @@ def _first_root(np, s: _Setup, n, thick):
     f, fp, sh, ch = _ff(np, t, q, thick)
     hit = f <= 0  # at a window's start (everything before it is certified): contact there
     age = np.zeros(n, dtype=np.int32)
-    st = (t, f, fp, d, base, wend, win2, idx, age)
+    sh0 = sh  # |sin x| at the front
+    if bands is not None:
+        code = np.full(n, -1, dtype=np.int8)
+        spb = _flat(np, s.sp, n)
+    st = (t, f, fp, sh0, d, base, wend, win2, idx, age)
     if hit.any():
         out[hit], osh[hit], och[hit] = t[hit], sh[hit], ch[hit]
         keep = ~hit
@@ -726,7 +740,7 @@ def _first_root(np, s: _Setup, n, thick):
     cells = []  # certified cells: (idx, lo, hi, F(lo), F'(lo), F(hi), F'(hi))
     ends = []  # contacts at t_end (F(t_end) <= 0 by construction): indices
     for _round in range(_MAX_ROUNDS):
-        t, f, fp, d, base, wend, win2, idx, age = st
+        t, f, fp, sh0, d, base, wend, win2, idx, age = st
         if idx.size == 0:
             break
         # The cell each toss decides on this round: [t, t + d] for a toss in its first rounds;
@@ -735,10 +749,10 @@ def _first_root(np, s: _Setup, n, thick):
         # per batch: a toss takes the same steps alone or among millions.
         old = age >= _AGE_MULTI
         if old.any():
-            t1, t2, f1, fp1, f2, fp2, sh, ch, free = _multi_cells(np, t, f, fp, d, wend, old, q,
-                                                                   thick)
+            t1, t2, f1, fp1, f2, fp2, sh, ch, sh1, free = _multi_cells(np, t, f, fp, sh0, d,
+                                                                        wend, old, q, thick)
         else:
-            t1, f1, fp1 = t, f, fp
+            t1, f1, fp1, sh1 = t, f, fp, sh0
             t2 = np.minimum(t + d, wend)
             f2, fp2, sh, ch = _ff(np, t2, q, thick)
             free = None
@@ -752,14 +766,38 @@ def _first_root(np, s: _Setup, n, thick):
             curv = k2d * dd * 0.125
             tol = q.tol0 + q.tol1 * t2
             free = (mono & pos2) | ((m > 0) & ((m - curv > tol) | (curv <= tol)))
-        done = cert
+        decided = None
+        if bands is not None:
+            # Outcomes certain without refinement: the cell holds the first root, and
+            # sin(alpha/2) stays inside one band over it.
+            cand = ~pos2 & (cert | (f2 < -4.0 * (q.tol0 + q.tol1 * t2)))
+            if cand.any():
+                ci = np.flatnonzero(cand)
+                k = _band_code(np, t1[ci], t2[ci], sh1[ci], sh[ci],
+                               q.hom if isinstance(q.hom, float) else q.hom[ci],
+                               spb if isinstance(spb, float) else spb[idx[ci]], bands)
+                known = k >= 0
+                if known.any():
+                    dec = ci[known]
+                    code[idx[dec]] = k[known]
+                    cert = cert.copy()
+                    cert[dec] = False
+                    decided = np.zeros(cert.shape, dtype=bool)
+                    decided[dec] = True
+                    if (cert | decided).all():
+                        if cert.any():
+                            ci = np.flatnonzero(cert)
+                            cells.append((idx[ci], t1[ci], t2[ci], f1[ci], fp1[ci], f2[ci],
+                                          fp2[ci]))
+                        break
+        done = cert if decided is None else cert | decided
         if cert.all():
             cells.append((idx, t1, t2, f1, fp1, f2, fp2))
             break
         if cert.any():
             ci = np.flatnonzero(cert)
             cells.append((idx[ci], t1[ci], t2[ci], f1[ci], fp1[ci], f2[ci], fp2[ci]))
-        rest = ~(cert | free)
+        rest = ~(cert | free) if decided is None else ~(cert | free | decided)
         move = free
         if rest.any():
             tiny = rest & (dd <= 4 * _EPS * t2)
@@ -773,10 +811,12 @@ def _first_root(np, s: _Setup, n, thick):
             t = np.where(zoom, t1, t)
             f = np.where(zoom, f1, f)
             fp = np.where(zoom, fp1, fp)
+            sh0 = np.where(zoom, sh1, sh0)
             d = np.where(zoom, dd / _ZOOM, d)
         t = np.where(move, t2, t)
         f = np.where(move, f2, f)
         fp = np.where(move, fp2, fp)
+        sh0 = np.where(move, sh, sh0)
         d = np.where(move, np.minimum(dd * _ZOOM, base), d)
         age = age + 1
         ended = move & (t >= wend)
@@ -798,12 +838,12 @@ def _first_root(np, s: _Setup, n, thick):
                 d[nxt] = base[nxt]
                 age[nxt] = 0
                 fn, fpn, shn, chn = _ff(np, t[nxt], q.take(nxt, _Batch._F), thick)
-                f[nxt], fp[nxt] = fn, fpn
+                f[nxt], fp[nxt], sh0[nxt] = fn, fpn, shn
                 at = fn <= 0
                 ga = g[at]
                 out[ga], osh[ga], och[ga] = t0[at], shn[at], chn[at]
                 done[nxt[at]] = True
-        st = (t, f, fp, d, base, wend, win2, idx, age)
+        st = (t, f, fp, sh0, d, base, wend, win2, idx, age)
         if done.any():
             keep = np.flatnonzero(~done)  # gathers then cost what is kept
             st = tuple(v[keep] for v in st)
@@ -824,19 +864,49 @@ def _first_root(np, s: _Setup, n, thick):
         in_order = gi.size == n and bool((gi[1:] > gi[:-1]).all())  # all, as in q0
         qn = q0 if in_order else q0.take(gi, _Batch._F)
         out[gi], osh[gi], och[gi] = _newton(np, lo, hi, flo, fplo, fhi, fphi, qn, thick)
+    if bands is not None:
+        return out, osh, och, code
     return out, osh, och
 
 
-def _multi_cells(np, t, f, fp, d, wend, old, q, thick):
+def _band_code(np, t1, t2, sh1, sh2, hom, sp, bands):
+    """The outcome code where ``sin(alpha/2)`` over ``[t1, t2]`` (``x = hom t`` spanning at most
+    one multiple of ``pi/2``; ``|sin x|`` at the ends ``sh1``, ``sh2``) lies inside one band of
+    ``bands = (sin(theta0/2), cos(theta0/2))`` by more than ``1e-9``, else -1.
+
+    ``sin(alpha/2) = sin psi |sin x|`` is monotone between multiples of ``pi/2``; across an
+    even one it reaches 0, across an odd one ``sin psi``.  The ends' ``x`` are those :func:`_ff`
+    evaluated, so the quadrants agree with ``sh1``, ``sh2`` (a quadrant misread by rounding
+    leaves the value within an ulp of the extreme, inside the margin).  Phases beyond ``1e5``
+    are left to the refinement (their rounding nears the margin)."""
+    x1 = hom * t1
+    x2 = hom * t2
+    j1 = np.floor(x1 * (2.0 / math.pi))
+    j2 = np.floor(x2 * (2.0 / math.pi))
+    lo = np.minimum(sh1, sh2)
+    hi = np.maximum(sh1, sh2)
+    cross = j2 > j1
+    even = 0.5 * j2 == np.floor(0.5 * j2)
+    lo = np.where(cross & even, 0.0, lo) * sp
+    hi = np.where(cross & ~even, 1.0, hi) * sp
+    sb, cb = bands
+    m = 1e-9
+    code = np.where(hi < sb - m, HEADS, np.where(lo > cb + m, TAILS, np.where(
+        (lo > sb + m) & (hi < cb - m), SIDES, -1))).astype(np.int8)
+    code[(j2 - j1 > 1) | (x2 >= 1e5)] = -1
+    return code
+
+
+def _multi_cells(np, t, f, fp, sh0, d, wend, old, q, thick):
     """The cell each toss decides on this round (see :func:`_first_root`): for the tosses
     ``old``, up to :data:`_MULTI` cells of width ``d`` laid from ``t`` (one evaluation each, all
     at once) and the first that is not certainly free, or the last; for the others ``[t, t +
-    d]``.  Returns the cell's ends with F, F' there, sin/cos at its end, and whether it is
-    free."""
+    d]``.  ``sh0`` is ``|sin x|`` at ``t``.  Returns the cell's ends with F, F' there, sin/cos
+    at its end, ``|sin x|`` at its start, and whether it is free."""
     n = t.size
     young = np.flatnonzero(~old)
     olds = np.flatnonzero(old)
-    t1, f1, fp1 = t.copy(), f.copy(), fp.copy()
+    t1, f1, fp1, sh1 = t.copy(), f.copy(), fp.copy(), sh0.copy()
     t2 = np.empty(n)
     f2, fp2, sh, ch = (np.empty(n) for _ in range(4))
     free = np.empty(n, dtype=bool)
@@ -863,6 +933,7 @@ def _multi_cells(np, t, f, fp, d, wend, old, q, thick):
     ta = np.concatenate([to[:, None], tt[:, :-1]], axis=1)  # the cells' starts
     fa = np.concatenate([f[olds][:, None], ff[:, :-1]], axis=1)
     fpa = np.concatenate([fp[olds][:, None], ffp[:, :-1]], axis=1)
+    sha = np.concatenate([sh0[olds][:, None], fsh[:, :-1]], axis=1)
     dd = tt - ta
 
     def col(v):
@@ -877,11 +948,11 @@ def _multi_cells(np, t, f, fp, d, wend, old, q, thick):
     allfree = fr.all(axis=1)
     jc = np.where(allfree, _MULTI - 1, np.argmax(~fr, axis=1))  # the cell decided on
     r = np.arange(k)
-    t1[olds], f1[olds], fp1[olds] = ta[r, jc], fa[r, jc], fpa[r, jc]
+    t1[olds], f1[olds], fp1[olds], sh1[olds] = ta[r, jc], fa[r, jc], fpa[r, jc], sha[r, jc]
     t2[olds], f2[olds], fp2[olds] = tt[r, jc], ff[r, jc], ffp[r, jc]
     sh[olds], ch[olds] = fsh[r, jc], fch[r, jc]
     free[olds] = fr[r, jc]
-    return t1, t2, f1, fp1, f2, fp2, sh, ch, free
+    return t1, t2, f1, fp1, f2, fp2, sh, ch, sh1, free
 
 
 def _newton(np, lo, hi, flo, fplo, fhi, fphi, q, thick):
@@ -1031,6 +1102,16 @@ def toss_many(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, con
     function on one toss).  Work is done in batches of 8192 tosses; arguments that are one
     number stay one number (no array of copies).
     """
+    return _toss_many(xi, psi, u, omega, diameter, g, contact, z0, False)
+
+
+def _outcomes(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, contact="rim"):
+    """The outcome codes of :func:`toss_many` (an int8 array), for one number ``xi``: the same
+    codes, without refining the roots whose outcome their certified cell already decides."""
+    return _toss_many(xi, psi, u, omega, diameter, g, contact, None, True)
+
+
+def _toss_many(xi, psi, u, omega, diameter, g, contact, z0, outcomes_only):
     import numpy as np
 
     xi, psi, u, omega, diameter, g, thick = _check_all(xi, psi, u, omega, diameter, g, contact)
@@ -1065,11 +1146,22 @@ def toss_many(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, con
 
             raise ValueError(_problem_message(int(problem[k]), at(om_c), at(u_c), at(g_c),
                                               at(s.z0), at(om_c) * at(s.t_end)))
+        if outcomes_only:
+            t0 = math.atan2(1.0, float(xi_c))
+            _, sh, ch, k = _first_root(np, s, m, thick, (math.sin(0.5 * t0), math.cos(0.5 * t0)))
+            und = np.flatnonzero(k < 0)
+            if und.size:
+                sp, cp = (v if isinstance(v, float) else v[und] for v in (s.sp, s.cp))
+                k[und] = classify(_alpha(np, sp, cp, sh[und], ch[und]), xi_c)
+            code[sl] = k
+            continue
         t, sh, ch = _first_root(np, s, m, thick)
         t_f[sl] = t
         a = _alpha(np, s.sp, s.cp, sh, ch)
         alpha_f[sl] = a
         code[sl] = classify(a, xi_c)
+    if outcomes_only:
+        return code.reshape(shape)
     return Tosses(t_f.reshape(shape), alpha_f.reshape(shape), code.reshape(shape))
 
 
@@ -1532,9 +1624,8 @@ def simulate_chunks(n, seed, *, xi, u, omega, psi, diameter=DEFAULT_DIAMETER, g=
         # run with the same seed.
         c = {k: (v if isinstance(v, float) else v[:m])
              for k, v in sample_conditions(_CHUNK, rng, **dists).items()}
-        res = toss_many(xi, c["psi"], c["u"], c["omega"], diameter=diameter, g=g,
-                        contact=contact)
-        code = np.broadcast_to(res.code, (m,))
+        code = np.broadcast_to(_outcomes(xi, c["psi"], c["u"], c["omega"], diameter=diameter,
+                                         g=g, contact=contact), (m,))
         yield code
         done += m
 
