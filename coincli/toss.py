@@ -498,9 +498,13 @@ _KC = (-1.13596475577881948265e-11, 2.08757232129817482790e-09, -2.7557314351390
 def _half_sincos(np, x):
     """``(|sin x|, cos x * sign(sin x))`` for an array ``x >= 0``: the sine and cosine of ``x``
     modulo pi, in ``[0, pi)`` (``(0, 1)`` at ``x = 0``), each within an ulp or two."""
-    j = np.rint(x * (2.0 / math.pi))
-    r = x - j * _P1
-    r -= j * _P1T  # x - j pi/2, |r| <= pi/4 (+ rounding)
+    # (In place where the operations are the same: fewer arrays through the cache.)
+    j = np.multiply(x, 2.0 / math.pi)
+    np.rint(j, out=j)
+    w = np.multiply(j, _P1)  # scratch
+    r = np.subtract(x, w)
+    np.multiply(j, _P1T, out=w)
+    r -= w  # x - j pi/2, |r| <= pi/4 (+ rounding)
     z = r * r
     s = z * _KS[0]
     for k in _KS[1:]:
@@ -513,14 +517,19 @@ def _half_sincos(np, x):
         c += k
         c *= z
     c *= z
-    c -= 0.5 * z
+    np.multiply(z, 0.5, out=w)
+    c -= w
     c += 1.0  # cos r
     # j even, x = k pi + r: |sin x| = |sin r|, cos x sign(sin x) = cos r sign(r);
     # j odd, x = k pi + pi/2 + r: |sin x| = cos r, cos x sign(sin x) = -sin r.
-    half = 0.5 * j
-    odd = half != np.floor(half)
-    sh = np.where(odd, c, np.abs(s))
-    ch = np.where(odd, -s, np.copysign(c, s))
+    np.multiply(j, 0.5, out=w)
+    np.floor(w, out=z)
+    odd = w != z
+    sh = np.abs(s)
+    np.copyto(sh, c, where=odd)
+    ch = np.copysign(c, s, out=c)
+    np.negative(s, out=s)
+    np.copyto(ch, s, where=odd)
     if x.size and not float(x.max()) < _X_POLY:  # element by element: no dependence on the batch
         big = np.flatnonzero(x >= _X_POLY)
         sb, cb = np.sin(x[big]), np.cos(x[big])
@@ -541,17 +550,32 @@ def _ff(np, t, q: _Batch, thick):
     above the right derivative: the monotonicity certificate stays sound.
     """
     sh, ch = _half_sincos(np, q.hom * t)
+    # The same operations in the same order as the formulas say, in place where one of the
+    # operands is a temporary (a + b = b + a, a b = b a exactly).
     sh2 = sh * sh
     ch2 = ch * ch
-    ca = np.sqrt(ch2 + q.cp2 * sh2)  # cos(alpha/2)
-    cos_a = ch2 + q.c2psi * sh2
-    low = q.c2a * sh * ca  # a sin alpha
-    dlow = q.c1 * cos_a * ch / (ca + 1e-300)  # omega dL/dtheta (rim)
+    ca = np.multiply(q.cp2, sh2)
+    ca += ch2
+    np.sqrt(ca, out=ca)  # cos(alpha/2) = sqrt(ch2 + cp2 sh2)
+    cos_a = np.multiply(q.c2psi, sh2, out=sh2)
+    cos_a += ch2  # ch2 + c2psi sh2
+    low = np.multiply(q.c2a, sh)
+    low *= ca  # a sin alpha = (c2a sh) ca
+    dlow = np.multiply(q.c1, cos_a, out=ch2)
+    dlow *= ch
+    ca += 1e-300
+    dlow /= ca  # omega dL/dtheta (rim) = c1 cos_a ch / (ca + 1e-300)
     if thick:
         low += q.hh * np.abs(cos_a)
         dlow -= q.c3 * np.sign(cos_a) * sh * ch
-    f = q.z0 + t * (q.u - q.hg * t) - low
-    fp = q.u - q.g * t - dlow
+    f = np.multiply(q.hg, t)
+    np.subtract(q.u, f, out=f)
+    f *= t
+    f += q.z0
+    f -= low  # z0 + t (u - hg t) - low
+    fp = np.multiply(q.g, t)
+    np.subtract(q.u, fp, out=fp)
+    fp -= dlow  # u - g t - dlow
     return f, fp, sh, ch
 
 
@@ -879,22 +903,30 @@ def _band_code(np, t1, t2, sh1, sh2, hom, sp, bands):
     evaluated, so the quadrants agree with ``sh1``, ``sh2`` (a quadrant misread by rounding
     leaves the value within an ulp of the extreme, inside the margin).  Phases beyond ``1e5``
     are left to the refinement (their rounding nears the margin)."""
-    x1 = hom * t1
-    x2 = hom * t2
-    j1 = np.floor(x1 * (2.0 / math.pi))
-    j2 = np.floor(x2 * (2.0 / math.pi))
+    c = 2.0 / math.pi
+    j1 = np.floor(hom * t1 * c)
+    j2 = np.floor(hom * t2 * c)
     lo = np.minimum(sh1, sh2)
     hi = np.maximum(sh1, sh2)
-    cross = j2 > j1
-    even = 0.5 * j2 == np.floor(0.5 * j2)
-    lo = np.where(cross & even, 0.0, lo) * sp
-    hi = np.where(cross & ~even, 1.0, hi) * sp
+    cross = np.flatnonzero(j2 != j1)
+    if cross.size:  # (about one cell in eight)
+        jc = j2[cross]
+        even = 0.5 * jc == np.floor(0.5 * jc)
+        lo[cross[even]] = 0.0
+        hi[cross[~even]] = 1.0
+    lo *= sp
+    hi *= sp
     sb, cb = bands
     m = 1e-9
-    code = np.where(hi < sb - m, HEADS, np.where(lo > cb + m, TAILS, np.where(
-        (lo > sb + m) & (hi < cb - m), SIDES, -1))).astype(np.int8)
-    code[(j2 - j1 > 1) | (x2 >= 1e5)] = -1
-    return code
+    # The band index of each end: 0 heads, 1 sides, 2 tails; the cell is decided where they agree.
+    k = (lo > sb + m).view(np.int8) + (lo > cb + m).view(np.int8)
+    kh = (hi >= sb - m).view(np.int8) + (hi >= cb - m).view(np.int8)
+    k[k != kh] = -1
+    if cross.size:
+        k[cross[j2[cross] - j1[cross] > 1]] = -1  # (cannot happen: cells are pi/16 of x)
+    if not float(hom * t2.max() if isinstance(hom, float) else (hom * t2).max()) < 1e5:
+        k[hom * t2 >= 1e5] = -1
+    return k
 
 
 def _multi_cells(np, t, f, fp, sh0, d, wend, old, q, thick):
