@@ -1167,26 +1167,11 @@ def _toss_many(xi, psi, u, omega, diameter, g, contact, z0, outcomes_only):
         m = sl.stop - sl.start
         xi_c, psi_c, u_c, om_c, dia_c, g_c, z0_c = (v if v is None or isinstance(v, float)
                                                     else v[sl] for v in flat)
-        with np.errstate(over="ignore", invalid="ignore"):  # refused below, not warned about
-            s = _setup(np, xi_c, psi_c, u_c, om_c, dia_c, g_c, thick, z0_c)
-            problem = np.broadcast_to(_problem(np, s), (m,))
-        if problem.any():
-            k = int(np.argmax(problem != 0))
-
-            def at(v, k=k):
-                return float(np.broadcast_to(v, (m,))[k])
-
-            raise ValueError(_problem_message(int(problem[k]), at(om_c), at(u_c), at(g_c),
-                                              at(s.z0), at(om_c) * at(s.t_end)))
         if outcomes_only:
-            t0 = math.atan2(1.0, float(xi_c))
-            _, sh, ch, k = _first_root(np, s, m, thick, (math.sin(0.5 * t0), math.cos(0.5 * t0)))
-            und = np.flatnonzero(k < 0)
-            if und.size:
-                sp, cp = (v if isinstance(v, float) else v[und] for v in (s.sp, s.cp))
-                k[und] = classify(_alpha(np, sp, cp, sh[und], ch[und]), xi_c)
-            code[sl] = k
+            code[sl] = _batch_outcomes(np, float(xi_c), psi_c, u_c, om_c, float(dia_c),
+                                       float(g_c), thick, m)
             continue
+        s = _checked_setup(np, xi_c, psi_c, u_c, om_c, dia_c, g_c, thick, z0_c, m)
         t, sh, ch = _first_root(np, s, m, thick)
         t_f[sl] = t
         a = _alpha(np, s.sp, s.cp, sh, ch)
@@ -1195,6 +1180,139 @@ def _toss_many(xi, psi, u, omega, diameter, g, contact, z0, outcomes_only):
     if outcomes_only:
         return code.reshape(shape)
     return Tosses(t_f.reshape(shape), alpha_f.reshape(shape), code.reshape(shape))
+
+
+def _checked_setup(np, xi, psi, u, om, dia, g, thick, z0, m):
+    """:func:`_setup` of a batch of ``m`` tosses, refusing the first one the scan cannot follow."""
+    with np.errstate(over="ignore", invalid="ignore"):  # refused below, not warned about
+        s = _setup(np, xi, psi, u, om, dia, g, thick, z0)
+        problem = np.broadcast_to(_problem(np, s), (m,))
+    if problem.any():
+        k = int(np.argmax(problem != 0))
+
+        def at(v, k=k):
+            return float(np.broadcast_to(v, (m,))[k])
+
+        raise ValueError(_problem_message(int(problem[k]), at(om), at(u), at(g), at(s.z0),
+                                          at(om) * at(s.t_end)))
+    return s
+
+
+def _batch_outcomes(np, xi, psi, u, om, dia, g, thick, m):
+    """The outcome codes of a batch of ``m`` tosses (``xi``, ``dia``, ``g`` numbers): those
+    :func:`_window_outcomes` decides, then the others by the scan, without refining the roots
+    whose certified cell decides them (:func:`_first_root` with bands)."""
+    t0 = math.atan2(1.0, xi)
+    bands = (math.sin(0.5 * t0), math.cos(0.5 * t0))
+    k = _window_outcomes(np, psi, u, om, xi, dia, g, thick, bands, m)
+    rest = np.flatnonzero(k < 0)
+    if rest.size == 0:
+        return k
+    if rest.size < m:
+        psi, u, om = (v if isinstance(v, float) else v[rest] for v in (psi, u, om))
+    s = _checked_setup(np, xi, psi, u, om, dia, g, thick, None, rest.size)
+    _, sh, ch, kr = _first_root(np, s, rest.size, thick, bands)
+    und = np.flatnonzero(kr < 0)
+    if und.size:
+        sp, cp = (v if isinstance(v, float) else v[und] for v in (s.sp, s.cp))
+        kr[und] = classify(_alpha(np, sp, cp, sh[und], ch[und]), xi)
+    k[rest] = kr
+    return k
+
+
+# sin r for |r| <= pi/2 + 1e-11, to within 1e-11: Taylor to r^17 (the next term is below 6e-13).
+_SIN_TAYLOR = tuple((-1.0) ** i / math.factorial(2 * i + 1) for i in range(9))[::-1]
+
+
+def _abs_sin_rough(np, x):
+    """``|sin x|`` for ``0 <= x < 1e5`` within ``2e-11`` (reduction by a double pi, error
+    below ``x * 1.3e-16``; Taylor on ``[-pi/2, pi/2]``): for bounds, not for results."""
+    r = np.rint(x * (1.0 / math.pi))
+    r *= -math.pi
+    r += x
+    z = r * r
+    p = z * _SIN_TAYLOR[0]
+    for c in _SIN_TAYLOR[1:-1]:
+        p += c
+        p *= z
+    p += 1.0
+    p *= r
+    return np.abs(p, out=p)
+
+
+def _window_outcomes(np, psi, u, om, xi, dia, g, thick, bands, m):
+    """Outcome codes (``-1`` where undecided) of the tosses whose first contact, wherever it
+    falls in the window where it can happen, has one outcome: no root finding at all.
+
+    Contact happens while the centre is below ``Lmax``: in ``[w2s, t_end]``, the descent from
+    ``z = Lmax`` to ``z = 0`` (:func:`_setup`), once the launch window ``[0, w1]`` is clear
+    (there ``z >= z0`` and ``L <= a min(omega t sin psi, 1) + h/2``).  Where ``Lmax`` is the
+    plain ``a`` (rim; ``hypot(a, h/2)`` thick), i.e. ``psi`` lets the coin tilt far enough,
+    the window needs no trigonometry.  Over it ``x = omega t / 2`` spans ``[x1, x2]``, and
+    ``sin(alpha/2) = sin psi |sin x|`` lies between its values at the ends, or reaches 0 or
+    ``sin psi`` where a multiple of ``pi/2`` is crossed.  When that range lies inside one band
+    of eq. (7) by more than ``1e-9``, the scan's ``alpha_f`` (at a root within the window, to a
+    few ulps) has that outcome.  Every bound is widened beyond the rounding of the scan's own
+    ``w2s``, ``t_end``, ``w1`` (relative ``1e-12``) and of these rough sines (``2e-11``), and
+    the launch window must clear by ``1e-6 z0``, far beyond any rounding of ``F``.
+    """
+    psi, u, om = (np.broadcast_to(np.asarray(v, dtype=float), (m,)) for v in (psi, u, om))
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # (those not ok)
+        return _window_codes(np, psi, u, om, xi, dia, g, thick, bands, m)
+
+
+def _window_codes(np, psi, u, om, xi, dia, g, thick, bands, m):
+    a = 0.5 * dia
+    hh = 0.5 * xi * dia if thick else 0.0
+    z0 = _SQRT3_2 * a + hh
+    if thick:
+        lmax = math.hypot(a, hh) * (1.0 + 8 * _EPS)
+        half_width = 0.5 * math.pi - 0.5 * math.atan2(a, hh)  # |psi - pi/2| for amax >= atan2
+    else:
+        lmax = a * (1.0 + 8 * _EPS)
+        half_width = 0.25 * math.pi
+    d = lmax - z0
+    u2 = u * u
+    disc = u2 - 2.0 * g * d
+    disc -= 1e-12 * (u2 + 2.0 * g * abs(d))  # below the scan's, whatever its rounding
+    ok = disc > 0  # (else the coin never rises above Lmax: the window is the whole flight)
+    root = np.sqrt(np.maximum(disc, 0.0))
+    root += u
+    w2s = root * ((1.0 - 1e-12) / g)
+    t_end = np.sqrt(u2 + 2.0 * g * z0)
+    t_end += u
+    t_end *= (1.0 + 1e-12) / g
+    hom = 0.5 * om
+    x1 = w2s * hom
+    x2 = t_end * hom
+    sp = _abs_sin_rough(np, np.broadcast_to(psi, (m,)))
+    ok &= np.abs(psi - 0.5 * math.pi) <= half_width - 1e-9
+    ok &= (om > 0) & (x2 < 1e5)
+    if d > 0:  # a launch window [0, w1], w1 = 2 d / (u + root): must be clear
+        w1 = (2.0 * d * (1.0 + 1e-12)) / root
+        ok &= a * np.minimum(om * w1 * (sp + 1e-11), 1.0) + hh < z0 * (1.0 - 1e-6)
+    s1 = _abs_sin_rough(np, x1)
+    s2 = _abs_sin_rough(np, x2)
+    c = 2.0 / math.pi
+    q1 = np.floor(x1 * c)
+    q2 = np.floor(x2 * c)
+    lo = np.minimum(s1, s2)
+    hi = np.maximum(s1, s2)
+    span = q2 - q1
+    cross = np.flatnonzero(span > 0)
+    if cross.size:
+        sc, qc = span[cross], q2[cross]
+        even_end = 0.5 * qc == np.floor(0.5 * qc)  # the multiple q2 pi/2 is one of pi
+        lo[cross[even_end | (sc > 1)]] = 0.0
+        hi[cross[~even_end | (sc > 1)]] = 1.0
+    lo *= sp
+    hi *= sp
+    sb, cb = bands
+    mg = 1e-9 + 1e-11
+    k = (lo > sb + mg).view(np.int8) + (lo > cb + mg).view(np.int8)
+    kh = (hi >= sb - mg).view(np.int8) + (hi >= cb - mg).view(np.int8)
+    k[(k != kh) | ~ok] = -1
+    return k
 
 
 
