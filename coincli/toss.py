@@ -755,6 +755,8 @@ def _first_root(np, s: _Setup, n, thick, bands=None):
     if bands is not None:
         code = np.full(n, -1, dtype=np.int8)
         spb = _flat(np, s.sp, n)
+        # |sin x| at t_end, the latest contact (a bound: the quadrant is read off the same x).
+        she = _abs_sin_rough(np, np.broadcast_to(q0.hom * t_end, (n,)))
     st = (t, f, fp, sh0, d, base, wend, win2, idx, age)
     if hit.any():
         out[hit], osh[hit], och[hit] = t[hit], sh[hit], ch[hit]
@@ -767,6 +769,23 @@ def _first_root(np, s: _Setup, n, thick, bands=None):
         t, f, fp, sh0, d, base, wend, win2, idx, age = st
         if idx.size == 0:
             break
+        if bands is not None and win2.any():
+            # The contact lies in [t, t_end] (F > 0 is certified before the front): decided
+            # when sin(alpha/2) stays in one band over all of it.
+            full = idx.size == n
+            k = _band_code(np, t, t_end if isinstance(t_end, float) or full else t_end[idx], sh0,
+                           she if full else she[idx], q.hom,
+                           spb if isinstance(spb, float) or full else spb[idx], bands)
+            k[~win2] = -1
+            known = k >= 0
+            if known.any():
+                code[idx[known]] = k[known]
+                keep = np.flatnonzero(~known)
+                st = tuple(v[keep] for v in st)
+                q = q.take(keep)
+                t, f, fp, sh0, d, base, wend, win2, idx, age = st
+                if idx.size == 0:
+                    break
         # The cell each toss decides on this round: [t, t + d] for a toss in its first rounds;
         # for an older one (a dip or a long window: it needs many cells) the first of _MULTI
         # cells laid from t that is not certainly free, or the last of them.  Per toss, not
@@ -1159,6 +1178,8 @@ def _toss_many(xi, psi, u, omega, diameter, g, contact, z0, outcomes_only):
     flat = [None if v is None else (float(np.ravel(v)[0]) if np.size(v) == 1 else
                                     np.broadcast_to(np.asarray(v, dtype=float), shape).ravel())
             for v in args]
+    if outcomes_only:
+        return _outcomes_flat(np, flat, n, thick).reshape(shape)
     t_f = np.empty(n)
     alpha_f = np.empty(n)
     code = np.empty(n, dtype=np.int8)
@@ -1167,18 +1188,12 @@ def _toss_many(xi, psi, u, omega, diameter, g, contact, z0, outcomes_only):
         m = sl.stop - sl.start
         xi_c, psi_c, u_c, om_c, dia_c, g_c, z0_c = (v if v is None or isinstance(v, float)
                                                     else v[sl] for v in flat)
-        if outcomes_only:
-            code[sl] = _batch_outcomes(np, float(xi_c), psi_c, u_c, om_c, float(dia_c),
-                                       float(g_c), thick, m)
-            continue
         s = _checked_setup(np, xi_c, psi_c, u_c, om_c, dia_c, g_c, thick, z0_c, m)
         t, sh, ch = _first_root(np, s, m, thick)
         t_f[sl] = t
         a = _alpha(np, s.sp, s.cp, sh, ch)
         alpha_f[sl] = a
         code[sl] = classify(a, xi_c)
-    if outcomes_only:
-        return code.reshape(shape)
     return Tosses(t_f.reshape(shape), alpha_f.reshape(shape), code.reshape(shape))
 
 
@@ -1198,26 +1213,39 @@ def _checked_setup(np, xi, psi, u, om, dia, g, thick, z0, m):
     return s
 
 
-def _batch_outcomes(np, xi, psi, u, om, dia, g, thick, m):
-    """The outcome codes of a batch of ``m`` tosses (``xi``, ``dia``, ``g`` numbers): those
-    :func:`_window_outcomes` decides, then the others by the scan, without refining the roots
-    whose certified cell decides them (:func:`_first_root` with bands)."""
+def _outcomes_flat(np, flat, n, thick):
+    """The outcome codes of ``n`` tosses (``flat``: xi, psi, u, omega, diameter, g, z0 as
+    :func:`_toss_many` flattens them; xi, diameter and g numbers, z0 None).
+
+    First :func:`_window_outcomes` for all, batch by batch; then the undecided ones, gathered
+    into full batches (a batch pays numpy's overhead a call, whatever its size), by the scan,
+    without refining the roots whose certified cell decides them (:func:`_first_root` with
+    bands).  The first toss the scan cannot follow is refused, as :func:`toss_many` does."""
+    xi, psi, u, om, dia, g, _ = flat
+    xi, dia, g = float(xi), float(dia), float(g)
     t0 = math.atan2(1.0, xi)
     bands = (math.sin(0.5 * t0), math.cos(0.5 * t0))
-    k = _window_outcomes(np, psi, u, om, xi, dia, g, thick, bands, m)
-    rest = np.flatnonzero(k < 0)
-    if rest.size == 0:
-        return k
-    if rest.size < m:
-        psi, u, om = (v if isinstance(v, float) else v[rest] for v in (psi, u, om))
-    s = _checked_setup(np, xi, psi, u, om, dia, g, thick, None, rest.size)
-    _, sh, ch, kr = _first_root(np, s, rest.size, thick, bands)
-    und = np.flatnonzero(kr < 0)
-    if und.size:
-        sp, cp = (v if isinstance(v, float) else v[und] for v in (s.sp, s.cp))
-        kr[und] = classify(_alpha(np, sp, cp, sh[und], ch[und]), xi)
-    k[rest] = kr
-    return k
+    code = np.empty(n, dtype=np.int8)
+    rest = []
+    for lo in range(0, n, _BATCH):
+        sl = slice(lo, min(n, lo + _BATCH))
+        k = _window_outcomes(np, *(v if isinstance(v, float) else v[sl] for v in (psi, u, om)),
+                             xi, dia, g, thick, bands, sl.stop - sl.start)
+        code[sl] = k
+        rest.append(np.flatnonzero(k < 0) + lo)
+    rest = np.concatenate(rest)
+    for lo in range(0, rest.size, _BATCH):
+        r = rest[lo:lo + _BATCH]
+        m = r.size
+        psi_r, u_r, om_r = (v if isinstance(v, float) else v[r] for v in (psi, u, om))
+        s = _checked_setup(np, xi, psi_r, u_r, om_r, dia, g, thick, None, m)
+        _, sh, ch, k = _first_root(np, s, m, thick, bands)
+        und = np.flatnonzero(k < 0)
+        if und.size:
+            sp, cp = (v if isinstance(v, float) else v[und] for v in (s.sp, s.cp))
+            k[und] = classify(_alpha(np, sp, cp, sh[und], ch[und]), xi)
+        code[r] = k
+    return code
 
 
 # sin r for |r| <= pi/2 + 1e-11, to within 1e-11: Taylor to r^17 (the next term is below 6e-13).
