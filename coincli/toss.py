@@ -769,7 +769,7 @@ def _first_root(np, s: _Setup, n, thick, bands=None):
         t, f, fp, sh0, d, base, wend, win2, idx, age = st
         if idx.size == 0:
             break
-        if bands is not None and win2.any():
+        if bands is not None and _round and win2.any():
             # The contact lies in [t, t_end] (F > 0 is certified before the front): decided
             # when sin(alpha/2) stays in one band over all of it.
             full = idx.size == n
@@ -904,12 +904,47 @@ def _first_root(np, s: _Setup, n, thick, bands=None):
         else:
             gi, lo, hi, flo, fplo, fhi, fphi = (np.concatenate([c[i] for c in cells])
                                                 for i in range(7))
+        if bands is not None:
+            # Outcomes only: the single root of each certified cell is bracketed around the
+            # Hermite estimate by two evaluations, and decided where that narrow bracket lies in
+            # one band; the rest are refined.
+            k, ok = _bracket_code(np, gi, lo, hi, flo, fplo, fhi, fphi, q0, spb, bands, thick)
+            code[gi[ok]] = k[ok]
+            rest = np.flatnonzero(~ok)
+            gi, lo, hi, flo, fplo, fhi, fphi = (v[rest] for v in (gi, lo, hi, flo, fplo, fhi,
+                                                                  fphi))
+    if cells and gi.size:
         in_order = gi.size == n and bool((gi[1:] > gi[:-1]).all())  # all, as in q0
         qn = q0 if in_order else q0.take(gi, _Batch._F)
         out[gi], osh[gi], och[gi] = _newton(np, lo, hi, flo, fplo, fhi, fphi, qn, thick)
     if bands is not None:
         return out, osh, och, code
     return out, osh, och
+
+
+def _bracket_code(np, gi, lo, hi, flo, fplo, fhi, fphi, q0, sp, bands, thick):
+    """For certified cells ``[lo, hi]`` (one root, F decreasing) of the tosses ``gi``: the
+    outcome codes decided by a narrow bracket ``[a, b]`` around the Hermite estimate of the
+    root (a hundredth of the cell each side), and where they are decided.
+
+    The root is in ``[a, b]`` where ``F(a) > 16 tol`` (or ``a = lo``) and ``F(b) < -16 tol``
+    (or ``b = hi``): far beyond F's rounding, so the refinement's root, whose F is within its
+    rounding of zero, is there too; then :func:`_band_code` on ``[a, b]``."""
+    x0 = _hermite_start(np, lo, hi, flo, fplo, fhi, fphi)
+    dl = 0.01 * (hi - lo)
+    a = np.maximum(x0 - dl, lo)
+    b = np.minimum(x0 + dl, hi)
+    k = gi.size
+    g2 = np.concatenate([gi, gi])
+    q2 = q0.take(g2, _Batch._F + ("tol0", "tol1"))
+    t2 = np.concatenate([a, b])
+    f, _, sh, _ = _ff(np, t2, q2, thick)
+    tol = q2.tol0 + q2.tol1 * t2
+    inside = ((a == lo) | (f[:k] > 16.0 * tol[:k])) & ((b == hi) | (f[k:] < -16.0 * tol[k:]))
+    hom = q2.hom if isinstance(q2.hom, float) else q2.hom[:k]
+    code = _band_code(np, a, b, sh[:k], sh[k:], hom, sp if isinstance(sp, float) else sp[gi],
+                      bands)
+    return code, inside & (code >= 0)
 
 
 def _band_code(np, t1, t2, sh1, sh2, hom, sp, bands):
@@ -1006,18 +1041,10 @@ def _multi_cells(np, t, f, fp, sh0, d, wend, old, q, thick):
     return t1, t2, f1, fp1, f2, fp2, sh, ch, sh1, free
 
 
-def _newton(np, lo, hi, flo, fplo, fhi, fphi, q, thick):
-    """The single root of a decreasing F in each ``[lo, hi]`` (``F(lo) > 0 >= F(hi)``), with
-    ``|sin x|`` and ``cos x'`` there (as :func:`_ff`).
-
-    The start is the root of the cubic Hermite interpolant of F and F' at the ends (from the
-    root of the quadratic through ``F(lo), F'(lo), F(hi)``, a Newton step on the cubic; no
-    evaluation of F).  Then Newton's method on F, bisecting whenever a step would leave the
-    bracket, until F is zero, a step is below the last two bits of ``t`` or the bracket is four
-    ulps wide.  (The first step is taken without a test: it hardly ever converges.)  The sine
-    and cosine of the last evaluation are carried to the root by a rotation through the last
-    (sub-ulp) step.
-    """
+def _hermite_start(np, lo, hi, flo, fplo, fhi, fphi):
+    """The root of the cubic Hermite interpolant of F, F' at the ends of ``[lo, hi]`` (from the
+    root of the quadratic through ``F(lo), F'(lo), F(hi)``, a Newton step on the cubic), in the
+    bracket: :func:`_newton`'s start."""
     h = hi - lo
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         m1 = fplo * h  # slopes and coefficients in s = (t - lo) / h
@@ -1034,6 +1061,22 @@ def _newton(np, lo, hi, flo, fplo, fhi, fphi, q, thick):
         x = lo + sv * h
     x = np.where(np.isfinite(x), np.clip(x, lo, hi), hi)
     x[fhi == 0] = hi[fhi == 0]
+    return x
+
+
+def _newton(np, lo, hi, flo, fplo, fhi, fphi, q, thick):
+    """The single root of a decreasing F in each ``[lo, hi]`` (``F(lo) > 0 >= F(hi)``), with
+    ``|sin x|`` and ``cos x'`` there (as :func:`_ff`).
+
+    The start is the root of the cubic Hermite interpolant of F and F' at the ends (from the
+    root of the quadratic through ``F(lo), F'(lo), F(hi)``, a Newton step on the cubic; no
+    evaluation of F).  Then Newton's method on F, bisecting whenever a step would leave the
+    bracket, until F is zero, a step is below the last two bits of ``t`` or the bracket is four
+    ulps wide.  (The first step is taken without a test: it hardly ever converges.)  The sine
+    and cosine of the last evaluation are carried to the root by a rotation through the last
+    (sub-ulp) step.
+    """
+    x = _hermite_start(np, lo, hi, flo, fplo, fhi, fphi)
     # The first step, for all.
     f, fp, _, _ = _ff(np, x, q, thick)
     pos = f > 0
