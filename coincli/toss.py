@@ -709,8 +709,10 @@ def _first_root(np, s: _Setup, n, thick, bands=None):
 
     With ``bands = (sin(theta0/2), cos(theta0/2))`` (the outcome boundaries of eq. 7 in
     ``sin(alpha/2) = sin psi |sin x|``) only outcomes are wanted: a fourth array is returned,
-    the outcome code of each toss decided without refining its root (-1 elsewhere, where the
-    three arrays hold the root as above; elsewhere they are not set).  A cell ``[t1, t2]`` with
+    the outcome code of each toss decided without refining its root (-1 where the three arrays
+    hold the root as above, -2 where a certified cell is left to :func:`_newton`; elsewhere
+    they are not set), and a fifth, those cells ``(tosses, lo, hi, F(lo), F'(lo), F(hi),
+    F'(hi), constants)`` or None.  A cell ``[t1, t2]`` with
     ``F > 0`` certified before ``t1`` and ``F(t2)`` below zero beyond rounding (or certified
     decreasing through zero) holds the first root, as the refinement would find it; when
     ``sin(alpha/2)`` over the whole cell lies inside one outcome's band (by its values at the
@@ -916,9 +918,12 @@ def _first_root(np, s: _Setup, n, thick, bands=None):
     if cells and gi.size:
         in_order = gi.size == n and bool((gi[1:] > gi[:-1]).all())  # all, as in q0
         qn = q0 if in_order else q0.take(gi, _Batch._F)
+        if bands is not None:  # refined by the caller, with those of other batches
+            code[gi] = -2
+            return out, osh, och, code, (gi, lo, hi, flo, fplo, fhi, fphi, qn)
         out[gi], osh[gi], och[gi] = _newton(np, lo, hi, flo, fplo, fhi, fphi, qn, thick)
     if bands is not None:
-        return out, osh, och, code
+        return out, osh, och, code, None
     return out, osh, och
 
 
@@ -1277,18 +1282,44 @@ def _outcomes_flat(np, flat, n, thick):
         code[sl] = k
         rest.append(np.flatnonzero(k < 0) + lo)
     rest = np.concatenate(rest)
+    pending = []
     for lo in range(0, rest.size, _BATCH):
         r = rest[lo:lo + _BATCH]
         m = r.size
         psi_r, u_r, om_r = (v if isinstance(v, float) else v[r] for v in (psi, u, om))
         s = _checked_setup(np, xi, psi_r, u_r, om_r, dia, g, thick, None, m)
-        _, sh, ch, k = _first_root(np, s, m, thick, bands)
-        und = np.flatnonzero(k < 0)
+        _, sh, ch, k, cells = _first_root(np, s, m, thick, bands)
+        und = np.flatnonzero(k == -1)
         if und.size:
             sp, cp = (v if isinstance(v, float) else v[und] for v in (s.sp, s.cp))
             k[und] = classify(_alpha(np, sp, cp, sh[und], ch[und]), xi)
         code[r] = k
+        if cells is not None:
+            gi = cells[0]
+            pending.append((r[gi], *cells[1:], *(v if isinstance(v, float) else v[gi]
+                                                  for v in (s.sp, s.cp))))
+    if pending:  # the few roots to refine, all at once (numpy's overhead is per call)
+        g_idx, lo, hi, flo, fplo, fhi, fphi = (np.concatenate([p[i] for p in pending])
+                                               for i in range(7))
+        q = _cat_batches(np, [p[7] for p in pending], [p[0].size for p in pending])
+        _, sh, ch = _newton(np, lo, hi, flo, fplo, fhi, fphi, q, thick)
+        sp, cp = (np.concatenate([np.broadcast_to(p[i], p[0].shape) for p in pending])
+                  for i in (8, 9))
+        code[g_idx] = classify(_alpha(np, sp, cp, sh, ch), xi)
     return code
+
+
+def _cat_batches(np, qs, sizes):
+    """The constants of several :class:`_Batch` (of :data:`_Batch._F`) end to end."""
+    out = _Batch.__new__(_Batch)
+    for k in _Batch._F:
+        vs = [getattr(q, k) for q in qs]
+        if all(isinstance(v, float) and v == vs[0] for v in vs):
+            setattr(out, k, vs[0])
+        else:
+            setattr(out, k, np.concatenate([np.broadcast_to(v, (m,)) for v, m in zip(vs,
+                                                                                     sizes)]))
+    return out
 
 
 # sin r for |r| <= pi/2 + 1e-11, to within 1e-11: Taylor to r^17 (the next term is below 6e-13).
