@@ -263,7 +263,6 @@ def _normal_mass(a, b):
     return 1.0 - 0.5 * (math.erfc(b / r2) + math.erfc(-a / r2))
 
 
-_Z95 = 1.959963984540054  # the 97.5% point of the standard normal
 
 
 def _check_contact(contact):
@@ -1894,24 +1893,17 @@ class Frequency:
 
 
 def wilson_interval(k, n, level=0.95):
-    """Wilson score interval for ``k`` successes in ``n`` trials."""
+    """Wilson score interval ``(low, high)`` (floats) for ``k`` successes in ``n`` trials:
+    :func:`coincli.stats.wilson_interval`, the one implementation (no scipy at the common
+    levels 0.9, 0.95, 0.99)."""
     if n <= 0:
         raise ValueError(f"n must be >= 1, got {n}")
     if not 0 < level < 1:
         raise ValueError(f"level must be in (0, 1), got {level}")
-    if level == 0.95:
-        z = _Z95
-    else:
-        from statistics import NormalDist
+    from coincli.stats import wilson_interval as _wilson
 
-        z = NormalDist().inv_cdf(0.5 + level / 2)
-    p = k / n
-    z2 = z * z
-    den = 1 + z2 / n
-    centre = (p + z2 / (2 * n)) / den
-    half = z * math.sqrt(p * (1 - p) / n + z2 / (4 * n * n)) / den
-    lo = 0.0 if k == 0 else max(0.0, centre - half)
-    return lo, (1.0 if k == n else min(1.0, centre + half))
+    lo, hi = _wilson(k, n, level)
+    return float(lo), float(hi)
 
 
 @_record()
