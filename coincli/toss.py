@@ -68,6 +68,17 @@ One vectorized path
     the time ``F`` takes to cross its rounding band; ordinary tosses run at several million a
     second (``benchmarks/toss_bench.py``, docs/performance.md).
 
+Outcomes only
+    :func:`simulate` needs outcomes, not times of flight.  ``sin(alpha/2) = sin psi |sin x|``
+    (``x = omega t / 2``) is monotone between multiples of ``pi/2`` in ``x``, so its range over
+    an interval of time that holds the first contact is known from the ends; when that range
+    lies inside one outcome's band (by ``1e-9``, far beyond rounding), so does ``alpha_f``.
+    Such intervals, tried in turn: the contact window ``[w2s, t_end]`` itself, from the launch
+    conditions alone (:func:`_window_outcomes`); the scan's ``[front, t_end]``; a certified
+    cell; a bracket of two evaluations around the cell's Hermite estimate of the root.  The
+    scan is :func:`toss_many`'s, cell for cell, so the outcome is the one it gives
+    (:func:`_outcomes`; tests/test_toss.py compares them toss by toss); the rest are refined.
+
 Nothing here prints or exits; bad input raises :class:`ValueError` naming the argument and its
 allowed range.
 """
