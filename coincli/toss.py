@@ -1332,13 +1332,15 @@ def _cat_batches(np, qs, sizes):
     return out
 
 
-# sin r for |r| <= pi/2 + 1e-11, to within 1e-11: Taylor to r^17 (the next term is below 6e-13).
+# sin r for |r| <= pi/2 + 1e-11: Taylor to r^17 (the next term is below 5e-14).
 _SIN_TAYLOR = tuple((-1.0) ** i / math.factorial(2 * i + 1) for i in range(9))[::-1]
 
 
 def _abs_sin_rough(np, x):
-    """``|sin x|`` for ``0 <= x < 1e5`` within ``2e-11`` (reduction by a double pi, error
-    below ``x * 1.3e-16``; Taylor on ``[-pi/2, pi/2]``): for bounds, not for results."""
+    """``|sin x|`` for ``0 <= x < 1e5`` within ``5e-11``: the reduction ``x - k pi`` by a double
+    ``pi`` errs by ``k * 1.3e-16`` plus two roundings of the size of ``x`` (an ulp of ``1e5`` is
+    ``1.5e-11``), the Taylor polynomial on ``[-pi/2, pi/2]`` by ``5e-14``.  For bounds (with a
+    margin of ``1e-9``), not for results."""
     r = np.rint(x * (1.0 / math.pi))
     r *= -math.pi
     r += x
@@ -1365,7 +1367,7 @@ def _window_outcomes(np, psi, u, om, xi, dia, g, thick, bands, m):
     ``sin psi`` where a multiple of ``pi/2`` is crossed.  When that range lies inside one band
     of eq. (7) by more than ``1e-9``, the scan's ``alpha_f`` (at a root within the window, to a
     few ulps) has that outcome.  Every bound is widened beyond the rounding of the scan's own
-    ``w2s``, ``t_end``, ``w1`` (relative ``1e-12``) and of these rough sines (``2e-11``), and
+    ``w2s``, ``t_end``, ``w1`` (relative ``1e-12``) and of these rough sines (``5e-11``), and
     the launch window must clear by ``1e-6 z0``, far beyond any rounding of ``F``.
     """
     psi, u, om = (np.broadcast_to(np.asarray(v, dtype=float), (m,)) for v in (psi, u, om))
@@ -1402,7 +1404,7 @@ def _window_codes(np, psi, u, om, xi, dia, g, thick, bands, m):
     ok &= (om > 0) & (x2 < 1e5)
     if d > 0:  # a launch window [0, w1], w1 = 2 d / (u + root): must be clear
         w1 = (2.0 * d * (1.0 + 1e-12)) / root
-        ok &= a * np.minimum(om * w1 * (sp + 1e-11), 1.0) + hh < z0 * (1.0 - 1e-6)
+        ok &= a * np.minimum(om * w1 * (sp + 1e-10), 1.0) + hh < z0 * (1.0 - 1e-6)
     s1 = _abs_sin_rough(np, x1)
     s2 = _abs_sin_rough(np, x2)
     c = 2.0 / math.pi
@@ -1420,7 +1422,7 @@ def _window_codes(np, psi, u, om, xi, dia, g, thick, bands, m):
     lo *= sp
     hi *= sp
     sb, cb = bands
-    mg = 1e-9 + 1e-11
+    mg = 1e-9 + 1e-10  # the margin, plus the rough sines' error (and sin psi's)
     k = (lo > sb + mg).view(np.int8) + (lo > cb + mg).view(np.int8)
     kh = (hi >= sb - mg).view(np.int8) + (hi >= cb - mg).view(np.int8)
     k[(k != kh) | ~ok] = -1
