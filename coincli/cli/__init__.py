@@ -17,32 +17,31 @@ import typer
 from coincli import __version__
 from coincli.cli._common import CoinError, ExitCode
 
+class _Loaded:
+    """An attribute of :class:`_App` that imports every command module on its first read."""
+
+    def __set_name__(self, owner, name):
+        self.slot = f"_{name}"
+
+    def __get__(self, obj, owner=None):
+        if obj is None:
+            return self
+        if not obj._complete:
+            _load(COMMAND_MODULES)
+        return getattr(obj, self.slot)
+
+    def __set__(self, obj, value):
+        setattr(obj, self.slot, value)
+
+
 class _App(typer.Typer):
     """The root :class:`typer.Typer`, whose command modules are imported when its commands are
     first read (help, completion, ``typer.main.get_command(app)``), not when ``coin`` starts: a
     run imports only the module of the command it runs (:func:`_click_command`)."""
 
     _complete = False  #: every command module imported
-
-    @property
-    def registered_commands(self):
-        if not self._complete:
-            _load(COMMAND_MODULES)
-        return self._commands
-
-    @registered_commands.setter
-    def registered_commands(self, value):
-        self._commands = value
-
-    @property
-    def registered_groups(self):
-        if not self._complete:
-            _load(COMMAND_MODULES)
-        return self._groups
-
-    @registered_groups.setter
-    def registered_groups(self, value):
-        self._groups = value
+    registered_commands = _Loaded()
+    registered_groups = _Loaded()
 
 
 app = _App(
@@ -112,8 +111,8 @@ def _load(modules) -> None:
                 fn = fn.callback if fn is not None else None
             return rank.get(getattr(fn, "__module__", ""), len(rank))
 
-        app._commands.sort(key=order)
-        app._groups.sort(key=order)
+        app._registered_commands.sort(key=order)
+        app._registered_groups.sort(key=order)
 
 
 def _fail(message: str, code: int) -> int:
@@ -292,8 +291,8 @@ def _click_command(argv):
         return _prepare(typer.main.get_command(_listing(app)))
     if name in COMMAND_MODULE:
         _load([COMMAND_MODULE[name]])
-    commands = [c for c in app._commands if _command_name(c) == name]
-    groups = [g for g in app._groups if g.name == name]
+    commands = [c for c in app._registered_commands if _command_name(c) == name]
+    groups = [g for g in app._registered_groups if g.name == name]
     if not commands and not groups:  # not in the map: look in every module
         commands = [c for c in app.registered_commands if _command_name(c) == name]
         groups = [g for g in app.registered_groups if g.name == name]
