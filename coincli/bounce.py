@@ -63,6 +63,7 @@ import os
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
+from coincli.rigid import _qconj, _qmul
 from coincli.toss import (
     DEFAULT_DIAMETER,
     NAMES,
@@ -123,9 +124,13 @@ OMEGA_DT = 0.3
 IMPEDANCE = 0.99
 EDGE_TILT = 0.6  #: rad, the tilt of the edge drop of the calibration
 LEAD_STEPS = 5  #: MuJoCo starts this many steps before an exactly computed contact
-CHECK_STEPS = 10  #: steps between the checks of energy and flight (1 ms at the default dt)
+CHECK_STEPS = 20  #: steps between the checks of energy and flight (2 ms at the default dt)
 JUMP_MIN_STEPS = 30  #: a flight shorter than this many steps is stepped, not solved
 REST_MARGIN = 1e-6  #: m: rest when the energy is below m g (R - REST_MARGIN)
+#: |n_z| below which a coin lies on its curved side (0.57 degrees of tilt from 90): both ends of
+#: its lowest generator touch, as far as the contact's millimetre of give lets the tilt differ
+SIDE_TILT = 0.01
+SLIP_TOL = 2e-3  #: m/s: a contact point moving slower than this does not slip (rolls)
 _ZOOM = 32  #: cells a cell of the flight scan is cut into when it may hold a contact
 BLOCK = 256  #: tosses per random block: the seed of block k is (seed, k), whatever the workers
 
@@ -275,13 +280,6 @@ class Launch:
     azimuth: float = 0.0  #: rad, direction of the horizontal speed from the plane of L and n
 
 
-def _qmul(p, q):
-    pw, px, py, pz = p
-    qw, qx, qy, qz = q
-    return (pw * qw - px * qx - py * qy - pz * qz, pw * qx + px * qw + py * qz - pz * qy,
-            pw * qy - px * qz + py * qw + pz * qx, pw * qz + px * qy - py * qx + pz * qw)
-
-
 def _qrot(q, v):
     """Rotate vector v by unit quaternion q."""
     w, x, y, z = q
@@ -322,8 +320,18 @@ class _Flight:
                                  math.sin(0.5 * self.lam * s))))
         n = _qrot(q, (0.0, 0.0, 1.0))
         w = tuple(self.big_omega * self.lhat[i] + self.lam * n[i] for i in range(3))
-        qc = (q[0], -q[1], -q[2], -q[3])
-        return p, q, v, _qrot(qc, w)
+        return p, q, v, _qrot(_qconj(q), w)
+
+    def clearance(self, t, a, hh, g):
+        """The height of the lowest point of the cylinder (radius ``a``, half-thickness ``hh``)
+        above the plane z = 0 at ``t``: ``z - a sin(alpha) - hh |cos(alpha)|``."""
+        s = t - self.t0
+        q = _qmul(_qaxis(self.lhat, self.big_omega * s),
+                  _qmul(self.q, (math.cos(0.5 * self.lam * s), 0.0, 0.0,
+                                 math.sin(0.5 * self.lam * s))))
+        nz = 1.0 - 2.0 * (q[1] * q[1] + q[2] * q[2])
+        z = self.p[2] + self.v[2] * s - 0.5 * g * s * s
+        return z - a * math.sqrt(max(0.0, 1.0 - nz * nz)) - hh * abs(nz)
 
 
 def _flight_from_launch(launch: Launch, i1, i3):
@@ -346,20 +354,18 @@ def launch_state(launch: Launch, coin: Coin, t, g=STANDARD_G):
 
 def _flight_from_state(t0, qpos, qvel, i1, i3):
     """The free flight through a MuJoCo free-joint state (angular velocity in the body frame)."""
-    p = (float(qpos[0]), float(qpos[1]), float(qpos[2]))
-    q = (float(qpos[3]), float(qpos[4]), float(qpos[5]), float(qpos[6]))
-    nq = math.sqrt(sum(c * c for c in q))
-    q = tuple(c / nq for c in q)
-    wb = (float(qvel[3]), float(qvel[4]), float(qvel[5]))
-    lw = _qrot(q, (i1 * wb[0], i1 * wb[1], i3 * wb[2]))  # L in the world frame
-    lnorm = math.sqrt(sum(c * c for c in lw))
-    n = _qrot(q, (0.0, 0.0, 1.0))
+    x, y, z, qw, qx, qy, qz = qpos.tolist()
+    vx, vy, vz, wx, wy, wz = qvel.tolist()
+    nq = math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
+    q = (qw / nq, qx / nq, qy / nq, qz / nq)
+    lw = _qrot(q, (i1 * wx, i1 * wy, i3 * wz))  # L in the world frame
+    lnorm = math.sqrt(lw[0] * lw[0] + lw[1] * lw[1] + lw[2] * lw[2])
     if lnorm == 0.0:
-        return _Flight(t0, p, tuple(float(c) for c in qvel[:3]), q, (0.0, 0.0, 1.0), 0.0, 0.0)
-    lhat = tuple(c / lnorm for c in lw)
-    ln = sum(lw[i] * n[i] for i in range(3))
-    return _Flight(t0, p, tuple(float(c) for c in qvel[:3]), q, lhat, lnorm / i1,
-                   ln * (1.0 / i3 - 1.0 / i1))
+        return _Flight(t0, (x, y, z), (vx, vy, vz), q, (0.0, 0.0, 1.0), 0.0, 0.0)
+    n = _qrot(q, (0.0, 0.0, 1.0))
+    lhat = (lw[0] / lnorm, lw[1] / lnorm, lw[2] / lnorm)
+    ln = lw[0] * n[0] + lw[1] * n[1] + lw[2] * n[2]
+    return _Flight(t0, (x, y, z), (vx, vy, vz), q, lhat, lnorm / i1, ln * (1.0 / i3 - 1.0 / i1))
 
 
 def _first_touch(fl: _Flight, a, hh, g, resolution):
@@ -594,6 +600,7 @@ class Engine:
         # MuJoCo's direct stiffness is k / dmax^2, achieved to the impedance d = dmax: k / d
         self.k_spring = _stiffness(dt) / IMPEDANCE
         self.barrier = self.mass * g * (coin.half_diagonal - REST_MARGIN)
+        self.rolling_rest = True  #: the rest rule leaves out the energy of rolling on the side
         mj = self.mujoco
         self._rk4, self._implicit = mj.mjtIntegrator.mjINT_RK4, mj.mjtIntegrator.mjINT_IMPLICITFAST
 
@@ -627,6 +634,47 @@ class Engine:
             if r > 0:
                 spring += r * r
         return e + 0.5 * self.mass * self.k_spring * spring
+
+    def _rolling(self):
+        """The energy of rolling on the side, when the coin rolls there: else 0.
+
+        A coin lying on its curved side (tilt within :data:`SIDE_TILT` of 90 degrees) whose
+        contacts do not slip (every contact point moves at under :data:`SLIP_TOL`) is rolling
+        about its own axis.  Its spin about the axis, ``I3 w3^2 / 2``, and its speed across the
+        axis, ``m v_perp^2 / 2``, cannot lift it onto a face: the contact forces that change them
+        (the rolling friction across the axis, the normal forces) exert no torque about the
+        horizontal diameter it would tip about, and the gyroscopic coupling of the spin only
+        trades energy among the rotations about diameters, which stay counted.  Only friction
+        along the axis tips the coin, and it is fed by the sliding along the axis, which stays
+        counted too.  So the energy left, ``E - (I3 w3^2 + m v_perp^2) / 2``, is what can lift it,
+        and the rest rule compares that with the barrier.  (Without the no-slip condition a
+        sliding coin could turn spin into yaw through uneven normal forces; the rule then keeps
+        the whole energy.)
+        """
+        d = self.d
+        q = d.qpos[3:7]
+        qw, qx, qy, qz = float(q[0]), float(q[1]), float(q[2]), float(q[3])
+        # the axis n = R e3 (world)
+        nx, ny = 2.0 * (qx * qz + qw * qy), 2.0 * (qy * qz - qw * qx)
+        nz = 1.0 - 2.0 * (qx * qx + qy * qy)
+        if d.ncon == 0 or abs(nz) > SIDE_TILT:
+            return 0.0
+        wb = d.qvel[3:6]
+        w3 = float(wb[2])
+        ww = _qrot((qw, qx, qy, qz), (float(wb[0]), float(wb[1]), w3))  # world angular velocity
+        vx, vy = float(d.qvel[0]), float(d.qvel[1])
+        px, py, pz = float(d.qpos[0]), float(d.qpos[1]), float(d.qpos[2])
+        for i in range(d.ncon):
+            c = d.contact[i].pos
+            rx, ry, rz = float(c[0]) - px, float(c[1]) - py, float(c[2]) - pz
+            sx = vx + ww[1] * rz - ww[2] * ry
+            sy = vy + ww[2] * rx - ww[0] * rz
+            if sx * sx + sy * sy > SLIP_TOL * SLIP_TOL:
+                return 0.0
+        nh = math.hypot(nx, ny)
+        along = (vx * nx + vy * ny) / nh
+        v_perp2 = vx * vx + vy * vy - along * along
+        return 0.5 * (self.i3 * w3 * w3 + self.mass * v_perp2)
 
     def _touching(self):
         d = self.d
@@ -695,7 +743,9 @@ class Engine:
             steps += CHECK_STEPS
             if record:
                 self._record(traj, "mujoco")
-            if self._energy() < self.barrier:
+            energy = self._energy()
+            if energy < self.barrier or (self.rolling_rest and energy - self._rolling()
+                                         < self.barrier):
                 alpha = self._tilt()
                 code = int(classify(alpha, coin.xi))
                 return self._result(code, t_first, float(d.time), bounces, steps, catch_code,
@@ -717,7 +767,13 @@ class Engine:
                 continue
             if d.time < no_jump_until:
                 continue
-            free = _flight_from_state(float(d.time), d.qpos, d.qvel, self.i1, self.i3)
+            t_now = float(d.time)
+            free = _flight_from_state(t_now, d.qpos, d.qvel, self.i1, self.i3)
+            if free.clearance(t_now + jump_min, a, hh, g) <= 0.0:
+                # below the plane by then: this hop ends within jump_min (the clearance is
+                # continuous and positive now), too short to solve; no scan needed to know it
+                no_jump_until = t_now + jump_min
+                continue
             t_hit = _first_touch(free, a, hh, g, 0.5 * LEAD_STEPS * dt)
             if t_hit - d.time < jump_min:
                 no_jump_until = t_hit
