@@ -3,8 +3,8 @@
 For each aspect ratio, the same seeded tosses (the hand toss of coincli.toss.HAND_TOSS onto
 wood, `coin simulate --landing bounce`'s defaults) at dt = 2e-4, 1e-4 and 5e-5 s (or those
 given); the contact stiffness follows dt (omega_n dt = 0.3) and the restitution is
-recalibrated at each dt, so a smaller dt is also a harder contact.  Prints a markdown table with 95% Wilson intervals and the CPU time per
-toss; docs/bounce.md quotes it.
+recalibrated at each dt, so a smaller dt is also a harder contact.  Prints a markdown table
+with 95% Wilson intervals and the CPU time per toss; docs/bounce.md quotes it.
 
     python benchmarks/bounce_convergence.py [N] [XI,XI,...] [DT,DT,...]
 """
