@@ -185,6 +185,56 @@ def test_bounce_rest_is_final():
         assert float(d.energy[0] + d.energy[1]) < eng.barrier
 
 
+def _on_side_rolling(eng, speed, spin):
+    """The coin lying on its side (axis along -y), moving along x at ``speed`` and spinning
+    about its axis so that the lowest generator moves at ``speed + a w_y`` (0: rolling)."""
+    coin, d = eng.coin, eng.d
+    eng.mujoco.mj_resetData(eng.m, d)
+    q = (math.cos(math.pi / 4), math.sin(math.pi / 4), 0.0, 0.0)  # about x by 90 deg
+    d.qpos[:3] = (0.0, 0.0, coin.a - 2e-5)  # 20 um into the surface: touching
+    d.qpos[3:7] = q
+    d.qvel[:3] = (speed, 0.0, 0.0)
+    d.qvel[3:6] = B._qrot(B._qconj(q), (0.0, spin, 0.0))  # body frame
+    eng.mujoco.mj_forward(eng.m, d)
+
+
+def test_rolling_energy_is_left_out_only_when_rolling_on_the_side():
+    coin = B.Coin(0.577)
+    eng = B.Engine(coin, B.SURFACES["wood"])
+    v = 0.4
+    _on_side_rolling(eng, v, v / coin.a)  # rolls: the contact line is at rest
+    assert eng.d.ncon >= 1
+    want = 0.5 * (eng.i3 * (v / coin.a) ** 2 + eng.mass * v * v)
+    assert eng._rolling() == pytest.approx(want, rel=1e-9)
+    _on_side_rolling(eng, v, 0.0)  # slides on its side: all its energy stays counted
+    assert eng._rolling() == 0.0
+    _on_side_rolling(eng, 0.0, 20.0)  # spins in place (slips): likewise
+    assert eng._rolling() == 0.0
+
+
+def test_rolling_rule_changes_no_outcome():
+    """The rest rule without the rolling energy decides the same side as the rule on the whole
+    energy, for every toss the latter settles (and settles tosses the latter leaves rolling at
+    t_max): 48 hand tosses of the fair coin, 8 of which end rolling on the side."""
+    coin = B.Coin(0.577)
+    eng = B.Engine(coin, B.SURFACES["wood"])
+    dists = {**T.HAND_TOSS, "height": T.as_dist(0.0, "height", 0, 1),
+             "vx": T.as_dist(0.0, "vx", 0, 1),
+             "z0": T.as_dist(T.default_z0(0.577, contact="thick"), "z0", 0, 1)}
+    launches = B._block_launches(5, 0, 48, dists, coin)
+    fired = 0
+    for launch in launches:
+        eng.rolling_rest = True
+        new = eng.run(launch)
+        eng.rolling_rest = False
+        old = eng.run(launch)
+        fired += new.steps < old.steps
+        assert new.code != B.UNSETTLED
+        assert old.code in (new.code, B.UNSETTLED), (launch, new, old)
+        assert new.steps <= old.steps
+    assert fired >= 4
+
+
 def test_determinism_across_workers():
     kw = dict(xi=0.577, psi=math.pi / 2, surf=B.SURFACES["wood"], **HAND)
     one = B.simulate(300, 5, jobs=1, **kw)
