@@ -126,6 +126,9 @@ EDGE_TILT = 0.6  #: rad, the tilt of the edge drop of the calibration
 LEAD_STEPS = 5  #: MuJoCo starts this many steps before an exactly computed contact
 CHECK_STEPS = 20  #: steps between the checks of energy and flight (2 ms at the default dt)
 JUMP_MIN_STEPS = 30  #: a flight shorter than this many steps is stepped, not solved
+#: s: a flight counts as a bounce from this long (shorter ones are chatter); a time, not a number
+#: of steps, so that the count does not depend on the timestep (3 ms: 30 steps at the default)
+BOUNCE_MIN = 3e-3
 REST_MARGIN = 1e-6  #: m: rest when the energy is below m g (R - REST_MARGIN)
 #: |n_z| below which a coin lies on its curved side (0.57 degrees of tilt from 90): both ends of
 #: its lowest generator touch, as far as the contact's millimetre of give lets the tilt differ
@@ -754,8 +757,8 @@ class Engine:
                 return self._result(UNSETTLED, t_first, math.nan, bounces, steps, catch_code,
                                     traj, self._tilt())
             if self._touching():
-                # a bounce is a flight of at least JUMP_MIN_STEPS; shorter ones are chatter
-                if airborne is not None and d.time - airborne >= jump_min:
+                # a bounce is a flight of at least BOUNCE_MIN; shorter ones are chatter
+                if airborne is not None and d.time - airborne >= BOUNCE_MIN:
                     bounces += 1
                 airborne = None
                 m.opt.integrator = self._implicit
