@@ -652,7 +652,10 @@ class Engine:
         counted too.  So the energy left, ``E - (I3 w3^2 + m v_perp^2) / 2``, is what can lift it,
         and the rest rule compares that with the barrier.  (Without the no-slip condition a
         sliding coin could turn spin into yaw through uneven normal forces; the rule then keeps
-        the whole energy.)
+        the whole energy.)  This is exact for a symmetric line contact; when only one end
+        touches, the rolling friction there also turns the coin about the vertical, a small
+        flow into counted energy, so the rule is an argument checked by simulation (both rules
+        on the same tosses, docs/bounce.md), not a proof.
         """
         d = self.d
         q = d.qpos[3:7]
