@@ -986,8 +986,10 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
 class SidesFit:
     """``P(sides) = Phi(alpha + beta ln xi)``, a probit in log xi fitted to simulated counts by
     maximum likelihood (monotone increasing when ``beta > 0``), with the covariance of
-    ``(alpha, beta)`` (inverse Fisher information) and a goodness-of-fit test against the
-    points (deviance, chi-square with points - 2 degrees of freedom)."""
+    ``(alpha, beta)`` (inverse Fisher information, times the dispersion ``deviance / df`` when
+    that is above 1: quasi-likelihood, so that a curve that misses its points has wider
+    intervals) and a goodness-of-fit test against the points (deviance, chi-square with
+    points - 2 degrees of freedom)."""
 
     alpha: float
     beta: float
@@ -1061,6 +1063,8 @@ def fit_sides(points) -> SidesFit:
         dev = 2 * np.sum(np.where(k > 0, k * np.log(k / (n * mu)), 0.0)
                          + np.where(n - k > 0, (n - k) * np.log((n - k) / (n * (1 - mu))), 0.0))
     df = len(pts) - 2
+    if df > 0:  # points scattered beyond binomial noise (or a curve of the wrong shape):
+        cov = cov * max(1.0, float(dev) / df)  # quasi-likelihood, the dispersion widens it
     return SidesFit(float(coef[0]), float(coef[1]), ((float(cov[0, 0]), float(cov[0, 1])),
                     (float(cov[1, 0]), float(cov[1, 1]))), pts, float(dev), df,
                     float(chi2.sf(dev, df)) if df > 0 else math.nan)
@@ -1075,13 +1079,41 @@ class Design:
     xi: list
     low: list
     high: list
-    fit: SidesFit
+    fit: SidesFit  #: the curve over every simulated point
     tosses: int
     rounds: int
     met: bool  #: every interval within tol
     stopped_by: str  #: 'tol', 'max_tosses' or 'time_limit'
     seed: int
     unsettled: int
+    fits: list = field(default_factory=list)  #: per target, the local fit its answer is from
+
+
+#: A target's answer comes from the probit fitted to the points within this factor of its
+#: estimate (the narrowest of these windows holding three aspect ratios): over the whole sweep
+#: (0.1 to 2.4) a probit in log xi can miss the points by far more than their noise.
+DESIGN_WINDOWS = (1.12, 1.3, 1.6, 2.2, 3.3)
+
+
+def _local_fit(points: dict, target, est):
+    """The probit fitted near ``est`` (see :data:`DESIGN_WINDOWS`), re-centred on its own answer
+    until that stays within its window; falls back to every point."""
+    fit = None
+    for _ in range(5):
+        for w in DESIGN_WINDOWS:
+            near = [(x, n, k) for x, (n, k) in sorted(points.items()) if est / w <= x <= est * w]
+            if len(near) >= 3:
+                break
+        else:
+            return fit_sides([(x, n, k) for x, (n, k) in sorted(points.items())])
+        fit = fit_sides(near)
+        if fit.beta <= 0:
+            return fit_sides([(x, n, k) for x, (n, k) in sorted(points.items())])
+        new = fit.inverse(target)
+        if abs(math.log(new / est)) < 1e-3:
+            break
+        est = new
+    return fit
 
 
 DESIGN_GRID = (0.1, 0.15, 0.22, 0.33, 0.5, 0.75, 1.1, 1.6, 2.4)  #: first sweep of xi
@@ -1095,9 +1127,11 @@ def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, lev
     ``targets`` (each in (0, 1)), with ``level`` confidence intervals.
 
     Simulates a first sweep of xi (:data:`DESIGN_GRID`, :data:`DESIGN_FIRST` tosses each), fits
-    :class:`SidesFit`, then adds rounds of :data:`DESIGN_ROUND` tosses at 0.93, 1 and 1.07 times
-    each target's estimate until every interval is within ``tol`` of its estimate (both ends),
-    or ``max_tosses`` would be passed, or ``time_limit`` seconds (of ``clock``, default
+    :class:`SidesFit` to every point, then for each target again to the points near its answer
+    (:func:`_local_fit`; the answer and its interval come from that fit), then adds rounds of
+    :data:`DESIGN_ROUND` tosses at 0.93, 1 and 1.07 times each target's estimate until every
+    interval is within ``tol`` of its estimate (both ends), or ``max_tosses`` would be passed,
+    or ``time_limit`` seconds (of ``clock``, default
     ``time.monotonic``) have gone by at the end of a round.  Every simulation is seeded
     ``(seed, round, point)``: the result is a function of the seed and the number of rounds, so a
     run stopped by the time limit is reproduced by ``max_tosses`` equal to its tosses.
@@ -1133,8 +1167,9 @@ def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, lev
         fit = fit_sides([(x, n, k) for x, (n, k) in sorted(points.items())])
         if fit.beta <= 0:
             raise ValueError("the simulated P(sides) does not grow with xi; no design found")
-        est = [fit.inverse(t) for t in targets]
-        ivs = [fit.interval(t, level) for t in targets]
+        fits = [_local_fit(points, t, fit.inverse(t)) for t in targets]
+        est = [f.inverse(t) for f, t in zip(fits, targets, strict=True)]
+        ivs = [f.interval(t, level) for f, t in zip(fits, targets, strict=True)]
         met = all(hi - x <= tol and x - lo <= tol for x, (lo, hi) in zip(est, ivs, strict=True))
         if met:
             break
@@ -1150,5 +1185,5 @@ def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, lev
         planned = tosses + len(nxt) * DESIGN_ROUND
         run(nxt, DESIGN_ROUND, rnd)
     return Design(targets, est, [lo for lo, _ in ivs], [hi for _, hi in ivs], fit, tosses,
-                  rnd, met, stopped, seed, unsettled)
+                  rnd, met, stopped, seed, unsettled, fits)
 
