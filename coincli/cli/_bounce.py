@@ -20,7 +20,7 @@ from coincli.cli._common import Column, Result, compute_error, usage_error
 
 LANDINGS = ("catch", "bounce")
 SURFACE_NAMES = ("wood", "hard-floor", "felt", "rice")  # coincli.bounce.SURFACES, without mujoco
-MAX_BOUNCE_TOSSES = 10**6  #: -n with --landing bounce: ~4 hours at ~70 tosses/s on two cores
+MAX_BOUNCE_TOSSES = 10**6  #: -n with --landing bounce: ~4 hours at ~75 tosses/s on two cores
 
 LandingOpt = Annotated[
     str, typer.Option("--landing", help="catch (the paper's: caught at first contact, the "
