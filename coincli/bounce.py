@@ -35,8 +35,10 @@ Landings
     longer change: when its energy (kinetic, gravitational and the contact springs' stored
     energy) is below ``m g (R - 1 um)``, ``R = sqrt(a^2 + h^2/4)`` the half-diagonal, it cannot
     lift its centre over a corner, so it can never cross ``alpha = theta0`` or
-    ``pi - theta0``: the side is eq. (7) on its tilt at that moment.  A coin still above that
-    energy at ``t_max`` is *unsettled*, counted on its own.
+    ``pi - theta0``: the side is eq. (7) on its tilt at that moment.  A coin rolling on its
+    curved side without slipping is compared with the barrier without the energy of its rolling
+    (:meth:`Engine._rolling`, which says why).  A coin still above the barrier at ``t_max`` is
+    *unsettled*, counted on its own.
 
 The surface
     Users know a coefficient of restitution (the rebound speed ratio of a flat drop) and friction
