@@ -210,6 +210,8 @@ def test_rolling_energy_is_left_out_only_when_rolling_on_the_side():
     assert eng._rolling() == 0.0
     _on_side_rolling(eng, 0.0, 20.0)  # spins in place (slips): likewise
     assert eng._rolling() == 0.0
+    # only where it was checked: a quarter rolling upright on its rim keeps the whole energy
+    assert eng.rolling_rest and not B.Engine(B.Coin(0.0725), B.SURFACES["wood"]).rolling_rest
 
 
 def test_rolling_rule_changes_no_outcome():
