@@ -2,8 +2,9 @@
 
 Goals of issue 16, on the project's 2-core machine with a quarter-sized coin (D = 24.26 mm):
 at least 500 bounce tosses/s and 5000 catch tosses/s with every core (``jobs=2``).  Measured for
-a real quarter (xi = 0.0725) and the paper's fair coin (xi = 0.577), ordinary hand tosses
-(u ~ normal:2.4:0.3 m/s, omega ~ normal:38:4 rad/s, psi ~ normal(90, 10) deg) onto wood.
+a real quarter (xi = 0.0725) and the paper's fair coin (xi = 0.577), the hand toss that ``coin
+simulate`` draws (coincli.toss.HAND_TOSS: u ~ normal:2.4:0.3 m/s, omega ~ normal:38:4 rev/s,
+psi ~ normal(90, 10) deg) onto wood.
 Wall-clock rates and CPU time per toss (the workers' and the parent's); the baseline is the
 exact catch model without MuJoCo (``coincli.toss.simulate``, the default ``coin simulate``),
 timed in the same run.  Then a profile of bounce tosses run in one process: the share of the
@@ -17,7 +18,6 @@ steps are spread over the tosses.
 from __future__ import annotations
 
 import cProfile
-import math
 import os
 import pstats
 import resource
@@ -26,13 +26,12 @@ import time
 
 sys.path.insert(0, os.path.dirname(__file__))
 
-from _report import fmt_rate, machine, table, write_section  # noqa: E402
+from _report import fmt_rate, machine, median, table, write_section  # noqa: E402
 
 from coincli import bounce as B  # noqa: E402
 from coincli import toss as T  # noqa: E402
 
-LAUNCH = {"u": "normal:2.4:0.3", "omega": "normal:38:4", "psi": f"normal:{math.pi / 2!r}:"
-          f"{math.radians(10)!r}"}
+LAUNCH = T.HAND_TOSS
 CASES = [  # landing, xi, tosses
     ("catch", 0.0725, 20000), ("catch", 0.577, 20000),
     ("bounce", 0.0725, 2000), ("bounce", 0.577, 600),
@@ -53,14 +52,23 @@ def timed(fn):
     return out, time.perf_counter() - t0, cpu() - c0
 
 
+REPEATS = 3  #: runs of each case; the table quotes medians
+
+
 def main():
     rows = []
     for landing, xi, n in CASES:
         B.calibrate(B.Coin(xi), B.SURFACES["wood"])  # once per run, not per toss
-        r, wall, c = timed(lambda n=n, xi=xi, landing=landing: B.simulate(
-            n, 1, xi=xi, landing=landing, jobs=2, **LAUNCH))
-        _, bwall, bc = timed(lambda n=n, xi=xi: T.simulate(n, 1, xi=xi, contact="thick",
-                                                             **LAUNCH))
+        walls, cpus, bwalls = [], [], []
+        for _ in range(REPEATS):
+            r, wall, c = timed(lambda n=n, xi=xi, landing=landing: B.simulate(
+                n, 1, xi=xi, landing=landing, jobs=2, **LAUNCH))
+            _, bwall, _ = timed(lambda n=n, xi=xi: T.simulate(n, 1, xi=xi, contact="thick",
+                                                                **LAUNCH))
+            walls.append(wall)
+            cpus.append(c)
+            bwalls.append(bwall)
+        wall, c, bwall = median(walls), median(cpus), median(bwalls)
         rate = n / wall
         capacity = 2 * n / c  # two idle cores at this CPU cost per toss
         rows.append([landing, f"{xi:g}", str(n), fmt_rate(rate), f"{1e3 * c / n:.3g} ms",
@@ -71,12 +79,13 @@ def main():
         print(rows[-1], file=sys.stderr, flush=True)
     body = ["## The bounce engine (`benchmarks/bench_bounce.py`)", "",
             f"{machine()}.", "",
-            "Ordinary hand tosses onto wood (u ~ normal:2.4:0.3 m/s, omega ~ normal:38:4 rad/s, "
-            "psi ~ normal(90, 10) deg), a quarter-sized coin (D = 24.26 mm), seed 1, every core "
-            "(`jobs=2`), dt = 1e-4 s.  CPU per toss counts the workers and the parent; the "
-            "wall-clock rate is what a user gets (the machine is shared: other work runs "
-            "beside it, so the wall clock can be several times the CPU).  Baseline: the exact "
-            "catch model without MuJoCo (the default `coin simulate`), same tosses, same run.",
+            "The hand toss of `coin simulate` onto wood (u ~ normal:2.4:0.3 m/s, omega ~ "
+            "normal:38:4 rev/s, psi ~ normal(90, 10) deg), a quarter-sized coin (D = 24.26 "
+            f"mm), seed 1, every core (`jobs=2`), dt = 1e-4 s; medians of {REPEATS} runs.  CPU "
+            "per toss counts the workers and the parent; the wall-clock rate is what a user "
+            "gets (the machine is shared: other work runs beside it, so the wall clock can be "
+            "several times the CPU).  Baseline: the exact catch model without MuJoCo (the "
+            "default `coin simulate`), same tosses, same run.",
             "",
             table(["landing", "xi", "tosses", "tosses/s (wall)", "CPU per toss",
                    "2 idle cores (2 / CPU per toss)", "MuJoCo steps per toss",
@@ -94,15 +103,21 @@ def where_the_time_goes():
     for xi, n in ((0.0725, 300), (0.577, 200)):
         coin = B.Coin(xi)
         eng = B.Engine(coin, B.SURFACES["wood"])
-        dists = {"u": B.as_dist(LAUNCH["u"], "u", 0, 1e8),
-                 "omega": B.as_dist(LAUNCH["omega"], "omega", 0, 1e5),
-                 "psi": B.as_dist(LAUNCH["psi"], "psi", 0, math.pi),
+        dists = {"u": LAUNCH["u"], "omega": LAUNCH["omega"], "psi": LAUNCH["psi"],
                  "height": B.as_dist(0.0, "height", 0, 1), "vx": B.as_dist(0.0, "vx", 0, 1),
                  "z0": B.as_dist(B.default_z0(xi, coin.diameter, "thick"), "z0", 0, 1)}
         launches = []
         for k in range(-(-n // B.BLOCK)):
             launches += B._block_launches(2, k, min(B.BLOCK, n - k * B.BLOCK), dists, coin)
         t_first = eng.first_contacts(launches)
+        plain = {}  # CPU per toss without the profiler: the rolling rule on (default) and off
+        for rolling in (True, False):
+            eng.rolling_rest = rolling
+            c0 = time.process_time()
+            codes_plain = [eng.run(launch, t_contact=t).code
+                           for launch, t in zip(launches, t_first, strict=True)]
+            plain[rolling] = ((time.process_time() - c0) / n, codes_plain)
+        eng.rolling_rest = True
         results = []
         prof = cProfile.Profile(time.process_time)  # CPU time: the machine is shared
         c0 = time.process_time()
@@ -115,6 +130,7 @@ def where_the_time_goes():
         tott = {}
         for (_, _, func), (_, _, tt, _, _) in st.stats.items():
             key = next((k for k in ("mj_step", "_first_touch", "clearance", "scan", "_energy",
+                                    "_rolling", "_flight_from_state", "_qrot", "_qmul",
                                     "mj_forward", "mj_resetData") if func == k or
                         func.endswith(f".{k}>")), "other")
             tott[key] = tott.get(key, 0.0) + tt
@@ -122,21 +138,29 @@ def where_the_time_goes():
         steps = np.array([r.steps for r in results])
         heavy = steps > 5000
         share = {k: v / prof_total for k, v in tott.items()}
-        flight = share.get("_first_touch", 0) + share.get("clearance", 0) + share.get("scan", 0)
+        flight = sum(share.get(k, 0) for k in ("_first_touch", "clearance", "scan",
+                                                "_flight_from_state", "_qrot", "_qmul"))
         codes = np.array([r.code for r in results])
         python = share.get("other", 0) + share.get("mj_forward", 0) + share.get(
             "mj_resetData", 0)
         out += [f"xi = {xi:g}, {n} tosses: {1e3 * total / n:.3g} ms CPU per toss "
                 f"(with the profiler on); {steps.mean():.0f} MuJoCo steps per toss on average, "
                 f"median {np.median(steps):.0f}, {1e6 * tott.get('mj_step', 0) / steps.sum():.1f}"
-                f" us of CPU per step (profiled).  Time: MuJoCo steps {share.get('mj_step', 0):.0%}, "
-                f"exact flights {flight:.0%}, energy checks {share.get('_energy', 0):.0%}, "
+                f" us of CPU per step (profiled).  Time: MuJoCo steps "
+                f"{share.get('mj_step', 0):.0%}, "
+                f"exact flights {flight:.0%}, energy checks "
+                f"{share.get('_energy', 0) + share.get('_rolling', 0):.0%}, "
                 f"everything else (Python) {python:.0%}.  "
                 f"{heavy.sum()} tosses ({heavy.mean():.1%}) took more than 5000 steps and "
                 f"{steps[heavy].sum() / steps.sum():.0%} of all steps; "
-                f"{np.sum(heavy & (codes == 1))} of them ended on a side (a coin rolling on its "
-                "side keeps more energy than the barrier until rolling resistance has slowed "
-                "it).", ""]
+                f"{np.sum(heavy & (codes == 1))} of them ended on a side.  Without the "
+                f"profiler: {1e3 * plain[True][0]:.3g} ms CPU per toss; the same tosses "
+                f"without the rolling rule (the rest rule on the whole energy): "
+                f"{1e3 * plain[False][0]:.3g} ms, {plain[False][0] / plain[True][0]:.2g}x "
+                f"as long; outcomes that differ: "
+                f"{sum(a != b for a, b in zip(*(plain[k][1] for k in plain), strict=True))} "
+                f"(unsettled at 10 s without the rule: {plain[False][1].count(B.UNSETTLED)}).",
+                ""]
     return out
 
 

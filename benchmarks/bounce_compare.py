@@ -7,8 +7,9 @@ sensitivity to what a user cannot control.  Prints markdown; docs/bounce.md quot
 Each row simulates N tosses (default 300) at three aspect ratios (0.45, 0.7 and the row's
 xi), fits the probit of coincli.bounce.fit_sides to them, and reports P(sides) at the
 source's xi (or at 0.577) with its 95% Wilson interval and the fitted fair xi
-(P(sides) = 1/3) with its 95% interval.  Seed 1, every core.  Hand toss unless said:
-u ~ normal:2.4:0.3 m/s, omega ~ normal:38:4 rad/s, psi ~ normal(90, 10) deg.
+(P(sides) = 1/3) with its 95% interval.  Seed 1, every core.  The hand toss of ``coin
+simulate`` (coincli.toss.HAND_TOSS) unless said: u ~ normal:2.4:0.3 m/s, omega ~ normal:38:4
+rev/s, psi ~ normal(90, 10) deg.
 """
 
 from __future__ import annotations
@@ -18,10 +19,10 @@ import sys
 import time
 
 from coincli import bounce as B
+from coincli.toss import HAND_TOSS, Dist
 
 DEG = math.pi / 180
-HAND = {"u": "normal:2.4:0.3", "omega": "normal:38:4",
-        "psi": f"normal:{math.pi / 2!r}:{10 * DEG!r}"}
+HAND = dict(HAND_TOSS)
 TUMBLE = {**HAND, "psi": f"uniform:0:{math.pi!r}"}  # random axis: every psi alike
 XIS = (0.45, 0.7)
 
@@ -77,6 +78,11 @@ def nickel(n):
               f"{1 / f.p if f.p else math.inf:.0f} |", flush=True)
 
 
+def rev(mean, sd):
+    """omega ~ normal(mean, sd) rev/s, in rad/s."""
+    return Dist("normal", 2 * math.pi * mean, 2 * math.pi * sd, 0.0, math.inf)
+
+
 def sensitivity(n):
     print(HEAD)
     wood = B.SURFACES["wood"]
@@ -88,8 +94,8 @@ def sensitivity(n):
     row("rolling resistance x10 (1 mm)", B.surface("wood", rolling=1e-3), HAND, n)
     row("slow toss: u ~ normal:1.5:0.2", wood, {**HAND, "u": "normal:1.5:0.2"}, n)
     row("fast toss: u ~ normal:3.5:0.4", wood, {**HAND, "u": "normal:3.5:0.4"}, n)
-    row("less spin: omega ~ normal:25:3", wood, {**HAND, "omega": "normal:25:3"}, n)
-    row("more spin: omega ~ normal:60:6", wood, {**HAND, "omega": "normal:60:6"}, n)
+    row("less spin: omega ~ normal:25:3 rev/s", wood, {**HAND, "omega": rev(25, 3)}, n)
+    row("more spin: omega ~ normal:50:5 rev/s", wood, {**HAND, "omega": rev(50, 5)}, n)
     row("Keller flip: psi = 90 exactly", wood, {**HAND, "psi": math.pi / 2}, n)
     row("psi ~ normal(90, 20) deg", wood, {**HAND, "psi": f"normal:{math.pi / 2!r}:"
                                             f"{20 * DEG!r}"}, n)

@@ -35,8 +35,10 @@ Landings
     longer change: when its energy (kinetic, gravitational and the contact springs' stored
     energy) is below ``m g (R - 1 um)``, ``R = sqrt(a^2 + h^2/4)`` the half-diagonal, it cannot
     lift its centre over a corner, so it can never cross ``alpha = theta0`` or
-    ``pi - theta0``: the side is eq. (7) on its tilt at that moment.  A coin still above that
-    energy at ``t_max`` is *unsettled*, counted on its own.
+    ``pi - theta0``: the side is eq. (7) on its tilt at that moment.  A coin (``xi >= 0.3``)
+    rolling on its curved side without slipping is compared with the barrier without the energy
+    of its rolling (:meth:`Engine._rolling`, which says why).  A coin still above the barrier at
+    ``t_max`` is *unsettled*, counted on its own.
 
 The surface
     Users know a coefficient of restitution (the rebound speed ratio of a flat drop) and friction
@@ -63,6 +65,7 @@ import os
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
+from coincli.rigid import _qconj, _qmul
 from coincli.toss import (
     DEFAULT_DIAMETER,
     NAMES,
@@ -123,9 +126,20 @@ OMEGA_DT = 0.3
 IMPEDANCE = 0.99
 EDGE_TILT = 0.6  #: rad, the tilt of the edge drop of the calibration
 LEAD_STEPS = 5  #: MuJoCo starts this many steps before an exactly computed contact
-CHECK_STEPS = 10  #: steps between the checks of energy and flight (1 ms at the default dt)
+CHECK_STEPS = 20  #: steps between the checks of energy and flight (2 ms at the default dt)
 JUMP_MIN_STEPS = 30  #: a flight shorter than this many steps is stepped, not solved
+#: s: a flight counts as a bounce from this long (shorter ones are chatter); a time, not a number
+#: of steps, so that the count does not depend on the timestep (3 ms: 30 steps at the default)
+BOUNCE_MIN = 3e-3
 REST_MARGIN = 1e-6  #: m: rest when the energy is below m g (R - REST_MARGIN)
+#: |n_z| below which a coin lies on its curved side (0.57 degrees of tilt from 90): both ends of
+#: its lowest generator touch, as far as the contact's millimetre of give lets the tilt differ
+SIDE_TILT = 0.01
+SLIP_TOL = 2e-3  #: m/s: a contact point moving slower than this does not slip (rolls)
+#: The rolling rule applies from this aspect ratio up, where it was checked (xi = 0.3 to 1.5).
+#: A thinner coin's side is its rim, a basin a few degrees wide (4 for a quarter), and a coin
+#: rolling upright there is not shown to keep its side: it keeps the whole-energy rule.
+ROLLING_XI_MIN = 0.3
 _ZOOM = 32  #: cells a cell of the flight scan is cut into when it may hold a contact
 BLOCK = 256  #: tosses per random block: the seed of block k is (seed, k), whatever the workers
 
@@ -275,13 +289,6 @@ class Launch:
     azimuth: float = 0.0  #: rad, direction of the horizontal speed from the plane of L and n
 
 
-def _qmul(p, q):
-    pw, px, py, pz = p
-    qw, qx, qy, qz = q
-    return (pw * qw - px * qx - py * qy - pz * qz, pw * qx + px * qw + py * qz - pz * qy,
-            pw * qy - px * qz + py * qw + pz * qx, pw * qz + px * qy - py * qx + pz * qw)
-
-
 def _qrot(q, v):
     """Rotate vector v by unit quaternion q."""
     w, x, y, z = q
@@ -322,8 +329,18 @@ class _Flight:
                                  math.sin(0.5 * self.lam * s))))
         n = _qrot(q, (0.0, 0.0, 1.0))
         w = tuple(self.big_omega * self.lhat[i] + self.lam * n[i] for i in range(3))
-        qc = (q[0], -q[1], -q[2], -q[3])
-        return p, q, v, _qrot(qc, w)
+        return p, q, v, _qrot(_qconj(q), w)
+
+    def clearance(self, t, a, hh, g):
+        """The height of the lowest point of the cylinder (radius ``a``, half-thickness ``hh``)
+        above the plane z = 0 at ``t``: ``z - a sin(alpha) - hh |cos(alpha)|``."""
+        s = t - self.t0
+        q = _qmul(_qaxis(self.lhat, self.big_omega * s),
+                  _qmul(self.q, (math.cos(0.5 * self.lam * s), 0.0, 0.0,
+                                 math.sin(0.5 * self.lam * s))))
+        nz = 1.0 - 2.0 * (q[1] * q[1] + q[2] * q[2])
+        z = self.p[2] + self.v[2] * s - 0.5 * g * s * s
+        return z - a * math.sqrt(max(0.0, 1.0 - nz * nz)) - hh * abs(nz)
 
 
 def _flight_from_launch(launch: Launch, i1, i3):
@@ -346,20 +363,18 @@ def launch_state(launch: Launch, coin: Coin, t, g=STANDARD_G):
 
 def _flight_from_state(t0, qpos, qvel, i1, i3):
     """The free flight through a MuJoCo free-joint state (angular velocity in the body frame)."""
-    p = (float(qpos[0]), float(qpos[1]), float(qpos[2]))
-    q = (float(qpos[3]), float(qpos[4]), float(qpos[5]), float(qpos[6]))
-    nq = math.sqrt(sum(c * c for c in q))
-    q = tuple(c / nq for c in q)
-    wb = (float(qvel[3]), float(qvel[4]), float(qvel[5]))
-    lw = _qrot(q, (i1 * wb[0], i1 * wb[1], i3 * wb[2]))  # L in the world frame
-    lnorm = math.sqrt(sum(c * c for c in lw))
-    n = _qrot(q, (0.0, 0.0, 1.0))
+    x, y, z, qw, qx, qy, qz = qpos.tolist()
+    vx, vy, vz, wx, wy, wz = qvel.tolist()
+    nq = math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
+    q = (qw / nq, qx / nq, qy / nq, qz / nq)
+    lw = _qrot(q, (i1 * wx, i1 * wy, i3 * wz))  # L in the world frame
+    lnorm = math.sqrt(lw[0] * lw[0] + lw[1] * lw[1] + lw[2] * lw[2])
     if lnorm == 0.0:
-        return _Flight(t0, p, tuple(float(c) for c in qvel[:3]), q, (0.0, 0.0, 1.0), 0.0, 0.0)
-    lhat = tuple(c / lnorm for c in lw)
-    ln = sum(lw[i] * n[i] for i in range(3))
-    return _Flight(t0, p, tuple(float(c) for c in qvel[:3]), q, lhat, lnorm / i1,
-                   ln * (1.0 / i3 - 1.0 / i1))
+        return _Flight(t0, (x, y, z), (vx, vy, vz), q, (0.0, 0.0, 1.0), 0.0, 0.0)
+    n = _qrot(q, (0.0, 0.0, 1.0))
+    lhat = (lw[0] / lnorm, lw[1] / lnorm, lw[2] / lnorm)
+    ln = lw[0] * n[0] + lw[1] * n[1] + lw[2] * n[2]
+    return _Flight(t0, (x, y, z), (vx, vy, vz), q, lhat, lnorm / i1, ln * (1.0 / i3 - 1.0 / i1))
 
 
 def _first_touch(fl: _Flight, a, hh, g, resolution):
@@ -594,6 +609,8 @@ class Engine:
         # MuJoCo's direct stiffness is k / dmax^2, achieved to the impedance d = dmax: k / d
         self.k_spring = _stiffness(dt) / IMPEDANCE
         self.barrier = self.mass * g * (coin.half_diagonal - REST_MARGIN)
+        #: the rest rule leaves out the energy of rolling on the side (thick coins only)
+        self.rolling_rest = coin.xi >= ROLLING_XI_MIN
         mj = self.mujoco
         self._rk4, self._implicit = mj.mjtIntegrator.mjINT_RK4, mj.mjtIntegrator.mjINT_IMPLICITFAST
 
@@ -627,6 +644,50 @@ class Engine:
             if r > 0:
                 spring += r * r
         return e + 0.5 * self.mass * self.k_spring * spring
+
+    def _rolling(self):
+        """The energy of rolling on the side, when the coin rolls there: else 0.
+
+        A coin lying on its curved side (tilt within :data:`SIDE_TILT` of 90 degrees) whose
+        contacts do not slip (every contact point moves at under :data:`SLIP_TOL`) is rolling
+        about its own axis.  Its spin about the axis, ``I3 w3^2 / 2``, and its speed across the
+        axis, ``m v_perp^2 / 2``, cannot lift it onto a face: the contact forces that change them
+        (the rolling friction across the axis, the normal forces) exert no torque about the
+        horizontal diameter it would tip about, and the gyroscopic coupling of the spin only
+        trades energy among the rotations about diameters, which stay counted.  Only friction
+        along the axis tips the coin, and it is fed by the sliding along the axis, which stays
+        counted too.  So the energy left, ``E - (I3 w3^2 + m v_perp^2) / 2``, is what can lift it,
+        and the rest rule compares that with the barrier.  (Without the no-slip condition a
+        sliding coin could turn spin into yaw through uneven normal forces; the rule then keeps
+        the whole energy.)  This is exact for a symmetric line contact; when only one end
+        touches, the rolling friction there also turns the coin about the vertical, a small
+        flow into counted energy, so the rule is an argument checked by simulation (both rules
+        on the same tosses, docs/bounce.md), not a proof.
+        """
+        d = self.d
+        q = d.qpos[3:7]
+        qw, qx, qy, qz = float(q[0]), float(q[1]), float(q[2]), float(q[3])
+        # the axis n = R e3 (world)
+        nx, ny = 2.0 * (qx * qz + qw * qy), 2.0 * (qy * qz - qw * qx)
+        nz = 1.0 - 2.0 * (qx * qx + qy * qy)
+        if d.ncon == 0 or abs(nz) > SIDE_TILT:
+            return 0.0
+        wb = d.qvel[3:6]
+        w3 = float(wb[2])
+        ww = _qrot((qw, qx, qy, qz), (float(wb[0]), float(wb[1]), w3))  # world angular velocity
+        vx, vy = float(d.qvel[0]), float(d.qvel[1])
+        px, py, pz = float(d.qpos[0]), float(d.qpos[1]), float(d.qpos[2])
+        for i in range(d.ncon):
+            c = d.contact[i].pos
+            rx, ry, rz = float(c[0]) - px, float(c[1]) - py, float(c[2]) - pz
+            sx = vx + ww[1] * rz - ww[2] * ry
+            sy = vy + ww[2] * rx - ww[0] * rz
+            if sx * sx + sy * sy > SLIP_TOL * SLIP_TOL:
+                return 0.0
+        nh = math.hypot(nx, ny)
+        along = (vx * nx + vy * ny) / nh
+        v_perp2 = vx * vx + vy * vy - along * along
+        return 0.5 * (self.i3 * w3 * w3 + self.mass * v_perp2)
 
     def _touching(self):
         d = self.d
@@ -695,7 +756,9 @@ class Engine:
             steps += CHECK_STEPS
             if record:
                 self._record(traj, "mujoco")
-            if self._energy() < self.barrier:
+            energy = self._energy()
+            if energy < self.barrier or (self.rolling_rest and energy - self._rolling()
+                                         < self.barrier):
                 alpha = self._tilt()
                 code = int(classify(alpha, coin.xi))
                 return self._result(code, t_first, float(d.time), bounces, steps, catch_code,
@@ -704,8 +767,8 @@ class Engine:
                 return self._result(UNSETTLED, t_first, math.nan, bounces, steps, catch_code,
                                     traj, self._tilt())
             if self._touching():
-                # a bounce is a flight of at least JUMP_MIN_STEPS; shorter ones are chatter
-                if airborne is not None and d.time - airborne >= jump_min:
+                # a bounce is a flight of at least BOUNCE_MIN; shorter ones are chatter
+                if airborne is not None and d.time - airborne >= BOUNCE_MIN:
                     bounces += 1
                 airborne = None
                 m.opt.integrator = self._implicit
@@ -717,7 +780,13 @@ class Engine:
                 continue
             if d.time < no_jump_until:
                 continue
-            free = _flight_from_state(float(d.time), d.qpos, d.qvel, self.i1, self.i3)
+            t_now = float(d.time)
+            free = _flight_from_state(t_now, d.qpos, d.qvel, self.i1, self.i3)
+            if free.clearance(t_now + jump_min, a, hh, g) <= 0.0:
+                # below the plane by then: this hop ends within jump_min (the clearance is
+                # continuous and positive now), too short to solve; no scan needed to know it
+                no_jump_until = t_now + jump_min
+                continue
             t_hit = _first_touch(free, a, hh, g, 0.5 * LEAD_STEPS * dt)
             if t_hit - d.time < jump_min:
                 no_jump_until = t_hit
@@ -924,8 +993,10 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
 class SidesFit:
     """``P(sides) = Phi(alpha + beta ln xi)``, a probit in log xi fitted to simulated counts by
     maximum likelihood (monotone increasing when ``beta > 0``), with the covariance of
-    ``(alpha, beta)`` (inverse Fisher information) and a goodness-of-fit test against the
-    points (deviance, chi-square with points - 2 degrees of freedom)."""
+    ``(alpha, beta)`` (inverse Fisher information, times the dispersion ``deviance / df`` when
+    that is above 1: quasi-likelihood, so that a curve that misses its points has wider
+    intervals) and a goodness-of-fit test against the points (deviance, chi-square with
+    points - 2 degrees of freedom)."""
 
     alpha: float
     beta: float
@@ -999,6 +1070,8 @@ def fit_sides(points) -> SidesFit:
         dev = 2 * np.sum(np.where(k > 0, k * np.log(k / (n * mu)), 0.0)
                          + np.where(n - k > 0, (n - k) * np.log((n - k) / (n * (1 - mu))), 0.0))
     df = len(pts) - 2
+    if df > 0:  # points scattered beyond binomial noise (or a curve of the wrong shape):
+        cov = cov * max(1.0, float(dev) / df)  # quasi-likelihood, the dispersion widens it
     return SidesFit(float(coef[0]), float(coef[1]), ((float(cov[0, 0]), float(cov[0, 1])),
                     (float(cov[1, 0]), float(cov[1, 1]))), pts, float(dev), df,
                     float(chi2.sf(dev, df)) if df > 0 else math.nan)
@@ -1013,13 +1086,41 @@ class Design:
     xi: list
     low: list
     high: list
-    fit: SidesFit
+    fit: SidesFit  #: the curve over every simulated point
     tosses: int
     rounds: int
     met: bool  #: every interval within tol
     stopped_by: str  #: 'tol', 'max_tosses' or 'time_limit'
     seed: int
     unsettled: int
+    fits: list = field(default_factory=list)  #: per target, the local fit its answer is from
+
+
+#: A target's answer comes from the probit fitted to the points within this factor of its
+#: estimate (the narrowest of these windows holding three aspect ratios): over the whole sweep
+#: (0.1 to 2.4) a probit in log xi can miss the points by far more than their noise.
+DESIGN_WINDOWS = (1.12, 1.3, 1.6, 2.2, 3.3)
+
+
+def _local_fit(points: dict, target, est):
+    """The probit fitted near ``est`` (see :data:`DESIGN_WINDOWS`), re-centred on its own answer
+    until that stays within its window; falls back to every point."""
+    fit = None
+    for _ in range(5):
+        for w in DESIGN_WINDOWS:
+            near = [(x, n, k) for x, (n, k) in sorted(points.items()) if est / w <= x <= est * w]
+            if len(near) >= 3:
+                break
+        else:
+            return fit_sides([(x, n, k) for x, (n, k) in sorted(points.items())])
+        fit = fit_sides(near)
+        if fit.beta <= 0:
+            return fit_sides([(x, n, k) for x, (n, k) in sorted(points.items())])
+        new = fit.inverse(target)
+        if abs(math.log(new / est)) < 1e-3:
+            break
+        est = new
+    return fit
 
 
 DESIGN_GRID = (0.1, 0.15, 0.22, 0.33, 0.5, 0.75, 1.1, 1.6, 2.4)  #: first sweep of xi
@@ -1033,9 +1134,11 @@ def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, lev
     ``targets`` (each in (0, 1)), with ``level`` confidence intervals.
 
     Simulates a first sweep of xi (:data:`DESIGN_GRID`, :data:`DESIGN_FIRST` tosses each), fits
-    :class:`SidesFit`, then adds rounds of :data:`DESIGN_ROUND` tosses at 0.93, 1 and 1.07 times
-    each target's estimate until every interval is within ``tol`` of its estimate (both ends),
-    or ``max_tosses`` would be passed, or ``time_limit`` seconds (of ``clock``, default
+    :class:`SidesFit` to every point, then for each target again to the points near its answer
+    (:func:`_local_fit`; the answer and its interval come from that fit), then adds rounds of
+    :data:`DESIGN_ROUND` tosses at 0.93, 1 and 1.07 times each target's estimate until every
+    interval is within ``tol`` of its estimate (both ends), or ``max_tosses`` would be passed,
+    or ``time_limit`` seconds (of ``clock``, default
     ``time.monotonic``) have gone by at the end of a round.  Every simulation is seeded
     ``(seed, round, point)``: the result is a function of the seed and the number of rounds, so a
     run stopped by the time limit is reproduced by ``max_tosses`` equal to its tosses.
@@ -1071,8 +1174,9 @@ def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, lev
         fit = fit_sides([(x, n, k) for x, (n, k) in sorted(points.items())])
         if fit.beta <= 0:
             raise ValueError("the simulated P(sides) does not grow with xi; no design found")
-        est = [fit.inverse(t) for t in targets]
-        ivs = [fit.interval(t, level) for t in targets]
+        fits = [_local_fit(points, t, fit.inverse(t)) for t in targets]
+        est = [f.inverse(t) for f, t in zip(fits, targets, strict=True)]
+        ivs = [f.interval(t, level) for f, t in zip(fits, targets, strict=True)]
         met = all(hi - x <= tol and x - lo <= tol for x, (lo, hi) in zip(est, ivs, strict=True))
         if met:
             break
@@ -1088,5 +1192,5 @@ def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, lev
         planned = tosses + len(nxt) * DESIGN_ROUND
         run(nxt, DESIGN_ROUND, rnd)
     return Design(targets, est, [lo for lo, _ in ivs], [hi for _, hi in ivs], fit, tosses,
-                  rnd, met, stopped, seed, unsettled)
+                  rnd, met, stopped, seed, unsettled, fits)
 

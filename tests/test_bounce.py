@@ -185,6 +185,58 @@ def test_bounce_rest_is_final():
         assert float(d.energy[0] + d.energy[1]) < eng.barrier
 
 
+def _on_side_rolling(eng, speed, spin):
+    """The coin lying on its side (axis along -y), moving along x at ``speed`` and spinning
+    about its axis so that the lowest generator moves at ``speed + a w_y`` (0: rolling)."""
+    coin, d = eng.coin, eng.d
+    eng.mujoco.mj_resetData(eng.m, d)
+    q = (math.cos(math.pi / 4), math.sin(math.pi / 4), 0.0, 0.0)  # about x by 90 deg
+    d.qpos[:3] = (0.0, 0.0, coin.a - 2e-5)  # 20 um into the surface: touching
+    d.qpos[3:7] = q
+    d.qvel[:3] = (speed, 0.0, 0.0)
+    d.qvel[3:6] = B._qrot(B._qconj(q), (0.0, spin, 0.0))  # body frame
+    eng.mujoco.mj_forward(eng.m, d)
+
+
+def test_rolling_energy_is_left_out_only_when_rolling_on_the_side():
+    coin = B.Coin(0.577)
+    eng = B.Engine(coin, B.SURFACES["wood"])
+    v = 0.4
+    _on_side_rolling(eng, v, v / coin.a)  # rolls: the contact line is at rest
+    assert eng.d.ncon >= 1
+    want = 0.5 * (eng.i3 * (v / coin.a) ** 2 + eng.mass * v * v)
+    assert eng._rolling() == pytest.approx(want, rel=1e-9)
+    _on_side_rolling(eng, v, 0.0)  # slides on its side: all its energy stays counted
+    assert eng._rolling() == 0.0
+    _on_side_rolling(eng, 0.0, 20.0)  # spins in place (slips): likewise
+    assert eng._rolling() == 0.0
+    # only where it was checked: a quarter rolling upright on its rim keeps the whole energy
+    assert eng.rolling_rest and not B.Engine(B.Coin(0.0725), B.SURFACES["wood"]).rolling_rest
+
+
+def test_rolling_rule_changes_no_outcome():
+    """The rest rule without the rolling energy decides the same side as the rule on the whole
+    energy, for every toss the latter settles (and settles tosses the latter leaves rolling at
+    t_max): 48 hand tosses of the fair coin, 8 of which end rolling on the side."""
+    coin = B.Coin(0.577)
+    eng = B.Engine(coin, B.SURFACES["wood"])
+    dists = {**T.HAND_TOSS, "height": T.as_dist(0.0, "height", 0, 1),
+             "vx": T.as_dist(0.0, "vx", 0, 1),
+             "z0": T.as_dist(T.default_z0(0.577, contact="thick"), "z0", 0, 1)}
+    launches = B._block_launches(5, 0, 48, dists, coin)
+    fired = 0
+    for launch in launches:
+        eng.rolling_rest = True
+        new = eng.run(launch)
+        eng.rolling_rest = False
+        old = eng.run(launch)
+        fired += new.steps < old.steps
+        assert new.code != B.UNSETTLED
+        assert old.code in (new.code, B.UNSETTLED), (launch, new, old)
+        assert new.steps <= old.steps
+    assert fired >= 4
+
+
 def test_determinism_across_workers():
     kw = dict(xi=0.577, psi=math.pi / 2, surf=B.SURFACES["wood"], **HAND)
     one = B.simulate(300, 5, jobs=1, **kw)
@@ -213,3 +265,68 @@ def test_timestep_halving():
     b = B.simulate(1000, 3, dt=B.DEFAULT_DT / 2, **kw)
     for fa, fb in zip(a.frequencies, b.frequencies, strict=True):
         assert fa.lo <= fb.hi and fb.lo <= fa.hi, (fa, fb)
+
+
+# --------------------------------------------------------------------------- design's fits
+
+
+def _probit(alpha, beta, x):
+    return 0.5 * math.erfc(-(alpha + beta * math.log(x)) / math.sqrt(2))
+
+
+def test_fit_sides_recovers_an_exact_probit():
+    """Counts exactly on a probit (n large, k = n p rounded) give back its coefficients, a
+    deviance near 0 and the inverse of the curve."""
+    n = 10**8
+    pts = [(x, n, round(n * _probit(0.3, 1.7, x))) for x in (0.2, 0.35, 0.5, 0.8, 1.3)]
+    f = B.fit_sides(pts)
+    assert f.alpha == pytest.approx(0.3, abs=1e-5) and f.beta == pytest.approx(1.7, abs=1e-5)
+    assert f.deviance < 1e-3 and f.p_value > 0.99
+    want = math.exp((-0.4307272992954576 - 0.3) / 1.7)  # Phi^-1(1/3) = -0.43072729929545756
+    assert f.inverse(1 / 3) == pytest.approx(want, rel=1e-5)
+
+
+def test_fit_sides_widens_intervals_by_the_dispersion():
+    """Points that scatter beyond binomial noise widen the interval by sqrt(deviance / df)."""
+    pts = [(0.2, 400, 40), (0.3, 400, 150), (0.45, 400, 110), (0.7, 400, 260), (1.0, 400, 250)]
+    f = B.fit_sides(pts)
+    phi = f.deviance / f.df
+    assert phi > 5
+    lo, hi = f.interval(1 / 3)
+    g = B.SidesFit(f.alpha, f.beta, tuple(tuple(c / phi for c in row) for row in f.cov),
+                   f.points, f.deviance, f.df, f.p_value)
+    glo, ghi = g.interval(1 / 3)
+    assert math.log(hi / lo) == pytest.approx(math.sqrt(phi) * math.log(ghi / glo), rel=1e-9)
+
+
+def _levels_off(x):
+    """P(sides) that is not a probit in log xi: it levels off at 0.95."""
+    return 0.95 * _probit(-0.2, 2.6, x / 0.4)
+
+
+def _floor(x):
+    """P(sides) with a floor of 0.06 (thin coins that stay on edge): not a probit either."""
+    return 0.06 + 0.9 * _probit(0.0, 3.0, x / 0.5)
+
+
+@pytest.mark.parametrize("curve, target", [(_floor, 0.2), (_levels_off, 1 / 3)])
+def test_design_answers_from_the_points_near_the_target(monkeypatch, curve, target):
+    """On a curve that a probit over the whole sweep misses, design's answer comes from the
+    points near the target: within tol of the true xi, its interval covering it.  (On the
+    floor, fitting every point with binomial intervals answered 0.336 [0.327, 0.345] for the
+    true 0.357.)  The simulation is replaced by binomial draws from the curve, seeded as
+    design seeds its simulations."""
+    import numpy as np
+    from scipy.optimize import brentq
+
+    def fake(n, seed, *, xi, stream=(), **kw):
+        k = int(np.random.default_rng([seed, *stream]).binomial(n, curve(xi)))
+        return type("R", (), {"settled": n, "counts": (0, k, n - k, 0)})()
+
+    monkeypatch.setattr(B, "simulate", fake)
+    truth = brentq(lambda x: curve(x) - target, 0.05, 3.0)
+    r = B.design([target], seed=4, tol=0.01, max_tosses=10**6)
+    assert r.met and r.stopped_by == "tol"
+    assert abs(r.xi[0] - truth) < 0.01, (r.xi, truth)
+    assert r.low[0] <= truth <= r.high[0]
+    assert B.fit_sides(r.fit.points).p_value < 1e-3  # the whole-sweep probit misses them

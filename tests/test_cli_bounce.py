@@ -6,6 +6,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import math
 import subprocess
 import sys
 
@@ -113,6 +114,24 @@ def test_plot_sides_bounce_terminal(coin):
     assert note.startswith("coin: note: simulated points: 40 tosses")
     assert "bounce on wood: fitted probit (simulated)" in out
     assert "simulated bounce on wood (8 rows)" in out
+    assert "omega ~ normal:38:4 rev/s, psi ~ normal:90:10 deg (hand toss" in note
+
+
+def test_bounce_launch_defaults_are_the_hand_toss():
+    """design and plot sides --landing bounce launch as simulate and toss do: the one hand toss
+    of coincli.toss, not a copy of it."""
+    from coincli import toss as T
+    from coincli.cli.toss import bounce_launch
+
+    u, w, psi, text = bounce_launch(None, None, None, None)
+    assert (u, w, psi) == (T.HAND_TOSS["u"], T.HAND_TOSS["omega"], T.HAND_TOSS["psi"])
+    assert u is T.HAND_TOSS["u"] and w is T.HAND_TOSS["omega"] and psi is T.HAND_TOSS["psi"]
+    assert text.startswith(", ".join(f"{k} ~ {T.HAND_TOSS_TEXT[k]}" for k in ("u", "omega",
+                                                                             "psi")))
+    u, w, psi, text = bounce_launch("80", None, "2", None)
+    assert psi == math.radians(80) and u.kind == "fixed" and w is T.HAND_TOSS["omega"]
+    assert "psi = 80 deg" in text
+    assert "hand toss, Diaconis, Holmes & Montgomery 2007: omega)" in text
 
 
 # --------------------------------------------------------------------------- imports

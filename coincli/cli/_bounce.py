@@ -20,7 +20,7 @@ from coincli.cli._common import Column, Result, compute_error, usage_error
 
 LANDINGS = ("catch", "bounce")
 SURFACE_NAMES = ("wood", "hard-floor", "felt", "rice")  # coincli.bounce.SURFACES, without mujoco
-MAX_BOUNCE_TOSSES = 10**6  #: -n with --landing bounce: ~4 hours at ~70 tosses/s on two cores
+MAX_BOUNCE_TOSSES = 10**6  #: -n with --landing bounce: ~4 hours at ~75 tosses/s on two cores
 
 LandingOpt = Annotated[
     str, typer.Option("--landing", help="catch (the paper's: caught at first contact, the "
@@ -299,9 +299,9 @@ def toss(p: Physics, *, xi, psi, u, omega, diameter, g, z0, trajectory, fmt, qui
     ]
     note = (f"One toss onto {p.describe()} (MuJoCo, dt = {p.dt:g} s), the surface "
             f"{p.height * 1000:g} mm below the launch plane; D = {diameter * 1000:g} mm.  "
-            "'settled at': when the coin's energy fell below what it needs to cross a corner, "
-            "so the side could no longer change.  'if caught': the paper's catch at the first "
-            "contact.")
+            "'settled at': when the coin's energy (less that of rolling, when it rolls on its "
+            "side without slipping) fell below what it needs to cross a corner, so the side "
+            "could no longer change.  'if caught': the paper's catch at the first contact.")
     if trajectory is not None:
         note += f"  Trajectory: {trajectory} ({len(r.trajectory)} rows)."
     note += note_extra
@@ -351,15 +351,16 @@ def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, 
                  time_limit=time_limit, u=u, omega=omega, psi=psi, surf=p.surface,
                  landing="bounce", height=p.height, vx=p.vx, diameter=diameter, g=g, dt=p.dt,
                  t_max=p.t_max, jobs=p.jobs, progress=tick)
-    fit = r.fit
     dia_mm = diameter * 1000
-    rows = [(t, x, lo, hi, dia_mm * x, float(fit.p_sides(x)), fit.p_value, r.tosses, r.seed)
-            for t, x, lo, hi in zip(r.targets, r.xi, r.low, r.high, strict=True)]
+    rows = [(t, x, lo, hi, dia_mm * x, float(f.p_sides(x)), f.p_value, len(f.points), r.tosses,
+             r.seed)
+            for t, x, lo, hi, f in zip(r.targets, r.xi, r.low, r.high, r.fits, strict=True)]
     columns = [
         Column("p_sides", "P(sides) target"), Column("xi", "xi = h/D"),
         Column("xi_low", "95% low"), Column("xi_high", "95% high"),
         Column("thickness_mm", f"thickness (mm) for D = {dia_mm:g}"),
         Column("fitted_p_sides", "fitted P(sides)"), Column("fit_p_value", "fit p-value"),
+        Column("fit_points", "aspect ratios fitted", "int"),
         Column("tosses", "tosses", "int"), Column("seed", "seed", "int"),
     ]
     why = {"tol": f"every interval within --tol {tol:g}",
@@ -367,13 +368,16 @@ def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, 
            "time_limit": f"the --time-limit of {time_limit:g} s passed before --tol {tol:g}"}
     note = (f"Simulated table (MuJoCo), not the paper's catch: tosses onto {p.describe()}, "
             f"{labels}; seed {r.seed}.  {r.tosses} tosses ({r.unsettled} unsettled, left out) "
-            f"at {len(fit.points)} aspect ratios in {r.rounds + 1} rounds; P(sides) = "
-            f"Phi({fit.alpha:.4g} + {fit.beta:.4g} ln xi) fitted by maximum likelihood "
-            f"(goodness of fit against the points: deviance {fit.deviance:.3g} on {fit.df} df, "
-            f"p = {fit.p_value:.3g}"
-            + ("; the curve does not fit the points well: trust the intervals less" if
-               fit.p_value < 0.01 else "")
-            + f"); 95% intervals by the delta method.  Stopped: {why[r.stopped_by]}"
+            f"at {len(r.fit.points)} aspect ratios in {r.rounds + 1} rounds.  Each answer is "
+            "from P(sides) = Phi(alpha + beta ln xi) fitted by maximum likelihood to the "
+            "aspect ratios near it ('aspect ratios fitted'; "
+            + "; ".join(f"{t:.4g}: Phi({f.alpha:.4g} + {f.beta:.4g} ln xi), deviance "
+                        f"{f.deviance:.3g} on {f.df} df, p = {f.p_value:.3g}"
+                        for t, f in zip(r.targets, r.fits, strict=True))
+            + ")" + ("; a curve misses its points by more than their noise: its interval is "
+                     "widened by the dispersion" if any(f.p_value < 0.01 for f in r.fits)
+                     else "")
+            + f"; 95% intervals by the delta method.  Stopped: {why[r.stopped_by]}"
             + ("" if r.stopped_by == "tol" else
                f"; --max-tosses {r.tosses} reproduces this result") + ".  "
             "The catch model (no --landing) gives the paper's xi.  Toss a prototype and check "

@@ -233,9 +233,11 @@ def design(
     rolling: BO.RollingOpt = None,
     u: Annotated[str | None, typer.Option("--u", help="With --landing bounce: launch speed, "
                                           "m/s, a value or normal:MEAN:SD / uniform:LOW:HIGH "
-                                          "(default normal:2.4:0.3).", metavar="SPEC")] = None,
+                                          "(default the hand toss of coin simulate, "
+                                          "normal:2.4:0.3).", metavar="SPEC")] = None,
     omega: Annotated[str | None, typer.Option("--omega", help="With --landing bounce: "
-                                              "precession rate, rad/s (default normal:38:4).",
+                                              "precession rate, rad/s or with a unit (default "
+                                              "the hand toss, normal:38:4rev/s).",
                                               metavar="SPEC")] = None,
     height: BO.ReleaseHeightOpt = None,
     vx: BO.VxOpt = None,

@@ -352,9 +352,9 @@ def sides(
     --quarters, --diameter/--thickness) and --p-sides mark your designs, --data your tosses
     with 95% Wilson intervals; --psi and --psi-dist add curves.
 
-    --landing bounce adds tosses simulated onto a surface (MuJoCo; u ~ normal:2.4:0.3 m/s,
-    omega ~ normal:38:4 rad/s, psi = 90, as coin design --landing bounce): points with 95%
-    intervals at 8 aspect ratios and the probit curve fitted to them.
+    --landing bounce adds tosses simulated onto a surface (MuJoCo; the hand toss of coin
+    simulate: u ~ normal:2.4:0.3 m/s, omega ~ normal:38:4 rev/s, psi ~ normal:90:10 deg):
+    points with 95% intervals at 8 aspect ratios and the probit curve fitted to them.
 
     Examples: coin plot sides --out sides.png ;  coin plot sides --p-sides 1/3 --log --terminal ;
     coin plot sides --quarters 6:10:1 --psi-dist normal:90:18 --out sides.svg ;

@@ -710,29 +710,34 @@ class _progress:
 
 
 def bounce_launch(psi, psi_dist, u, omega):
-    """The launch distributions of a bounce design run: --u, --omega (defaults: an ordinary
-    hand toss, normal:2.4:0.3 m/s and normal:38:4 rad/s), psi fixed (--psi, default 90) or
-    distributed (--psi-dist); and their description."""
+    """The launch distributions of a bounce run (``coin design`` and ``coin plot sides``):
+    --u, --omega, --psi (fixed) or --psi-dist; what is not given is the hand toss that ``coin
+    toss`` and ``coin simulate`` draw (:data:`coincli.toss.HAND_TOSS`).  Returns the three specs
+    and their description."""
+    from coincli import toss as T
+
     if psi is not None and psi_dist is not None:
         raise usage_error("give --psi DEG or --psi-dist SPEC, not both")
-    u = u or "normal:2.4:0.3"
-    omega = omega or "normal:38:4"
     if psi_dist is not None:
         psi_spec = _psi_dist(psi_dist)
         psi_text = f"psi ~ {psi_dist.strip()} deg"
+    elif psi is not None:
+        psi_spec = _options.radians(_options.psi_angle(psi))
+        psi_text = f"psi = {psi.strip()} deg"
     else:
-        psi_spec = _options.radians(_options.psi_angle(psi or "90"))
-        psi_text = f"psi = {(psi or '90').strip()} deg"
-    u_spec = _spec(u, "--u", "u")
-    w_spec = _spec(omega, "--omega", "omega")
+        psi_spec, psi_text = T.HAND_TOSS["psi"], f"psi ~ {T.HAND_TOSS_TEXT['psi']}"
+    u_spec = _spec(u, "--u", "u") if u is not None else T.HAND_TOSS["u"]
+    w_spec = _spec(omega, "--omega", "omega") if omega is not None else T.HAND_TOSS["omega"]
     if _reach(w_spec, math.inf) > 1e4:
         raise usage_error(f"--omega must stay at most 10000 rad/s with --landing bounce, got "
                           f"{omega.strip()!r}")
-    u_text = u.strip() + ("" if parse.split_unit(u.split(":")[-1], parse.SPEED_UNITS)[1]
-                          else " m/s")
-    w_text = omega.strip() + ("" if parse.split_unit(omega.split(":")[-1], parse.SPIN_UNITS)[1]
-                              else " rad/s")
-    return u_spec, w_spec, psi_spec, f"u ~ {u_text}, omega ~ {w_text}, {psi_text}"
+    u_text = (T.HAND_TOSS_TEXT["u"] if u is None else u.strip() + (
+        "" if parse.split_unit(u.split(":")[-1], parse.SPEED_UNITS)[1] else " m/s"))
+    w_text = (T.HAND_TOSS_TEXT["omega"] if omega is None else omega.strip() + (
+        "" if parse.split_unit(omega.split(":")[-1], parse.SPIN_UNITS)[1] else " rad/s"))
+    hand = [k for k, v in (("u", u), ("omega", omega), ("psi", psi or psi_dist)) if v is None]
+    source = f" (hand toss, {DHM}: {', '.join(hand)})" if hand else ""
+    return u_spec, w_spec, psi_spec, f"u ~ {u_text}, omega ~ {w_text}, {psi_text}{source}"
 
 
 def bounce_design(physics, *, p_sides, psi, psi_dist, u, omega, diameter, coin, tol, seed,
