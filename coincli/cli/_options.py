@@ -20,6 +20,7 @@ Commands declare the options with these ``Annotated`` aliases (parameter names `
 from __future__ import annotations
 
 import math
+import sys
 from typing import Annotated
 
 import typer
@@ -394,6 +395,16 @@ def seed_value(text: str | None) -> int:
 
         return secrets.randbits(63)
     return _one(text, "--seed", parse.parse_seed)
+
+
+def report_seed(seed: int, given: bool) -> None:
+    """A drawn seed on stderr, where the output itself has no room for it (``-q``,
+    ``--stream``): every random result can be repeated.  A seed the user gave is not repeated."""
+    if not given:
+        try:
+            sys.stderr.write(f"coin: seed {seed} (--seed {seed} repeats this run)\n")
+        except (OSError, ValueError):
+            pass
 
 
 # --------------------------------------------------------------------------- psi

@@ -460,6 +460,12 @@ def table(
             extra.append(ModelSpec.psi_density(d))
     acc = _accuracy.parse(tol, method, seed)
     _accuracy.require_density(acc, bool(dens))
+    _table_rows(coins, extra, acc, fmt, quiet)
+    if quiet and acc is not None and acc.sampling:  # the note that names the seed is not shown
+        _options.report_seed(acc.seed, seed is not None)
+
+
+def _table_rows(coins, extra, acc, fmt: str, quiet: bool) -> None:
     models_ = (GEOMETRIC, DYNAMIC, *extra)
     many = coins.counts if isinstance(coins.counts, Values) else coins.xis
     if isinstance(many, Values) and len(many) > 1 and acc is None:
