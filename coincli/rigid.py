@@ -80,6 +80,7 @@ import math
 
 __all__ = [
     "MAX_PHASE",
+    "M1_MIN",
     "FACES",
     "RULES",
     "box_moments",
@@ -476,12 +477,17 @@ def orbit(moments, omega) -> Orbit:
     big = xp.maximum(xp.abs(wa), xp.abs(wc))
     bs = xp.where(big > 0, big, 1.0)
     d = Ic * p * (wc / bs) ** 2 - Ia * q * (wa / bs) ** 2  # the sign of L^2 - 2 E Ib
+    exact = None
     if Ia == Ib:
         rev = d != d  # False, shaped like d
     elif Ib == Ic:
         rev = d == d  # True
     else:
         rev = d < 0
+        if xp is _Py or w.ndim == 1:  # one motion: the separatrix decided in exact rationals
+            exact = _exact_m1(I, (w1, w2, w3), order)
+            if exact is not None:
+                rev = exact[0] < 0 if xp is _Py else xp.asarray(exact[0] < 0)
     o.rev = rev
     # the circulation frame: (a, b, c) = sorted, or reversed with b negated (proper)
     o.Ia = xp.where(rev, Ic, Ia)
@@ -518,6 +524,13 @@ def orbit(moments, omega) -> Orbit:
                   1.0)
     m1 = xp.maximum(m1, 0.0)
     m = xp.minimum(m, 1.0)
+    if exact is not None:  # correctly rounded: 0 exactly on the separatrix, no cancellation
+        m1 = float(exact[1]) + 0.0 * m1
+        m = float(1 - exact[1]) + 0.0 * m
+        if exact[1] != 0 and m1 < M1_MIN:
+            raise ValueError(_M1_TOO_SMALL)
+    else:
+        _check_m1(xp, m1, wa, wc, adn_s)
     if o.sphere:
         m, m1 = m * 0.0, m1 * 0.0 + 1.0
     o.m, o.m1 = m, m1
@@ -552,6 +565,52 @@ def orbit(moments, omega) -> Orbit:
     o.tau0 = xp.where(stationary, 0.0, tau0)
     o.L = xp.sqrt((Ia * ws[0]) ** 2 + (Ib * ws[1]) ** 2 + (Ic * ws[2]) ** 2)
     return o
+
+
+#: the smallest distance ``m1 = 1 - m`` to the separatrix that can be followed: a spin closer to
+#: the middle axis than about 1e-150 of it (but not on it) has m1 below the range of a double
+M1_MIN = 1e-300
+
+
+def _exact_m1(moments, omega, order):
+    """``(D, m1)`` as exact rationals for one motion of a body with three different moments
+    (``order`` sorts them): :math:`D = L^2 - 2 E I_b = \\sum_i I_i (I_i - I_b)\\omega_i^2` (its
+    sign says which extreme axis omega circulates about; 0 on the separatrix) and
+
+    .. math:: m_1 = \\frac{D (I_c - I_a)}{(I_c - I_b)\\,(I_c (I_c - I_a)\\omega_c^2
+       + I_b (I_b - I_a)\\omega_b^2)}
+
+    in the circulation frame (``c`` the largest moment when ``D >= 0``, else the smallest).
+    The doubles given are taken as exact, so a spin exactly on the separatrix (such as moments
+    3, 4, 6 with omega 2, 1, 1) gives ``m1 = 0`` however the moments are scaled, and next to it
+    ``m1`` has no cancellation.  None when omega is 0 (nothing circulates)."""
+    from fractions import Fraction
+
+    Ia, Ib, Ic = (Fraction(moments[k]) for k in order)
+    wa, wb, wc = (Fraction(float(omega[k])) for k in order)
+    D = Ia * (Ia - Ib) * wa * wa + Ic * (Ic - Ib) * wc * wc
+    if D < 0:  # about the smallest axis: exchange a and c
+        Ia, Ic, wa, wc = Ic, Ia, wc, wa
+    den = (Ic - Ib) * (Ic * (Ic - Ia) * wc * wc + Ib * (Ib - Ia) * wb * wb)
+    if den == 0:
+        return None
+    return D, D * (Ic - Ia) / den
+
+
+def _check_m1(xp, m1, wa, wc, adn):
+    """ValueError when the motion is next to the separatrix but ``m1`` is below :data:`M1_MIN`
+    (it would round to 0 and the motion pass for the separatrix, flipping once and never back):
+    the spin is within about 1e-150 of the middle axis without being on it."""
+    big = xp.maximum(xp.abs(wa), xp.abs(wc)) / adn
+    bad = (m1 < M1_MIN) & (big > 0) & (big < 1e-140)
+    if xp.any(bad):
+        raise ValueError(_M1_TOO_SMALL)
+
+
+_M1_TOO_SMALL = (
+    "the spin is too close to the middle axis without being on it (about 1e-150 of the spin "
+    f"or less: m1 = 1 - m below {M1_MIN:.0e}) for a double to follow; give a perturbation of "
+    "at least 1e-140 of the spin, or exactly 0")
 
 
 def _hypot(xp, x, y, k):
@@ -598,7 +657,7 @@ def _user_from_frame(o: Orbit, va, vb, vc):
 
 def omega_at(o: Orbit, t):
     """Body angular velocity (rad/s, the user's axes) at times ``t`` (s): numpy array of shape
-    ``broadcast(o, t) + (3,)``."""
+    ``broadcast(o, t) + (3,)``; exactly the launch value at ``t = 0``."""
     import numpy as np
 
     t = np.asarray(t, dtype=float)
@@ -614,7 +673,10 @@ def omega_at(o: Orbit, t):
         vb = np.where(st, o.wb, vb)
         vc = np.where(st, o.wc, vc)
     u = _user_from_frame(_as_np(o), va, vb, vc)
-    return np.stack(np.broadcast_arrays(*u), axis=-1) * np.asarray(o.scale)[..., None]
+    out = np.stack(np.broadcast_arrays(*u), axis=-1) * np.asarray(o.scale)[..., None]
+    # at t = 0 the launch values themselves (the solution returns them to a few ulps)
+    w0 = np.broadcast_to(np.asarray(o.omega0, dtype=float), out.shape)
+    return np.where((np.broadcast_to(t, out.shape[:-1]) == 0)[..., None], w0, out)
 
 
 def _as_np(o: Orbit) -> Orbit:
@@ -1116,6 +1178,9 @@ def catch(moments, sides, omega, t, start, rule="centre"):
     w = np.asarray(omega, dtype=float)
     tt = np.asarray(t, dtype=float)
     check_phase(np.abs(w).max(axis=-1) * (np.sqrt(3) * tt))  # 1e308 * 0 is 0, not inf * 0
+    # no time, no motion: a box caught at once shows its start face whatever its spin (even one
+    # whose motion could not be followed, next to the separatrix beyond the double range)
+    w = np.where((np.broadcast_to(tt, w.shape[:-1]) == 0)[..., None], 0.0, w)
     o = orbit(moments, w)
     q = attitude_at(o, tt, start)
     return face_up(up_vector(q), sides, rule)
