@@ -295,6 +295,13 @@ BAD = [
     ([*BOOK, "--toss", "--spin", "0,0,40", "--flight", "-0.5"], "--flight"),
     ([*BOOK, "--toss", "--spin", "0,0,40", "--flight", "normal:-50:1"], "no probability"),
     ([*BOOK, "--toss", "--spin", "normal:0:1e12,0,0", "--flight", "1"], "rad"),
+    ([*BOOK, "--spin", "0,0,40", "--flight", "-1"], ">= 0"),  # was exit 1
+    ([*BOOK, "--spin", "1e-200,40,0"], "middle axis"),  # was 'on the separatrix'
+    ([*BOOK, "--spin", "1e-200,40,0", "--times", "0,1"], "middle axis"),
+    ([*BOOK, "--spin", "0,40,1e-320", "--flight", "1"], "middle axis"),
+    ([*BOOK, "--toss", "--spin", "1e-200,40,0"], "middle axis"),
+    ([*BOOK, "--toss", "--spin", "normal:38rev/s:4,0,0"], "unit once at the end"),
+    ([*BOOK, "--toss", "--spin", "0,0,40", "--flight", "uniform:400ms:0.6"], "unit once"),
 ]
 
 
@@ -403,3 +410,29 @@ def test_no_headers_and_negative_spins_with_units(coin):
                   "--no-headers"))
     w = [float(v) for v in out.split(",")[1:4]]
     assert w == pytest.approx([-0.4, -6.4 * 2 * math.pi, math.pi / 2], rel=1e-15)
+
+
+def test_a_unit_at_the_end_of_a_distribution_applies_to_every_number(coin):
+    # as coin simulate --omega reads normal:38:4rev/s: both numbers in rev/s
+    toss = [*BOOK, "--toss", "-n", "2000", "--seed", "4", "-f", "csv"]
+    once = ok(coin(*toss, "--spin", "normal:6:1rev/s,0.5,uniform:-1:1rpm", "--flight",
+                   "normal:500:50ms"))
+    every = ok(coin(*toss, "--spin", "normal:6rev/s:1rev/s,0.5,uniform:-1rpm:1rpm", "--flight",
+                    "normal:500ms:50ms"))
+    assert once == every
+    si = ok(coin(*toss, "--spin", f"normal:{12 * math.pi!r}:{2 * math.pi!r},0.5,"
+                 f"uniform:{-math.pi / 30!r}:{math.pi / 30!r}", "--flight", "normal:0.5:0.05"))
+    assert once == si
+
+
+def test_a_spin_exactly_on_the_separatrix(coin):
+    # 2 E I2 = L^2 exactly: one flip, never back (was 'periodic', period 99 s, from rounding)
+    d = _json(ok(coin("book", "--moments", "3,4,6", "--spin", "2,1,1", "-f", "json")))[0]
+    assert d["motion"].startswith("on the separatrix") and d["period"] == "inf"
+    assert d["m"] == 1.0
+
+
+def test_the_time_series_starts_at_the_launch_values_exactly(coin):
+    rows = list(csv.reader(io.StringIO(ok(coin(*BOOK, "--spin", "0.4,40,0.3", "--times",
+                                                    "0,0.1", "-f", "csv")))))
+    assert rows[1][:8] == ["0.0", "0.4", "40.0", "0.3", "1.0", "0.0", "0.0", "0.0"]

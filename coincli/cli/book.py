@@ -79,9 +79,11 @@ def _spin_value(text: str, what: str) -> float:
                           f"default; rev/s, rpm, deg/s), got {text!r}") from None
 
 
-def _dist(text: str, what: str, number, default: str, lo: float):
+def _dist(text: str, what: str, number, default: str, lo: float, units, example: str):
     """A value or a distribution ``normal:MEAN:SD`` / ``uniform:LOW:HIGH`` (``fixed:V``) whose
-    numbers may carry units; returned as a :class:`coincli.toss.Dist` in the default unit."""
+    numbers may carry units: one after every number, or once at the end for all of them
+    (``normal:6:1rev/s``, as ``coin simulate --omega`` reads it); returned as a
+    :class:`coincli.toss.Dist` in the default unit."""
     from coincli import toss as T
 
     parts = [p.strip() for p in text.split(":")]
@@ -90,7 +92,15 @@ def _dist(text: str, what: str, number, default: str, lo: float):
         if head not in _DIST_KINDS:
             raise usage_error(f"{what}: unknown distribution {text!r}; expected a value, "
                               "normal:MEAN:SD or uniform:LOW:HIGH")
-        nums = [number(p, what) for p in parts[1:]]
+        nums = parts[1:]
+        has = [parse.split_unit(p, units)[1] is not None for p in nums]
+        if any(has) and not all(has):
+            if not has[-1] or any(has[:-1]):  # a unit on some numbers only: ambiguous
+                raise usage_error(f"{what}: give the unit once at the end ({example}) or after "
+                                  f"every number, got {text!r}")
+            unit = parse.split_unit(nums[-1], units)[1]
+            nums = [p + unit for p in nums[:-1]] + nums[-1:]
+        nums = [number(p, what) for p in nums]
         spec = ":".join([head] + [repr(v) for v in nums])
     else:
         if len(parts) != 1:
@@ -142,6 +152,12 @@ def _time_item(text: str, what: str) -> float:
     if not v >= 0:
         raise ValueError(f"{what} must be a time >= 0 s, got {text!r}")
     return v
+
+
+def _typed(text: str, units, unit: str) -> str:
+    """A value or distribution as typed, with the default unit appended when it has none."""
+    t = text.strip()
+    return t if parse.split_unit(t.split(":")[-1], units)[1] is not None else f"{t} {unit}"
 
 
 def _reach(dist) -> float:
@@ -326,7 +342,7 @@ def book_cmd(
         return
     tf = None
     if flight is not None:
-        tf = _time_item(flight, "--flight") if ":" not in flight else None
+        tf = _usage(_time_item, flight, "--flight") if ":" not in flight else None
         if tf is None:
             raise usage_error("--flight takes one time (s) without --toss, got "
                               f"{flight!r}")
@@ -383,7 +399,7 @@ def _motion(box, w, tf, start, rule, out, fmt, quiet):
 
         _check_phase(max(abs(v) for v in w) * (math.sqrt(3) * tf), "--flight", f"{tf:g} s")
         q0 = _start_quaternion(start)
-        o = R.orbit(box.moments, np.asarray(w, dtype=float))
+        o = _usage(R.orbit, box.moments, np.asarray(w, dtype=float))
         q = R.attitude_at(o, tf, q0)
         face = FACES[int(R.face_up(R.up_vector(q), box.sides, rule))]
     cols, vals = [], []
@@ -494,7 +510,7 @@ def _series(box, w, times, start, rule, out, figure, fmt, quiet):
         _check_phase(wmax * (math.sqrt(3) * float(ts.max())), "--times up to",
                      f"{float(ts.max()):g} s")
     q0 = _start_quaternion(start)
-    o = R.orbit(box.moments, np.asarray(w, dtype=float))
+    o = _usage(R.orbit, box.moments, np.asarray(w, dtype=float))
     om = R.omega_at(o, ts)
     q = R.attitude_at(o, ts, q0)
     up = R.face_up(R.up_vector(q), box.sides, rule)
@@ -536,10 +552,12 @@ def _toss(box, spin, n, seed, flight, start, rule, out, figure, fmt, quiet):
     count = tosses_value("10000" if n is None else n, high=MAX_TOSSES)
     seed_v = seed_value(seed)
     comps = _three(spin, "--spin")
-    dists = [_dist(p, f"--spin component {k}", _spin_value, "rad/s", -math.inf)
+    dists = [_dist(p, f"--spin component {k}", _spin_value, "rad/s", -math.inf,
+                   parse.SPIN_UNITS, "normal:6:1rev/s")
              for k, p in enumerate(comps, start=1)]
     flight_text = "0.5" if flight is None else flight
-    fd = _dist(flight_text, "--flight", _time_value, "s", 0.0)
+    fd = _dist(flight_text, "--flight", _time_value, "s", 0.0, _TIME_UNITS,
+               "normal:500:50ms")
     # every toss must be one the core can follow, checked at the top of the distributions
     wtop = max(_reach(d) for d in dists)  # |omega| <= sqrt(3) times this, as the core checks
     ttop = _reach(fd)
@@ -555,8 +573,16 @@ def _toss(box, spin, n, seed, flight, start, rule, out, figure, fmt, quiet):
     counts = np.zeros(6, dtype=np.int64)
     with _progress(count) as tick:
         done = 0
-        for codes in R.toss_chunks(count, seed_v, moments=box.moments, sides=box.sides,
-                                   spin=dists, flight=fd, start=start, rule=rule):
+        chunks = R.toss_chunks(count, seed_v, moments=box.moments, sides=box.sides, spin=dists,
+                               flight=fd, start=start, rule=rule)
+        while True:
+            try:  # a motion the core cannot follow is the input's fault: nothing is printed
+                codes = next(chunks, None)
+            except ValueError as exc:
+                raise usage_error(f"toss {done + 1} to {min(done + R._CHUNK, count)}: "
+                                  f"{exc}") from None
+            if codes is None:
+                break
             counts += np.bincount(codes, minlength=6)
             done += codes.size
             tick(done)
@@ -574,8 +600,9 @@ def _toss(box, spin, n, seed, flight, start, rule, out, figure, fmt, quiet):
         Column("geometric", "geometric"), Column("difference", "freq - geometric"),
         Column("seed", "seed", "int"),
     ]
-    fl = "0.5 s (default)" if flight is None else f"{flight.strip()} s"
-    note = (f"{count} tosses, seed {seed_v}: {box.label}; spin ~ ({', '.join(comps)}) rad/s "
+    fl = "0.5 s (default)" if flight is None else _typed(flight, _TIME_UNITS, "s")
+    spins = ", ".join(_typed(c, parse.SPIN_UNITS, "rad/s") for c in comps)
+    note = (f"{count} tosses, seed {seed_v}: {box.label}; spin ~ ({spins}) "
             f"about body axes 1, 2, 3; flight {fl}; face {start} up at launch; {rule} rule.  "
             "95% Wilson intervals.  Geometric: every orientation equally likely (each face's "
             + ("solid angle from the centre / 4 pi)." if rule == "centre" else "1/6).")
