@@ -436,3 +436,21 @@ def test_the_time_series_starts_at_the_launch_values_exactly(coin):
     rows = list(csv.reader(io.StringIO(ok(coin(*BOOK, "--spin", "0.4,40,0.3", "--times",
                                                     "0,0.1", "-f", "csv")))))
     assert rows[1][:8] == ["0.0", "0.4", "40.0", "0.3", "1.0", "0.0", "0.0", "0.0"]
+
+
+def test_a_figure_without_matplotlib_fails_before_any_toss(coin, tmp_path, monkeypatch):
+    for name in list(sys.modules):
+        if name == "matplotlib" or name.startswith("matplotlib."):
+            monkeypatch.delitem(sys.modules, name)
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+
+    def no_tosses(*args, **kwargs):
+        raise AssertionError("tossed before finding that the figure cannot be drawn")
+
+    monkeypatch.setattr(R, "toss_chunks", no_tosses)
+    monkeypatch.setattr(R, "attitude_at", no_tosses)
+    png = tmp_path / "b.png"
+    for argv in ([*BOOK, "--toss", "-n", "10000000", "--spin", "1,2,40"],
+                 [*BOOK, "--spin", "0.4,40,0.3"]):
+        error(coin(*argv, "--out", str(png)), 1, "matplotlib")
+    assert os.listdir(tmp_path) == []

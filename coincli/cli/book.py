@@ -222,15 +222,24 @@ def _emit(result: Result, fmt: str, quiet: bool, out: str | None) -> None:
         sys.stderr.write(f"coin: wrote {out} ({size:,} bytes)\n")
 
 
-def _figure(path: str, build) -> None:
-    """Draw and save a figure: coincli.plot.save_figure writes it through write_atomic."""
+def _require_matplotlib() -> None:
+    """A figure file needs matplotlib: exit 1 with the install hint (as coin plot does)."""
     from coincli import plot as P
-    from coincli._files import FileKindError
 
     try:
         P.require_matplotlib()
     except P.MatplotlibMissing as exc:
         raise compute_error(str(exc)) from None
+
+
+def _figure(path: str, build) -> None:
+    """Draw and save a figure: coincli.plot.save_figure writes it through
+    coincli._files.write_atomic (the shared writer of every --out figure), with the errors
+    mapped as coin plot maps them."""
+    from coincli import plot as P
+    from coincli._files import FileKindError
+
+    _require_matplotlib()
     import warnings
 
     with warnings.catch_warnings():
@@ -242,6 +251,10 @@ def _figure(path: str, build) -> None:
             raise usage_error(f"--out: {exc}") from None
         except OSError as exc:
             raise compute_error(f"cannot write {path!r}: {exc.strerror or exc}") from None
+        except MemoryError:
+            raise compute_error(f"not enough memory to draw {path!r}") from None
+        except ValueError as exc:  # the figure itself (FigureTooSmall): nothing was written
+            raise compute_error(f"cannot draw {path!r}: {exc}") from None
     if stderr_is_terminal():
         sys.stderr.write(f"coin: wrote {path} ({size:,} bytes)\n")
 
@@ -311,6 +324,8 @@ def book_cmd(
     if out is not None and not figure and os.path.splitext(out)[1].lower() in _IMAGES:
         raise usage_error(f"--out: figures are written as .png, .svg or .pdf, got {out!r}")
     _check_out(out)
+    if figure:
+        _require_matplotlib()  # before any computing (10^7 tosses take a minute)
     if not (toss or times is not None or flight is not None or figure):
         for opt, given in (("--start", start), ("--rule", rule)):
             if given is not None:
