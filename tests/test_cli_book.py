@@ -430,6 +430,13 @@ def test_a_spin_exactly_on_the_separatrix(coin):
     d = _json(ok(coin("book", "--moments", "3,4,6", "--spin", "2,1,1", "-f", "json")))[0]
     assert d["motion"].startswith("on the separatrix") and d["period"] == "inf"
     assert d["m"] == 1.0
+    assert d["flip_time"] == "inf" and d["first_flip"] == "inf"  # omega2 > 0 ever after
+    # launched the other way round it flips once, when omega2 changes sign: an independent
+    # integration (DOP853) puts that at 0.5826649...s
+    d = _json(ok(coin("book", "--moments", "3,4,6", "--spin", "2,-1,1", "-f", "json")))[0]
+    assert d["first_flip"] == pytest.approx(0.58266494, abs=1e-8)
+    out = ok(coin("book", "--moments", "3,4,6", "--spin", "2,-1,1"))
+    assert "Exactly on the separatrix" in out and "is stable" not in out
 
 
 def test_the_time_series_starts_at_the_launch_values_exactly(coin):

@@ -453,7 +453,8 @@ def _motion(box, w, tf, start, rule, out, fmt, quiet):
     add("gamma_shift", "exact/Gamma - 1", mo.gamma_shift if osc else None)
     add("gamma_shift_2", "  second-order prediction", mo.gamma_shift_2 if osc else None)
     add("lambda", "growth rate lambda (1/s)", mo.gamma if growth else None)
-    flips = growth and mo.kind in ("periodic", "separatrix", "steady")
+    flips = (growth and mo.kind in ("periodic", "separatrix", "steady")) or \
+        mo.kind == "separatrix"
     add("flip_time", "time between flips (s)",
         (mo.half_period if mo.kind != "steady" else math.inf) if flips else None)
     add("flip_asymptote", "  separatrix asymptote (s)", mo.flip_asymptote if flips else None)
@@ -475,6 +476,11 @@ def _motion_note(mo, box) -> str:
             "Yong & Mahadevan, arXiv:1008.4559, Problem 1.")
     if mo.kind == "rest":
         return base + "  No spin: nothing moves."
+    if mo.kind == "separatrix":
+        return base + ("  Exactly on the separatrix (L^2 = 2 E I, I the middle moment): omega "
+                       "tends to a spin about the middle axis, and the body turns over at most "
+                       "once (the first flip, inf when it was before launch), never back; the "
+                       "period is infinite.")
     if mo.gamma_kind == "oscillation":
         return base + ("  A spin about the largest or the smallest axis is stable: the other two "
                        "components stay bounded and oscillate at nearly Gamma, Gamma^2 = "
