@@ -525,9 +525,10 @@ def orbit(moments, omega) -> Orbit:
     m1 = xp.maximum(m1, 0.0)
     m = xp.minimum(m, 1.0)
     if exact is not None:  # correctly rounded: 0 exactly on the separatrix, no cancellation
-        m1 = float(exact[1]) + 0.0 * m1
-        m = float(1 - exact[1]) + 0.0 * m
-        if exact[1] != 0 and m1 < M1_MIN:
+        D, num, den = exact
+        m1 = num / den + 0.0 * m1
+        m = (den - num) / den + 0.0 * m
+        if num != 0 and m1 < M1_MIN:
             raise ValueError(_M1_TOO_SMALL)
     else:
         _check_m1(xp, m1, wa, wc, adn_s)
@@ -573,28 +574,39 @@ M1_MIN = 1e-300
 
 
 def _exact_m1(moments, omega, order):
-    """``(D, m1)`` as exact rationals for one motion of a body with three different moments
-    (``order`` sorts them): :math:`D = L^2 - 2 E I_b = \\sum_i I_i (I_i - I_b)\\omega_i^2` (its
-    sign says which extreme axis omega circulates about; 0 on the separatrix) and
+    """``(D, num, den)``, whole numbers, for one motion of a body with three different moments
+    (``order`` sorts them): the sign of :math:`D = L^2 - 2 E I_b = \\sum_i I_i (I_i - I_b)
+    \\omega_i^2` says which extreme axis omega circulates about (0 on the separatrix), and
+    ``m1 = num / den``,
 
     .. math:: m_1 = \\frac{D (I_c - I_a)}{(I_c - I_b)\\,(I_c (I_c - I_a)\\omega_c^2
        + I_b (I_b - I_a)\\omega_b^2)}
 
     in the circulation frame (``c`` the largest moment when ``D >= 0``, else the smallest).
-    The doubles given are taken as exact, so a spin exactly on the separatrix (such as moments
-    3, 4, 6 with omega 2, 1, 1) gives ``m1 = 0`` however the moments are scaled, and next to it
-    ``m1`` has no cancellation.  None when omega is 0 (nothing circulates)."""
-    from fractions import Fraction
-
-    Ia, Ib, Ic = (Fraction(moments[k]) for k in order)
-    wa, wb, wc = (Fraction(float(omega[k])) for k in order)
+    The doubles given are taken as exact (each a whole number times a common power of two for
+    the moments and another for omega: ``m1`` is homogeneous in both), so a spin exactly on the
+    separatrix (moments 3, 4, 6 with omega 2, 1, 1) gives ``m1 = 0`` however the moments are
+    scaled, and next to it ``num / den`` (Python's correctly rounded division of integers) has
+    no cancellation.  None when nothing circulates (omega 0)."""
+    Ia, Ib, Ic = _whole([float(moments[k]) for k in order])
+    wa, wb, wc = _whole([float(omega[k]) for k in order])
     D = Ia * (Ia - Ib) * wa * wa + Ic * (Ic - Ib) * wc * wc
     if D < 0:  # about the smallest axis: exchange a and c
         Ia, Ic, wa, wc = Ic, Ia, wc, wa
+    num = D * (Ic - Ia)
     den = (Ic - Ib) * (Ic * (Ic - Ia) * wc * wc + Ib * (Ib - Ia) * wb * wb)
     if den == 0:
         return None
-    return D, D * (Ic - Ia) / den
+    if den < 0:
+        num, den = -num, -den
+    return D, num, den
+
+
+def _whole(values):
+    """Whole numbers proportional to the doubles ``values`` (exactly: a common power of 2)."""
+    pairs = [v.as_integer_ratio() for v in values]
+    top = max(d for _, d in pairs)  # every denominator is a power of 2
+    return [n * (top // d) for n, d in pairs]
 
 
 def _check_m1(xp, m1, wa, wc, adn):
