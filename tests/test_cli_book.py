@@ -461,3 +461,14 @@ def test_a_figure_without_matplotlib_fails_before_any_toss(coin, tmp_path, monke
                  [*BOOK, "--spin", "0.4,40,0.3"]):
         error(coin(*argv, "--out", str(png)), 1, "matplotlib")
     assert os.listdir(tmp_path) == []
+
+
+def test_times_take_units_in_ranges_as_in_lists(coin):
+    def ts(spec):
+        out = ok(coin(*BOOK, "--spin", "0.4,40,0.3", "--times", spec, "-f", "csv"))
+        return [float(r.split(",")[0]) for r in out.splitlines()[1:]]
+
+    ref = ts("0,0.1,0.2,0.3")
+    for spec in ("0:300:100ms", "0ms:300ms:100ms", "0,100ms,200ms,300ms", "0:0.3:0.1s"):
+        assert ts(spec) == pytest.approx(ref, abs=1e-15), spec
+    error(coin(*BOOK, "--spin", "0.4,40,0.3", "--times", "0s:500ms:0.1"), 2, "unit once")

@@ -160,6 +160,25 @@ def _typed(text: str, units, unit: str) -> str:
     return t if parse.split_unit(t.split(":")[-1], units)[1] is not None else f"{t} {unit}"
 
 
+def _times(text: str):
+    """--times: a value, a list, a range or - (coincli.cli._common.values_option), each time
+    with an optional unit; a range takes its unit once at the end (``0:500:100ms``, as
+    ``coin simulate --omega 38:40:1rev/s`` does) or the same unit after every number."""
+    t = text.strip()
+    if ":" in t:
+        parts = [p.strip() for p in t.split(":")]
+        split = [parse.split_unit(p, _TIME_UNITS) for p in parts]
+        units = [u for _, u in split]
+        if any(units):
+            unit = units[-1]
+            if unit is None or (any(units[:-1]) and set(units) != {unit}):
+                raise usage_error(f"--times: give a range's unit once at the end (0:500:100ms) "
+                                  f"or the same after every number, got {text!r}")
+            head = ":".join(num for num, _ in split)
+            return values_option(head, "--times", lambda s, w: _time_item(s + unit, w))
+    return values_option(t, "--times", _time_item)
+
+
 def _reach(dist) -> float:
     """The largest |value| a distribution draws: a fixed value, a uniform's ends, a normal's
     |MEAN| + 10 SD (beyond it the chance is below 1e-23 a draw)."""
@@ -522,7 +541,7 @@ def _series(box, w, times, start, rule, out, figure, fmt, quiet):
         span = _default_span(mo)
         ts = np.linspace(0.0, span, FIGURE_POINTS)
     else:
-        vals = values_option(times, "--times", _time_item)
+        vals = _times(times)
         ts = np.asarray(vals, dtype=float)
         if ts.size and not (np.all(np.isfinite(ts)) and ts.min() >= 0):
             raise usage_error("--times must be times >= 0 s")
