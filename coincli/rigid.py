@@ -510,7 +510,7 @@ def orbit(moments, omega) -> Orbit:
     o.stationary = stationary
     Psafe = xp.where(P_ > 0, P_, 1.0)
     # amplitudes as scaled hypotenuses, ratios of them: no square underflows (a perturbation
-    # of 1e-200 of the spin still counts)
+    # of 1e-140 of the spin still counts; below ~1e-150 m1 leaves the double range: _check_m1)
     kab = (Ib / Ia_) * P_
     acn = _hypot(xp, wa, wb, kab)
     adn = _hypot(xp, wc, wb, (Ib / Ic_) * Q_)
