@@ -293,10 +293,12 @@ def book_cmd(
     spin: Annotated[str | None, typer.Option(
         "--spin", help="Angular velocity at launch about body axes 1, 2, 3: w1,w2,w3 in rad/s "
         "(or with a unit: rev/s, rpm, deg/s).  With --toss each component may be a "
-        "distribution: normal:MEAN:SD or uniform:LOW:HIGH.", metavar="W1,W2,W3")] = None,
+        "distribution: normal:MEAN:SD or uniform:LOW:HIGH (a unit once at the end applies to "
+        "both numbers: normal:6:1rev/s).", metavar="W1,W2,W3")] = None,
     times: Annotated[str | None, typer.Option(
         "--times", help="Times (s) for the time series of omega, the attitude and the face up: "
-        "a list a,b,c, a range START:STOP:STEP, or - for stdin.", metavar="TIMES")] = None,
+        "a list a,b,c, a range START:STOP:STEP, or - for stdin; units s or ms (500ms, "
+        "0:600:100ms).", metavar="TIMES")] = None,
     toss: Annotated[bool, typer.Option(
         "--toss", help="Toss many boxes with random spins and flight times; give the chance of "
         "each face beside the geometric model.")] = False,
