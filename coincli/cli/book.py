@@ -21,6 +21,7 @@ from coincli import parse
 from coincli.cli import app
 from coincli.cli._options import SeedOpt, TossesOpt, seed_value, tosses_value
 from coincli.cli._common import (
+    CHUNK_ROWS,
     Column,
     FormatOpt,
     QuietOpt,
@@ -175,8 +176,36 @@ def _times(text: str):
                 raise usage_error(f"--times: give a range's unit once at the end (0:500:100ms) "
                                   f"or the same after every number, got {text!r}")
             head = ":".join(num for num, _ in split)
-            return values_option(head, "--times", lambda s, w: _time_item(s + unit, w))
+            return _time_range(head, _TIME_UNITS[unit], text)
+        return _time_range(t, 1.0, text)
     return values_option(t, "--times", _time_item)
+
+
+def _time_range(head: str, factor: float, text: str):
+    """A range of times as an array, the values coincli.parse.parse_values gives (``start +
+    k*step``, the last held to ``stop``; whole numbers as integers), times the unit's factor,
+    computed at once rather than parsed back one by one (10^6 times: 0.05 s, not 7 s)."""
+    import numpy as np
+
+    try:
+        start, stop, step, count, whole = parse.parse_range(head, "--times")
+    except ValueError as exc:
+        raise usage_error(str(exc)) from None
+    if whole:
+        parts = head.split(":")
+        a, d = int(parts[0]), int(parts[2])
+        if abs(a) + abs(d) * count < 2**53:  # exact in doubles
+            vals = a + d * np.arange(count, dtype=float)
+        else:
+            vals = np.array([float(a + d * k) for k in range(count)])
+    else:
+        vals = start + np.arange(count) * step
+        vals[-1] = min(vals[-1], stop)
+    if factor != 1.0:
+        vals = vals * factor
+    if not (np.all(np.isfinite(vals)) and vals[0] >= 0):
+        raise usage_error(f"--times must be times >= 0 s, got {text.strip()!r}")
+    return vals
 
 
 def _reach(dist) -> float:
@@ -234,9 +263,13 @@ def _emit(result: Result, fmt: str, quiet: bool, out: str | None) -> None:
         return
     import io
 
-    buf = io.StringIO()
-    emit(result, fmt, quiet, out=buf)
-    size = _write(out, buf.getvalue().encode("utf-8"))
+    def write(fh):  # streamed into the temporary file (a long --times never sits in memory)
+        text = io.TextIOWrapper(fh, encoding="utf-8", newline="", write_through=False)
+        emit(result, fmt, quiet, out=text)
+        text.flush()
+        text.detach()
+
+    size = _write(out, write)
     if stderr_is_terminal():
         sys.stderr.write(f"coin: wrote {out} ({size:,} bytes)\n")
 
@@ -543,8 +576,7 @@ def _series(box, w, times, start, rule, out, figure, fmt, quiet):
         span = _default_span(mo)
         ts = np.linspace(0.0, span, FIGURE_POINTS)
     else:
-        vals = _times(times)
-        ts = np.asarray(vals, dtype=float)
+        ts = np.asarray(_times(times), dtype=float)
         if ts.size and not (np.all(np.isfinite(ts)) and ts.min() >= 0):
             raise usage_error("--times must be times >= 0 s")
     wmax = max(abs(v) for v in w)
@@ -553,24 +585,35 @@ def _series(box, w, times, start, rule, out, figure, fmt, quiet):
                      f"{float(ts.max()):g} s")
     q0 = _start_quaternion(start)
     o = _usage(R.orbit, box.moments, np.asarray(w, dtype=float))
-    om = R.omega_at(o, ts)
-    q = R.attitude_at(o, ts, q0)
-    up = R.face_up(R.up_vector(q), box.sides, rule)
+
+    def block(t):
+        om = R.omega_at(o, t)
+        q = R.attitude_at(o, t, q0)
+        return om, q, R.face_up(R.up_vector(q), box.sides, rule)
+
     if figure:
         from coincli import bookplot
 
+        om, _, up = block(ts)
         _figure(out, lambda: bookplot.omega_figure(ts, om, up, mo, box.label, start, rule))
         return
-    labels = np.array(FACES)[up].tolist()
-    data = [ts.tolist()] + [om[:, i].tolist() for i in range(3)] + \
-        [q[:, i].tolist() for i in range(4)] + [labels]
+    faces = np.array(FACES)
+
+    def chunks():  # computed, formatted and written a block at a time: memory stays flat
+        for i in range(0, ts.size, CHUNK_ROWS):
+            t = ts[i:i + CHUNK_ROWS]
+            om, q, up = block(t)
+            yield [t] + [om[:, k] for k in range(3)] + [q[:, k] for k in range(4)] + \
+                [faces[up].tolist()]
+
     cols = [Column("t", "t (s)", "g10")] + [
         Column(f"omega{i + 1}", f"omega{i + 1} (rad/s)", "g10") for i in range(3)] + [
         Column(f"q{c}", f"q{c}", "g10") for c in "wxyz"] + [Column("up", "face up", "text")]
     note = (f"{box.label}; spin {', '.join(_fmt(v) for v in w)} rad/s at launch, face {start} "
             f"up; attitude as a unit quaternion (w, x, y, z), w >= 0, turning body axes into the "
             f"lab's (z up); face up by the {rule} rule.")
-    _emit(Result("coin book --times", cols, [], note, quiet=labels, data=data), fmt, quiet, out)
+    _emit(Result("coin book --times", cols, [], note, quiet=len(cols) - 1, chunks=chunks()),
+          fmt, quiet, out)
 
 
 def _default_span(mo) -> float:
