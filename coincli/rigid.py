@@ -786,12 +786,18 @@ def attitude_at(o: Orbit, t, start=(1.0, 0.0, 0.0, 0.0)):
     # and dividing by r would overflow
     slow = np.abs(r) < 1e-100
     rs = np.where(slow, 1.0, r)
-    coef = L * (Ic - Ia) / (Ic * Ia * rs)
+    with np.errstate(over="ignore"):
+        coef = L * (Ic - Ia) / (Ic * Ia * rs)
     Gt = _Gfun(o, s, c, d, q, nper, tau, np)
     G0 = _Gfun(o, s0, c0, d0, np.zeros_like(np.asarray(s0, dtype=float)),
                np.zeros_like(np.asarray(s0, dtype=float)), o.tau0, np)
     slope = L * (Ic - Ia) / (Ic * Ia) * (1 / (1 - n * s0 * s0) - 1)  # r * coef * G'(tau0)
-    dphi = L / Ia * ts + np.where(slow, slope * ts, coef * (Gt - G0))
+    # a symmetric top (n = 0) has G = 0 exactly, where coef may overflow (its smallest moment
+    # 1e-300 of the others: a needle spun about its axis): no inf * 0
+    dG = Gt - G0
+    with np.errstate(over="ignore", invalid="ignore"):
+        turn = np.where(dG == 0, 0.0, coef * dG)
+    dphi = L / Ia * ts + np.where(slow, slope * ts, turn)
     # q = q0 * conj(qP) * conj(E(0)) * E(t) * qP with E = Euler z-x-z (phi, theta, psi): the
     # constant factors once per motion, E(t) by the closed form of a z-x-z rotation (two sines
     # and cosines of half-angle sums) instead of three rotations and two products a time
@@ -930,8 +936,15 @@ def paper_frequency_shift(moments, omega, axis=None):
     w = [float(v) for v in omega]
     top = max(I)
     I = tuple(v / top for v in I)
+    big = max(abs(v) for v in w)
+    if not (math.isfinite(big) and big > 0):
+        raise ValueError(f"omega must be three finite numbers, not all 0; got {omega!r}")
+    w = [v / big for v in w]  # scaled: no underflow of I * omega, no overflow of ratios
     if axis is None:
         axis = max(range(3), key=lambda i: abs(I[i] * w[i]))
+    if w[axis] == 0:
+        raise ValueError(f"omega has no component about axis {axis + 1}: no perturbation of a "
+                         "spin about it to expand in")
     Ia, Ib, Ic, ia, ib = _extreme_frame(I, axis)
     p, q = (Ic - Ib) / (Ic - Ia), (Ib - Ia) / (Ic - Ia)
     if q == 0:  # a symmetric top: regular precession, the frequency is Gamma exactly
@@ -1023,7 +1036,8 @@ def motion(moments, omega) -> Motion:
     I = o.moments
     s = o.scale
     roles = _roles(I)
-    spin_axis = max(range(3), key=lambda i: (abs(I[i] * w[i]), -i))
+    ws = tuple(v / s for v in w) if s else w  # scaled: I * 5e-324 must not underflow to 0
+    spin_axis = max(range(3), key=lambda i: (abs(I[i] * ws[i]), -i))
     energy = momentum = 0.0
     if s:
         energy = _overflow_inf(lambda: sum(I[i] * (w[i] / s) ** 2 for i in range(3)) * s * s / 2)

@@ -326,6 +326,10 @@ def test_bad_input_is_one_line_and_exit_2(coin, argv, word, tmp_path, monkeypatc
     # found by fuzzing: two moments 1e-17 apart (tied in doubles), spins near the double range
     ["book", "--size", "1.1e-05x30527288.7x0.2073", "--spin", "7.5e-08,-19587759.5,1e308"],
     ["book", "--size", "841481.36x0.00012014x0.00052486", "--spin", "-0.5,8.3e-06,-1e300"],
+    # a spin of 5e-324 (I * omega underflowed: 'float division by zero'), and a needle whose
+    # smallest moment is 1e-300 of the others spun off its axis (the attitude was nan)
+    ["book", "--size", "3x4x5", "--spin", "0,5e-324,-0"],
+    ["book", "--size", "1e150x1x1e-150", "--spin", "1e-8,3,0.4"],
 ])
 def test_extreme_but_valid_inputs_print_no_nan(coin, argv):
     for fmt in ("table", "csv", "json"):
