@@ -81,6 +81,8 @@ import math
 __all__ = [
     "MAX_PHASE",
     "M1_MIN",
+    "MOMENT_SPAN",
+    "check_moments",
     "FACES",
     "RULES",
     "box_moments",
@@ -436,7 +438,7 @@ def orbit(moments, omega) -> Orbit:
     """The constants of the free motion of a body with principal ``moments`` (any positive
     numbers, any order) started with body angular velocity ``omega`` (rad/s about the same
     axes): three floats, or an array of shape ``(..., 3)`` for many motions at once."""
-    I = _positive3(moments, "moments")
+    I = check_moments(moments)
     xp = _xp(omega)
     if xp is _Py:
         w = tuple(float(x) for x in omega)
@@ -623,6 +625,22 @@ _M1_TOO_SMALL = (
     "the spin is too close to the middle axis without being on it (about 1e-150 of the spin "
     f"or less: m1 = 1 - m below {M1_MIN:.0e}) for a double to follow; give a perturbation of "
     "at least 1e-140 of the spin, or exactly 0")
+
+
+#: the smallest moment over the largest that the motion can be followed for: beyond, ratios of
+#: moments overflow a double (a needle 1e-150 thick and 1e150 long spans 1e-300 and is fine)
+MOMENT_SPAN = 1e-305
+
+
+def check_moments(moments):
+    """The three moments as floats; ValueError unless they are finite and > 0 and the smallest
+    is at least :data:`MOMENT_SPAN` of the largest."""
+    I = _positive3(moments, "moments")
+    if min(I) < MOMENT_SPAN * max(I):
+        raise ValueError(
+            f"the moments {_g(I[0])}, {_g(I[1])}, {_g(I[2])} span more than 1e305 (smallest over "
+            f"largest {min(I) / max(I):.3g}); at most that span can be followed in doubles")
+    return I
 
 
 def _hypot(xp, x, y, k):
@@ -979,6 +997,8 @@ def flip_asymptote(moments, omega):
     Ia, Ib, Ic = I[ia], I[ib], I[ic]
     if not Ia < Ib < Ic:
         raise ValueError("the flip needs three different moments")
+    if w[ib] == 0:
+        raise ValueError("omega has no component about the middle axis: no flip to time")
     kind, lam = gamma(I, w[ib], ib)
     ea, ec = w[ia] / w[ib], w[ic] / w[ib]
     den = (Ic - Ia) * abs(Ic * (Ic - Ib) * ec * ec - Ia * (Ib - Ia) * ea * ea)
@@ -1103,7 +1123,7 @@ def motion(moments, omega) -> Motion:
         shift = paper_frequency_shift(I, w, spin_axis)
         # a perturbation beyond the double range (inf - inf) has no second-order term to give
         out.gamma_shift_2 = shift if math.isfinite(shift) else None
-    if out.gamma_kind == "growth":
+    if out.gamma_kind == "growth" and out.kind != "rest":
         out.flip_asymptote = flip_asymptote(I, w)
     return out
 

@@ -296,6 +296,9 @@ BAD = [
     ([*BOOK, "--toss", "--spin", "0,0,40", "--flight", "normal:-50:1"], "no probability"),
     ([*BOOK, "--toss", "--spin", "normal:0:1e12,0,0", "--flight", "1"], "rad"),
     ([*BOOK, "--spin", "0,0,40", "--flight", "-1"], ">= 0"),  # was exit 1
+    # found by fuzzing: moments 1e-316 of each other overflowed their ratios (nan in the table)
+    (["book", "--size", "4.3e-307x4.2e-08x1.5e+150", "--spin", "2.7,0,-9e40"], "span"),
+    (["book", "--size", "4.3e-307x4.2e-08x1.5e+150", "--spin", "2.7,0,-9e40", "--toss"], "span"),
     ([*BOOK, "--spin", "1e-200,40,0"], "middle axis"),  # was 'on the separatrix'
     ([*BOOK, "--spin", "1e-200,40,0", "--times", "0,1"], "middle axis"),
     ([*BOOK, "--spin", "0,40,1e-320", "--flight", "1"], "middle axis"),
@@ -330,6 +333,7 @@ def test_bad_input_is_one_line_and_exit_2(coin, argv, word, tmp_path, monkeypatc
     # smallest moment is 1e-300 of the others spun off its axis (the attitude was nan)
     ["book", "--size", "3x4x5", "--spin", "0,5e-324,-0"],
     ["book", "--size", "1e150x1x1e-150", "--spin", "1e-8,3,0.4"],
+    ["book", "--moments", "3.6,3.1,5.1", "--spin", "0,0,0"],  # at rest, axis 1 the middle one
 ])
 def test_extreme_but_valid_inputs_print_no_nan(coin, argv):
     for fmt in ("table", "csv", "json"):

@@ -442,6 +442,7 @@ def _box(size, moments) -> _Box:
         b.sides = _usage(R.box_sides, b.moments)
         b.label = "moments " + ", ".join(_fmt(v) for v in b.moments)
         b.unit = "as given"
+    _usage(R.check_moments, b.moments)  # before any computing (and any toss)
     return b
 
 
