@@ -830,7 +830,9 @@ def attitude_at(o: Orbit, t, start=(1.0, 0.0, 0.0, 0.0)):
     st = np.asarray(o.stationary)
     if st.any():
         w = np.asarray(o.omega0, dtype=float)
-        wn = np.linalg.norm(w, axis=-1)
+        sc = np.asarray(o.scale, dtype=float)
+        sc = np.where(sc > 0, sc, 1.0)
+        wn = np.linalg.norm(w / sc[..., None], axis=-1) * sc  # |omega| 1e300: no overflow
         ang = wn * t
         h = ang / 2
         axis = w / np.where(wn > 0, wn, 1.0)[..., None]

@@ -334,6 +334,8 @@ def test_bad_input_is_one_line_and_exit_2(coin, argv, word, tmp_path, monkeypatc
     ["book", "--size", "3x4x5", "--spin", "0,5e-324,-0"],
     ["book", "--size", "1e150x1x1e-150", "--spin", "1e-8,3,0.4"],
     ["book", "--moments", "3.6,3.1,5.1", "--spin", "0,0,0"],  # at rest, axis 1 the middle one
+    # a steady spin of 5e300 rad/s (|omega| overflowed in the attitude's rotation: nan)
+    ["book", "--size", "3.7e-09x3.5e+40x6.9e-08", "--spin", "-4.9e300,3.6e-300,4.4e-08"],
 ])
 def test_extreme_but_valid_inputs_print_no_nan(coin, argv):
     for fmt in ("table", "csv", "json"):
