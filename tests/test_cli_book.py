@@ -525,3 +525,19 @@ def test_a_long_time_series_is_streamed_in_flat_memory(tmp_path):
         peaks.append(int(r.stdout.split()[-1]))  # kB
     assert (tmp_path / "s.csv").stat().st_size > 30_000_000
     assert peaks[1] - peaks[0] < 40_000, peaks
+
+
+def test_the_figure_of_a_separatrix_marks_its_one_flip():
+    pytest.importorskip("matplotlib")
+    from coincli import bookplot
+
+    I, w = (3.0, 4.0, 6.0), (2.0, -1.0, 1.0)
+    mo = R.motion(I, w)
+    o = R.orbit(I, np.array(w))
+    t = np.linspace(0.0, 20.0, 2001)
+    q = R.attitude_at(o, t)
+    up = R.face_up(R.up_vector(q), R.box_sides(I))
+    fig = bookplot.omega_figure(t, R.omega_at(o, t), up, mo, "moments 3, 4, 6", "+3", "centre")
+    flips = [a for a in fig.findobj(lambda a: a.get_gid() == "flip")]
+    assert len(flips) == 1 and flips[0].get_xdata()[0] == pytest.approx(0.58266494, abs=1e-4)
+    assert "separatrix" in fig.axes[0].get_title()
