@@ -38,6 +38,15 @@ _INT = re.compile(r"^[+-]?\d+$")
 _LEN_UNITS = {"mm": "1", "cm": "10", "m": "1000", "in": "25.4", '"': "25.4"}
 
 
+def _underflow_check(v: float, s: str, what: str, text) -> None:
+    """Refuse a nonzero number typed that rounds to 0 (``1e-400``): it is not the 0 it became."""
+    if v == 0.0:
+        mant = re.split(r"[eE]", s.partition("/")[0], maxsplit=1)[0]
+        if any(c in "123456789" for c in mant):
+            raise ValueError(f"{what} {text!r} is nonzero but below the smallest positive double "
+                             "(4.9e-324): type 0, or a value of at least 5e-324")
+
+
 def parse_number(text: str, what: str = "value", *, allow_inf: bool = False) -> float:
     """A decimal number (``0.5``, ``1e-3``); ``inf`` only if allowed.  No NaN."""
     s = str(text).strip()
@@ -48,6 +57,7 @@ def parse_number(text: str, what: str = "value", *, allow_inf: bool = False) -> 
     v = float(s)
     if math.isinf(v) and not allow_inf:
         raise ValueError(f"{what} must be a finite number, got {text!r}")
+    _underflow_check(v, s, what, text)
     return v
 
 
@@ -85,6 +95,7 @@ def parse_probability(text: str, what: str = "probability") -> float:
         raise ValueError(f"{what} must be a number like 0.33, 1/3 or 33%, got {text!r}") from None
     if not 0.0 <= v <= 1.0:
         raise ValueError(f"{what} must be in [0, 1] (or 0% to 100%), got {text!r}")
+    _underflow_check(v, s.rstrip("%"), what, text)
     return v
 
 
@@ -146,6 +157,7 @@ def parse_ratio(text: str, what: str = "xi", *, allow_inf: bool = False) -> floa
         raise ValueError(f"{what} must be {allowed}, got {text!r}") from None
     if not v >= 0 or (math.isinf(v) and not allow_inf):
         raise ValueError(f"{what} must be {allowed}, got {text!r}")
+    _underflow_check(v, s, what, text)
     return v
 
 
@@ -233,6 +245,7 @@ def _quantity(text: str, what: str, units, default: str, shown: str, noun: str,
             v = math.inf
     if not (math.isfinite(v) and v >= 0):
         raise ValueError(f"{what} must be a finite {noun} >= 0 (units: {shown}), got {text!r}")
+    _underflow_check(v, num, what, text)
     return v
 
 

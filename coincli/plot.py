@@ -315,6 +315,24 @@ def psi_spec(psi_rad: float) -> ModelSpec:
     return ModelSpec.fixed_psi(float(psi_rad), f"ψ = {math.degrees(psi_rad):.6g}° (Table I)")
 
 
+def table_i_deg(xi, psi_deg):
+    """Table I at ``psi_deg`` degrees (floats or arrays that broadcast), as every command takes
+    an angle: 180 deg is the double nearest pi, and 90 deg is the Keller flip exactly (eq. 12,
+    :meth:`ModelSpec.fixed_psi`), so that a plot marks the chances `coin table --psi 90` prints."""
+    import numpy as np
+
+    d = np.asarray(psi_deg, dtype=float)
+    o = models.conditional(xi, np.where(d == 180.0, math.pi, np.radians(d)))
+    at90 = d == 90.0
+    if not at90.any():
+        return o
+    k = models.dynamic(xi)
+    out = [np.where(at90, a, b) for a, b in zip(k, o, strict=True)]
+    if not np.ndim(out[0]):
+        out = [float(v) for v in out]
+    return models.Outcome(*out)
+
+
 def density_spec(density) -> ModelSpec:
     """psi averaged over a :class:`coincli.densities.Density` (eq. 15)."""
     return ModelSpec.psi_density(density, f"{density_label(density)} (averaged, eq. 15)")
@@ -709,13 +727,13 @@ def psi_data(xi: float, psi_marks_deg=(), points: int = 721) -> PsiData:
     bounds = (t, 90.0 - t, 90.0 + t, 180.0 - t)
     psi_deg = np.unique(np.concatenate([np.linspace(0.0, 180.0, int(points)),
                                         np.clip(bounds, 0.0, 180.0)]))
-    o = models.conditional(xi, np.minimum(np.radians(psi_deg), math.pi))
+    o = table_i_deg(xi, psi_deg)
     marks = []
     for d in psi_marks_deg:
         d = float(d)
         if not 0.0 <= d <= 180.0:
             raise ValueError(f"psi must be an angle in [0, 180] degrees, got {d:g}")
-        marks.append((d, models.conditional(xi, math.pi if d == 180.0 else math.radians(d))))
+        marks.append((d, table_i_deg(xi, d)))
     return PsiData(xi, psi_deg, np.asarray(o.heads), np.asarray(o.sides), np.asarray(o.tails),
                    bounds, marks)
 
@@ -807,7 +825,7 @@ def map_data(*, xi_range=None, log: bool = False, nx: int = 301, ny: int = 361, 
     lo, hi = _check_range(lo, hi, log)
     xi = _xi_grid(lo, hi, log, int(nx))
     psi_deg = np.linspace(0.0, 180.0, int(ny))
-    o = models.conditional(xi[None, :], np.minimum(np.radians(psi_deg), math.pi)[:, None])
+    o = table_i_deg(xi[None, :], psi_deg[:, None])
     skipped = [f"xi = {x:g} is outside the plotted range {lo:g} to {hi:g}" for x in xi_marks
                if not lo <= x <= hi]
     return MapData(xi, psi_deg, o.heads, o.sides, o.tails, log, (lo, hi), xi_marks, psi_marks,
@@ -993,7 +1011,7 @@ def phase_data(xi: float = models.FAIR_XI_DYNAMIC, psi_deg: float = 90.0, *,
     pm = toss.phase_map(xi, psi, u_range, omega_range, (int(nu), int(nw)),
                         exact_curves=exact_curves, **toss_options)
     return PhaseData(float(xi), psi_deg, pm.u, pm.omega, pm.codes, list(pm.curves),
-                     pm.fractions(), models.conditional(float(xi), psi),
+                     pm.fractions(), table_i_deg(float(xi), psi_deg),
                      [(float(a), float(b)) for a, b in marks], exact_curves,
                      tuple(map(float, u_range)), tuple(map(float, omega_range)))
 

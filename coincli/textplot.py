@@ -286,15 +286,17 @@ def text_psi(data, cols: int, rows: int):
     for name in ("tails", "sides", "heads"):
         cv.plot(psi, getattr(data, name).tolist(), OUTCOME_CHAR[name], OUTCOME_STYLE[name])
     legend = [(OUTCOME_CHAR[n], OUTCOME_STYLE[n], f"P({n})") for n in ("heads", "sides", "tails")]
-    t1, t2, t3, t4 = data.bounds_deg
+    # in terms of t = theta0/2 itself: 90 - t and 180 - t round to 90 and 180 for a thick coin
+    t = data.bounds_deg[0]
     parts = []
-    if t3 > t2:
-        parts.append(f"all three {t2:.4g}-{t3:.4g} deg")
-    if t2 > t1:
-        parts.append(f"heads or sides {t1:.4g}-{t2:.4g} and {t3:.4g}-{t4:.4g}")
-    if t1 > 0:
-        parts.append(f"heads only below {t1:.4g} and above {t4:.4g}")
-    legend.append((":", "dim", "regimes (Table I): " + ";\n".join(parts)))
+    if t > 0:
+        parts.append("all three within t of 90")
+    if t < 45:
+        parts.append("heads or sides from t to 90 - t and from 90 + t to 180 - t")
+    if t > 0:
+        parts.append("heads only below t and above 180 - t")
+    legend.append((":", "dim", f"regimes (Table I), t = theta0/2 = {t:.6g} deg: "
+                   + ";\n".join(parts)))
     for d, o in data.marks:
         cv.vline(d, "|", DESIGN_STYLE, layer=1)
         for v in o:

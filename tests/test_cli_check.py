@@ -143,7 +143,7 @@ def test_check_bad_counts_are_one_line_exit_2(capsys, counts, words):
     (["check", "--sides", "3", "-n", "9"], "give a coin: --xi X"),
     (["check", "--xi", "0.5", "--quarters", "2", "--sides", "3", "-n", "9"],
      "--xi and --quarters both give the coin"),
-    (["check", "--xi", "0", "--sides", "3", "-n", "9"], "--xi must be a finite number > 0"),
+    (["check", "--xi", "-1", "--sides", "3", "-n", "9"], "--xi must be a finite number >= 0"),
     (["check", "--xi", "inf", "--sides", "3", "-n", "9"], "--xi"),
     (["check", "--count", "2", "--sides", "3", "-n", "9"], "--count N needs the coin to stack"),
     (["check", "--coin", "nikel", "--count", "2", "--sides", "3", "-n", "9"], "nickel"),
@@ -265,3 +265,13 @@ def test_importing_the_commands_loads_no_numpy_scipy_rich():
                          timeout=60)
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip().splitlines()[-1] == "LOADED []"
+
+
+def test_check_takes_xi_0_as_the_other_coin_commands_do(coin):
+    """A coin of no thickness: never a side.  Counts with no side are certain under both models
+    (p = 1); one side is impossible (p = 0, log-likelihood -inf, 'impossible' verdict)."""
+    rc, out, err = coin("check", "--xi", "0", "--heads", "5", "--sides", "0", "--tails", "5", "-q")
+    assert (rc, err) == (0, "") and [float(v) for v in out.split()] == [1.0, 1.0]
+    rc, out, err = coin("check", "--xi", "0", "--heads", "5", "--sides", "1", "--tails", "5",
+                        "-q")
+    assert (rc, err) == (0, "") and [float(v) for v in out.split()] == [0.0, 0.0]

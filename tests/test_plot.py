@@ -272,6 +272,7 @@ def test_psi_curves_and_regimes(plotmod):
         line = _one(fig, f"curve:{name}")
         x = np.asarray(line.get_xdata())
         want = getattr(models.conditional(xi, np.minimum(np.radians(x), math.pi)), name)
+        want = np.where(x == 90.0, getattr(models.dynamic(xi), name), want)  # the Keller flip
         np.testing.assert_array_equal(line.get_ydata(), want)
     t = math.degrees(models.theta0(xi)) / 2
     x = np.asarray(_one(fig, "curve:heads").get_xdata())
@@ -293,6 +294,10 @@ def test_map_values(plotmod, style):
     data = plotmod.map_data(nx=31, ny=37, xi_marks=[0.5], psi_marks_deg=[80.0])
     fig = plotmod.map_figure(data, style=style)
     o = models.conditional(data.xi[None, :], np.radians(data.psi_deg)[:, None])
+    k = models.dynamic(data.xi)  # the row at 90 deg is the Keller flip, eq. (12)
+    at90 = (data.psi_deg == 90.0)[:, None]
+    o = models.Outcome(*(np.where(at90, a[None, :], b) for a, b in zip(k, o, strict=True)))
+    assert at90.any()
     if style == "panels":
         for name in ("heads", "sides", "tails"):
             mesh = _one(fig, f"mesh:{name}")
@@ -673,3 +678,19 @@ def test_no_color_on_a_terminal_removes_every_escape(sub):
     assert code == 0 and err == "", err
     assert "\x1b" not in plain
     assert "coin plot" in plain and "your" in plain
+
+
+@pytest.mark.parametrize("xi", [0.577, 1e15, 1e300])
+def test_psi_90_is_the_keller_flip_in_every_plot(plotmod, xi):
+    """`plot psi --psi 90`, its curve at 90 and `plot phase --psi 90` mark what `coin table --psi
+    90` prints: eq. (12) exactly (Table I at the double nearest pi/2 lost the tails of a coin
+    thicker than 1e16 and was 1% off at 1e15)."""
+    from coincli.modelspec import ModelSpec
+
+    want = ModelSpec.fixed_psi(math.radians(90.0)).forward(xi)
+    assert want == models.dynamic(xi)
+    data = plotmod.psi_data(xi, [90.0], points=181)
+    assert data.marks[0][1] == want
+    k = int(np.flatnonzero(data.psi_deg == 90.0)[0])
+    assert (data.heads[k], data.sides[k], data.tails[k]) == tuple(want)
+    assert data.marks[0][1].tails > 0

@@ -102,3 +102,32 @@ def test_command_unit_errors_are_one_line(coin):
            "--omega: give the unit once at the end")
     _error(coin("phase", "--u", "0:3furlongs/s"), 2, "--u must be LOW:HIGH")
     _error(coin("toss", "--xi", "0.5", "--u", "1e9m/s"), 2, "at most 1e+08 m/s")
+
+
+@pytest.mark.parametrize("fn, text", [
+    (parse.parse_number, "1e-400"), (parse.parse_probability, "1e-400"),
+    (parse.parse_probability, "1e-400%"), (parse.parse_probability, "1/1e400"),
+    (parse.parse_ratio, "1e-400"), (parse.parse_ratio, "3/1e999"),
+    (parse.parse_speed_ms, "2e-400cm/s"), (parse.parse_spin_rads, "1e-330rev/s"),
+])
+def test_a_nonzero_number_that_underflows_is_refused(fn, text):
+    with pytest.raises(ValueError, match="nonzero but below the smallest positive double"):
+        fn(text)
+
+
+@pytest.mark.parametrize("fn, text", [
+    (parse.parse_number, "0e-400"), (parse.parse_probability, "0.000e-5"),
+    (parse.parse_ratio, "0/7"), (parse.parse_speed_ms, "-0.0"), (parse.parse_spin_rads, "0rpm"),
+])
+def test_zero_typed_is_zero(fn, text):
+    assert fn(text) == 0.0
+
+
+def test_underflow_is_refused_by_the_commands_and_on_stdin(coin):
+    _error(coin("design", "-p", "1e-400", "-q"), 2, "--p-sides", "smallest positive double")
+    _error(coin("table", "--xi", "1/1e400", "-q"), 2, "--xi", "smallest positive double")
+    _error(coin("toss", "--xi", "0.5", "--u", "1e-400", "--omega", "40", "--psi", "90"), 2,
+           "--u", "smallest positive double")
+    big = "\n".join(["0.3"] * 70000 + ["1e-400"]) + "\n"  # the fast stdin path
+    _error(coin("design", "-p", "-", "-q", stdin=big), 2, "stdin line 70001", "smallest positive")
+    assert _ok(coin("design", "-p", "5e-324", "-q")).strip() != "0.0"

@@ -650,23 +650,47 @@ GAP = 2  #: blanks between two columns of a human table
 
 
 def _wrap(text: str, width: int) -> list[str]:
-    """``text`` in lines of at most ``width`` characters, broken at blanks only: a word (and so
-    a number) is never cut; one longer than ``width`` stands alone on its line."""
+    """``text`` in lines of at most ``width`` characters, broken at blanks: a word (and so a
+    number) is never cut, except that a word with letters longer than ``width`` (a web address)
+    is broken after its ``/``; a piece still longer stands alone on its line."""
     if len(text) <= width:
         return [text]
     lines, cur = [], ""
     for word in text.split():
         if cur and len(cur) + 1 + len(word) > width:
             lines.append(cur)
-            cur = word
-        else:
-            cur = f"{cur} {word}" if cur else word
+            cur = ""
+        if len(word) > width and _breakable(word):
+            for piece in _pieces(word):
+                if cur and len(cur) + len(piece) > width:
+                    lines.append(cur)
+                    cur = ""
+                cur += piece
+            continue
+        cur = f"{cur} {word}" if cur else word
     lines.append(cur)
     return lines
 
 
+def _breakable(word: str) -> bool:
+    return "/" in word and any(c.isalpha() for c in word)
+
+
+def _pieces(word: str) -> list[str]:
+    """``a/b/c`` -> ``a/``, ``b/``, ``c``."""
+    out, start = [], 0
+    for k, c in enumerate(word):
+        if c == "/":
+            out.append(word[start:k + 1])
+            start = k + 1
+    if start < len(word):
+        out.append(word[start:])
+    return out
+
+
 def _longest_word(text: str) -> int:
-    return max(map(len, text.split()), default=0) if " " in text else len(text)
+    return max((max(map(len, _pieces(w))) if _breakable(w) else len(w)
+                for w in text.split()), default=len(text))
 
 
 class _Layout:
@@ -1239,6 +1263,10 @@ def _fast_floats(data: bytes, what: str, bounds, item, first: int = 1):
         return None
     lo, hi = bounds
     bad = ~((arr >= lo) & (arr <= hi))
+    for k in np.flatnonzero(arr == 0.0).tolist():  # a nonzero text that underflowed to 0
+        if tokens[k].partition(b"e")[0].partition(b"E")[0].strip(b"+-.0"):
+            bad[k] = True
+            break
     if bad.any():
         k = int(np.argmax(bad))
         t = tokens[k].decode()

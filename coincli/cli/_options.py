@@ -196,7 +196,7 @@ def _xi_item(rule: str):
         try:
             v = parse.parse_ratio(text, what, allow_inf=True)
         except ValueError as exc:
-            if "divides by zero" in str(exc):
+            if "divides by zero" in str(exc) or "smallest positive double" in str(exc):
                 raise
             raise ValueError(f"{what} must be {allowed}, got {text!r}") from None
         if (math.isinf(v) and rule != "any") or (v == 0 and rule == "positive"):

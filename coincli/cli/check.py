@@ -337,7 +337,7 @@ def _test_note(ch) -> str:
 def _xi_from_options(xi, quarters, coin, count, diameter, thickness) -> tuple[float, str]:
     """The coin tossed (the shared coin group) and its label."""
     c = _options.resolve_coin(xi, coin, count, quarters, diameter, thickness,
-                              xi_rule="positive", command="coin check")
+                              xi_rule="finite", command="coin check")
     return c.xi, c.label()
 
 

@@ -529,8 +529,8 @@ def _table_vs_psi(coins: _options.Coins, psi_text, fmt, quiet):
                Column("p_sides", "P(sides)"), Column("p_tails", "P(tails)")]
     note = (f"Table I at xi = {x:g}: theta0/2 = {t:.6g} deg; heads only below it, all three "
             f"outcomes within {t:.6g} deg of 90")
-    emit(Result("coin table --vs psi", columns, rows, note=note, quiet=[r[4] for r in rows]),
-         fmt, quiet)
+    emit(Result("coin table --vs psi", columns, rows, note=note, quiet=[r[4] for r in rows],
+                key=2), fmt, quiet)  # a folded table repeats xi and psi: psi names the row
 
 
 # --------------------------------------------------------------------------- stack and coins
