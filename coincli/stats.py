@@ -362,9 +362,17 @@ class Proportion(namedtuple("Proportion", "outcome count n estimate wilson clopp
     # wilson: Interval
     # clopper_pearson: Interval
     __slots__ = ()
+#: ``-ndtri((1 - c) / 2)`` of the common levels, bit for bit (tests/test_toss.py): a Wilson
+#: interval at these levels needs no scipy (``coin simulate`` draws its 95% ones at start-up).
+_Z_COMMON = {0.9: 1.6448536269514729, 0.95: 1.959963984540054, 0.99: 2.5758293035489004}
+
+
 def _z(confidence: float) -> float:
     """The two-sided normal quantile: ``P(|Z| <= z) = confidence``, finite for every level in
     (0, 1) (``1 - confidence`` is exact for a level of 1/2 or more; erfinv below)."""
+    z = _Z_COMMON.get(confidence)
+    if z is not None:
+        return z
     from scipy.special import erfinv, ndtri
 
     if confidence >= 0.5:

@@ -68,6 +68,17 @@ One vectorized path
     the time ``F`` takes to cross its rounding band; ordinary tosses run at several million a
     second (``benchmarks/toss_bench.py``, docs/performance.md).
 
+Outcomes only
+    :func:`simulate` needs outcomes, not times of flight.  ``sin(alpha/2) = sin psi |sin x|``
+    (``x = omega t / 2``) is monotone between multiples of ``pi/2`` in ``x``, so its range over
+    an interval of time that holds the first contact is known from the ends; when that range
+    lies inside one outcome's band (by ``1e-9``, far beyond rounding), so does ``alpha_f``.
+    Such intervals, tried in turn: the contact window ``[w2s, t_end]`` itself, from the launch
+    conditions alone (:func:`_window_outcomes`); the scan's ``[front, t_end]``; a certified
+    cell; a bracket of two evaluations around the cell's Hermite estimate of the root.  The
+    scan is :func:`toss_many`'s, cell for cell, so the outcome is the one it gives
+    (:func:`_outcomes`; tests/test_toss.py compares them toss by toss); the rest are refined.
+
 Nothing here prints or exits; bad input raises :class:`ValueError` naming the argument and its
 allowed range.
 """
@@ -263,7 +274,6 @@ def _normal_mass(a, b):
     return 1.0 - 0.5 * (math.erfc(b / r2) + math.erfc(-a / r2))
 
 
-_Z95 = 1.959963984540054  # the 97.5% point of the standard normal
 
 
 def _check_contact(contact):
@@ -498,9 +508,13 @@ _KC = (-1.13596475577881948265e-11, 2.08757232129817482790e-09, -2.7557314351390
 def _half_sincos(np, x):
     """``(|sin x|, cos x * sign(sin x))`` for an array ``x >= 0``: the sine and cosine of ``x``
     modulo pi, in ``[0, pi)`` (``(0, 1)`` at ``x = 0``), each within an ulp or two."""
-    j = np.rint(x * (2.0 / math.pi))
-    r = x - j * _P1
-    r -= j * _P1T  # x - j pi/2, |r| <= pi/4 (+ rounding)
+    # (In place where the operations are the same: fewer arrays through the cache.)
+    j = np.multiply(x, 2.0 / math.pi)
+    np.rint(j, out=j)
+    w = np.multiply(j, _P1)  # scratch
+    r = np.subtract(x, w)
+    np.multiply(j, _P1T, out=w)
+    r -= w  # x - j pi/2, |r| <= pi/4 (+ rounding)
     z = r * r
     s = z * _KS[0]
     for k in _KS[1:]:
@@ -513,14 +527,19 @@ def _half_sincos(np, x):
         c += k
         c *= z
     c *= z
-    c -= 0.5 * z
+    np.multiply(z, 0.5, out=w)
+    c -= w
     c += 1.0  # cos r
     # j even, x = k pi + r: |sin x| = |sin r|, cos x sign(sin x) = cos r sign(r);
     # j odd, x = k pi + pi/2 + r: |sin x| = cos r, cos x sign(sin x) = -sin r.
-    half = 0.5 * j
-    odd = half != np.floor(half)
-    sh = np.where(odd, c, np.abs(s))
-    ch = np.where(odd, -s, np.copysign(c, s))
+    np.multiply(j, 0.5, out=w)
+    np.floor(w, out=z)
+    odd = w != z
+    sh = np.abs(s)
+    np.copyto(sh, c, where=odd)
+    ch = np.copysign(c, s, out=c)
+    np.negative(s, out=s)
+    np.copyto(ch, s, where=odd)
     if x.size and not float(x.max()) < _X_POLY:  # element by element: no dependence on the batch
         big = np.flatnonzero(x >= _X_POLY)
         sb, cb = np.sin(x[big]), np.cos(x[big])
@@ -541,17 +560,32 @@ def _ff(np, t, q: _Batch, thick):
     above the right derivative: the monotonicity certificate stays sound.
     """
     sh, ch = _half_sincos(np, q.hom * t)
+    # The same operations in the same order as the formulas say, in place where one of the
+    # operands is a temporary (a + b = b + a, a b = b a exactly).
     sh2 = sh * sh
     ch2 = ch * ch
-    ca = np.sqrt(ch2 + q.cp2 * sh2)  # cos(alpha/2)
-    cos_a = ch2 + q.c2psi * sh2
-    low = q.c2a * sh * ca  # a sin alpha
-    dlow = q.c1 * cos_a * ch / (ca + 1e-300)  # omega dL/dtheta (rim)
+    ca = np.multiply(q.cp2, sh2)
+    ca += ch2
+    np.sqrt(ca, out=ca)  # cos(alpha/2) = sqrt(ch2 + cp2 sh2)
+    cos_a = np.multiply(q.c2psi, sh2, out=sh2)
+    cos_a += ch2  # ch2 + c2psi sh2
+    low = np.multiply(q.c2a, sh)
+    low *= ca  # a sin alpha = (c2a sh) ca
+    dlow = np.multiply(q.c1, cos_a, out=ch2)
+    dlow *= ch
+    ca += 1e-300
+    dlow /= ca  # omega dL/dtheta (rim) = c1 cos_a ch / (ca + 1e-300)
     if thick:
         low += q.hh * np.abs(cos_a)
         dlow -= q.c3 * np.sign(cos_a) * sh * ch
-    f = q.z0 + t * (q.u - q.hg * t) - low
-    fp = q.u - q.g * t - dlow
+    f = np.multiply(q.hg, t)
+    np.subtract(q.u, f, out=f)
+    f *= t
+    f += q.z0
+    f -= low  # z0 + t (u - hg t) - low
+    fp = np.multiply(q.g, t)
+    np.subtract(q.u, fp, out=fp)
+    fp -= dlow  # u - g t - dlow
     return f, fp, sh, ch
 
 
@@ -678,10 +712,22 @@ _AGE_MULTI = 3  #: rounds after which a toss lays several cells a round
 _MULTI = 8  #: cells a round then
 
 
-def _first_root(np, s: _Setup, n, thick):
+def _first_root(np, s: _Setup, n, thick, bands=None):
     """The first root of F for each of the ``n`` tosses of a batch (scalars or 1-D arrays in s).
 
     Returns ``(t_f, |sin x|, cos x')`` at the roots (``x = omega t_f / 2``, as :func:`_ff`).
+
+    With ``bands = (sin(theta0/2), cos(theta0/2))`` (the outcome boundaries of eq. 7 in
+    ``sin(alpha/2) = sin psi |sin x|``) only outcomes are wanted: a fourth array is returned,
+    the outcome code of each toss decided without refining its root (-1 where the three arrays
+    hold the root as above, -2 where a certified cell is left to :func:`_newton`; elsewhere
+    they are not set), and a fifth, those cells ``(tosses, lo, hi, F(lo), F'(lo), F(hi),
+    F'(hi), constants)`` or None.  A cell ``[t1, t2]`` with
+    ``F > 0`` certified before ``t1`` and ``F(t2)`` below zero beyond rounding (or certified
+    decreasing through zero) holds the first root, as the refinement would find it; when
+    ``sin(alpha/2)`` over the whole cell lies inside one outcome's band (by its values at the
+    ends, and 0 or ``sin psi`` where the cell crosses a multiple of ``pi/2`` in ``x``), with a
+    margin of ``1e-9``, far beyond the rounding of ``alpha_f``, that is the outcome.
 
     Each toss carries a front ``t`` (``F > 0`` certified on ``[0, t]``, ``F(t)`` and ``F'(t+)``
     known), a cell width ``d`` and its window's end.  A round evaluates F once a toss, at the
@@ -717,7 +763,13 @@ def _first_root(np, s: _Setup, n, thick):
     f, fp, sh, ch = _ff(np, t, q, thick)
     hit = f <= 0  # at a window's start (everything before it is certified): contact there
     age = np.zeros(n, dtype=np.int32)
-    st = (t, f, fp, d, base, wend, win2, idx, age)
+    sh0 = sh  # |sin x| at the front
+    if bands is not None:
+        code = np.full(n, -1, dtype=np.int8)
+        spb = _flat(np, s.sp, n)
+        # |sin x| at t_end, the latest contact (a bound: the quadrant is read off the same x).
+        she = _abs_sin_rough(np, np.broadcast_to(q0.hom * t_end, (n,)))
+    st = (t, f, fp, sh0, d, base, wend, win2, idx, age)
     if hit.any():
         out[hit], osh[hit], och[hit] = t[hit], sh[hit], ch[hit]
         keep = ~hit
@@ -726,19 +778,36 @@ def _first_root(np, s: _Setup, n, thick):
     cells = []  # certified cells: (idx, lo, hi, F(lo), F'(lo), F(hi), F'(hi))
     ends = []  # contacts at t_end (F(t_end) <= 0 by construction): indices
     for _round in range(_MAX_ROUNDS):
-        t, f, fp, d, base, wend, win2, idx, age = st
+        t, f, fp, sh0, d, base, wend, win2, idx, age = st
         if idx.size == 0:
             break
+        if bands is not None and _round and win2.any():
+            # The contact lies in [t, t_end] (F > 0 is certified before the front): decided
+            # when sin(alpha/2) stays in one band over all of it.
+            full = idx.size == n
+            k = _band_code(np, t, t_end if isinstance(t_end, float) or full else t_end[idx], sh0,
+                           she if full else she[idx], q.hom,
+                           spb if isinstance(spb, float) or full else spb[idx], bands)
+            k[~win2] = -1
+            known = k >= 0
+            if known.any():
+                code[idx[known]] = k[known]
+                keep = np.flatnonzero(~known)
+                st = tuple(v[keep] for v in st)
+                q = q.take(keep)
+                t, f, fp, sh0, d, base, wend, win2, idx, age = st
+                if idx.size == 0:
+                    break
         # The cell each toss decides on this round: [t, t + d] for a toss in its first rounds;
         # for an older one (a dip or a long window: it needs many cells) the first of _MULTI
         # cells laid from t that is not certainly free, or the last of them.  Per toss, not
         # per batch: a toss takes the same steps alone or among millions.
         old = age >= _AGE_MULTI
         if old.any():
-            t1, t2, f1, fp1, f2, fp2, sh, ch, free = _multi_cells(np, t, f, fp, d, wend, old, q,
-                                                                   thick)
+            t1, t2, f1, fp1, f2, fp2, sh, ch, sh1, free = _multi_cells(np, t, f, fp, sh0, d,
+                                                                        wend, old, q, thick)
         else:
-            t1, f1, fp1 = t, f, fp
+            t1, f1, fp1, sh1 = t, f, fp, sh0
             t2 = np.minimum(t + d, wend)
             f2, fp2, sh, ch = _ff(np, t2, q, thick)
             free = None
@@ -752,14 +821,38 @@ def _first_root(np, s: _Setup, n, thick):
             curv = k2d * dd * 0.125
             tol = q.tol0 + q.tol1 * t2
             free = (mono & pos2) | ((m > 0) & ((m - curv > tol) | (curv <= tol)))
-        done = cert
+        decided = None
+        if bands is not None:
+            # Outcomes certain without refinement: the cell holds the first root, and
+            # sin(alpha/2) stays inside one band over it.
+            cand = ~pos2 & (cert | (f2 < -4.0 * (q.tol0 + q.tol1 * t2)))
+            if cand.any():
+                ci = np.flatnonzero(cand)
+                k = _band_code(np, t1[ci], t2[ci], sh1[ci], sh[ci],
+                               q.hom if isinstance(q.hom, float) else q.hom[ci],
+                               spb if isinstance(spb, float) else spb[idx[ci]], bands)
+                known = k >= 0
+                if known.any():
+                    dec = ci[known]
+                    code[idx[dec]] = k[known]
+                    cert = cert.copy()
+                    cert[dec] = False
+                    decided = np.zeros(cert.shape, dtype=bool)
+                    decided[dec] = True
+                    if (cert | decided).all():
+                        if cert.any():
+                            ci = np.flatnonzero(cert)
+                            cells.append((idx[ci], t1[ci], t2[ci], f1[ci], fp1[ci], f2[ci],
+                                          fp2[ci]))
+                        break
+        done = cert if decided is None else cert | decided
         if cert.all():
             cells.append((idx, t1, t2, f1, fp1, f2, fp2))
             break
         if cert.any():
             ci = np.flatnonzero(cert)
             cells.append((idx[ci], t1[ci], t2[ci], f1[ci], fp1[ci], f2[ci], fp2[ci]))
-        rest = ~(cert | free)
+        rest = ~(cert | free) if decided is None else ~(cert | free | decided)
         move = free
         if rest.any():
             tiny = rest & (dd <= 4 * _EPS * t2)
@@ -773,10 +866,12 @@ def _first_root(np, s: _Setup, n, thick):
             t = np.where(zoom, t1, t)
             f = np.where(zoom, f1, f)
             fp = np.where(zoom, fp1, fp)
+            sh0 = np.where(zoom, sh1, sh0)
             d = np.where(zoom, dd / _ZOOM, d)
         t = np.where(move, t2, t)
         f = np.where(move, f2, f)
         fp = np.where(move, fp2, fp)
+        sh0 = np.where(move, sh, sh0)
         d = np.where(move, np.minimum(dd * _ZOOM, base), d)
         age = age + 1
         ended = move & (t >= wend)
@@ -798,12 +893,12 @@ def _first_root(np, s: _Setup, n, thick):
                 d[nxt] = base[nxt]
                 age[nxt] = 0
                 fn, fpn, shn, chn = _ff(np, t[nxt], q.take(nxt, _Batch._F), thick)
-                f[nxt], fp[nxt] = fn, fpn
+                f[nxt], fp[nxt], sh0[nxt] = fn, fpn, shn
                 at = fn <= 0
                 ga = g[at]
                 out[ga], osh[ga], och[ga] = t0[at], shn[at], chn[at]
                 done[nxt[at]] = True
-        st = (t, f, fp, d, base, wend, win2, idx, age)
+        st = (t, f, fp, sh0, d, base, wend, win2, idx, age)
         if done.any():
             keep = np.flatnonzero(~done)  # gathers then cost what is kept
             st = tuple(v[keep] for v in st)
@@ -821,22 +916,98 @@ def _first_root(np, s: _Setup, n, thick):
         else:
             gi, lo, hi, flo, fplo, fhi, fphi = (np.concatenate([c[i] for c in cells])
                                                 for i in range(7))
+        if bands is not None:
+            # Outcomes only: the single root of each certified cell is bracketed around the
+            # Hermite estimate by two evaluations, and decided where that narrow bracket lies in
+            # one band; the rest are refined.
+            k, ok = _bracket_code(np, gi, lo, hi, flo, fplo, fhi, fphi, q0, spb, bands, thick)
+            code[gi[ok]] = k[ok]
+            rest = np.flatnonzero(~ok)
+            gi, lo, hi, flo, fplo, fhi, fphi = (v[rest] for v in (gi, lo, hi, flo, fplo, fhi,
+                                                                  fphi))
+    if cells and gi.size:
         in_order = gi.size == n and bool((gi[1:] > gi[:-1]).all())  # all, as in q0
         qn = q0 if in_order else q0.take(gi, _Batch._F)
+        if bands is not None:  # refined by the caller, with those of other batches
+            code[gi] = -2
+            return out, osh, och, code, (gi, lo, hi, flo, fplo, fhi, fphi, qn)
         out[gi], osh[gi], och[gi] = _newton(np, lo, hi, flo, fplo, fhi, fphi, qn, thick)
+    if bands is not None:
+        return out, osh, och, code, None
     return out, osh, och
 
 
-def _multi_cells(np, t, f, fp, d, wend, old, q, thick):
+def _bracket_code(np, gi, lo, hi, flo, fplo, fhi, fphi, q0, sp, bands, thick):
+    """For certified cells ``[lo, hi]`` (one root, F decreasing) of the tosses ``gi``: the
+    outcome codes decided by a narrow bracket ``[a, b]`` around the Hermite estimate of the
+    root (a hundredth of the cell each side), and where they are decided.
+
+    The root is in ``[a, b]`` where ``F(a) > 16 tol`` (or ``a = lo``) and ``F(b) < -16 tol``
+    (or ``b = hi``): far beyond F's rounding, so the refinement's root, whose F is within its
+    rounding of zero, is there too; then :func:`_band_code` on ``[a, b]``."""
+    x0 = _hermite_start(np, lo, hi, flo, fplo, fhi, fphi)
+    dl = 0.01 * (hi - lo)
+    a = np.maximum(x0 - dl, lo)
+    b = np.minimum(x0 + dl, hi)
+    k = gi.size
+    g2 = np.concatenate([gi, gi])
+    q2 = q0.take(g2, _Batch._F + ("tol0", "tol1"))
+    t2 = np.concatenate([a, b])
+    f, _, sh, _ = _ff(np, t2, q2, thick)
+    tol = q2.tol0 + q2.tol1 * t2
+    inside = ((a == lo) | (f[:k] > 16.0 * tol[:k])) & ((b == hi) | (f[k:] < -16.0 * tol[k:]))
+    hom = q2.hom if isinstance(q2.hom, float) else q2.hom[:k]
+    code = _band_code(np, a, b, sh[:k], sh[k:], hom, sp if isinstance(sp, float) else sp[gi],
+                      bands)
+    return code, inside & (code >= 0)
+
+
+def _band_code(np, t1, t2, sh1, sh2, hom, sp, bands):
+    """The outcome code where ``sin(alpha/2)`` over ``[t1, t2]`` (``x = hom t`` spanning at most
+    one multiple of ``pi/2``; ``|sin x|`` at the ends ``sh1``, ``sh2``) lies inside one band of
+    ``bands = (sin(theta0/2), cos(theta0/2))`` by more than ``1e-9``, else -1.
+
+    ``sin(alpha/2) = sin psi |sin x|`` is monotone between multiples of ``pi/2``; across an
+    even one it reaches 0, across an odd one ``sin psi``.  The ends' ``x`` are those :func:`_ff`
+    evaluated, so the quadrants agree with ``sh1``, ``sh2`` (a quadrant misread by rounding
+    leaves the value within an ulp of the extreme, inside the margin).  Phases beyond ``1e5``
+    are left to the refinement (their rounding nears the margin)."""
+    c = 2.0 / math.pi
+    j1 = np.floor(hom * t1 * c)
+    j2 = np.floor(hom * t2 * c)
+    lo = np.minimum(sh1, sh2)
+    hi = np.maximum(sh1, sh2)
+    cross = np.flatnonzero(j2 != j1)
+    if cross.size:  # (about one cell in eight)
+        jc = j2[cross]
+        even = 0.5 * jc == np.floor(0.5 * jc)
+        lo[cross[even]] = 0.0
+        hi[cross[~even]] = 1.0
+    lo *= sp
+    hi *= sp
+    sb, cb = bands
+    m = 1e-9
+    # The band index of each end: 0 heads, 1 sides, 2 tails; the cell is decided where they agree.
+    k = (lo > sb + m).view(np.int8) + (lo > cb + m).view(np.int8)
+    kh = (hi >= sb - m).view(np.int8) + (hi >= cb - m).view(np.int8)
+    k[k != kh] = -1
+    if cross.size:
+        k[cross[j2[cross] - j1[cross] > 1]] = -1  # (cannot happen: cells are pi/16 of x)
+    if not float(hom * t2.max() if isinstance(hom, float) else (hom * t2).max()) < 1e5:
+        k[hom * t2 >= 1e5] = -1
+    return k
+
+
+def _multi_cells(np, t, f, fp, sh0, d, wend, old, q, thick):
     """The cell each toss decides on this round (see :func:`_first_root`): for the tosses
     ``old``, up to :data:`_MULTI` cells of width ``d`` laid from ``t`` (one evaluation each, all
     at once) and the first that is not certainly free, or the last; for the others ``[t, t +
-    d]``.  Returns the cell's ends with F, F' there, sin/cos at its end, and whether it is
-    free."""
+    d]``.  ``sh0`` is ``|sin x|`` at ``t``.  Returns the cell's ends with F, F' there, sin/cos
+    at its end, ``|sin x|`` at its start, and whether it is free."""
     n = t.size
     young = np.flatnonzero(~old)
     olds = np.flatnonzero(old)
-    t1, f1, fp1 = t.copy(), f.copy(), fp.copy()
+    t1, f1, fp1, sh1 = t.copy(), f.copy(), fp.copy(), sh0.copy()
     t2 = np.empty(n)
     f2, fp2, sh, ch = (np.empty(n) for _ in range(4))
     free = np.empty(n, dtype=bool)
@@ -863,6 +1034,7 @@ def _multi_cells(np, t, f, fp, d, wend, old, q, thick):
     ta = np.concatenate([to[:, None], tt[:, :-1]], axis=1)  # the cells' starts
     fa = np.concatenate([f[olds][:, None], ff[:, :-1]], axis=1)
     fpa = np.concatenate([fp[olds][:, None], ffp[:, :-1]], axis=1)
+    sha = np.concatenate([sh0[olds][:, None], fsh[:, :-1]], axis=1)
     dd = tt - ta
 
     def col(v):
@@ -877,25 +1049,17 @@ def _multi_cells(np, t, f, fp, d, wend, old, q, thick):
     allfree = fr.all(axis=1)
     jc = np.where(allfree, _MULTI - 1, np.argmax(~fr, axis=1))  # the cell decided on
     r = np.arange(k)
-    t1[olds], f1[olds], fp1[olds] = ta[r, jc], fa[r, jc], fpa[r, jc]
+    t1[olds], f1[olds], fp1[olds], sh1[olds] = ta[r, jc], fa[r, jc], fpa[r, jc], sha[r, jc]
     t2[olds], f2[olds], fp2[olds] = tt[r, jc], ff[r, jc], ffp[r, jc]
     sh[olds], ch[olds] = fsh[r, jc], fch[r, jc]
     free[olds] = fr[r, jc]
-    return t1, t2, f1, fp1, f2, fp2, sh, ch, free
+    return t1, t2, f1, fp1, f2, fp2, sh, ch, sh1, free
 
 
-def _newton(np, lo, hi, flo, fplo, fhi, fphi, q, thick):
-    """The single root of a decreasing F in each ``[lo, hi]`` (``F(lo) > 0 >= F(hi)``), with
-    ``|sin x|`` and ``cos x'`` there (as :func:`_ff`).
-
-    The start is the root of the cubic Hermite interpolant of F and F' at the ends (from the
-    root of the quadratic through ``F(lo), F'(lo), F(hi)``, a Newton step on the cubic; no
-    evaluation of F).  Then Newton's method on F, bisecting whenever a step would leave the
-    bracket, until F is zero, a step is below the last two bits of ``t`` or the bracket is four
-    ulps wide.  (The first step is taken without a test: it hardly ever converges.)  The sine
-    and cosine of the last evaluation are carried to the root by a rotation through the last
-    (sub-ulp) step.
-    """
+def _hermite_start(np, lo, hi, flo, fplo, fhi, fphi):
+    """The root of the cubic Hermite interpolant of F, F' at the ends of ``[lo, hi]`` (from the
+    root of the quadratic through ``F(lo), F'(lo), F(hi)``, a Newton step on the cubic), in the
+    bracket: :func:`_newton`'s start."""
     h = hi - lo
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         m1 = fplo * h  # slopes and coefficients in s = (t - lo) / h
@@ -912,6 +1076,22 @@ def _newton(np, lo, hi, flo, fplo, fhi, fphi, q, thick):
         x = lo + sv * h
     x = np.where(np.isfinite(x), np.clip(x, lo, hi), hi)
     x[fhi == 0] = hi[fhi == 0]
+    return x
+
+
+def _newton(np, lo, hi, flo, fplo, fhi, fphi, q, thick):
+    """The single root of a decreasing F in each ``[lo, hi]`` (``F(lo) > 0 >= F(hi)``), with
+    ``|sin x|`` and ``cos x'`` there (as :func:`_ff`).
+
+    The start is the root of the cubic Hermite interpolant of F and F' at the ends (from the
+    root of the quadratic through ``F(lo), F'(lo), F(hi)``, a Newton step on the cubic; no
+    evaluation of F).  Then Newton's method on F, bisecting whenever a step would leave the
+    bracket, until F is zero, a step is below the last two bits of ``t`` or the bracket is four
+    ulps wide.  (The first step is taken without a test: it hardly ever converges.)  The sine
+    and cosine of the last evaluation are carried to the root by a rotation through the last
+    (sub-ulp) step.
+    """
+    x = _hermite_start(np, lo, hi, flo, fplo, fhi, fphi)
     # The first step, for all.
     f, fp, _, _ = _ff(np, x, q, thick)
     pos = f > 0
@@ -1031,6 +1211,16 @@ def toss_many(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, con
     function on one toss).  Work is done in batches of 8192 tosses; arguments that are one
     number stay one number (no array of copies).
     """
+    return _toss_many(xi, psi, u, omega, diameter, g, contact, z0, False)
+
+
+def _outcomes(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, contact="rim"):
+    """The outcome codes of :func:`toss_many` (an int8 array), for one number ``xi``: the same
+    codes, without refining the roots whose outcome their certified cell already decides."""
+    return _toss_many(xi, psi, u, omega, diameter, g, contact, None, True)
+
+
+def _toss_many(xi, psi, u, omega, diameter, g, contact, z0, outcomes_only):
     import numpy as np
 
     xi, psi, u, omega, diameter, g, thick = _check_all(xi, psi, u, omega, diameter, g, contact)
@@ -1046,6 +1236,8 @@ def toss_many(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, con
     flat = [None if v is None else (float(np.ravel(v)[0]) if np.size(v) == 1 else
                                     np.broadcast_to(np.asarray(v, dtype=float), shape).ravel())
             for v in args]
+    if outcomes_only:
+        return _outcomes_flat(np, flat, n, thick).reshape(shape)
     t_f = np.empty(n)
     alpha_f = np.empty(n)
     code = np.empty(n, dtype=np.int8)
@@ -1054,23 +1246,187 @@ def toss_many(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, con
         m = sl.stop - sl.start
         xi_c, psi_c, u_c, om_c, dia_c, g_c, z0_c = (v if v is None or isinstance(v, float)
                                                     else v[sl] for v in flat)
-        with np.errstate(over="ignore", invalid="ignore"):  # refused below, not warned about
-            s = _setup(np, xi_c, psi_c, u_c, om_c, dia_c, g_c, thick, z0_c)
-            problem = np.broadcast_to(_problem(np, s), (m,))
-        if problem.any():
-            k = int(np.argmax(problem != 0))
-
-            def at(v, k=k):
-                return float(np.broadcast_to(v, (m,))[k])
-
-            raise ValueError(_problem_message(int(problem[k]), at(om_c), at(u_c), at(g_c),
-                                              at(s.z0), at(om_c) * at(s.t_end)))
+        s = _checked_setup(np, xi_c, psi_c, u_c, om_c, dia_c, g_c, thick, z0_c, m)
         t, sh, ch = _first_root(np, s, m, thick)
         t_f[sl] = t
         a = _alpha(np, s.sp, s.cp, sh, ch)
         alpha_f[sl] = a
         code[sl] = classify(a, xi_c)
     return Tosses(t_f.reshape(shape), alpha_f.reshape(shape), code.reshape(shape))
+
+
+def _checked_setup(np, xi, psi, u, om, dia, g, thick, z0, m):
+    """:func:`_setup` of a batch of ``m`` tosses, refusing the first one the scan cannot follow."""
+    with np.errstate(over="ignore", invalid="ignore"):  # refused below, not warned about
+        s = _setup(np, xi, psi, u, om, dia, g, thick, z0)
+        problem = np.broadcast_to(_problem(np, s), (m,))
+    if problem.any():
+        k = int(np.argmax(problem != 0))
+
+        def at(v, k=k):
+            return float(np.broadcast_to(v, (m,))[k])
+
+        raise ValueError(_problem_message(int(problem[k]), at(om), at(u), at(g), at(s.z0),
+                                          at(om) * at(s.t_end)))
+    return s
+
+
+def _outcomes_flat(np, flat, n, thick):
+    """The outcome codes of ``n`` tosses (``flat``: xi, psi, u, omega, diameter, g, z0 as
+    :func:`_toss_many` flattens them; xi, diameter and g numbers, z0 None).
+
+    First :func:`_window_outcomes` for all, batch by batch; then the undecided ones, gathered
+    into full batches (a batch pays numpy's overhead a call, whatever its size), by the scan,
+    without refining the roots whose certified cell decides them (:func:`_first_root` with
+    bands).  The first toss the scan cannot follow is refused, as :func:`toss_many` does."""
+    xi, psi, u, om, dia, g, _ = flat
+    xi, dia, g = float(xi), float(dia), float(g)
+    t0 = math.atan2(1.0, xi)
+    bands = (math.sin(0.5 * t0), math.cos(0.5 * t0))
+    code = np.empty(n, dtype=np.int8)
+    rest = []
+    for lo in range(0, n, _BATCH):
+        sl = slice(lo, min(n, lo + _BATCH))
+        k = _window_outcomes(np, *(v if isinstance(v, float) else v[sl] for v in (psi, u, om)),
+                             xi, dia, g, thick, bands, sl.stop - sl.start)
+        code[sl] = k
+        rest.append(np.flatnonzero(k < 0) + lo)
+    rest = np.concatenate(rest)
+    pending = []
+    for lo in range(0, rest.size, _BATCH):
+        r = rest[lo:lo + _BATCH]
+        m = r.size
+        psi_r, u_r, om_r = (v if isinstance(v, float) else v[r] for v in (psi, u, om))
+        s = _checked_setup(np, xi, psi_r, u_r, om_r, dia, g, thick, None, m)
+        _, sh, ch, k, cells = _first_root(np, s, m, thick, bands)
+        und = np.flatnonzero(k == -1)
+        if und.size:
+            sp, cp = (v if isinstance(v, float) else v[und] for v in (s.sp, s.cp))
+            k[und] = classify(_alpha(np, sp, cp, sh[und], ch[und]), xi)
+        code[r] = k
+        if cells is not None:
+            gi = cells[0]
+            pending.append((r[gi], *cells[1:], *(v if isinstance(v, float) else v[gi]
+                                                  for v in (s.sp, s.cp))))
+    if pending:  # the few roots to refine, all at once (numpy's overhead is per call)
+        g_idx, lo, hi, flo, fplo, fhi, fphi = (np.concatenate([p[i] for p in pending])
+                                               for i in range(7))
+        q = _cat_batches(np, [p[7] for p in pending], [p[0].size for p in pending])
+        _, sh, ch = _newton(np, lo, hi, flo, fplo, fhi, fphi, q, thick)
+        sp, cp = (np.concatenate([np.broadcast_to(p[i], p[0].shape) for p in pending])
+                  for i in (8, 9))
+        code[g_idx] = classify(_alpha(np, sp, cp, sh, ch), xi)
+    return code
+
+
+def _cat_batches(np, qs, sizes):
+    """The constants of several :class:`_Batch` (of :data:`_Batch._F`) end to end."""
+    out = _Batch.__new__(_Batch)
+    for k in _Batch._F:
+        vs = [getattr(q, k) for q in qs]
+        if all(isinstance(v, float) and v == vs[0] for v in vs):
+            setattr(out, k, vs[0])
+        else:
+            setattr(out, k, np.concatenate([np.broadcast_to(v, (m,)) for v, m in zip(vs,
+                                                                                     sizes)]))
+    return out
+
+
+# sin r for |r| <= pi/2 + 1e-11: Taylor to r^17 (the next term is below 5e-14).
+_SIN_TAYLOR = tuple((-1.0) ** i / math.factorial(2 * i + 1) for i in range(9))[::-1]
+
+
+def _abs_sin_rough(np, x):
+    """``|sin x|`` for ``0 <= x < 1e5`` within ``5e-11``: the reduction ``x - k pi`` by a double
+    ``pi`` errs by ``k * 1.3e-16`` plus two roundings of the size of ``x`` (an ulp of ``1e5`` is
+    ``1.5e-11``), the Taylor polynomial on ``[-pi/2, pi/2]`` by ``5e-14``.  For bounds (with a
+    margin of ``1e-9``), not for results."""
+    r = np.rint(x * (1.0 / math.pi))
+    r *= -math.pi
+    r += x
+    z = r * r
+    p = z * _SIN_TAYLOR[0]
+    for c in _SIN_TAYLOR[1:-1]:
+        p += c
+        p *= z
+    p += 1.0
+    p *= r
+    return np.abs(p, out=p)
+
+
+def _window_outcomes(np, psi, u, om, xi, dia, g, thick, bands, m):
+    """Outcome codes (``-1`` where undecided) of the tosses whose first contact, wherever it
+    falls in the window where it can happen, has one outcome: no root finding at all.
+
+    Contact happens while the centre is below ``Lmax``: in ``[w2s, t_end]``, the descent from
+    ``z = Lmax`` to ``z = 0`` (:func:`_setup`), once the launch window ``[0, w1]`` is clear
+    (there ``z >= z0`` and ``L <= a min(omega t sin psi, 1) + h/2``).  Where ``Lmax`` is the
+    plain ``a`` (rim; ``hypot(a, h/2)`` thick), i.e. ``psi`` lets the coin tilt far enough,
+    the window needs no trigonometry.  Over it ``x = omega t / 2`` spans ``[x1, x2]``, and
+    ``sin(alpha/2) = sin psi |sin x|`` lies between its values at the ends, or reaches 0 or
+    ``sin psi`` where a multiple of ``pi/2`` is crossed.  When that range lies inside one band
+    of eq. (7) by more than ``1e-9``, the scan's ``alpha_f`` (at a root within the window, to a
+    few ulps) has that outcome.  Every bound is widened beyond the rounding of the scan's own
+    ``w2s``, ``t_end``, ``w1`` (relative ``1e-12``) and of these rough sines (``5e-11``), and
+    the launch window must clear by ``1e-6 z0``, far beyond any rounding of ``F``.
+    """
+    psi, u, om = (np.broadcast_to(np.asarray(v, dtype=float), (m,)) for v in (psi, u, om))
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # (those not ok)
+        return _window_codes(np, psi, u, om, xi, dia, g, thick, bands, m)
+
+
+def _window_codes(np, psi, u, om, xi, dia, g, thick, bands, m):
+    a = 0.5 * dia
+    hh = 0.5 * xi * dia if thick else 0.0
+    z0 = _SQRT3_2 * a + hh
+    if thick:
+        lmax = math.hypot(a, hh) * (1.0 + 8 * _EPS)
+        half_width = 0.5 * math.pi - 0.5 * math.atan2(a, hh)  # |psi - pi/2| for amax >= atan2
+    else:
+        lmax = a * (1.0 + 8 * _EPS)
+        half_width = 0.25 * math.pi
+    d = lmax - z0
+    u2 = u * u
+    disc = u2 - 2.0 * g * d
+    disc -= 1e-12 * (u2 + 2.0 * g * abs(d))  # below the scan's, whatever its rounding
+    ok = disc > 0  # (else the coin never rises above Lmax: the window is the whole flight)
+    root = np.sqrt(np.maximum(disc, 0.0))
+    root += u
+    w2s = root * ((1.0 - 1e-12) / g)
+    t_end = np.sqrt(u2 + 2.0 * g * z0)
+    t_end += u
+    t_end *= (1.0 + 1e-12) / g
+    hom = 0.5 * om
+    x1 = w2s * hom
+    x2 = t_end * hom
+    sp = _abs_sin_rough(np, np.broadcast_to(psi, (m,)))
+    ok &= np.abs(psi - 0.5 * math.pi) <= half_width - 1e-9
+    ok &= (om > 0) & (x2 < 1e5)
+    if d > 0:  # a launch window [0, w1], w1 = 2 d / (u + root): must be clear
+        w1 = (2.0 * d * (1.0 + 1e-12)) / root
+        ok &= a * np.minimum(om * w1 * (sp + 1e-10), 1.0) + hh < z0 * (1.0 - 1e-6)
+    s1 = _abs_sin_rough(np, x1)
+    s2 = _abs_sin_rough(np, x2)
+    c = 2.0 / math.pi
+    q1 = np.floor(x1 * c)
+    q2 = np.floor(x2 * c)
+    lo = np.minimum(s1, s2)
+    hi = np.maximum(s1, s2)
+    span = q2 - q1
+    cross = np.flatnonzero(span > 0)
+    if cross.size:
+        sc, qc = span[cross], q2[cross]
+        even_end = 0.5 * qc == np.floor(0.5 * qc)  # the multiple q2 pi/2 is one of pi
+        lo[cross[even_end | (sc > 1)]] = 0.0
+        hi[cross[~even_end | (sc > 1)]] = 1.0
+    lo *= sp
+    hi *= sp
+    sb, cb = bands
+    mg = 1e-9 + 1e-10  # the margin, plus the rough sines' error (and sin psi's)
+    k = (lo > sb + mg).view(np.int8) + (lo > cb + mg).view(np.int8)
+    kh = (hi >= sb - mg).view(np.int8) + (hi >= cb - mg).view(np.int8)
+    k[(k != kh) | ~ok] = -1
+    return k
 
 
 
@@ -1532,9 +1888,8 @@ def simulate_chunks(n, seed, *, xi, u, omega, psi, diameter=DEFAULT_DIAMETER, g=
         # run with the same seed.
         c = {k: (v if isinstance(v, float) else v[:m])
              for k, v in sample_conditions(_CHUNK, rng, **dists).items()}
-        res = toss_many(xi, c["psi"], c["u"], c["omega"], diameter=diameter, g=g,
-                        contact=contact)
-        code = np.broadcast_to(res.code, (m,))
+        code = np.broadcast_to(_outcomes(xi, c["psi"], c["u"], c["omega"], diameter=diameter,
+                                         g=g, contact=contact), (m,))
         yield code
         done += m
 
@@ -1551,24 +1906,17 @@ class Frequency:
 
 
 def wilson_interval(k, n, level=0.95):
-    """Wilson score interval for ``k`` successes in ``n`` trials."""
+    """Wilson score interval ``(low, high)`` (floats) for ``k`` successes in ``n`` trials:
+    :func:`coincli.stats.wilson_interval`, the one implementation (no scipy at the common
+    levels 0.9, 0.95, 0.99)."""
     if n <= 0:
         raise ValueError(f"n must be >= 1, got {n}")
     if not 0 < level < 1:
         raise ValueError(f"level must be in (0, 1), got {level}")
-    if level == 0.95:
-        z = _Z95
-    else:
-        from statistics import NormalDist
+    from coincli.stats import wilson_interval as _wilson
 
-        z = NormalDist().inv_cdf(0.5 + level / 2)
-    p = k / n
-    z2 = z * z
-    den = 1 + z2 / n
-    centre = (p + z2 / (2 * n)) / den
-    half = z * math.sqrt(p * (1 - p) / n + z2 / (4 * n * n)) / den
-    lo = 0.0 if k == 0 else max(0.0, centre - half)
-    return lo, (1.0 if k == n else min(1.0, centre + half))
+    lo, hi = _wilson(k, n, level)
+    return float(lo), float(hi)
 
 
 @_record()

@@ -236,7 +236,8 @@ def test_terminal_gets_a_rich_table_and_no_color_removes_every_escape():
 
 # The real-toss commands need typer and numpy only: one vectorized root refinement (no
 # scipy.optimize), truncated normals and the vigorous limit without scipy, and a picture that
-# is plain text in a pipe (no rich); never matplotlib without --out.
+# is plain text in a pipe (no rich); never matplotlib without --out; never numpy.ma (numpy 2's
+# np.unique imports it: some 30 ms of simulate's start-up, once).
 TOSS_COMMANDS = [
     ["toss", "--xi", "0.577", "--psi", "90", "--u", "2", "--omega", "40"],
     ["toss", "--xi", "0.577"],
@@ -253,7 +254,8 @@ TOSS_COMMANDS = [
     ["phase", "--cols", "5", "--rows", "5", "-f", "csv"],
 ]
 
-_TOSS_PROBE = _PROBE.replace('("numpy", "scipy", "rich")', '("scipy", "rich", "matplotlib")')
+_TOSS_PROBE = _PROBE.replace('("numpy", "scipy", "rich")',
+                             '("scipy", "rich", "matplotlib", "numpy.ma")')
 
 
 def test_toss_simulate_phase_import_neither_scipy_nor_rich_nor_matplotlib():

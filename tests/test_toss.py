@@ -348,6 +348,35 @@ def test_vectorized_chunks_agree_with_one_batch():
     assert np.array_equal(v.t_f[-1000:], w.t_f)
 
 
+@pytest.mark.parametrize("contact", T.CONTACTS)
+@pytest.mark.parametrize("xi", [0.0, 0.01, FAIR, 2.0, math.inf])
+def test_outcomes_without_refinement_are_those_of_toss_many(xi, contact):
+    """simulate's path (a root's outcome read off its certified cell, no refinement where the
+    cell lies in one band) gives toss_many's codes: on a stress mix, at psi = 0, pi/2, pi, and on
+    fine omega scans across outcome changes (alpha_f within a hair of theta0 or pi - theta0)."""
+    if contact == "thick" and math.isinf(xi):
+        pytest.skip("a thick coin of infinite thickness has no catch height")
+    rng = np.random.default_rng(11)
+    m = 20000
+    psi = np.concatenate([rng.uniform(0, math.pi, m), np.repeat([0.0, math.pi / 2, math.pi],
+                                                                  200)])
+    k = psi.size
+    u = 10 ** rng.uniform(-3, 1.5, k)
+    om = 10 ** rng.uniform(-2, 4, k)
+    ref = T.toss_many(xi, psi, u, om, contact=contact).code
+    assert np.array_equal(T._outcomes(xi, psi, u, om, contact=contact), ref)
+    # Dense scans in omega: every outcome change is a toss whose alpha_f sits on a boundary.
+    # (A coin of no thickness lands as alpha turns through pi/2, its boundary, an infinitely
+    # thick one on its side: one outcome throughout.)
+    w = np.linspace(1.0, 200.0, 40001)
+    changes = 0
+    for p_, u_ in ((math.pi / 2, 2.4), (1.1, 1.0), (0.3, 3.0)):
+        ref = T.toss_many(xi, p_, u_, w, contact=contact).code
+        changes += np.count_nonzero(ref[1:] != ref[:-1])
+        assert np.array_equal(T._outcomes(xi, p_, u_, w, contact=contact), ref)
+    assert changes > 20 or xi == 0 or math.isinf(xi)
+
+
 # --------------------------------------------------------------------------- eq. (10)
 
 
@@ -566,6 +595,24 @@ def test_wilson_interval():
     assert lo == pytest.approx(0.4038, abs=1e-4) and hi == pytest.approx(0.5962, abs=1e-4)
     assert T.wilson_interval(0, 10)[0] == 0.0
     assert T.wilson_interval(10, 10)[1] == 1.0
+
+
+@pytest.mark.parametrize("level", [0.5, 0.9, 0.95, 0.99, 1 - 1e-12])
+def test_wilson_interval_is_the_one_of_stats(level):
+    """One Wilson implementation: coincli.stats', whose z at the common levels is a constant
+    equal to scipy's ndtri bit for bit (so that simulate needs no scipy)."""
+    from scipy.special import ndtri
+
+    from coincli import stats
+
+    assert stats._z(level) == -float(ndtri((1.0 - level) / 2))
+    for k, n in ((0, 7), (1, 7), (3, 7), (7, 7), (1, 10**9), (333_333, 10**6)):
+        lo, hi = stats.wilson_interval(k, n, level)
+        assert T.wilson_interval(k, n, level) == (float(lo), float(hi))
+    with pytest.raises(ValueError, match="n must be >= 1"):
+        T.wilson_interval(0, 0)
+    with pytest.raises(ValueError, match="level must be in"):
+        T.wilson_interval(1, 2, 1.0)
 
 
 # --------------------------------------------------------------------------- distributions
