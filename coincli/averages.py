@@ -568,9 +568,13 @@ def _delta(density: Density) -> float | None:
     """The angle of a normal too narrow for any quadrature (mean +- sd/2 round to the mean):
     the mean itself (Table I folds it exactly), except that the ends and the double nearest pi
     stand for 0 (the coin never precesses), as the quadrature's fold ``pi - mean`` has them,
-    and ``HALF_PI`` for pi/2 exactly, the Keller flip (:func:`_table_i`)."""
+    and ``HALF_PI`` for pi/2 exactly, the Keller flip (:func:`_table_i`); a mean given in
+    degrees past 90 is its mirror ``180 - mean`` taken in degrees (``Normal.mirror``), the
+    angle ``--psi MEAN`` takes."""
     if isinstance(density, Normal) and density.mean + 0.5 * density.sd == density.mean \
             and density.mean - 0.5 * density.sd == density.mean:
+        if density.mirror is not None:  # a mean given in degrees past 90: --psi's angle
+            return density.mirror
         return density.mean if 0.0 <= density.mean < math.pi else 0.0
     return None
 

@@ -105,6 +105,10 @@ class Normal(Density):
         if not sd > 0:
             raise ValueError(f"normal sd must be > 0, got {sd!r}")
         self.mean, self.sd = float(mean), float(sd)
+        #: ``180 deg - mean`` in radians when the mean was given in degrees past 90 (set by
+        #: :func:`parse_density`): a normal too narrow to average is Table I there, the angle
+        #: ``coin ... --psi MEAN`` takes
+        self.mirror: float | None = None
         #: the point of [0, pi] nearest the mean: the density's largest value is there
         self.peak = min(max(self.mean, 0.0), math.pi)
         # pdf(peak) = 1/(sd * rel) with rel = int_0^pi exp(-((x - m)^2 - (peak - m)^2)/(2 sd^2)) dx/sd
@@ -341,7 +345,10 @@ def parse_density(text: str) -> Density:
         sd = parse_number(parts[1], "normal sd (degrees)")
         if not sd > 0:
             raise ValueError(f"normal sd must be > 0 degrees, got {parts[1]!r}")
-        return Normal(math.radians(mean), math.radians(sd))
+        d = Normal(math.radians(mean), math.radians(sd))
+        if 90.0 < mean <= 180.0:  # Table I's mirror of the mean, taken in degrees (exact)
+            d.mirror = math.radians(180.0 - mean)
+        return d
     if kind == "table" and rest:
         return Table.from_text(_read_table_file(rest), label=rest)
     raise ValueError(f"psi density must be {DENSITY_FORMS}; got {_shown(str(text))}")

@@ -50,6 +50,10 @@ __all__ = [
     "sample_psi",
     "toss_outcomes",
     "check_tol",
+    "chance_spread",
+    "mc_tosses_for_tol",
+    "mc_smallest_tol",
+    "wilson_half_width",
     "MC_MAX_SAMPLES",
 ]
 
@@ -305,12 +309,16 @@ def _normal_ppf(d: Normal, u):
         # formed as a log-sum so that u Z keeps its digits next to Phi(a) (u = 1e-12, say)
         pa, qb = float(ndtr(a)), float(ndtr(-b))
         lz = math.log(1.0 - pa - qb)
+        u = np.asarray(u, dtype=float)
         with np.errstate(divide="ignore"):
             lp = np.logaddexp(float(log_ndtr(a)), np.log(u) + lz)
-            lq = np.logaddexp(float(log_ndtr(-b)), np.log1p(-u) + lz)
         low = lp < -math.log(2.0)
-        x = np.where(low, ndtri_exp(np.where(low, lp, -1.0)),
-                     -ndtri_exp(np.where(low, -1.0, np.minimum(lq, -math.log(2.0)))))
+        x = np.empty(np.shape(lp))
+        x[low] = ndtri_exp(lp[low])
+        high = ~low  # each point through one of the two tails (the work of one ndtri_exp)
+        with np.errstate(divide="ignore"):
+            lq = np.logaddexp(float(log_ndtr(-b)), np.log1p(-u[high]) + lz)
+        x[high] = -ndtri_exp(np.minimum(lq, -math.log(2.0)))
     x = np.clip(x, a, b)
     if flip:
         x = -x
@@ -461,6 +469,67 @@ def monte_carlo(xi, density: Density | None = None, *, tol: float | None = None,
         progress(done, done)
     return Estimate(_outcome(xi, p), _outcome(xi, se), _outcome(xi, lo), _outcome(xi, hi),
                     "mc", done, tol, met, f"Monte Carlo, {done} tosses (seed {seed})")
+
+
+def wilson_half_width(spread: float, n: int) -> float:
+    """An upper bound on the half-width :func:`monte_carlo` checks (the larger distance from
+    the estimate to an end of its 95% Wilson interval) after ``n`` tosses, for a chance ``p``
+    with ``p (1 - p) = spread``: ``(z sqrt(v/n + z^2/(4 n^2)) + z^2/(2 n)) / (1 + z^2/n)``,
+    the centre's offset ``z^2 |1/2 - p| / n`` taken at its largest."""
+    z, z2 = _Z95, _Z95 * _Z95
+    return (z * math.sqrt(spread / n + z2 / (4.0 * n * n)) + z2 / (2.0 * n)) / (1.0 + z2 / n)
+
+
+def chance_spread(value: Outcome) -> float:
+    """The largest ``p (1 - p)`` over the three chances (each a float or an array): what sets
+    the Monte Carlo half-width."""
+    return max(float(np.max(np.asarray(p, dtype=float) * (1.0 - np.asarray(p, dtype=float))))
+               for p in value)
+
+
+def mc_tosses_for_tol(spread: float, tol: float) -> int:
+    """The tosses :func:`monte_carlo` needs for a half-width <= ``tol`` on chances whose
+    largest ``p (1 - p)`` is ``spread`` (:func:`chance_spread` of the chances, e.g. by
+    :func:`quad`): the smallest ``n`` with ``wilson_half_width(v, n) <= tol``, where ``v`` is
+    ``spread`` moved up by what the estimate's own scatter after ``n`` tosses can add to it,
+    four standard errors (``4 sqrt(spread/n) + 16/n``; under 1% once n is in the millions)."""
+    tol = check_tol(tol)
+    spread = min(max(float(spread), 0.0), 0.25)
+    lo, hi = 1, 1 << 62
+    while lo < hi:  # the bound decreases with n
+        mid = (lo + hi) // 2
+        v = min(spread + 4.0 * math.sqrt(spread / mid) + 16.0 / mid, 0.25)
+        if wilson_half_width(v, mid) <= tol:
+            hi = mid
+        else:
+            lo = mid + 1
+    return lo
+
+
+def mc_smallest_tol(spreads, budget: int) -> float:
+    """The smallest tolerance (two significant digits, rounded up) whose planned tosses
+    (:func:`mc_tosses_for_tol`), summed over densities with these spreads, fit in ``budget``;
+    0.5 when even that does not fit."""
+    spreads = [float(s) for s in spreads]
+
+    def fits(t):
+        return sum(mc_tosses_for_tol(s, t) for s in spreads) <= budget
+
+    if not fits(_MAX_TOL):
+        return _MAX_TOL
+    lo, hi = math.log(_MIN_TOL), math.log(_MAX_TOL)  # fits(exp(hi)) holds
+    for _ in range(60):
+        mid = (lo + hi) / 2
+        if fits(math.exp(mid)):
+            hi = mid
+        else:
+            lo = mid
+    t = math.exp(hi)
+    unit = 10.0 ** (math.floor(math.log10(t)) - 1)
+    shown = float(f"{math.ceil(t / unit) * unit:.2g}")
+    while not fits(shown):  # the rounding of the shown digits
+        shown = float(f"{shown + unit:.2g}")
+    return min(shown, _MAX_TOL)
 
 
 def quasi_monte_carlo(xi, density: Density | None = None, *, tol: float | None = None,

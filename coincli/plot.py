@@ -317,12 +317,14 @@ def psi_spec(psi_rad: float) -> ModelSpec:
 
 def table_i_deg(xi, psi_deg):
     """Table I at ``psi_deg`` degrees (floats or arrays that broadcast), as every command takes
-    an angle: 180 deg is the double nearest pi, and 90 deg is the Keller flip exactly (eq. 12,
-    :meth:`ModelSpec.fixed_psi`), so that a plot marks the chances `coin table --psi 90` prints."""
+    an angle: past 90 deg at the mirror angle ``180 - psi`` taken in degrees (exact; Table I is
+    symmetric, and 180 deg is 0: the coin never precesses), and 90 deg is the Keller flip
+    exactly (eq. 12, :meth:`ModelSpec.fixed_psi`), so that a plot marks the chances `coin table
+    --psi` prints (the rule of ``coincli.cli.design._table_i_angle``)."""
     import numpy as np
 
     d = np.asarray(psi_deg, dtype=float)
-    o = models.conditional(xi, np.where(d == 180.0, math.pi, np.radians(d)))
+    o = models.conditional(xi, np.radians(np.where(d > 90.0, 180.0 - d, d)))
     at90 = d == 90.0
     if not at90.any():
         return o

@@ -289,7 +289,8 @@ def test_table_psi_and_vs_psi(coin):
     assert [float(r["psi_deg"]) for r in rows] == [15.0 * k for k in range(13)]  # as typed
     for r in rows:
         deg = float(r["psi_deg"])
-        o = models.conditional(0.577, math.pi if deg == 180 else math.radians(deg))
+        # past 90 deg at the mirror angle, taken in degrees (exact): 180 deg is 0
+        o = models.conditional(0.577, math.radians(180 - deg if deg > 90 else deg))
         assert float(r["p_sides"]) == o.sides
     assert rows[0]["regime"] == "heads only" and rows[6]["regime"] == "all three"
 

@@ -367,37 +367,113 @@ def test_progress_bar_draws_on_stderr_only_after_a_second(monkeypatch):
     bar.close()
 
 
-def test_the_run_budget_stops_monte_carlo_deterministically(capsys, monkeypatch):
-    # A --tol out of reach: the run stops at its budget of tosses (not on the clock), warns,
-    # and the same seed gives the same bytes.
+def test_the_run_budget_stops_quasi_monte_carlo_deterministically(capsys, monkeypatch):
+    # A --tol out of reach of qmc: the run stops at its budget of points (not on the clock),
+    # warns, and the same seed gives the same bytes.
+    import coincli.cli._accuracy as acc
+
+    monkeypatch.setattr(acc, "RUN_BUDGET", 1 << 16)
+    argv = ["table", "--xi", "0.577", "--psi-dist", "uniform", "--method", "qmc", "--seed", "1",
+            "--tol", "1e-9", "-f", "csv"]
+    code, out, err = _run(argv, capsys)
+    assert code == 0 and out.count("\n") == 4
+    assert err.startswith("coin: warning: uniform: qmc reached") and "not --tol 1e-09" in err
+    assert "--tol not met; it stopped at the run's limit of 65536 points" in err
+    assert "qmc 65536 points" in out and out.splitlines()[0].endswith(",seed")
+    assert out.splitlines()[-1].endswith(",1")
+    assert _run(argv, capsys)[1] == out
+
+
+def test_monte_carlo_refuses_a_tol_beyond_the_run_limit_up_front(capsys, monkeypatch):
+    # The tosses a --tol needs follow from the chances: a --tol past the run's limit is a
+    # one-line usage error before any toss, naming the smallest --tol that fits; that one runs
+    # and meets it.
+    import time
+
     import coincli.cli._accuracy as acc
 
     monkeypatch.setattr(acc, "RUN_BUDGET", 1 << 16)
     argv = ["table", "--xi", "0.577", "--psi-dist", "uniform", "--method", "mc", "--seed", "1",
-            "--tol", "1e-7", "-f", "csv"]
-    code, out, err = _run(argv, capsys)
-    assert code == 0 and out.count("\n") == 4
-    assert err.startswith("coin: warning: uniform: mc reached") and "not --tol 1e-07" in err
-    assert "--tol not met; it stopped at the run's limit of 65536 tosses" in err
-    assert "mc 65536 tosses" in out and out.splitlines()[0].endswith(",seed")
-    assert out.splitlines()[-1].endswith(",1")
-    assert _run(argv, capsys)[1] == out
+            "-f", "csv", "--tol"]
+    t0 = time.process_time()
+    code, out, err = _run([*argv, "1e-5"], capsys)
+    assert time.process_time() - t0 < 5  # refused before simulating (2^16 tosses would not do)
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert err.startswith("coin: error: --tol 1e-05 needs about ")
+    assert "over the run's limit of 65536 tosses" in err
+    smallest = err.split("the smallest --tol that fits is ")[1].split()[0]
+    assert 3e-3 < float(smallest) < 1e-2  # z sqrt(p (1 - p) / 2^16) with p(1 - p) near 1/4
+    code, out, err = _run([*argv, smallest], capsys)
+    assert code == 0 and err == "", err
+    row = out.splitlines()[-1].split(",")
+    assert int(row[5].split()[1]) <= 1 << 16
+    assert max(float(v) for v in row[6:9]) <= float(smallest)
+    # a tolerance a little below the smallest is refused (the figure is the limit, rounded up)
+    code, _, err = _run([*argv, f"{float(smallest) * 0.97:.3g}"], capsys)
+    assert code == 2 and "the smallest --tol that fits is " + smallest in err
+
+
+@pytest.mark.parametrize("spec, xi", [("uniform", 0.577), ("normal", 0.3), ("cosine", 2.0),
+                                      ("normal:30:5", 0.05), ("uniform", 40.0)])
+def test_the_planned_tosses_meet_the_tolerance(spec, xi):
+    # the prediction is an upper bound: seeded runs stop by the planned tosses, having met tol
+    from coincli.densities import parse_density
+
+    d = parse_density(spec)
+    spread = E.chance_spread(E.quad(xi, d).value)
+    for tol in (3e-3, 1e-3):
+        need = E.mc_tosses_for_tol(spread, tol)
+        for seed in range(4):
+            r = E.monte_carlo(xi, d, tol=tol, seed=seed, max_samples=need)
+            assert r.met, (spec, xi, tol, seed, r.n, need)
+    # and it is not wasteful where it matters (tosses in the millions): within 3% of the
+    # tosses a half-width of tol takes
+    need = E.mc_tosses_for_tol(spread, 1e-4)
+    assert spread < 0.01 or E.wilson_half_width(spread, int(need / 1.03)) > 1e-4
+
+
+def test_smallest_tol_is_the_limit():
+    # the figure, rounded up to two digits, fits; one unit of its second digit less does not
+    for spreads, budget in (([0.25], 1 << 26), ([0.25, 0.1, 0.2], 1 << 26), ([1e-9], 1 << 20),
+                            ([0.0], 1 << 20), ([0.01, 1e-5], 1 << 16)):
+        t = E.mc_smallest_tol(spreads, budget)
+        assert float(f"{t:.2g}") == t
+        assert sum(E.mc_tosses_for_tol(s, t) for s in spreads) <= budget
+        less = t - 10.0 ** (math.floor(math.log10(t)) - 1)
+        assert sum(E.mc_tosses_for_tol(s, less) for s in spreads) > budget, (spreads, t)
+    assert E.mc_smallest_tol([0.25], 1) == 0.5
 
 
 def test_the_budget_is_one_per_run_shared_by_the_densities(capsys, monkeypatch):
     import coincli.cli._accuracy as acc
 
     monkeypatch.setattr(acc, "RUN_BUDGET", 1 << 16)
-    for method, unit in (("mc", "tosses"), ("qmc", "points")):
-        code, out, err = _run(["table", "--xi", "0.577", "--all", "--method", method, "--seed",
-                               "2", "--tol", "1e-7", "-f", "csv"], capsys)
-        assert code == 0 and err.count("coin: warning:") == 3
-        assert f"limit of 65536 {unit}, shared by 3 densities" in err
-        used = [int(line.split(",")[5].split()[1]) for line in out.splitlines()[3:]]
-        assert len(used) == 3 and sum(used) <= 1 << 16, used
+    code, out, err = _run(["table", "--xi", "0.577", "--all", "--method", "qmc", "--seed",
+                           "2", "--tol", "1e-9", "-f", "csv"], capsys)
+    assert code == 0 and err.count("coin: warning:") == 3
+    assert "limit of 65536 points, shared by 3 densities" in err
+    used = [int(line.split(",")[5].split()[1]) for line in out.splitlines()[3:]]
+    assert len(used) == 3 and sum(used) <= 1 << 16, used
+    argv = ["table", "--xi", "0.577", "--all", "--method", "mc", "--seed", "2", "-f", "csv",
+            "--tol"]
+    code, out, err = _run([*argv, "1e-3"], capsys)
+    assert code == 2 and "over the run's limit of 65536 tosses shared by 3 densities" in err
+    smallest = err.split("the smallest --tol that fits is ")[1].split()[0]
+    code, out, err = _run([*argv, smallest], capsys)
+    assert code == 0 and err == ""
+    rows = [line.split(",") for line in out.splitlines()[3:]]
+    assert sum(int(r[5].split()[1]) for r in rows) <= 1 << 16
+    assert max(float(v) for r in rows for v in r[6:9]) <= float(smallest)
     budget = acc.Budget(3, total=90)
     assert budget.share() == 30
     budget.used(10)  # the first met its tolerance early: the others share the rest
     assert budget.share() == 40
     budget.used(40)
     assert budget.share() == 40
+    budget = acc.Budget(3, total=90)
+    budget.plan([20, 30, 25])  # planned: each may use all but what the later ones need
+    assert budget.share() == 35
+    budget.used(22)
+    assert budget.share() == 43
+    budget.used(30)
+    assert budget.share() == 38

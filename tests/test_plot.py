@@ -271,7 +271,8 @@ def test_psi_curves_and_regimes(plotmod):
     for name in ("heads", "sides", "tails"):
         line = _one(fig, f"curve:{name}")
         x = np.asarray(line.get_xdata())
-        want = getattr(models.conditional(xi, np.minimum(np.radians(x), math.pi)), name)
+        # past 90 deg at the mirror angle, taken in degrees (as coin table --psi)
+        want = getattr(models.conditional(xi, np.radians(np.where(x > 90, 180 - x, x))), name)
         want = np.where(x == 90.0, getattr(models.dynamic(xi), name), want)  # the Keller flip
         np.testing.assert_array_equal(line.get_ydata(), want)
     t = math.degrees(models.theta0(xi)) / 2
@@ -293,7 +294,8 @@ def test_psi_curves_and_regimes(plotmod):
 def test_map_values(plotmod, style):
     data = plotmod.map_data(nx=31, ny=37, xi_marks=[0.5], psi_marks_deg=[80.0])
     fig = plotmod.map_figure(data, style=style)
-    o = models.conditional(data.xi[None, :], np.radians(data.psi_deg)[:, None])
+    d = data.psi_deg
+    o = models.conditional(data.xi[None, :], np.radians(np.where(d > 90, 180 - d, d))[:, None])
     k = models.dynamic(data.xi)  # the row at 90 deg is the Keller flip, eq. (12)
     at90 = (data.psi_deg == 90.0)[:, None]
     o = models.Outcome(*(np.where(at90, a[None, :], b) for a, b in zip(k, o, strict=True)))

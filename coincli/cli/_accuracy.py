@@ -42,9 +42,11 @@ SeedOpt = Annotated[
 
 METHODS = ("auto", "quad", "mc", "qmc")
 #: the most tosses (mc) or Sobol points (qmc) one command run simulates for --tol, shared by
-#: its densities: a run that has not met --tol by then stops, at a point that depends on the
-#: inputs and the seed alone, and says so (about 10 to 40 seconds of CPU)
-RUN_BUDGET = 1 << 28
+#: its densities: --method mc refuses a --tol that needs more up front (the tosses a tolerance
+#: needs are known from the chances); a qmc run that has not met --tol by then stops, at a
+#: point that depends on the inputs and the seed alone, and says so
+RUN_BUDGET = 1 << 26
+RUN_SECONDS = "2.6 to 6.8 s"  #: RUN_BUDGET's CPU time here (benchmarks/bench_mc_limit.py)
 
 
 class Accuracy(NamedTuple):
@@ -149,20 +151,60 @@ def columns(acc: Accuracy, machine: bool = True) -> list:
 class Budget:
     """The run's :data:`RUN_BUDGET` of tosses (or points), shared by ``densities`` in turn:
     each may use what is left divided by the densities still to come (so each gets at least
-    an equal share, and a density that meets --tol early leaves the rest to the others)."""
+    an equal share, and a density that meets --tol early leaves the rest to the others).
+
+    Once :meth:`plan` has the tosses each density needs (``--method mc`` with ``--tol``), each
+    may use what is left but what the densities still to come need."""
 
     def __init__(self, densities: int, total: int | None = None):
         total = RUN_BUDGET if total is None else total
         self.left = total
         self.total = total
         self.densities = self.to_come = max(int(densities), 1)
+        self.needs: list[int] | None = None
+
+    def plan(self, needs: list[int]) -> None:
+        self.needs = [int(k) for k in needs]
+        self.densities = self.to_come = max(len(self.needs), 1)
 
     def share(self) -> int:
+        if self.needs is not None:
+            later = sum(self.needs[len(self.needs) - self.to_come + 1:])
+            return max(self.left - later, 1)
         return max(self.left // max(self.to_come, 1), 1)
 
     def used(self, n: int) -> None:
         self.left = max(self.left - int(n), 0)
         self.to_come -= 1
+
+
+def plan(acc: Accuracy | None, densities: list, x) -> Budget:
+    """The run's :class:`Budget` for these densities at x (a float or an array of xi).
+
+    With ``--method mc`` and ``--tol`` the tosses each density needs are known before a toss
+    is made: Wilson's half-width is a function of the chances (found by quadrature, in
+    milliseconds) and the number of tosses.  A --tol whose tosses, summed over the densities,
+    exceed the run's limit is refused here, naming the smallest --tol that fits."""
+    budget = Budget(len(densities))
+    if acc is None or acc.method != "mc" or acc.tol is None or not densities:
+        return budget
+    from coincli import estimators as est
+
+    try:
+        spreads = [est.chance_spread(est.quad(x, d, tol=1e-9).value) for d in densities]
+    except ValueError as exc:
+        raise compute_error(str(exc)) from None
+    needs = [est.mc_tosses_for_tol(s, acc.tol) for s in spreads]
+    if sum(needs) > budget.total:
+        smallest = est.mc_smallest_tol(spreads, budget.total)
+        shared = f" shared by {len(densities)} densities" if len(densities) > 1 else ""
+        raise usage_error(
+            f"--tol {acc.tol:g} needs about {sum(needs):.2g} simulated tosses with --method "
+            f"mc, over the run's limit of {budget.total} tosses{shared} (about "
+            f"{RUN_SECONDS} of CPU): the smallest --tol that fits is {smallest:g} (--method "
+            f"qmc goes further; --method auto or quad reaches any --tol down to 1e-16)")
+    budget.plan(needs)
+    return budget
 
 
 def run(acc: Accuracy, density, x, n: int, budget: Budget | None = None):

@@ -44,23 +44,25 @@ def _model_names(models, fmt: str) -> list[str]:
 # --------------------------------------------------------------------------- models as options
 
 
-class _Psi180(ModelSpec):
-    """Table I at psi = 180 deg, computed at its mirror image psi = 0 and named ``psi=180``."""
+class _Mirrored(ModelSpec):
+    """Table I at psi > 90 deg, computed at its mirror image 180 deg - psi and named by psi."""
 
     __slots__ = ()
 
     @property
     def name(self) -> str:
-        return "psi=180"
+        return f"psi={180.0 - math.degrees(self.psi):.10g}"
 
 
-def _table_i_angle(psi: float) -> float:
-    """The angle to evaluate Table I at for ``psi`` (radians) as :func:`parse.parse_angle_deg`
-    gives it: 180 deg arrives as ``math.pi``, 1.2e-16 rad short of pi, which the model takes at
-    its word (such a coin precesses, and lands on a side once xi > 4e15).  Table I is symmetric,
-    P(i | psi) = P(i | 180 deg - psi), so 180 deg is exactly 0 deg: the coin never precesses.
+def _table_i_angle(deg: float) -> float:
+    """The angle (radians) to evaluate Table I at for ``deg`` degrees.  Table I is symmetric,
+    P(i | psi) = P(i | 180 deg - psi), and past 90 deg the mirror angle is taken in degrees,
+    where ``180 - deg`` is exact: ``--psi 179.5`` is ``--psi 0.5`` to the last bit (in radians
+    pi - psi would carry pi's rounding, 1e-16 rad, 1e-14 relative at 0.5 deg), and 180 deg is
+    exactly 0 deg: the coin never precesses (``math.pi``, 1.2e-16 rad short of pi, would
+    precess, and land on a side once xi > 4e15).
     """
-    return 0.0 if psi == math.pi else psi
+    return _options.radians(180.0 - deg) if deg > 90.0 else _options.radians(deg)
 
 
 def psi_model(psi_deg_text: str) -> ModelSpec:
@@ -69,10 +71,8 @@ def psi_model(psi_deg_text: str) -> ModelSpec:
 
 def angle_model(deg: float) -> ModelSpec:
     """Table I at ``deg`` degrees (checked to lie in [0, 180])."""
-    psi = _options.radians(deg)
     label = f"psi = {deg:.10g} deg (Table I)"
-    at = _table_i_angle(psi)
-    return (ModelSpec if at == psi else _Psi180).fixed_psi(at, label)
+    return (_Mirrored if deg > 90.0 else ModelSpec).fixed_psi(_table_i_angle(deg), label)
 
 
 def density_model(spec: str) -> ModelSpec:
@@ -143,9 +143,36 @@ def _tolist(v, n):
 
 
 def _column(v, n):
-    """A result column: an array stays an array (the writers format it in C), a float is
-    repeated ``n`` times."""
-    return v if hasattr(v, "dtype") and getattr(v, "ndim", 0) == 1 else [v] * n
+    """A result column: an array stays an array (the writers format it in C), a list is
+    itself, a float (or None) is repeated ``n`` times."""
+    if isinstance(v, list) or (hasattr(v, "dtype") and getattr(v, "ndim", 0) == 1):
+        return v
+    return [v] * n
+
+
+def _ratio(a: float, b: float) -> float | None:
+    """a / b for finite positive a, b; None where the quotient passes the largest double."""
+    q = a / b
+    return None if q == math.inf else q
+
+
+def _product(a: float, b: float) -> float | None:
+    q = a * b
+    return None if q == math.inf else q
+
+
+def _no_overflow(v, xi):
+    """An array column with its cells that overflowed (inf although xi is finite and
+    nonzero) as None: a list then; the array itself when none did."""
+    import numpy as np
+
+    bad = np.isinf(v) & (xi > 0) & (xi < np.inf)
+    if not bad.any():
+        return v
+    out = v.tolist()
+    for k in np.flatnonzero(bad).tolist():
+        out[k] = None
+    return out
 
 
 # --------------------------------------------------------------------------- design
@@ -291,9 +318,10 @@ def design(
         other_sides = other.forward(xi).sides
         n = 1 if isinstance(p, float) else len(p)
         if isinstance(xi, float):
-            d_over_h = math.inf if xi == 0 else 1 / xi
-            thick_col = dia * xi if dia is not None else thick
-            dia_col = dia if dia is not None else (math.inf if xi == 0 else thick / xi)
+            d_over_h = math.inf if xi == 0 else _ratio(1.0, xi)
+            thick_col = (_product(dia, xi) if xi != math.inf else math.inf) if dia is not None \
+                else thick
+            dia_col = dia if dia is not None else (math.inf if xi == 0 else _ratio(thick, xi))
         else:
             import numpy as np
 
@@ -304,6 +332,10 @@ def design(
                 else:
                     thick_col = np.full(xi.shape, thick)
                     dia_col = np.where(xi == 0, np.inf, thick / np.where(xi == 0, 1, xi))
+            # a finite length or ratio past the largest double (xi below 5.6e-309 or a 1e300
+            # diameter) is an empty cell, not inf: inf is kept for xi = 0 and xi = inf
+            d_over_h, thick_col, dia_col = (_no_overflow(v, xi) for v in (d_over_h, thick_col,
+                                                                         dia_col))
         # -q prints xi alone: no stack search (it is most of the time of a long -q batch)
         stack = [[None] * n] * 5 if quiet else _stack_columns(c, p, m, xi)
         return [
@@ -430,8 +462,18 @@ def table(
     _accuracy.require_density(acc, bool(dens))
     models_ = (GEOMETRIC, DYNAMIC, *extra)
     many = coins.counts if isinstance(coins.counts, Values) else coins.xis
-    if isinstance(many, Values) and len(many) > 1 and acc is None and \
-            all(m.closed_form for m in models_):
+    if isinstance(many, Values) and len(many) > 1 and acc is None:
+        # closed forms and quadrature alike are computed a chunk of coins at a time (the
+        # quadrature of one xi does not depend on the others); a table density's work is
+        # bounded for the whole run before the first chunk
+        for m in extra:
+            if m.key == "dist":
+                from coincli.averages import check_table_work
+
+                try:
+                    check_table_work(m.density, len(many))
+                except ValueError as exc:
+                    raise compute_error(str(exc)) from None
         return _table_stream(coins, models_, extra, fmt, quiet)
     coins = _materialized(coins)
     x = _vector(coins.xis)
@@ -439,7 +481,7 @@ def table(
     models_ = (GEOMETRIC, DYNAMIC, *extra)
     names = _model_names(models_, fmt)
     blocks = []
-    budget = _accuracy.Budget(sum(m.key == "dist" for m in extra))  # one limit per run
+    budget = _accuracy.plan(acc, [m.density for m in extra if m.key == "dist"], x)  # per run
     for m, name in zip(models_, names, strict=True):
         more = [("closed form", None, None, None) + ((None,) if acc is not None and
                                                       acc.sampling else ())] * n
@@ -487,8 +529,9 @@ def _table_note(extra) -> str:
 
 
 def _table_stream(coins: _options.Coins, models_, extra, fmt: str, quiet: bool) -> None:
-    """``coin table`` over many coins under closed forms: one row per coin and model, computed
-    from arrays and written a chunk of coins at a time (memory flat in the number of rows).
+    """``coin table`` over many coins under closed forms and quadrature over psi: one row per
+    coin and model, computed from arrays and written a chunk of coins at a time (memory flat
+    in the number of rows).
     The coins are a Values of xi, or of counts of a stacked coin."""
     import numpy as np
 
@@ -520,7 +563,7 @@ def _table_vs_psi(coins: _options.Coins, psi_text, fmt, quiet):
     rows = []
     t = math.degrees(models.theta0(x)) / 2
     for d in degs:
-        o = ModelSpec.fixed_psi(_table_i_angle(_options.radians(d))).forward(x)
+        o = ModelSpec.fixed_psi(_table_i_angle(d)).forward(x)
         fold = min(d, 180.0 - d)
         regime = "heads only" if fold < t else ("heads/sides" if fold < 90 - t else "all three")
         rows.append((x, d, regime, o.heads, o.sides, o.tails))
@@ -600,7 +643,15 @@ def stack(
         best = ch.count
     else:
         counts = coins.counts
-        if isinstance(counts, Values) and len(counts) > 1 and m.closed_form:
+        if isinstance(counts, Values) and len(counts) > 1 and (m.closed_form or
+                                                                m.key == "dist"):
+            if m.key == "dist":  # a table density's work, for the whole run, before a row
+                from coincli.averages import check_table_work
+
+                try:
+                    check_table_work(m.density, len(counts), what="counts")
+                except ValueError as exc:
+                    raise compute_error(str(exc)) from None
             return _stack_counts_stream(c, counts, m, fmt, quiet)
         counts = _materialized(coins).counts
         best = None
@@ -639,7 +690,8 @@ _STACK_COLUMNS = [Column("coin", "coin", "text"), Column("count", "count", "int"
 
 
 def _stack_counts_stream(c, counts, m: ModelSpec, fmt: str, quiet: bool) -> None:
-    """``coin stack --count`` for many counts under a closed form: arrays, a chunk at a time."""
+    """``coin stack --count`` for many counts under a closed form or a psi density (quadrature,
+    one xi independent of the others): arrays, a chunk at a time."""
     import numpy as np
 
     def compute(k):
