@@ -541,3 +541,26 @@ def test_the_figure_of_a_separatrix_marks_its_one_flip():
     flips = [a for a in fig.findobj(lambda a: a.get_gid() == "flip")]
     assert len(flips) == 1 and flips[0].get_xdata()[0] == pytest.approx(0.58266494, abs=1e-4)
     assert "separatrix" in fig.axes[0].get_title()
+
+
+def test_toss_quiet_reports_a_drawn_seed_that_repeats_the_bytes(coin):
+    import re
+
+    argv = ["book", "--size", "16x16x16", "--toss", "-n", "200", "--spin", "normal:30:1,0,0", "-q"]
+    rc, out, err = coin(*argv)
+    assert rc == 0
+    m = re.fullmatch(r"coin: seed (\d+) \(--seed \1 repeats this run\)\n", err)
+    assert m, err
+    assert coin(*argv, "--seed", m.group(1)) == (0, out, "")
+
+
+def test_a_body_at_rest_has_no_spin_axis_and_no_gamma(coin):
+    rows = _json(ok(coin("book", "--moments", "1,2,3", "--spin", "0,0,0", "-f", "json")))
+    row = rows[0] if isinstance(rows, list) else rows
+    for key in ("spin_axis", "gamma", "gamma_shift", "lambda"):
+        assert row[key] is None, (key, row[key])
+
+
+def test_times_from_stdin_name_the_bad_line(coin):
+    error(coin("book", "--size", "235x155x30", "--spin", "0.4,40,0.3", "--times", "-",
+               stdin="0\n0.1\nabc\n"), 2, "stdin line 3", "--times", "'abc'")

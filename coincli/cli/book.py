@@ -19,7 +19,6 @@ import typer
 
 from coincli import parse
 from coincli.cli import app
-from coincli.cli._options import SeedOpt, TossesOpt, seed_value, tosses_value
 from coincli.cli._common import (
     CHUNK_ROWS,
     Column,
@@ -33,6 +32,7 @@ from coincli.cli._common import (
     usage_error,
     values_option,
 )
+from coincli.cli._options import SeedOpt, TossesOpt, report_seed, seed_value, tosses_value
 
 MAX_TOSSES = 10**7  # tosses of one --toss run (a box costs ~10 coins: elliptic integrals)
 MAX_PHASE = 1e12  # coincli.rigid.MAX_PHASE
@@ -56,15 +56,22 @@ def _usage(fn, *args, **kwargs):
 # --------------------------------------------------------------------------- parsing
 
 
-def _time_value(text: str, what: str) -> float:
-    """A time in s, with an optional unit (``0.5``, ``0.5s``, ``500ms``)."""
+def _time_seconds(text: str, what: str) -> float:
+    """A time in s, with an optional unit (``0.5``, ``0.5s``, ``500ms``); ValueError if not."""
     num, unit = parse.split_unit(text, _TIME_UNITS)
     try:
-        v = parse.parse_number(num, what) * _TIME_UNITS[unit or "s"]
+        return parse.parse_number(num, what) * _TIME_UNITS[unit or "s"]
     except ValueError:
-        raise usage_error(f"{what} must be a time with an optional unit (s, the default; ms), "
-                          f"got {text!r}") from None
-    return v
+        raise ValueError(f"{what} must be a time with an optional unit (s, the default; ms), "
+                         f"got {text!r}") from None
+
+
+def _time_value(text: str, what: str) -> float:
+    """:func:`_time_seconds`, or the one-line usage error."""
+    try:
+        return _time_seconds(text, what)
+    except ValueError as exc:
+        raise usage_error(str(exc)) from None
 
 
 def _spin_value(text: str, what: str) -> float:
@@ -149,7 +156,7 @@ def _moments(text: str) -> tuple[float, float, float]:
 
 
 def _time_item(text: str, what: str) -> float:
-    v = _time_value(text, what)
+    v = _time_seconds(text, what)  # ValueError: a stdin batch names the line
     if not v >= 0:
         raise ValueError(f"{what} must be a time >= 0 s, got {text!r}")
     return v
@@ -487,7 +494,8 @@ def _motion(box, w, tf, start, rule, out, fmt, quiet):
     kind_text = {"rest": "at rest", "steady": "steady spin (omega constant)",
                  "periodic": "periodic", "separatrix": "on the separatrix (one flip, never back)"}
     add("motion", "motion", kind_text[mo.kind], "text")
-    add("spin_axis", "spin axis (nearest L at launch)", ax(mo.spin_axis), "text")
+    add("spin_axis", "spin axis (nearest L at launch)",
+        ax(mo.spin_axis) if mo.kind != "rest" else None, "text")  # at rest there is no L
     add("circulates_about", "omega circulates about axis",
         ax(mo.axis) if mo.kind in ("periodic", "separatrix") else None, "text")
     for i in range(3):
@@ -502,8 +510,8 @@ def _motion(box, w, tf, start, rule, out, fmt, quiet):
     add("period", "period of omega (s)", period)
     add("frequency", "exact frequency 2 pi/period (rad/s)",
         mo.frequency if mo.frequency is not None else (0.0 if period == math.inf else None))
-    osc = mo.gamma_kind == "oscillation"
-    growth = mo.gamma_kind == "growth"
+    osc = mo.gamma_kind == "oscillation" and mo.kind != "rest"
+    growth = mo.gamma_kind == "growth" and mo.kind != "rest"
     add("gamma", "paper's Gamma (rad/s)", mo.gamma if osc else None)
     add("gamma_shift", "exact/Gamma - 1", mo.gamma_shift if osc else None)
     add("gamma_shift_2", "  second-order prediction", mo.gamma_shift_2 if osc else None)
@@ -701,3 +709,5 @@ def _toss(box, spin, n, seed, flight, start, rule, out, figure, fmt, quiet):
         _figure(out, lambda: bookplot.faces_figure(rows, box.label, count, seed_v, rule))
         return
     _emit(result, fmt, quiet, out)
+    if quiet:  # the note that names the seed is not shown
+        report_seed(seed_v, seed is not None)
