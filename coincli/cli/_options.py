@@ -397,6 +397,20 @@ def seed_value(text: str | None) -> int:
     return _one(text, "--seed", parse.parse_seed)
 
 
+def unit_at_end(nums: list[str], units, what: str, example: str, text: str) -> list[str]:
+    """The numbers of a range or distribution with a unit typed once at the end applied to each
+    (``normal:38:4rev/s`` is ``normal:38rev/s:4rev/s``), as typed when every number or none has
+    one; a unit on some numbers only is ambiguous and refused in one line."""
+    has = [parse.split_unit(p, units)[1] is not None for p in nums]
+    if any(has) and not all(has):
+        if not has[-1] or any(has[:-1]):
+            raise usage_error(f"{what}: give the unit once at the end ({example}) or after "
+                              f"every number, got {text!r}")
+        unit = parse.split_unit(nums[-1], units)[1]
+        nums = [p + unit for p in nums[:-1]] + nums[-1:]
+    return nums
+
+
 def report_seed(seed: int, given: bool) -> None:
     """A drawn seed on stderr, where the output itself has no room for it (``-q``,
     ``--stream``): every random result can be repeated.  A seed the user gave is not repeated."""

@@ -32,7 +32,14 @@ from coincli.cli._common import (
     usage_error,
     values_option,
 )
-from coincli.cli._options import SeedOpt, TossesOpt, report_seed, seed_value, tosses_value
+from coincli.cli._options import (
+    SeedOpt,
+    TossesOpt,
+    report_seed,
+    seed_value,
+    tosses_value,
+    unit_at_end,
+)
 
 MAX_TOSSES = 10**7  # tosses of one --toss run (a box costs ~10 coins: elliptic integrals)
 MAX_PHASE = 1e12  # coincli.rigid.MAX_PHASE
@@ -100,14 +107,7 @@ def _dist(text: str, what: str, number, default: str, lo: float, units, example:
         if head not in _DIST_KINDS:
             raise usage_error(f"{what}: unknown distribution {text!r}; expected a value, "
                               "normal:MEAN:SD or uniform:LOW:HIGH")
-        nums = parts[1:]
-        has = [parse.split_unit(p, units)[1] is not None for p in nums]
-        if any(has) and not all(has):
-            if not has[-1] or any(has[:-1]):  # a unit on some numbers only: ambiguous
-                raise usage_error(f"{what}: give the unit once at the end ({example}) or after "
-                                  f"every number, got {text!r}")
-            unit = parse.split_unit(nums[-1], units)[1]
-            nums = [p + unit for p in nums[:-1]] + nums[-1:]
+        nums = unit_at_end(parts[1:], units, what, example, text)
         nums = [number(p, what) for p in nums]
         spec = ":".join([head] + [repr(v) for v in nums])
     else:

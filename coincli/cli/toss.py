@@ -227,14 +227,7 @@ def _spec(text: str, what: str, kind: str):
                               f"{example}), got {text!r}")
         if name == "normal" and nums[1].startswith("-"):
             raise usage_error(f"{what}: normal:MEAN:SD needs SD >= 0, got {text!r}")
-    units = _units_of(kind)
-    has = [parse.split_unit(p, units)[1] is not None for p in nums]
-    if any(has) and not all(has):
-        if not has[-1] or any(has[:-1]):  # a unit on some numbers only: ambiguous
-            raise usage_error(f"{what}: give the unit once at the end ({example}) or after "
-                              f"every number, got {text!r}")
-        unit = parse.split_unit(nums[-1], units)[1]
-        nums = [p + unit for p in nums[:-1]] + nums[-1:]
+    nums = _options.unit_at_end(nums, _units_of(kind), what, example, text)
     one = parse.parse_speed_ms if kind == "u" else parse.parse_spin_rads
     try:
         if name == "normal":  # the mean of a normal may be negative: it is truncated at 0
