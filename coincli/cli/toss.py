@@ -539,9 +539,7 @@ def simulate_cmd(
     _xi_for_contact(xv, ct == "thick")
     from coincli import toss as T
 
-    if psi is not None and psi_dist is not None:
-        raise usage_error("give --psi DEG (a fixed angle) or --psi-dist SPEC (a distribution), "
-                          "not both")
+    _options.refuse_psi_and_dist(psi, psi_dist)
     if psi is not None:
         psi_spec = _options.radians(_options.psi_angle(psi))
     elif psi_dist is not None:
@@ -703,8 +701,7 @@ def bounce_launch(psi, psi_dist, u, omega):
     and their description."""
     from coincli import toss as T
 
-    if psi is not None and psi_dist is not None:
-        raise usage_error("give --psi DEG or --psi-dist SPEC, not both")
+    _options.refuse_psi_and_dist(psi, psi_dist)
     if psi_dist is not None:
         psi_spec = _psi_dist(psi_dist)
         psi_text = f"psi ~ {psi_dist.strip()} deg"
