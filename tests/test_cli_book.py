@@ -228,11 +228,14 @@ def test_normal_rule_gives_a_sixth_to_every_face_geometrically(coin):
 
 def test_out_writes_a_figure_atomically(coin, tmp_path):
     path = tmp_path / "book.png"
-    ok(coin(*BOOK, "--spin", "0.4,40,0.3", "--out", str(path)))
+    rc, out, err = coin(*BOOK, "--spin", "0.4,40,0.3", "--out", str(path))
+    # a figure written says so, as coin plot and coin phase do (the shared cli writer)
+    assert (rc, out) == (0, "") and err == f"coin: wrote {path} (1125 x 780 pixels)\n", err
     assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert os.listdir(tmp_path) == ["book.png"]  # no temporary file left behind
     svg = tmp_path / "faces.svg"
-    ok(coin(*TOSS, "--seed", "1", "-n", "2000", "--out", str(svg)))
+    rc, out, err = coin(*TOSS, "--seed", "1", "-n", "2000", "--out", str(svg))
+    assert rc == 0 and err.startswith(f"coin: wrote {svg} (") and err.endswith(" inches)\n")
     assert b"<svg" in svg.read_bytes()[:400]
 
 

@@ -136,6 +136,34 @@ def stdout_is_terminal() -> bool:
         return False
 
 
+def write_figure(fig, path: str, dpi: float = 150.0, too_small: str = "") -> None:
+    """Save a figure through :func:`coincli.plot.save_figure` (whole or not at all, the old
+    file intact on failure) and say so on stderr (``coin: wrote sides.png (1050 x 675
+    pixels)``), as every command that writes a figure does; each failure is one line (a path
+    that is not a regular file is a usage error; ``too_small`` is the hint for a figure too
+    small for its labels)."""
+    from coincli._files import FileKindError
+    from coincli.plot import FigureTooSmall, figure_format, save_figure
+
+    try:
+        save_figure(fig, path, dpi)
+    except FigureTooSmall as exc:
+        raise usage_error(f"{exc}{too_small}") from None
+    except FileKindError as exc:
+        raise usage_error(f"--out: {exc}") from None
+    except OSError as exc:
+        raise compute_error(f"cannot write {path!r}: {exc.strerror or exc}") from None
+    except MemoryError:
+        raise compute_error(f"not enough memory to draw {path!r}") from None
+    w, h = (float(v) for v in fig.get_size_inches())
+    dims = (f"{round(w * dpi)} x {round(h * dpi)} pixels" if figure_format(path) == "png" else
+            f"{w:g} x {h:g} inches")
+    try:
+        sys.stderr.write(f"coin: wrote {path} ({dims})\n")
+    except (OSError, ValueError):
+        pass
+
+
 def stderr_is_terminal() -> bool:
     try:
         return sys.stderr.isatty()

@@ -31,6 +31,7 @@ from coincli.cli._common import (
     stderr_is_terminal,
     usage_error,
     values_option,
+    write_figure,
 )
 from coincli.cli._options import (
     SeedOpt,
@@ -292,12 +293,8 @@ def _require_matplotlib() -> None:
 
 
 def _figure(path: str, build) -> None:
-    """Draw and save a figure: coincli.plot.save_figure writes it through
-    coincli._files.write_atomic (the shared writer of every --out figure), with the errors
-    mapped as coin plot maps them."""
-    from coincli import plot as P
-    from coincli._files import FileKindError
-
+    """Draw and save a figure through the shared writer (cli._common.write_figure: atomic,
+    one-line errors, ``coin: wrote FILE (W x H pixels)`` as coin plot says)."""
     _require_matplotlib()
     import warnings
 
@@ -305,17 +302,9 @@ def _figure(path: str, build) -> None:
         warnings.simplefilter("ignore")
         fig = build()
         try:
-            size = P.save_figure(fig, path)
-        except FileKindError as exc:
-            raise usage_error(f"--out: {exc}") from None
-        except OSError as exc:
-            raise compute_error(f"cannot write {path!r}: {exc.strerror or exc}") from None
-        except MemoryError:
-            raise compute_error(f"not enough memory to draw {path!r}") from None
-        except ValueError as exc:  # the figure itself (FigureTooSmall): nothing was written
+            write_figure(fig, path)
+        except ValueError as exc:  # the figure itself: nothing was written
             raise compute_error(f"cannot draw {path!r}: {exc}") from None
-    if stderr_is_terminal():
-        sys.stderr.write(f"coin: wrote {path} ({size:,} bytes)\n")
 
 
 # --------------------------------------------------------------------------- the command

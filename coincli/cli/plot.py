@@ -18,7 +18,7 @@ import typer
 from coincli import parse
 from coincli.cli import _bounce as BO
 from coincli.cli import _options, _phase, app
-from coincli.cli._common import compute_error, usage_error
+from coincli.cli._common import compute_error, usage_error, write_figure
 
 plot_app = typer.Typer(
     name="plot",
@@ -216,26 +216,7 @@ class _Target:
             raise compute_error(str(exc)) from None
 
     def save(self, fig, dpi: float) -> None:
-        from coincli._files import FileKindError
-        from coincli.plot import FigureTooSmall, save_figure
-
-        try:
-            save_figure(fig, self.path, dpi)
-        except FigureTooSmall as exc:
-            raise usage_error(f"{exc}: give a larger --width or --height") from None
-        except FileKindError as exc:
-            raise usage_error(f"--out: {exc}") from None
-        except OSError as exc:
-            raise compute_error(f"cannot write {self.path!r}: {exc.strerror or exc}") from None
-        except MemoryError:
-            raise compute_error(f"not enough memory to draw {self.path!r}: lower --dpi, "
-                                "--width or --height") from None
-        w, h = (float(v) for v in fig.get_size_inches())
-        if self.fmt == "png":
-            dims = f"{round(w * dpi)} x {round(h * dpi)} pixels"
-        else:
-            dims = f"{w:g} x {h:g} inches"
-        sys.stderr.write(f"coin: wrote {self.path} ({dims})\n")
+        write_figure(fig, self.path, dpi, too_small=": give a larger --width or --height")
 
     def text_plot(self, build):
         from coincli.textplot import emit, plot_size

@@ -33,6 +33,7 @@ from coincli.cli._common import (
     stdout_is_terminal,
     usage_error,
     values_option,
+    write_figure,
 )
 from coincli.cli._options import (
     CoinOpt,
@@ -853,7 +854,7 @@ def phase_cmd(
 
 def _phase_figure(path, ph):
     from coincli import plot as P
-    from coincli._files import FileKindError, check_output_path
+    from coincli._files import check_output_path
 
     try:
         P.figure_format(path)
@@ -868,14 +869,4 @@ def _phase_figure(path, ph):
         raise compute_error(str(exc)) from None
     data = _phase.data(ph, ph.cols or _phase.FIGURE_CELLS, ph.rows or _phase.FIGURE_CELLS,
                        figure=True)
-    fig = P.phase_figure(data)
-    try:
-        P.save_figure(fig, path)
-    except FileKindError as exc:
-        raise usage_error(f"--out: {exc}") from None
-    except OSError as exc:
-        raise compute_error(f"cannot write {path!r}: {exc.strerror or exc}") from None
-    w, h = (float(v) for v in fig.get_size_inches())
-    dims = (f"{round(w * 150)} x {round(h * 150)} pixels" if path.lower().endswith(".png") else
-            f"{w:g} x {h:g} inches")
-    sys.stderr.write(f"coin: wrote {path} ({dims})\n")
+    write_figure(P.phase_figure(data), path)
