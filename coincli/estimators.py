@@ -373,13 +373,11 @@ def _counts(ca, cs):
 
 
 def _wilson(k, n):
-    """95% Wilson score interval for k successes in n trials (arrays)."""
-    p = k / n
-    z2 = _Z95 * _Z95
-    den = 1 + z2 / n
-    centre = (p + z2 / (2 * n)) / den
-    half = _Z95 * np.sqrt(p * (1 - p) / n + z2 / (4 * n * n)) / den
-    return np.clip(centre - half, 0, 1), np.clip(centre + half, 0, 1)
+    """95% Wilson score interval for k successes in n trials (arrays): the one implementation,
+    :func:`coincli.stats.wilson_interval`."""
+    from coincli.stats import wilson_interval
+
+    return wilson_interval(k, n, 0.95)
 
 
 def _prepare(xi, density):
