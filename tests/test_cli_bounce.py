@@ -197,3 +197,22 @@ def test_without_mujoco_one_line_says_how_to_install(argv):
     assert p.returncode == 1 and p.stdout == ""
     assert p.stderr.count("\n") == 1 and "pip install 'coincli[physics]'" in p.stderr
     assert "Traceback" not in p.stderr
+
+
+@pytest.mark.parametrize("u", ["50", "100", "1e3", "1e7"])
+def test_bounce_speed_beyond_the_flight_limit_is_refused(coin, u):
+    """A launch at u > g t_max / 2 is still in the air at --t-max: it never reached the surface,
+    so it has no catch outcome (this used to end in an IndexError)."""
+    toss = ["toss", "--xi", "0.577", "--psi", "90", "--u", u, "--omega", "40", "--landing",
+            "bounce", "-q"]
+    error(coin(*toss), 2, "--u must be at most 49.1 m/s", "--t-max 10 s", repr(u))
+    sim = ["simulate", "-n", "10", "--xi", "0.577", "--psi", "90", "--u", u, "--landing",
+           "bounce", "--jobs", "1"]
+    error(coin(*sim), 2, "--u must be at most 49.1 m/s")
+    error(coin("design", "-p", "1/3", "--landing", "bounce", "--u", u), 2, "--u must be at most")
+    # a longer --t-max moves the limit; a lower surface is checked on the exact flight
+    assert ok(coin(*toss[:6], "20", *toss[7:], "--t-max", "30")).strip() in SIDE_NAMES
+    error(coin(*toss[:6], "45", *toss[7:], "--release-height", "100m"), 2, "past --t-max 10 s")
+
+
+SIDE_NAMES = ("heads", "sides", "tails", "unsettled")

@@ -203,6 +203,18 @@ def _run(fn, *args, **kwargs):
         raise usage_error(str(exc)) from None
 
 
+def check_speed(p: Physics, u_top: float, g: float, text: str) -> None:
+    """Refuse a launch speed whose flight cannot end within ``--t-max``: the coin rises and
+    falls back for ``2 u / g`` seconds before it reaches a surface at the launch plane, so
+    ``u`` may be at most ``g t_max / 2`` (49 m/s at the default 10 s).  ``u_top``: the largest
+    speed the run draws (m/s); ``text``: the value as typed."""
+    u_max = g * p.t_max / 2
+    if not u_top <= u_max:
+        raise usage_error(f"--u must be at most {u_max:.3g} m/s with --landing bounce and "
+                          f"--t-max {p.t_max:g} s (the coin must land within --t-max: the "
+                          f"flight lasts 2u/g), got {text!r}")
+
+
 def dist_text(v, unit: str, scale: float = 1.0) -> str:
     if isinstance(v, float):
         return f"{v * scale:g} {unit}"
@@ -282,7 +294,11 @@ def toss(p: Physics, *, xi, psi, u, omega, diameter, g, z0, trajectory, fmt, qui
     z0v = B.default_z0(xi, diameter, "thick") if z0 is None else z0
     eng = _run(B.Engine, coin, p.surface, dt=p.dt, g=g, landing="bounce", t_max=p.t_max)
     launch = B.Launch(u, omega, psi, z0v, p.height, p.vx, 0.0)
-    r = _run(eng.run, launch, record=trajectory is not None)
+    t_land = eng.first_contacts([launch])[0]
+    if not t_land < p.t_max:  # a lower surface lengthens the flight past 2u/g
+        raise usage_error(f"the coin lands {t_land:.4g} s after launch, past --t-max "
+                          f"{p.t_max:g} s: lower --u or --release-height, or raise --t-max")
+    r = _run(eng.run, launch, record=trajectory is not None, t_contact=t_land)
     if trajectory is not None:
         write_csv_atomic(trajectory, B.TRAJECTORY_COLUMNS, r.trajectory)
     names = B.NAMES
