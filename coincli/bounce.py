@@ -142,6 +142,7 @@ SLIP_TOL = 2e-3  #: m/s: a contact point moving slower than this does not slip (
 ROLLING_XI_MIN = 0.3
 _ZOOM = 32  #: cells a cell of the flight scan is cut into when it may hold a contact
 BLOCK = 256  #: tosses per random block: the seed of block k is (seed, k), whatever the workers
+CHUNK = 16  #: tosses a worker simulates between progress reports (a fraction of a second)
 
 
 class PhysicsMissing(RuntimeError):
@@ -856,11 +857,12 @@ class BounceSimulation:
 _DOMAINS = {"height": (0.0, 100.0), "vx": (0.0, 100.0), "z0": (0.0, 100.0)}
 
 
-def _block_launches(seed, block, count, dists, coin, stream=()):
-    """The launches of block ``block`` of a run: its own generator, seeded ``(seed, block)``, so
-    a toss's conditions do not depend on how blocks are shared among workers.  Draws u, omega,
-    psi (as :func:`coincli.toss.sample_conditions`), then height, horizontal speed, its azimuth,
-    and z0, always a full block."""
+def _block_launches(seed, block, count, dists, coin, stream=(), start=0):
+    """The launches ``start`` to ``count`` of block ``block`` of a run: its own generator,
+    seeded ``(seed, block)``, so a toss's conditions do not depend on how blocks are shared
+    among workers or cut into chunks.  Draws u, omega, psi (as
+    :func:`coincli.toss.sample_conditions`), then height, horizontal speed, its azimuth, and z0,
+    always a full block."""
     import numpy as np
 
     rng = np.random.default_rng([seed, *stream, block])
@@ -868,7 +870,7 @@ def _block_launches(seed, block, count, dists, coin, stream=()):
     extra = {k: dists[k].sample(rng, BLOCK) for k in ("height", "vx", "z0")}
     az = rng.uniform(0.0, 2 * math.pi, BLOCK)
     out = []
-    for i in range(count):
+    for i in range(start, count):
         def pick(v, i=i):
             return float(v if isinstance(v, float) else v[i])
         out.append(Launch(pick(c["u"]), pick(c["omega"]), pick(c["psi"]), pick(extra["z0"]),
@@ -879,22 +881,29 @@ def _block_launches(seed, block, count, dists, coin, stream=()):
 _WORKER: dict = {}
 
 
-def _worker_init(args):
+def _worker_init(args, quiet_sigint=False):
+    if quiet_sigint:  # a worker process: Ctrl-C is the parent's to handle (it ends the pool)
+        import signal
+
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
     coin, surf, dt, g, landing, t_max, flight, damping = args
     _WORKER["engine"] = Engine(coin, surf, dt=dt, g=g, landing=landing, t_max=t_max,
                                flight=flight, damping=damping)
 
 
 def _run_block(job):
-    seed, block, count, dists, stream = job
+    """Tosses ``start`` to ``stop`` of one block (a chunk): ``(k, rows)``, ``k`` the chunk's
+    index.  The first contacts are found for the whole block's launches, then sliced, so that a
+    toss's numbers do not depend on the chunking."""
+    k, (seed, block, start, stop, count, dists, stream) = job
     eng = _WORKER["engine"]
     rows = []
     launches = _block_launches(seed, block, count, dists, eng.coin, stream)
     t_first = eng.first_contacts(launches) if eng.flight == "exact" else [None] * count
-    for launch, t_f in zip(launches, t_first, strict=True):
+    for launch, t_f in zip(launches[start:stop], t_first[start:stop], strict=True):
         r = eng.run(launch, t_contact=t_f)
         rows.append((r.code, r.catch_code, r.bounces, r.t_settle, r.steps))
-    return rows
+    return k, rows
 
 
 def default_jobs():
@@ -908,7 +917,8 @@ def default_jobs():
 def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=0.0, vx=0.0,
              z0=None, diameter=DEFAULT_DIAMETER, density=DEFAULT_DENSITY, g=STANDARD_G,
              dt=DEFAULT_DT, t_max=DEFAULT_T_MAX, jobs=None, level=0.95, flight="exact",
-             progress: Callable[[int], None] | None = None, stream=()) -> BounceSimulation:
+             progress: Callable[[int], None] | None = None, stream=(),
+             chunk=None) -> BounceSimulation:
     """Toss ``n`` coins onto ``surf`` (a :class:`Surface`, default wood) with seeded random
     launches and count the outcomes.
 
@@ -919,6 +929,8 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
     processes (default: every core); block ``k`` of 256 tosses draws from the seed ``(seed, k)``,
     so the counts are the same for any number of workers.  ``stream`` (a tuple of whole numbers)
     names an independent stream of the same seed (:func:`design` uses one per simulated point).
+    Workers take chunks of ``chunk`` tosses (default :data:`CHUNK`) and ``progress(done)`` is
+    called as each completes; the results do not depend on ``chunk`` or ``jobs``.
     """
     import numpy as np
 
@@ -939,31 +951,48 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
         raise ValueError(f"jobs must be >= 1, got {jobs}")
     damping = calibrate(coin, surf, dt, g)
     args = (coin, surf, dt, g, landing, t_max, flight, damping)
-    nblocks = -(-n // BLOCK)
-    work = [(seed, k, min(BLOCK, n - k * BLOCK), dists, tuple(stream)) for k in range(nblocks)]
-    results = [None] * nblocks
+    chunk = CHUNK if chunk is None else int(chunk)
+    if not 1 <= chunk <= BLOCK:
+        raise ValueError(f"chunk must be from 1 to {BLOCK}, got {chunk}")
+    work = []
+    for b in range(-(-n // BLOCK)):
+        count = min(BLOCK, n - b * BLOCK)
+        for s in range(0, count, chunk):
+            work.append((len(work), (seed, b, s, min(s + chunk, count), count, dists,
+                                     tuple(stream))))
+    results = [None] * len(work)
     done = 0
-    if jobs == 1 or nblocks == 1:
+    if jobs == 1 or len(work) == 1:
         _worker_init(args)
-        for k, job in enumerate(work):
-            results[k] = _run_block(job)
-            done += job[2]
+        for job in work:
+            k, results[k] = _run_block(job)
+            done += len(results[k])
             if progress is not None:
                 progress(done)
     else:
-        import concurrent.futures as cf
         import multiprocessing as mp
 
         ctx = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
-        with cf.ProcessPoolExecutor(max_workers=min(jobs, nblocks), mp_context=ctx,
-                                    initializer=_worker_init, initargs=(args,)) as pool:
-            futures = {pool.submit(_run_block, job): k for k, job in enumerate(work)}
-            for fut in cf.as_completed(futures):
-                k = futures[fut]
-                results[k] = fut.result()
-                done += work[k][2]
+        pool = ctx.Pool(min(jobs, len(work)), initializer=_worker_init, initargs=(args, True))
+        try:
+            it = pool.imap_unordered(_run_block, work)
+            for _ in work:
+                while True:  # a timeout, so that Ctrl-C is seen at once on every platform
+                    try:
+                        k, rows = it.next(timeout=0.2)
+                        break
+                    except mp.TimeoutError:
+                        continue
+                results[k] = rows
+                done += len(rows)
                 if progress is not None:
                     progress(done)
+        except BaseException:  # Ctrl-C or a failed toss: stop the workers now, not after
+            pool.terminate()
+            pool.join()
+            raise
+        pool.close()
+        pool.join()
     rows = np.array([r for block in results for r in block], dtype=float)
     code = rows[:, 0].astype(int)
     catch = rows[:, 1].astype(int)

@@ -239,10 +239,16 @@ def test_rolling_rule_changes_no_outcome():
 
 def test_determinism_across_workers():
     kw = dict(xi=0.577, psi=math.pi / 2, surf=B.SURFACES["wood"], **HAND)
-    one = B.simulate(300, 5, jobs=1, **kw)
-    two = B.simulate(300, 5, jobs=2, **kw)
+    one = B.simulate(300, 5, jobs=1, chunk=B.BLOCK, **kw)
+    ticks = []
+    two = B.simulate(300, 5, jobs=2, chunk=7, progress=ticks.append, **kw)
     assert one.counts == two.counts and one.steps == two.steps
-    assert one.mean_bounces == two.mean_bounces
+    assert one.mean_bounces == two.mean_bounces and one.mean_t_settle == two.mean_t_settle
+    # the bar advances chunk by chunk (37 + 7 chunks of at most 7 tosses), not block by block
+    assert len(ticks) == 37 + 7 and ticks == sorted(set(ticks)) and ticks[-1] == 300
+    assert all(0 < b - a <= 7 for a, b in zip([0, *ticks], ticks))
+    with pytest.raises(ValueError, match="chunk must be from 1 to 256"):
+        B.simulate(10, 5, chunk=0, **kw)
 
 
 def test_trajectory_is_recorded():

@@ -216,3 +216,30 @@ def test_bounce_speed_beyond_the_flight_limit_is_refused(coin, u):
 
 
 SIDE_NAMES = ("heads", "sides", "tails", "unsettled")
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+def test_ctrl_c_ends_a_bounce_simulation_at_once():
+    """SIGINT to `coin simulate --landing bounce` with worker processes: exit 130 with one line
+    within a few seconds, the workers gone (the pool used to wait for every queued block)."""
+    import os
+    import signal
+    import time
+
+    p = subprocess.Popen([sys.executable, "-m", "coincli", "simulate", "-n", "1000", "--seed",
+                          "1", "--xi", "0.577", "--landing", "bounce", "--jobs", "2"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         start_new_session=True)
+    try:
+        time.sleep(2.0)
+        with open(f"/proc/{p.pid}/task/{p.pid}/children") as f:  # the worker processes
+            kids = f.read().split()
+        p.send_signal(signal.SIGINT)
+        out, err = p.communicate(timeout=5)
+    finally:
+        if p.poll() is None:
+            os.killpg(p.pid, signal.SIGKILL)
+            p.wait()
+    assert (p.returncode, out, err) == (130, "", "coin: error: interrupted\n")
+    time.sleep(0.5)
+    assert kids and not [k for k in kids if os.path.exists(f"/proc/{k}")]
