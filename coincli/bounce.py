@@ -1123,6 +1123,7 @@ class Design:
     seed: int
     unsettled: int
     fits: list = field(default_factory=list)  #: per target, the local fit its answer is from
+    first: int = 200  #: tosses at each xi of the first sweep (below DESIGN_FIRST: max_tosses cut it)
 
 
 #: A target's answer comes from the probit fitted to the points within this factor of its
@@ -1153,7 +1154,8 @@ def _local_fit(points: dict, target, est):
 
 
 DESIGN_GRID = (0.1, 0.15, 0.22, 0.33, 0.5, 0.75, 1.1, 1.6, 2.4)  #: first sweep of xi
-DESIGN_FIRST = 200  #: tosses at each xi of the first sweep
+DESIGN_FIRST = 200  #: tosses at each xi of the first sweep (fewer when max_tosses is smaller)
+DESIGN_FIRST_MIN = 20  #: the fewest tosses at each xi of a first sweep cut by max_tosses
 DESIGN_ROUND = 400  #: tosses at each of the three xi added near each target per round
 
 
@@ -1166,7 +1168,9 @@ def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, lev
     :class:`SidesFit` to every point, then for each target again to the points near its answer
     (:func:`_local_fit`; the answer and its interval come from that fit), then adds rounds of
     :data:`DESIGN_ROUND` tosses at 0.93, 1 and 1.07 times each target's estimate until every
-    interval is within ``tol`` of its estimate (both ends), or ``max_tosses`` would be passed,
+    interval is within ``tol`` of its estimate (both ends), or ``max_tosses`` would be passed
+    (never: a ``max_tosses`` below the first sweep's cuts its tosses per xi, to at least
+    :data:`DESIGN_FIRST_MIN`, and stops there),
     or ``time_limit`` seconds (of ``clock``, default
     ``time.monotonic``) have gone by at the end of a round.  Every simulation is seeded
     ``(seed, round, point)``: the result is a function of the seed and the number of rounds, so a
@@ -1196,7 +1200,14 @@ def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, lev
             if progress is not None:
                 progress(tosses, planned)
 
-    run(DESIGN_GRID, DESIGN_FIRST, 0)
+    first = min(DESIGN_FIRST, int(max_tosses) // len(DESIGN_GRID))
+    if first < DESIGN_FIRST_MIN:
+        raise ValueError(f"--max-tosses must be at least {DESIGN_FIRST_MIN * len(DESIGN_GRID)} "
+                         f"with --landing bounce ({DESIGN_FIRST_MIN} tosses at each of the "
+                         f"{len(DESIGN_GRID)} aspect ratios of the first sweep), got "
+                         f"{max_tosses}")
+    planned = len(DESIGN_GRID) * first
+    run(DESIGN_GRID, first, 0)
     rnd = 0
     stopped = "tol"
     while True:
@@ -1211,8 +1222,8 @@ def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, lev
             break
         nxt = sorted({round(x * f, 6) for x in est for f in (0.93, 1.0, 1.07)})
         nxt = [x for x in nxt if 1e-3 <= x <= 100.0]
-        if tosses + len(nxt) * DESIGN_ROUND > max_tosses:
-            stopped = "max_tosses"
+        if first < DESIGN_FIRST or tosses + len(nxt) * DESIGN_ROUND > max_tosses:
+            stopped = "max_tosses"  # a cut first sweep: the cap stopped it, whatever is left
             break
         if clock() - start > time_limit:
             stopped = "time_limit"
@@ -1221,5 +1232,5 @@ def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, lev
         planned = tosses + len(nxt) * DESIGN_ROUND
         run(nxt, DESIGN_ROUND, rnd)
     return Design(targets, est, [lo for lo, _ in ivs], [hi for _, hi in ivs], fit, tosses,
-                  rnd, met, stopped, seed, unsettled, fits)
+                  rnd, met, stopped, seed, unsettled, fits, first)
 

@@ -336,3 +336,26 @@ def test_design_answers_from_the_points_near_the_target(monkeypatch, curve, targ
     assert abs(r.xi[0] - truth) < 0.01, (r.xi, truth)
     assert r.low[0] <= truth <= r.high[0]
     assert B.fit_sides(r.fit.points).p_value < 1e-3  # the whole-sweep probit misses them
+
+
+@pytest.mark.parametrize("cap", [180, 600, 1799, 1800, 2999, 3000, 5000])
+def test_design_never_passes_max_tosses(monkeypatch, cap):
+    """--max-tosses is a cap: below the first sweep's 9 x 200 tosses the sweep is cut (and
+    design stops there, saying so); never a toss more than the cap."""
+    import numpy as np
+
+    sims = []
+
+    def fake(n, seed, *, xi, stream=(), **kw):
+        sims.append(n)
+        k = int(np.random.default_rng([seed, *stream]).binomial(n, _floor(xi)))
+        return type("R", (), {"settled": n, "counts": (0, k, n - k, 0)})()
+
+    monkeypatch.setattr(B, "simulate", fake)
+    r = B.design([1 / 3], seed=4, tol=1e-4, max_tosses=cap)
+    assert sum(sims) == r.tosses <= cap
+    assert r.first == min(200, cap // 9) and r.stopped_by == "max_tosses" and not r.met
+    if cap < 1800:
+        assert r.rounds == 0 and r.tosses == 9 * (cap // 9)
+    with pytest.raises(ValueError, match="--max-tosses must be at least 180"):
+        B.design([1 / 3], seed=4, max_tosses=179)

@@ -243,3 +243,12 @@ def test_ctrl_c_ends_a_bounce_simulation_at_once():
     assert (p.returncode, out, err) == (130, "", "coin: error: interrupted\n")
     time.sleep(0.5)
     assert kids and not [k for k in kids if os.path.exists(f"/proc/{k}")]
+
+
+def test_design_bounce_honours_a_small_max_tosses(coin):
+    out = ok(coin("design", "-p", "1/3", "--landing", "bounce", "--seed", "1", "--max-tosses",
+                  "200", "--tol", "0.5", "--jobs", "2"))
+    assert "198 tosses" in out and "in 1 round." in out
+    assert "--max-tosses 200 cut the first sweep to 22 tosses per aspect ratio, from 200" in out
+    error(coin("design", "-p", "1/3", "--landing", "bounce", "--max-tosses", "100"), 2,
+          "--max-tosses must be at least 180", "got 100")

@@ -384,7 +384,8 @@ def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, 
            "time_limit": f"the --time-limit of {time_limit:g} s passed before --tol {tol:g}"}
     note = (f"Simulated table (MuJoCo), not the paper's catch: tosses onto {p.describe()}, "
             f"{labels}; seed {r.seed}.  {r.tosses} tosses ({r.unsettled} unsettled, left out) "
-            f"at {len(r.fit.points)} aspect ratios in {r.rounds + 1} rounds.  Each answer is "
+            f"at {len(r.fit.points)} aspect ratios in {r.rounds + 1} "
+            f"round{'' if r.rounds == 0 else 's'}.  Each answer is "
             "from P(sides) = Phi(alpha + beta ln xi) fitted by maximum likelihood to the "
             "aspect ratios near it ('aspect ratios fitted'; "
             + "; ".join(f"{t:.4g}: Phi({f.alpha:.4g} + {f.beta:.4g} ln xi), deviance "
@@ -394,6 +395,9 @@ def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, 
                      "widened by the dispersion" if any(f.p_value < 0.01 for f in r.fits)
                      else "")
             + f"; 95% intervals by the delta method.  Stopped: {why[r.stopped_by]}"
+            + ("" if r.first >= B.DESIGN_FIRST else
+               f" (--max-tosses {max_tosses} cut the first sweep to {r.first} tosses per aspect "
+               f"ratio, from {B.DESIGN_FIRST})")
             + ("" if r.stopped_by == "tol" else
                f"; --max-tosses {r.tosses} reproduces this result") + ".  "
             "The catch model (no --landing) gives the paper's xi.  Toss a prototype and check "
