@@ -252,3 +252,17 @@ def test_design_bounce_honours_a_small_max_tosses(coin):
     assert "--max-tosses 200 cut the first sweep to 22 tosses per aspect ratio, from 200" in out
     error(coin("design", "-p", "1/3", "--landing", "bounce", "--max-tosses", "100"), 2,
           "--max-tosses must be at least 180", "got 100")
+
+
+def test_zero_lengths_are_the_defaults_they_name(coin):
+    """--release-height 0 is the default (help: 'Default 0'); --torsional/--rolling 0 are in
+    their stated range 0 to 100 mm.  A negative or unitless-garbage length is still refused."""
+    base = ["simulate", "-n", "10", "--seed", "1", "--xi", "0.577", "--psi", "90", "--landing",
+            "bounce", "--jobs", "1", "-f", "csv"]
+    default = ok(coin(*base))
+    for h in ("0", "0mm", "0.0cm", "0in"):
+        assert ok(coin(*base, "--release-height", h)) == default
+    ok(coin(*base, "--torsional", "0", "--rolling", "0mm"))
+    error(coin(*base, "--release-height", "-3"), 2, "--release-height must be a finite length "
+          ">= 0", "'-3'")
+    error(coin(*base, "--release-height", "0xx"), 2, "--release-height must be a length like")

@@ -117,11 +117,31 @@ def _number(text: str, what: str, lo: float, hi: float) -> float:
     return v
 
 
+def _zero_length(text: str) -> bool:
+    """``0``, ``0mm``, ``0.0 cm``...: a zero length (which the shared length parser, made for
+    sizes, refuses), its unit checked by that parser."""
+    import re
+
+    m = re.fullmatch(r"\s*([-+]?[0-9.]+(?:e[-+]?[0-9]+)?)\s*([a-z]*)\s*", str(text).lower())
+    if m is None:
+        return False
+    try:
+        if parse.parse_number(m.group(1), "length") != 0:
+            return False
+        return not m.group(2) or parse.parse_length_mm("1" + m.group(2)) > 0
+    except ValueError:
+        return False
+
+
 def _length_m(text: str, what: str, hi_mm: float) -> float:
+    """A length from 0 to ``hi_mm`` mm (a number in mm, or with a unit), in metres."""
     try:
         v = parse.parse_length_mm(text, what)
     except ValueError as exc:
-        raise usage_error(str(exc)) from None
+        if not _zero_length(text):
+            raise usage_error(str(exc).replace("a finite length > 0", "a finite length >= 0")
+                              ) from None
+        v = 0.0
     if not 0.0 <= v <= hi_mm:
         raise usage_error(f"{what} must be a length from 0 to {hi_mm:g} mm, got {text!r}")
     return v / 1000.0
