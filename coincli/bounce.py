@@ -274,6 +274,63 @@ def inertia(coin: Coin):
     return m, m * (a * a / 4 + h * h / 12), m * a * a / 2
 
 
+MJ_MINVAL = 1e-15  #: MuJoCo's mjMINVAL: a moving body's mass and inertia must be above it
+ENGINE_SMALLEST = 10 * MJ_MINVAL  #: the smallest mass (kg) and inertia (kg m^2) simulated
+TRIANGLE_MARGIN = 1e-12  #: (2 I1 - I3) / I3 at least this: MuJoCo's A + B >= C, with room
+
+
+def smallest_xi(diameter: float, density: float = DEFAULT_DENSITY) -> float:
+    """The smallest aspect ratio whose coin (``diameter`` m, ``density``) MuJoCo can simulate:
+    mass and both moments of inertia at least :data:`ENGINE_SMALLEST` (ten times mjMINVAL), and
+    the moments clear of MuJoCo's triangle inequality by :data:`TRIANGLE_MARGIN` (xi >= 8.7e-7).
+    All three grow with xi; ``inf`` when even xi = 100 is too light (a tiny diameter)."""
+    def light(xi):
+        c = Coin(xi, diameter, density)
+        h2, a2 = (2 * c.hh) ** 2, c.a * c.a
+        # MuJoCo also refuses I1 + I1 < I3, which a thin disc meets only by I1 + I1 - I3 =
+        # m h^2/6: keep that a relative TRIANGLE_MARGIN of I3 = m a^2/2 (not lost to rounding)
+        return min(inertia(c)) < ENGINE_SMALLEST or h2 / 6 < TRIANGLE_MARGIN * a2 / 2
+
+    if light(100.0):
+        return math.inf
+    lo, hi = 1e-300, 100.0
+    if not light(lo):
+        return lo
+    for _ in range(200):  # bisection in log xi to a relative 1e-12
+        mid = math.sqrt(lo * hi)
+        if light(mid):
+            lo = mid
+        else:
+            hi = mid
+        if hi / lo < 1 + 1e-12:
+            break
+    return hi
+
+
+def smallest_diameter(density: float = DEFAULT_DENSITY) -> float:
+    """The smallest diameter (m) MuJoCo can simulate at some xi up to 100 (at xi = 100)."""
+    lo, hi = 1e-4, 10.0
+    for _ in range(200):
+        mid = math.sqrt(lo * hi)
+        if smallest_xi(mid, density) > 100.0:
+            lo = mid
+        else:
+            hi = mid
+        if hi / lo < 1 + 1e-12:
+            break
+    return hi
+
+
+def round_up(v: float, digits: int = 3) -> float:
+    """``v`` to ``digits`` significant digits, rounded up (a stated lower limit that is
+    itself allowed)."""
+    if not math.isfinite(v) or v <= 0:
+        return v
+    e = math.floor(math.log10(v)) - digits + 1
+    r = math.ceil(v / 10.0**e) * 10.0**e
+    return float(f"{r:.{digits}g}") if float(f"{r:.{digits}g}") >= v else r
+
+
 # --------------------------------------------------------------------------- the launch
 
 
@@ -464,6 +521,10 @@ def _stiffness(dt):
 
 
 def _model(coin, surf, dt, b, g):
+    lo = smallest_xi(coin.diameter, coin.density)
+    if not coin.xi >= lo:
+        raise ValueError(f"xi must be at least {round_up(lo):g} for a {coin.diameter:g} m coin "
+                         f"(MuJoCo's smallest mass and inertia), got {coin.xi:g}")
     mujoco = require_mujoco()
     m = mujoco.MjModel.from_xml_string(_mjcf(coin, surf, dt, _stiffness(dt), b, g))
     return mujoco, m, mujoco.MjData(m)

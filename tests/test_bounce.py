@@ -359,3 +359,18 @@ def test_design_never_passes_max_tosses(monkeypatch, cap):
         assert r.rounds == 0 and r.tosses == 9 * (cap // 9)
     with pytest.raises(ValueError, match="--max-tosses must be at least 180"):
         B.design([1 / 3], seed=4, max_tosses=179)
+
+
+def test_smallest_xi_is_what_mujoco_builds():
+    """Just above smallest_xi every coin builds (a sweep: the triangle inequality is a
+    rounding matter on thin discs); just below, the engine refuses it in one ValueError."""
+    import numpy as np
+
+    for dia in (B.smallest_diameter(), 1e-3, 0.02426, 3.0):
+        lo = B.smallest_xi(dia)
+        for xi in np.minimum(np.geomspace(lo * (1 + 1e-9), lo * 1e4, 40), 100.0):
+            B._model(B.Coin(float(xi), dia), B.SURFACES["wood"], 1e-4, 1.0, 9.81)
+        with pytest.raises(ValueError, match="xi must be at least"):
+            B._model(B.Coin(lo * 0.999, dia), B.SURFACES["wood"], 1e-4, 1.0, 9.81)
+    assert B.smallest_xi(1e-4) == math.inf
+    assert B.round_up(2.1103e-5) == 2.12e-5 and B.round_up(8.67e-7) == 8.67e-7

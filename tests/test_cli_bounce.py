@@ -266,3 +266,26 @@ def test_zero_lengths_are_the_defaults_they_name(coin):
     error(coin(*base, "--release-height", "-3"), 2, "--release-height must be a finite length "
           ">= 0", "'-3'")
     error(coin(*base, "--release-height", "0xx"), 2, "--release-height must be a length like")
+
+
+def test_coin_beyond_the_engines_limits_is_refused_naming_the_option(coin):
+    """MuJoCo refuses a body lighter than mjMINVAL or a disc so thin that I1 + I1 >= I3 is lost
+    to rounding (a two-line 'line 7' error used to leak); checked up front, one line naming the
+    option as typed, the smallest allowed value, lengths in mm."""
+    toss = ["toss", "--psi", "90", "--u", "2", "--omega", "40", "--landing", "bounce", "-q"]
+    error(coin(*toss, "--xi", "1e-320"), 2, "--xi must be at least 8.67e-07",
+          "D = 24.26 mm", "got '1e-320'", longest=200)
+    error(coin(*toss, "--diameter", "1e-300", "--thickness", "1e-300"), 2,
+          "--diameter must be from 0.163 to 10000 mm", "got '1e-300'")
+    error(coin(*toss, "--diameter", "20m", "--thickness", "1"), 2, "--diameter must be from",
+          "got '20m'")
+    error(coin(*toss, "--diameter", "24.26", "--thickness", "1e-7"), 2,
+          "--thickness must be at least 2.11e-05 mm", "got '1e-7'")
+    # the stated smallest values are themselves allowed (the triangle at 4.1e-9 used to leak)
+    for coin_args in (["--xi", "8.67e-07"], ["--diameter", "24.26", "--thickness", "2.11e-5"],
+                      ["--diameter", "0.163", "--xi", "99.3"]):
+        assert ok(coin(*toss, *coin_args)).strip() in SIDE_NAMES
+    error(coin("simulate", "-n", "5", "--xi", "1e-12", "--landing", "bounce"), 2,
+          "--xi must be at least 8.67e-07")
+    error(coin("design", "-p", "1/3", "--diameter", "0.1mm", "--landing", "bounce"), 2,
+          "--diameter must be from 0.163 to 10000 mm", "got '0.1mm'")

@@ -235,6 +235,33 @@ def check_speed(p: Physics, u_top: float, g: float, text: str) -> None:
                           f"flight lasts 2u/g), got {text!r}")
 
 
+def check_coin(p: Physics, xi: float | None, dia: float, *, xi_text=None, diameter_text=None,
+               thickness_text=None) -> None:
+    """Refuse, naming the option as typed, a coin MuJoCo cannot simulate: a diameter outside
+    [the smallest with a mass and inertia MuJoCo takes at xi = 100, 10 m], or an aspect ratio
+    (``xi`` None: not checked) too thin for that diameter
+    (:func:`coincli.bounce.smallest_xi`)."""
+    B = p.B
+    why = "(MuJoCo's limits on a body's mass and inertia)"
+    if not B.smallest_diameter() <= dia <= 10.0:
+        lo = B.round_up(B.smallest_diameter() * 1000)
+        what = "--diameter" if diameter_text is not None else "the coin's diameter"
+        got = repr(diameter_text) if diameter_text is not None else f"{dia * 1000:g} mm"
+        raise usage_error(f"{what} must be from {lo:g} to 10000 mm with --landing bounce "
+                          f"{why}, got {got}")
+    if xi is None:
+        return
+    lo = B.smallest_xi(dia)
+    if not xi >= lo:
+        if thickness_text is not None:
+            raise usage_error(f"--thickness must be at least {B.round_up(lo * dia * 1000):g} mm "
+                              f"with --landing bounce and a {dia * 1000:g} mm diameter {why}, "
+                              f"got {thickness_text!r}")
+        got = repr(xi_text) if xi_text is not None else f"{xi:g}"
+        raise usage_error(f"--xi must be at least {B.round_up(lo):g} with --landing bounce and "
+                          f"D = {dia * 1000:g} mm {why}, got {got}")
+
+
 def dist_text(v, unit: str, scale: float = 1.0) -> str:
     if isinstance(v, float):
         return f"{v * scale:g} {unit}"

@@ -410,6 +410,8 @@ def toss_cmd(
         if wf > 1e4:
             raise usage_error(f"--omega must be at most 10000 rad/s with --landing bounce, got "
                               f"{_num(wf)} rad/s")
+        BO.check_coin(physics, xf, dia, xi_text=xi, diameter_text=diameter,
+                      thickness_text=thickness)
         BO.check_speed(physics, uf, gv, u if u is not None else f"{_num(uf)} m/s")
         extra = ""
         if drawn:
@@ -592,6 +594,8 @@ def simulate_cmd(
     hand = [k for k, v in (("u", u), ("omega", omega), ("psi", psi or psi_dist)) if v is None]
     source = f" (hand toss, {DHM}: {', '.join(hand)})" if hand else ""
     if physics is not None:
+        BO.check_coin(physics, xv, dia, xi_text=xi, diameter_text=diameter,
+                      thickness_text=thickness)
         BO.check_speed(physics, u_hi, gv, u or HAND["u"])
         if quiet:
             _report_seed(seed_v, seed is not None)
@@ -770,6 +774,7 @@ def bounce_design(physics, *, p_sides, psi, psi_dist, u, omega, diameter, coin, 
         except ValueError as exc:
             raise usage_error(str(exc)) from None
     u_spec, w_spec, psi_spec, labels = bounce_launch(psi, psi_dist, u, omega)
+    BO.check_coin(physics, None, dia, diameter_text=diameter)
     BO.check_speed(physics, _reach(u_spec, U_MAX), T_G, u or HAND["u"])
     from coincli.cli._options import seed_value
 
