@@ -527,7 +527,9 @@ def simulate_cmd(
 
     --landing bounce tosses the coins onto a surface (--surface, or --restitution and
     --friction) and lets them bounce and settle, simulated with MuJoCo (pip install
-    'coincli[physics]'): a simulated table, not the paper's catch.
+    'coincli[physics]'): a simulated table, not the paper's catch.  It is slow: 20-30 ms of
+    CPU a toss, 74-108 tosses a second on two idle cores (docs/performance.md), so the default
+    10,000 tosses take some 4.5 CPU-minutes; a progress bar on a terminal shows the time left.
 
     Examples: coin simulate --xi 0.577 ;
     coin simulate -n 1000000 --seed 7 --xi 0.577 --omega normal:6:1rev/s ;
