@@ -289,3 +289,11 @@ def test_coin_beyond_the_engines_limits_is_refused_naming_the_option(coin):
           "--xi must be at least 8.67e-07")
     error(coin("design", "-p", "1/3", "--diameter", "0.1mm", "--landing", "bounce"), 2,
           "--diameter must be from 0.163 to 10000 mm", "got '0.1mm'")
+
+
+def test_simulate_help_states_the_bounce_cost(coin):
+    """A default bounce run takes minutes: --help says how many tosses a second, so that a
+    user is not surprised."""
+    out = " ".join(ok(coin("simulate", "--help")).split())
+    assert "74-108 tosses a second on two idle cores" in out
+    assert "10,000 tosses take some 4.5 CPU-minutes" in out
