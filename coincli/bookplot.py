@@ -31,8 +31,11 @@ def omega_figure(t, omega, up, motion, label: str, start: str, rule: str):
         for i in range(3):
             ax.plot(t, omega[:, i], color=_COLOURS[i], linestyle=_STYLES[i], linewidth=1.4,
                     label=f"ω{i + 1}", gid=f"omega:{i + 1}")
-        if motion.gamma_kind == "growth" and len(t) > 1:
-            b = motion.spin_axis
+        sep = motion.kind == "separatrix"
+        if (motion.gamma_kind == "growth" or sep) and len(t) > 1:
+            # the flips are the sign changes of the middle axis's component
+            b = motion.spin_axis if not sep else sorted(range(3),
+                                                        key=lambda k: motion.moments[k])[1]
             s = np.sign(omega[:, b])
             idx = np.nonzero(s[1:] * s[:-1] < 0)[0]
             for k, j in enumerate(idx):
@@ -58,6 +61,8 @@ def omega_figure(t, omega, up, motion, label: str, start: str, rule: str):
 
 
 def _title(m, label: str) -> str:
+    if m.kind == "separatrix":
+        return f"{label}: on the separatrix (one flip at most, never back)"
     if m.gamma_kind == "oscillation" and m.frequency:
         return (f"{label}: stable spin about axis {m.spin_axis + 1}; "
                 f"Γ = {m.gamma:.4g} rad/s, exact {m.frequency:.4g} rad/s")

@@ -254,5 +254,6 @@ def nearest_stacks(coin: Coin, p_sides, xi, sides_of) -> list[list]:
     for k in (~finite).nonzero()[0].tolist():
         for col in cols:
             col[k] = None
-    cols[3] = [None if isinstance(v, float) and math.isnan(v) else v for v in cols[3]]
+    for k in np.flatnonzero(np.isnan(sm)).tolist():  # no stack of 0 coins
+        cols[3][k] = None
     return cols

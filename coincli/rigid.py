@@ -80,6 +80,9 @@ import math
 
 __all__ = [
     "MAX_PHASE",
+    "M1_MIN",
+    "MOMENT_SPAN",
+    "check_moments",
     "FACES",
     "RULES",
     "box_moments",
@@ -435,7 +438,7 @@ def orbit(moments, omega) -> Orbit:
     """The constants of the free motion of a body with principal ``moments`` (any positive
     numbers, any order) started with body angular velocity ``omega`` (rad/s about the same
     axes): three floats, or an array of shape ``(..., 3)`` for many motions at once."""
-    I = _positive3(moments, "moments")
+    I = check_moments(moments)
     xp = _xp(omega)
     if xp is _Py:
         w = tuple(float(x) for x in omega)
@@ -476,12 +479,17 @@ def orbit(moments, omega) -> Orbit:
     big = xp.maximum(xp.abs(wa), xp.abs(wc))
     bs = xp.where(big > 0, big, 1.0)
     d = Ic * p * (wc / bs) ** 2 - Ia * q * (wa / bs) ** 2  # the sign of L^2 - 2 E Ib
+    exact = None
     if Ia == Ib:
         rev = d != d  # False, shaped like d
     elif Ib == Ic:
         rev = d == d  # True
     else:
         rev = d < 0
+        if xp is _Py or w.ndim == 1:  # one motion: the separatrix decided in exact rationals
+            exact = _exact_m1(I, (w1, w2, w3), order)
+            if exact is not None:
+                rev = exact[0] < 0 if xp is _Py else xp.asarray(exact[0] < 0)
     o.rev = rev
     # the circulation frame: (a, b, c) = sorted, or reversed with b negated (proper)
     o.Ia = xp.where(rev, Ic, Ia)
@@ -504,7 +512,7 @@ def orbit(moments, omega) -> Orbit:
     o.stationary = stationary
     Psafe = xp.where(P_ > 0, P_, 1.0)
     # amplitudes as scaled hypotenuses, ratios of them: no square underflows (a perturbation
-    # of 1e-200 of the spin still counts)
+    # of 1e-140 of the spin still counts; below ~1e-150 m1 leaves the double range: _check_m1)
     kab = (Ib / Ia_) * P_
     acn = _hypot(xp, wa, wb, kab)
     adn = _hypot(xp, wc, wb, (Ib / Ic_) * Q_)
@@ -518,6 +526,14 @@ def orbit(moments, omega) -> Orbit:
                   1.0)
     m1 = xp.maximum(m1, 0.0)
     m = xp.minimum(m, 1.0)
+    if exact is not None:  # correctly rounded: 0 exactly on the separatrix, no cancellation
+        D, num, den = exact
+        m1 = num / den + 0.0 * m1
+        m = (den - num) / den + 0.0 * m
+        if num != 0 and m1 < M1_MIN:
+            raise ValueError(_M1_TOO_SMALL)
+    else:
+        _check_m1(xp, m1, wa, wc, adn_s)
     if o.sphere:
         m, m1 = m * 0.0, m1 * 0.0 + 1.0
     o.m, o.m1 = m, m1
@@ -552,6 +568,79 @@ def orbit(moments, omega) -> Orbit:
     o.tau0 = xp.where(stationary, 0.0, tau0)
     o.L = xp.sqrt((Ia * ws[0]) ** 2 + (Ib * ws[1]) ** 2 + (Ic * ws[2]) ** 2)
     return o
+
+
+#: the smallest distance ``m1 = 1 - m`` to the separatrix that can be followed: a spin closer to
+#: the middle axis than about 1e-150 of it (but not on it) has m1 below the range of a double
+M1_MIN = 1e-300
+
+
+def _exact_m1(moments, omega, order):
+    """``(D, num, den)``, whole numbers, for one motion of a body with three different moments
+    (``order`` sorts them): the sign of :math:`D = L^2 - 2 E I_b = \\sum_i I_i (I_i - I_b)
+    \\omega_i^2` says which extreme axis omega circulates about (0 on the separatrix), and
+    ``m1 = num / den``,
+
+    .. math:: m_1 = \\frac{D (I_c - I_a)}{(I_c - I_b)\\,(I_c (I_c - I_a)\\omega_c^2
+       + I_b (I_b - I_a)\\omega_b^2)}
+
+    in the circulation frame (``c`` the largest moment when ``D >= 0``, else the smallest).
+    The doubles given are taken as exact (each a whole number times a common power of two for
+    the moments and another for omega: ``m1`` is homogeneous in both), so a spin exactly on the
+    separatrix (moments 3, 4, 6 with omega 2, 1, 1) gives ``m1 = 0`` however the moments are
+    scaled, and next to it ``num / den`` (Python's correctly rounded division of integers) has
+    no cancellation.  None when nothing circulates (omega 0)."""
+    Ia, Ib, Ic = _whole([float(moments[k]) for k in order])
+    wa, wb, wc = _whole([float(omega[k]) for k in order])
+    D = Ia * (Ia - Ib) * wa * wa + Ic * (Ic - Ib) * wc * wc
+    if D < 0:  # about the smallest axis: exchange a and c
+        Ia, Ic, wa, wc = Ic, Ia, wc, wa
+    num = D * (Ic - Ia)
+    den = (Ic - Ib) * (Ic * (Ic - Ia) * wc * wc + Ib * (Ib - Ia) * wb * wb)
+    if den == 0:
+        return None
+    if den < 0:
+        num, den = -num, -den
+    return D, num, den
+
+
+def _whole(values):
+    """Whole numbers proportional to the doubles ``values`` (exactly: a common power of 2)."""
+    pairs = [v.as_integer_ratio() for v in values]
+    top = max(d for _, d in pairs)  # every denominator is a power of 2
+    return [n * (top // d) for n, d in pairs]
+
+
+def _check_m1(xp, m1, wa, wc, adn):
+    """ValueError when the motion is next to the separatrix but ``m1`` is below :data:`M1_MIN`
+    (it would round to 0 and the motion pass for the separatrix, flipping once and never back):
+    the spin is within about 1e-150 of the middle axis without being on it."""
+    big = xp.maximum(xp.abs(wa), xp.abs(wc)) / adn
+    bad = (m1 < M1_MIN) & (big > 0) & (big < 1e-140)
+    if xp.any(bad):
+        raise ValueError(_M1_TOO_SMALL)
+
+
+_M1_TOO_SMALL = (
+    "the spin is too close to the middle axis without being on it (about 1e-150 of the spin "
+    f"or less: m1 = 1 - m below {M1_MIN:.0e}) for a double to follow; give a perturbation of "
+    "at least 1e-140 of the spin, or exactly 0")
+
+
+#: the smallest moment over the largest that the motion can be followed for: beyond, ratios of
+#: moments overflow a double (a needle 1e-150 thick and 1e150 long spans 1e-300 and is fine)
+MOMENT_SPAN = 1e-305
+
+
+def check_moments(moments):
+    """The three moments as floats; ValueError unless they are finite and > 0 and the smallest
+    is at least :data:`MOMENT_SPAN` of the largest."""
+    I = _positive3(moments, "moments")
+    if min(I) < MOMENT_SPAN * max(I):
+        raise ValueError(
+            f"the moments {_g(I[0])}, {_g(I[1])}, {_g(I[2])} span more than 1e305 (smallest over "
+            f"largest {min(I) / max(I):.3g}); at most that span can be followed in doubles")
+    return I
 
 
 def _hypot(xp, x, y, k):
@@ -598,7 +687,7 @@ def _user_from_frame(o: Orbit, va, vb, vc):
 
 def omega_at(o: Orbit, t):
     """Body angular velocity (rad/s, the user's axes) at times ``t`` (s): numpy array of shape
-    ``broadcast(o, t) + (3,)``."""
+    ``broadcast(o, t) + (3,)``; exactly the launch value at ``t = 0``."""
     import numpy as np
 
     t = np.asarray(t, dtype=float)
@@ -614,7 +703,10 @@ def omega_at(o: Orbit, t):
         vb = np.where(st, o.wb, vb)
         vc = np.where(st, o.wc, vc)
     u = _user_from_frame(_as_np(o), va, vb, vc)
-    return np.stack(np.broadcast_arrays(*u), axis=-1) * np.asarray(o.scale)[..., None]
+    out = np.stack(np.broadcast_arrays(*u), axis=-1) * np.asarray(o.scale)[..., None]
+    # at t = 0 the launch values themselves (the solution returns them to a few ulps)
+    w0 = np.broadcast_to(np.asarray(o.omega0, dtype=float), out.shape)
+    return np.where((np.broadcast_to(t, out.shape[:-1]) == 0)[..., None], w0, out)
 
 
 def _as_np(o: Orbit) -> Orbit:
@@ -712,12 +804,18 @@ def attitude_at(o: Orbit, t, start=(1.0, 0.0, 0.0, 0.0)):
     # and dividing by r would overflow
     slow = np.abs(r) < 1e-100
     rs = np.where(slow, 1.0, r)
-    coef = L * (Ic - Ia) / (Ic * Ia * rs)
+    with np.errstate(over="ignore"):
+        coef = L * (Ic - Ia) / (Ic * Ia * rs)
     Gt = _Gfun(o, s, c, d, q, nper, tau, np)
     G0 = _Gfun(o, s0, c0, d0, np.zeros_like(np.asarray(s0, dtype=float)),
                np.zeros_like(np.asarray(s0, dtype=float)), o.tau0, np)
     slope = L * (Ic - Ia) / (Ic * Ia) * (1 / (1 - n * s0 * s0) - 1)  # r * coef * G'(tau0)
-    dphi = L / Ia * ts + np.where(slow, slope * ts, coef * (Gt - G0))
+    # a symmetric top (n = 0) has G = 0 exactly, where coef may overflow (its smallest moment
+    # 1e-300 of the others: a needle spun about its axis): no inf * 0
+    dG = Gt - G0
+    with np.errstate(over="ignore", invalid="ignore"):
+        turn = np.where(dG == 0, 0.0, coef * dG)
+    dphi = L / Ia * ts + np.where(slow, slope * ts, turn)
     # q = q0 * conj(qP) * conj(E(0)) * E(t) * qP with E = Euler z-x-z (phi, theta, psi): the
     # constant factors once per motion, E(t) by the closed form of a z-x-z rotation (two sines
     # and cosines of half-angle sums) instead of three rotations and two products a time
@@ -732,7 +830,9 @@ def attitude_at(o: Orbit, t, start=(1.0, 0.0, 0.0, 0.0)):
     st = np.asarray(o.stationary)
     if st.any():
         w = np.asarray(o.omega0, dtype=float)
-        wn = np.linalg.norm(w, axis=-1)
+        sc = np.asarray(o.scale, dtype=float)
+        sc = np.where(sc > 0, sc, 1.0)
+        wn = np.linalg.norm(w / sc[..., None], axis=-1) * sc  # |omega| 1e300: no overflow
         ang = wn * t
         h = ang / 2
         axis = w / np.where(wn > 0, wn, 1.0)[..., None]
@@ -856,8 +956,15 @@ def paper_frequency_shift(moments, omega, axis=None):
     w = [float(v) for v in omega]
     top = max(I)
     I = tuple(v / top for v in I)
+    big = max(abs(v) for v in w)
+    if not (math.isfinite(big) and big > 0):
+        raise ValueError(f"omega must be three finite numbers, not all 0; got {omega!r}")
+    w = [v / big for v in w]  # scaled: no underflow of I * omega, no overflow of ratios
     if axis is None:
         axis = max(range(3), key=lambda i: abs(I[i] * w[i]))
+    if w[axis] == 0:
+        raise ValueError(f"omega has no component about axis {axis + 1}: no perturbation of a "
+                         "spin about it to expand in")
     Ia, Ib, Ic, ia, ib = _extreme_frame(I, axis)
     p, q = (Ic - Ib) / (Ic - Ia), (Ib - Ia) / (Ic - Ia)
     if q == 0:  # a symmetric top: regular precession, the frequency is Gamma exactly
@@ -892,6 +999,8 @@ def flip_asymptote(moments, omega):
     Ia, Ib, Ic = I[ia], I[ib], I[ic]
     if not Ia < Ib < Ic:
         raise ValueError("the flip needs three different moments")
+    if w[ib] == 0:
+        raise ValueError("omega has no component about the middle axis: no flip to time")
     kind, lam = gamma(I, w[ib], ib)
     ea, ec = w[ia] / w[ib], w[ic] / w[ib]
     den = (Ic - Ia) * abs(Ic * (Ic - Ib) * ec * ec - Ia * (Ib - Ia) * ea * ea)
@@ -949,7 +1058,8 @@ def motion(moments, omega) -> Motion:
     I = o.moments
     s = o.scale
     roles = _roles(I)
-    spin_axis = max(range(3), key=lambda i: (abs(I[i] * w[i]), -i))
+    ws = tuple(v / s for v in w) if s else w  # scaled: I * 5e-324 must not underflow to 0
+    spin_axis = max(range(3), key=lambda i: (abs(I[i] * ws[i]), -i))
     energy = momentum = 0.0
     if s:
         energy = _overflow_inf(lambda: sum(I[i] * (w[i] / s) ** 2 for i in range(3)) * s * s / 2)
@@ -1015,7 +1125,7 @@ def motion(moments, omega) -> Motion:
         shift = paper_frequency_shift(I, w, spin_axis)
         # a perturbation beyond the double range (inf - inf) has no second-order term to give
         out.gamma_shift_2 = shift if math.isfinite(shift) else None
-    if out.gamma_kind == "growth":
+    if out.gamma_kind == "growth" and out.kind != "rest":
         out.flip_asymptote = flip_asymptote(I, w)
     return out
 
@@ -1116,6 +1226,9 @@ def catch(moments, sides, omega, t, start, rule="centre"):
     w = np.asarray(omega, dtype=float)
     tt = np.asarray(t, dtype=float)
     check_phase(np.abs(w).max(axis=-1) * (np.sqrt(3) * tt))  # 1e308 * 0 is 0, not inf * 0
+    # no time, no motion: a box caught at once shows its start face whatever its spin (even one
+    # whose motion could not be followed, next to the separatrix beyond the double range)
+    w = np.where((np.broadcast_to(tt, w.shape[:-1]) == 0)[..., None], 0.0, w)
     o = orbit(moments, w)
     q = attitude_at(o, tt, start)
     return face_up(up_vector(q), sides, rule)

@@ -295,6 +295,16 @@ BAD = [
     ([*BOOK, "--toss", "--spin", "0,0,40", "--flight", "-0.5"], "--flight"),
     ([*BOOK, "--toss", "--spin", "0,0,40", "--flight", "normal:-50:1"], "no probability"),
     ([*BOOK, "--toss", "--spin", "normal:0:1e12,0,0", "--flight", "1"], "rad"),
+    ([*BOOK, "--spin", "0,0,40", "--flight", "-1"], ">= 0"),  # was exit 1
+    # found by fuzzing: moments 1e-316 of each other overflowed their ratios (nan in the table)
+    (["book", "--size", "4.3e-307x4.2e-08x1.5e+150", "--spin", "2.7,0,-9e40"], "span"),
+    (["book", "--size", "4.3e-307x4.2e-08x1.5e+150", "--spin", "2.7,0,-9e40", "--toss"], "span"),
+    ([*BOOK, "--spin", "1e-200,40,0"], "middle axis"),  # was 'on the separatrix'
+    ([*BOOK, "--spin", "1e-200,40,0", "--times", "0,1"], "middle axis"),
+    ([*BOOK, "--spin", "0,40,1e-320", "--flight", "1"], "middle axis"),
+    ([*BOOK, "--toss", "--spin", "1e-200,40,0"], "middle axis"),
+    ([*BOOK, "--toss", "--spin", "normal:38rev/s:4,0,0"], "unit once at the end"),
+    ([*BOOK, "--toss", "--spin", "0,0,40", "--flight", "uniform:400ms:0.6"], "unit once"),
 ]
 
 
@@ -319,6 +329,13 @@ def test_bad_input_is_one_line_and_exit_2(coin, argv, word, tmp_path, monkeypatc
     # found by fuzzing: two moments 1e-17 apart (tied in doubles), spins near the double range
     ["book", "--size", "1.1e-05x30527288.7x0.2073", "--spin", "7.5e-08,-19587759.5,1e308"],
     ["book", "--size", "841481.36x0.00012014x0.00052486", "--spin", "-0.5,8.3e-06,-1e300"],
+    # a spin of 5e-324 (I * omega underflowed: 'float division by zero'), and a needle whose
+    # smallest moment is 1e-300 of the others spun off its axis (the attitude was nan)
+    ["book", "--size", "3x4x5", "--spin", "0,5e-324,-0"],
+    ["book", "--size", "1e150x1x1e-150", "--spin", "1e-8,3,0.4"],
+    ["book", "--moments", "3.6,3.1,5.1", "--spin", "0,0,0"],  # at rest, axis 1 the middle one
+    # a steady spin of 5e300 rad/s (|omega| overflowed in the attitude's rotation: nan)
+    ["book", "--size", "3.7e-09x3.5e+40x6.9e-08", "--spin", "-4.9e300,3.6e-300,4.4e-08"],
 ])
 def test_extreme_but_valid_inputs_print_no_nan(coin, argv):
     for fmt in ("table", "csv", "json"):
@@ -403,3 +420,147 @@ def test_no_headers_and_negative_spins_with_units(coin):
                   "--no-headers"))
     w = [float(v) for v in out.split(",")[1:4]]
     assert w == pytest.approx([-0.4, -6.4 * 2 * math.pi, math.pi / 2], rel=1e-15)
+
+
+def test_a_unit_at_the_end_of_a_distribution_applies_to_every_number(coin):
+    # as coin simulate --omega reads normal:38:4rev/s: both numbers in rev/s
+    toss = [*BOOK, "--toss", "-n", "2000", "--seed", "4", "-f", "csv"]
+    once = ok(coin(*toss, "--spin", "normal:6:1rev/s,0.5,uniform:-1:1rpm", "--flight",
+                   "normal:500:50ms"))
+    every = ok(coin(*toss, "--spin", "normal:6rev/s:1rev/s,0.5,uniform:-1rpm:1rpm", "--flight",
+                    "normal:500ms:50ms"))
+    assert once == every
+    si = ok(coin(*toss, "--spin", f"normal:{12 * math.pi!r}:{2 * math.pi!r},0.5,"
+                 f"uniform:{-math.pi / 30!r}:{math.pi / 30!r}", "--flight", "normal:0.5:0.05"))
+    assert once == si
+
+
+def test_a_spin_exactly_on_the_separatrix(coin):
+    # 2 E I2 = L^2 exactly: one flip, never back (was 'periodic', period 99 s, from rounding)
+    d = _json(ok(coin("book", "--moments", "3,4,6", "--spin", "2,1,1", "-f", "json")))[0]
+    assert d["motion"].startswith("on the separatrix") and d["period"] == "inf"
+    assert d["m"] == 1.0
+    assert d["flip_time"] == "inf" and d["first_flip"] == "inf"  # omega2 > 0 ever after
+    # launched the other way round it flips once, when omega2 changes sign: an independent
+    # integration (DOP853) puts that at 0.5826649...s
+    d = _json(ok(coin("book", "--moments", "3,4,6", "--spin", "2,-1,1", "-f", "json")))[0]
+    assert d["first_flip"] == pytest.approx(0.58266494, abs=1e-8)
+    out = ok(coin("book", "--moments", "3,4,6", "--spin", "2,-1,1"))
+    assert "Exactly on the separatrix" in out and "is stable" not in out
+
+
+def test_the_time_series_starts_at_the_launch_values_exactly(coin):
+    rows = list(csv.reader(io.StringIO(ok(coin(*BOOK, "--spin", "0.4,40,0.3", "--times",
+                                                    "0,0.1", "-f", "csv")))))
+    assert rows[1][:8] == ["0.0", "0.4", "40.0", "0.3", "1.0", "0.0", "0.0", "0.0"]
+
+
+def test_a_figure_without_matplotlib_fails_before_any_toss(coin, tmp_path, monkeypatch):
+    for name in list(sys.modules):
+        if name == "matplotlib" or name.startswith("matplotlib."):
+            monkeypatch.delitem(sys.modules, name)
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+
+    def no_tosses(*args, **kwargs):
+        raise AssertionError("tossed before finding that the figure cannot be drawn")
+
+    monkeypatch.setattr(R, "toss_chunks", no_tosses)
+    monkeypatch.setattr(R, "attitude_at", no_tosses)
+    png = tmp_path / "b.png"
+    for argv in ([*BOOK, "--toss", "-n", "10000000", "--spin", "1,2,40"],
+                 [*BOOK, "--spin", "0.4,40,0.3"]):
+        error(coin(*argv, "--out", str(png)), 1, "matplotlib")
+    assert os.listdir(tmp_path) == []
+
+
+def test_times_take_units_in_ranges_as_in_lists(coin):
+    def ts(spec):
+        out = ok(coin(*BOOK, "--spin", "0.4,40,0.3", "--times", spec, "-f", "csv"))
+        return [float(r.split(",")[0]) for r in out.splitlines()[1:]]
+
+    ref = ts("0,0.1,0.2,0.3")
+    for spec in ("0:300:100ms", "0ms:300ms:100ms", "0,100ms,200ms,300ms", "0:0.3:0.1s"):
+        assert ts(spec) == pytest.approx(ref, abs=1e-15), spec
+    error(coin(*BOOK, "--spin", "0.4,40,0.3", "--times", "0s:500ms:0.1"), 2, "unit once")
+
+
+@pytest.mark.parametrize("spec, unit", [("0:2:0.01", ""), ("0:1:0.3", ""), ("0:600:100", "ms"),
+                                        ("1/3:3:1/7", ""), ("0.5:0.5:1", "s"),
+                                        ("0:0.99999:0.00001", "")])
+def test_a_range_of_times_is_the_shared_grammar_s_values(spec, unit):
+    # the vectorized range gives exactly what coincli.parse.parse_values gives item by item
+    from coincli import parse
+    from coincli.cli import book as B
+
+    factor = B._TIME_UNITS[unit or "s"]
+    ref = parse.parse_values(spec, "--times", lambda s, w: float(s) * factor if "/" not in s
+                             else parse.parse_ratio(s) * factor)
+    got = B._times(spec + unit) if unit else B._times(spec)
+    assert np.asarray(got).tolist() == ref
+
+
+def test_times_out_file_is_the_stdout_bytes(coin, tmp_path):
+    argv = [*BOOK, "--spin", "0.4,40,0.3", "--times", "0:3:0.0001"]
+    for fmt in ("csv", "jsonl", "table"):
+        out = ok(coin(*argv, "-f", fmt))
+        path = tmp_path / f"s.{fmt}"
+        ok(coin(*argv, "-f", fmt, "--out", str(path)))
+        assert path.read_text(encoding="utf-8") == out
+    assert len(out.splitlines()) > 30001
+
+
+@pytest.mark.slow
+def test_a_long_time_series_is_streamed_in_flat_memory(tmp_path):
+    """Peak memory of --times with 2e4 and 2e5 rows differs by far less than the rows' text
+    (a buffered run held ~1 kB a row: 944 MB at 10^6 rows; streamed, ~80 MB at any count)."""
+    code = ("import resource, sys; from coincli.cli import main; sys.argv = ['coin', 'book', "
+            "'--size', '235x155x30', '--spin', '0.4,40,0.3', '--times', sys.argv[1], '-f', "
+            "'csv', '--out', sys.argv[2]]\n"
+            "try: main()\nexcept SystemExit: pass\n"
+            "print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)")
+    peaks = []
+    for spec in ("0:1.9999:0.0001", "0:1.99999:0.00001"):
+        r = subprocess.run([sys.executable, "-c", code, spec, str(tmp_path / "s.csv")],
+                           capture_output=True, text=True, check=True)
+        peaks.append(int(r.stdout.split()[-1]))  # kB
+    assert (tmp_path / "s.csv").stat().st_size > 30_000_000
+    assert peaks[1] - peaks[0] < 40_000, peaks
+
+
+def test_the_figure_of_a_separatrix_marks_its_one_flip():
+    pytest.importorskip("matplotlib")
+    from coincli import bookplot
+
+    I, w = (3.0, 4.0, 6.0), (2.0, -1.0, 1.0)
+    mo = R.motion(I, w)
+    o = R.orbit(I, np.array(w))
+    t = np.linspace(0.0, 20.0, 2001)
+    q = R.attitude_at(o, t)
+    up = R.face_up(R.up_vector(q), R.box_sides(I))
+    fig = bookplot.omega_figure(t, R.omega_at(o, t), up, mo, "moments 3, 4, 6", "+3", "centre")
+    flips = [a for a in fig.findobj(lambda a: a.get_gid() == "flip")]
+    assert len(flips) == 1 and flips[0].get_xdata()[0] == pytest.approx(0.58266494, abs=1e-4)
+    assert "separatrix" in fig.axes[0].get_title()
+
+
+def test_toss_quiet_reports_a_drawn_seed_that_repeats_the_bytes(coin):
+    import re
+
+    argv = ["book", "--size", "16x16x16", "--toss", "-n", "200", "--spin", "normal:30:1,0,0", "-q"]
+    rc, out, err = coin(*argv)
+    assert rc == 0
+    m = re.fullmatch(r"coin: seed (\d+) \(--seed \1 repeats this run\)\n", err)
+    assert m, err
+    assert coin(*argv, "--seed", m.group(1)) == (0, out, "")
+
+
+def test_a_body_at_rest_has_no_spin_axis_and_no_gamma(coin):
+    rows = _json(ok(coin("book", "--moments", "1,2,3", "--spin", "0,0,0", "-f", "json")))
+    row = rows[0] if isinstance(rows, list) else rows
+    for key in ("spin_axis", "gamma", "gamma_shift", "lambda"):
+        assert row[key] is None, (key, row[key])
+
+
+def test_times_from_stdin_name_the_bad_line(coin):
+    error(coin("book", "--size", "235x155x30", "--spin", "0.4,40,0.3", "--times", "-",
+               stdin="0\n0.1\nabc\n"), 2, "stdin line 3", "--times", "'abc'")

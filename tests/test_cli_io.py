@@ -341,3 +341,17 @@ def test_fit_refuses_n_beyond_2_53(coin):
 def test_check_xi_says_what_is_allowed(coin, xi):
     _error(coin("check", "--xi", xi, "--heads", "1", "--sides", "2", "--tails", "3"), 2,
            "--xi must be a finite number >= 0", f"got {xi!r}")
+
+
+def test_table_mc_quiet_reports_the_drawn_seed_on_stderr(coin):
+    """-q has no room for the note that names the seed: a drawn seed goes to stderr, and it
+    repeats the run byte for byte; a seed given is not repeated back."""
+    import re
+
+    argv = ["table", "--xi", "0.5", "--psi-dist", "uniform", "--method", "mc", "--tol", "0.01",
+            "-q"]
+    rc, out, err = coin(*argv)
+    assert rc == 0
+    m = re.fullmatch(r"coin: seed (\d+) \(--seed \1 repeats this run\)\n", err)
+    assert m, err
+    assert coin(*argv, "--seed", m.group(1)) == (0, out, "")

@@ -643,6 +643,135 @@ def test_a_range_is_generated_as_the_list_would_be(coin):
         assert [r["model"] for r in rows[:2]] == ["geometric", "dynamic"]
 
 
+def _naive_rows(cols, sep: str) -> str:
+    """The reference for :func:`coincli.cli._common._write_rows`: one cell at a time."""
+    from coincli.cli._common import _csv_cell, _machine
+
+    cols = [c.tolist() if hasattr(c, "tolist") else list(c) for c in cols]
+    return "".join(sep.join(_csv_cell(_machine(v), sep) for v in row) + "\n"
+                   for row in zip(*cols, strict=True))
+
+
+def _writer_columns(rng, n: int):
+    """Columns of the kinds a batch writes, each as an array and as a list: distinct doubles of
+    every magnitude, few distinct values (with and without a missing one), a twin, a constant,
+    signed zeros, NaN and infinities, whole numbers and texts with a separator or a quote."""
+    import numpy as np
+
+    wide = rng.standard_normal(n) * 10.0 ** rng.integers(-300, 300, n)
+    few = rng.choice([0.1, 1 / 3, 2.5e-300, 7e22, -1.0], n)
+    with_none = [None if v == -1.0 else v for v in few.tolist()]
+    odd = rng.choice([0.0, -0.0, np.nan, np.inf, -np.inf, 0.5], n)
+    cols = [wide, few, few.tolist(), with_none, wide.copy(), np.full(n, 24.26), odd,
+            odd.tolist(), rng.integers(-5, 5, n), rng.integers(0, 3, n).tolist(),
+            rng.choice(["quarter", "a,b", 'say "x"', "100%"], n).tolist(), ["k"] * n,
+            np.repeat(rng.standard_normal((n + 1) // 2), 2)[:n]]
+    return cols
+
+
+@pytest.mark.parametrize("n", [0, 1, 3, 64, 1000, 20_000])
+def test_the_batch_writer_writes_what_one_cell_at_a_time_writes(n):
+    """Every shortcut of the csv/tsv writer (a constant folded into the separators, a twin's
+    text reused, few distinct values formatted once, one %-format a block) gives the bytes of
+    formatting each cell on its own: shortest round-trip text, empty for None."""
+    import numpy as np
+
+    from coincli.cli._common import _write_rows
+
+    rng = np.random.default_rng(n)
+    cols = _writer_columns(rng, n)
+    for sep in (",", "\t"):
+        for pick in (cols, cols[:1], cols[1:2], cols[3:4], cols[5:6], cols[6:8], cols[::-1]):
+            out = io.StringIO()
+            _write_rows(out, pick, sep)
+            assert out.getvalue() == _naive_rows(pick, sep), (sep, len(pick))
+    out = io.StringIO()
+    _write_rows(out, [cols[0]], "\n", quote=False)  # -q: one value a line
+    assert out.getvalue() == "".join(f"{v!r}\n" for v in cols[0].tolist())
+
+
+_MODULES_PROBE = r"""
+import json, sys
+from coincli.cli import run
+sys.stdout = open("/dev/null", "w")
+code = run(json.loads(sys.argv[1]))
+loaded = sorted(m for m in sys.modules if m.startswith("coincli.cli.") or m == "decimal")
+print(json.dumps([code, loaded]), file=sys.stderr)
+"""
+
+COMMAND_RUNS = {  # command module -> one run of each of its commands
+    "design": [["design", "-p", "0.33"], ["table", "--xi", "0.577"], ["fair"], ["coins"],
+               ["stack", "--coin", "quarter", "--count", "8"]],
+    "toss": [["toss", "--xi", "0.577", "--psi", "90", "--u", "2", "--omega", "40"]],
+    "check": [["check", "--xi", "0.5", "--heads", "30", "--sides", "30", "--tails", "30"],
+              ["fit", str(TOSSES)]],
+    "book": [["book", "--size", "235x155x30", "--spin", "0.4,40,0.3", "--times", "0:1:0.5"]],
+    "plot": [["plot", "psi"]],
+}
+
+
+@pytest.mark.parametrize("module", sorted(COMMAND_RUNS))
+def test_a_run_imports_only_its_own_command_module(module):
+    """A command imports its own module (and the shared helpers it uses), not every command's:
+    the others cost milliseconds of every start-up.  check and fit never import decimal."""
+    from coincli.cli import COMMAND_MODULES
+
+    others = {f"coincli.cli.{m}" for m in COMMAND_MODULES} - {f"coincli.cli.{module}"}
+    for argv in COMMAND_RUNS[module]:
+        p = subprocess.run([sys.executable, "-c", _MODULES_PROBE, json.dumps(argv)],
+                           capture_output=True, text=True, env=_env(), timeout=120)
+        code, loaded = json.loads(p.stderr.strip().splitlines()[-1])
+        assert code == 0, (argv, p.stderr)
+        assert f"coincli.cli.{module}" in loaded, argv
+        assert not others & set(loaded), (argv, sorted(others & set(loaded)))
+        if module == "check":
+            assert "decimal" not in loaded, argv
+
+
+def test_the_root_help_lists_every_command_in_one_order():
+    """The root's help lists every command module's commands, in COMMAND_MODULES' order, however
+    the process met them first (a run of one command imports its module alone)."""
+    probe = ("import sys\nfrom coincli.cli import run\nsys.stdout = open('/dev/null', 'w')\n"
+             "run(['fit', sys.argv[1]])\nrun(['book', '--size', '235x155x30', '--spin', "
+             "'0.4,40,0.3', '--times', '0:1'])\nsys.stdout = sys.__stdout__\nrun(['--help'])\n")
+    warm = subprocess.run([sys.executable, "-c", probe, str(TOSSES)], capture_output=True,
+                          text=True, env=_env(COLUMNS="80"), timeout=120)
+    cold = subprocess.run([*COIN, "--help"], capture_output=True, text=True,
+                          env=_env(COLUMNS="80"), timeout=60)
+    assert warm.returncode == 0 and cold.returncode == 0, warm.stderr
+    assert warm.stdout == cold.stdout
+    names = [line.split()[0] for line in cold.stdout.split("Commands:")[1].splitlines()
+             if line.startswith("  ") and not line.startswith("   ")]
+    assert names[:5] == ["design", "table", "stack", "coins", "fair"] and "plot" in names
+    assert {"toss", "simulate", "phase", "check", "fit", "book"} <= set(names)
+
+
+def test_a_command_missing_from_the_module_map_still_runs():
+    """COMMAND_MODULE is only a shortcut: a command it does not name (one added later) is found
+    by importing every command module, and runs (not the parameterless listing entry)."""
+    probe = ("import sys\nfrom coincli import cli\ndel cli.COMMAND_MODULE['fit']\n"
+             "sys.exit(cli.run(['fit', sys.argv[1], '-q']))\n")
+    p = subprocess.run([sys.executable, "-c", probe, str(TOSSES)], capture_output=True,
+                       text=True, env=_env(), timeout=120)
+    direct = subprocess.run([*COIN, "fit", str(TOSSES), "-q"], capture_output=True, text=True,
+                            env=_env(), timeout=120)
+    assert p.returncode == 0 and p.stderr == "", p.stderr
+    assert p.stdout == direct.stdout and float(p.stdout) > 0
+
+
+@pytest.mark.parametrize("group", [[], ["plot"]], ids=["coin", "coin plot"])
+def test_command_listings_never_stop_at_an_abbreviation(coin, group):
+    """A command's one-line summary is its first sentence, cut with '...' to the width: never
+    'Fig.' or 'eq.' taken for a sentence's end (coin phase read '...(u, omega): Fig.')."""
+    text = _ok(coin(*group, "--help"))
+    lines = [ln for ln in text.split("Commands:")[1].splitlines() if ln.startswith("  ")]
+    assert len(lines) >= 4
+    for ln in lines:
+        last = ln.split()[-1]
+        assert not re.fullmatch(r"\(?(Figs?|[Ee]qs?|Sec|e\.g|i\.e|vs)\.", last), ln
+        assert "\0" not in ln
+
+
 @pytest.mark.skipif(not hasattr(os, "openpty"), reason="needs a pseudo-terminal")
 def test_a_folded_vs_psi_table_repeats_psi():
     """Each block of `coin table --vs psi` folded at 40 columns names its rows by xi and psi

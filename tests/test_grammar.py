@@ -156,8 +156,11 @@ def test_every_coin_command_refuses_the_same_contradictions_the_same_way(coin, c
     opts, words = case
     if not cmd.bare_xi and opts[0] == "--xi":
         words = "coin table --xi X"  # stack refuses any --xi first, naming the command to use
+    no_xi_hint = not cmd.bare_xi and "(or --xi X)" in words  # never suggest a refused --xi
+    if no_xi_hint:
+        words = words.replace(" (or --xi X)", "")
     err = _error(cmd.run(coin, *opts, fmt=False), 2, words)
-    if cmd.bare_xi or opts[0] != "--xi":
+    if (cmd.bare_xi or opts[0] != "--xi") and not no_xi_hint:
         first = _error(COIN_COMMANDS[0].run(coin, *opts, fmt=False), 2)
         assert err == first  # the very same line as coin table gives
 
@@ -237,6 +240,10 @@ def test_stack_takes_quarters_and_refuses_a_bare_xi(coin):
     assert out == _ok(coin("stack", "--coin", "quarter", "--count", "8", "-q"))
     _error(coin("stack", "--quarters", "8", "--p-sides", "1/3"), 2, "--coin quarter --p-sides")
     _error(coin("stack", "--xi", "0.5", "--p-sides", "1/3"), 2, "coin table --xi X")
+    # a diameter alone: stack's error never suggests the --xi it refuses; table's does
+    err = _error(coin("stack", "--diameter", "30", "--count", "2"), 2, "needs --thickness H")
+    assert "--xi" not in err
+    _error(coin("table", "--diameter", "30"), 2, "needs --thickness H (or --xi X)")
 
 
 def test_table_takes_a_custom_coin_and_psi_lists(coin):
@@ -475,3 +482,21 @@ def test_range_bounds_take_fractions_as_values_do(coin):
     assert _ok(coin("design", "-p", "0:1:1/4", "-q")) == _ok(coin("design", "-p",
                                                                    "0,0.25,0.5,0.75,1", "-q"))
     _error(coin("table", "--xi", "1/0:1:1"), 2, "--xi range must be a number like 0.1 or 1/10")
+
+
+ONE_PSI_COMMANDS = [["design", "-p", "0.3"], ["stack", "--coin", "quarter", "--count", "3"],
+                    ["simulate", "--xi", "0.577", "-n", "100", "--seed", "1"]]
+
+
+@pytest.mark.parametrize("argv", ONE_PSI_COMMANDS, ids=lambda a: a[0])
+def test_a_list_where_one_psi_is_taken_is_refused_as_a_list(coin, argv):
+    """Where a command takes one angle or one density, a list or range says so (not 'sd must be
+    a number, got 20,cosine'); --psi with --psi-dist is one message everywhere."""
+    _error(coin(*argv, "--psi", "70,80"), 2, "--psi takes one angle here", "'70,80'")
+    _error(coin(*argv, "--psi", "0:90:10"), 2, "not a list or range", "'0:90:10'")
+    _error(coin(*argv, "--psi", "200"), 2, "--psi must be an angle in [0, 180] degrees")
+    _error(coin(*argv, "--psi-dist", "normal:90:20,cosine"), 2,
+           "--psi-dist takes one density here, not a list", "'normal:90:20,cosine'")
+    _error(coin(*argv, "--psi-dist", "normal:90:x"), 2, "normal sd (degrees) must be a number")
+    _error(coin(*argv, "--psi", "90", "--psi-dist", "uniform"), 2,
+           "give --psi DEG (a fixed angle) or --psi-dist SPEC (a distribution), not both")

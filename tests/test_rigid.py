@@ -301,8 +301,65 @@ def test_scalar_summary_matches_array_path():
         a = R.orbit(I, w0)
         b = R.orbit(I, np.array([w0]))
         for f in ("m", "m1", "r", "tau0", "K", "acn", "asn", "adn"):
+            # one motion's m1 is exact (rationals); the array path's has the cancellation of
+            # a difference of squares next to the separatrix (4e-14 relative at m1 = 1e-16)
+            tol = 1e-12 if f == "m1" else 8 * EPS
             assert getattr(a, f) == pytest.approx(float(np.asarray(getattr(b, f))[0]),
-                                                  rel=8 * EPS, abs=1e-300), f
+                                                  rel=tol, abs=1e-300), f
+
+
+def _m1_mp(I, w):
+    """1 - m at 50 digits from E and L (Landau's form), independent of coincli.rigid."""
+    mp.mp.dps = 50
+    I = sorted(zip([mp.mpf(v) for v in I], [mp.mpf(v) for v in w]))
+    (Ia, wa), (Ib, wb), (Ic, wc) = I
+    E2 = Ia * wa**2 + Ib * wb**2 + Ic * wc**2
+    L2 = (Ia * wa)**2 + (Ib * wb)**2 + (Ic * wc)**2
+    if L2 >= E2 * Ib:
+        m = (Ib - Ia) * (E2 * Ic - L2) / ((Ic - Ib) * (L2 - E2 * Ia))
+    else:
+        m = (Ic - Ib) * (L2 - E2 * Ia) / ((Ib - Ia) * (E2 * Ic - L2))
+    return 1 - m
+
+
+@pytest.mark.parametrize("I, w", [
+    ((0.4, 1.1, 1.3), (1e-7, 3.0, 1e-7)),       # pushed along the separatrix's own direction
+    ((0.4, 1.1, 1.3), (0.3, 5.0, 0.2)),
+    ((3.0, 4.0, 6.0), (2.0, 1.0, 1.0 + 2**-40)),  # next to an exact separatrix, either side
+    ((3.0, 4.0, 6.0), (2.0, 1.0, 1.0 - 2**-40)),
+    ((0.3, 0.4, 0.6), (2.0, 1.0, 1.0)),          # 0.3, 0.4, 0.6 are not 3:4:6 as doubles
+    ((2.0, 1.0, 3.0), (1e-140, 1.0, 3e-141)),
+])
+def test_one_motion_m1_is_correctly_rounded(I, w):
+    ref = _m1_mp(I, w)
+    assert R.orbit(I, w).m1 == float(ref)
+    assert float(np.asarray(R.orbit(I, np.array(w)).m1)) == float(ref)
+    assert R.motion(I, w).m1 == float(ref)
+
+
+def test_a_separatrix_is_exact_however_the_moments_are_scaled():
+    # 2 E I2 = L^2 exactly for moments 3, 4, 6 and omega 2, 1, 1; scaled by the largest moment
+    # (4/6 is not a double) this was 'periodic' with a period of 99 s from rounding
+    for scale in (1.0, 1 / 3, 1e-7, 7.0):
+        I = tuple(v * scale for v in (3.0, 4.0, 6.0))
+        if (I[0] * (I[0] - I[1]) * 4 + I[2] * (I[2] - I[1])) != 0:
+            continue  # the scaling itself rounded: no longer on the separatrix
+        mo = R.motion(I, (2.0, 1.0, 1.0))
+        assert mo.kind == "separatrix" and mo.m1 == 0 and mo.period == math.inf
+        assert R.orbit(I, np.array([2.0, 1.0, 1.0])).separatrix
+
+
+def test_a_perturbation_below_the_double_range_is_refused_not_a_separatrix():
+    # m1 ~ 1e-400 would round to 0 and pass for the separatrix (one flip, never back), where
+    # the body flips every 38 s: a one-line error instead, for one motion and for many
+    for w in [(1e-200, 40.0, 0.0), (0.0, 40.0, 1e-320), (1e-160, 40.0, 1e-160)]:
+        with pytest.raises(ValueError, match="too close to the middle axis"):
+            R.motion((1.0, 2.0, 3.0), w)
+        with pytest.raises(ValueError, match="too close to the middle axis"):
+            R.orbit((1.0, 2.0, 3.0), np.array([w, (0.1, 1.0, 0.2)]))
+    assert R.motion((1.0, 2.0, 3.0), (0.0, 40.0, 0.0)).kind == "steady"  # on the axis: exact
+    mo = R.motion((1.0, 2.0, 3.0), (1e-140, 40.0, 1e-140))
+    assert mo.kind == "periodic" and mo.half_period == pytest.approx(mo.flip_asymptote, rel=1e-12)
 
 
 def test_huge_and_tiny_spins_scale():
@@ -592,6 +649,28 @@ def test_catch_at_time_zero_is_the_start_face():
         code = R.catch((1, 2, 3), (1, 0.8, 0.5), np.array([[3.0, 4.0, 5.0]]), np.array([0.0]),
                        q)
         assert R.FACES[int(code[0])] == face
+
+
+def test_catch_at_time_zero_needs_no_motion():
+    # a spin whose motion cannot be followed (1e-303 of the spin off the middle axis) caught
+    # at once: the start face, no error; caught later: refused
+    w = np.array([[-4e5, 1e308, 3.0], [1.0, 2.0, 3.0]])
+    q = R.start_quaternion("-2")
+    codes = R.catch((1.0, 2.0, 3.0), (1, 1, 1), w, np.array([0.0, 0.0]), q)
+    assert [R.FACES[int(c)] for c in codes] == ["-2", "-2"]
+    with pytest.raises(ValueError, match="middle axis"):
+        R.catch((1.0, 2.0, 3.0), (1, 1, 1), w, np.array([1e-297, 0.0]), q)
+
+
+def test_omega_at_time_zero_is_the_launch_value_exactly():
+    for I, w in [((1.0, 2.0, 3.0), (0.4, 40.0, 0.3)), ((235.0, 155.0, 30.0), (0.4, 0.3, 40.0)),
+                 ((0.4, 1.1, 1.3), (-1e-7, 3.0, 1e-7)), ((1.0, 2.0, 3.0), (2.0, -1.0, 0.5))]:
+        o = R.orbit(I, np.array(w))
+        got = R.omega_at(o, np.array([0.0, 1e-3, 0.0]))
+        assert got[0].tolist() == list(w) and got[2].tolist() == list(w)
+        assert np.abs(got[1] - np.array(w)).max() < 1e-3 * np.abs(w).max() * 50
+        many = R.orbit(I, np.array([w, w]))
+        assert R.omega_at(many, 0.0).tolist() == [list(w), list(w)]
 
 
 def test_catch_refuses_a_phase_beyond_the_limit():

@@ -592,3 +592,21 @@ def test_csv_counts_past_2_53_name_their_line_and_column():
         stats.parse_experiments("xi,heads,sides,tails\n0.5,9007199254740993,1,1\n")
     with pytest.raises(ValueError, match=r"got '9{37}\.\.\.'"):
         stats.parse_experiments("xi,heads,sides,tails\n0.5," + "9" * 5000 + ",1,1\n")
+
+
+def _percent_by_decimal(level: float) -> str:
+    from decimal import Decimal
+
+    d = (Decimal(repr(float(level))) * 100).normalize()
+    return (format(d, "f") if d.adjusted() >= -6 else format(d, "e")) + "%"
+
+
+@given(st.one_of(st.floats(0.0, 1.0), st.floats(0.0, 1e308),
+                 st.sampled_from([0.95, 0.9999999999999999, 1e-300, 5e-324, 1e-8, 1e-9, 0.0,
+                                  1.0, 0.999, 1e22, 123.456]),
+                 st.builds(round, st.floats(0.0, 1.0), st.integers(0, 9))))
+@settings(max_examples=500, deadline=None)
+def test_percent_is_the_exact_decimal_product(level):
+    """percent() shifts the repr's digits as text (no decimal import at start-up); it says
+    exactly what the decimal module's exact product by 100 says."""
+    assert stats.percent(level) == _percent_by_decimal(level)

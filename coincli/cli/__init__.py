@@ -17,7 +17,34 @@ import typer
 from coincli import __version__
 from coincli.cli._common import CoinError, ExitCode
 
-app = typer.Typer(
+class _Loaded:
+    """An attribute of :class:`_App` that imports every command module on its first read."""
+
+    def __set_name__(self, owner, name):
+        self.slot = f"_{name}"
+
+    def __get__(self, obj, owner=None):
+        if obj is None:
+            return self
+        if not obj._complete:
+            _load(COMMAND_MODULES)
+        return getattr(obj, self.slot)
+
+    def __set__(self, obj, value):
+        setattr(obj, self.slot, value)
+
+
+class _App(typer.Typer):
+    """The root :class:`typer.Typer`, whose command modules are imported when its commands are
+    first read (help, completion, ``typer.main.get_command(app)``), not when ``coin`` starts: a
+    run imports only the module of the command it runs (:func:`_click_command`)."""
+
+    _complete = False  #: every command module imported
+    registered_commands = _Loaded()
+    registered_groups = _Loaded()
+
+
+app = _App(
     name="coin",
     help="Design thick coins: the chances of heads, sides and tails of a tossed cylinder "
     "(Yong & Mahadevan).  Example: coin design --p-sides 1/3",
@@ -49,15 +76,43 @@ def _root(
         os.environ["COIN_TRACEBACK"] = "1"
 
 
-# Command modules register themselves on import.  Keep their top level free of numpy/scipy/rich.
-from coincli.cli import design as _design  # noqa: E402,F401
+# Command modules register their commands on ``app`` when imported, in this order (the order of
+# the root's help).  Keep their top level free of numpy/scipy/rich.
+COMMAND_MODULES = ("design", "toss", "check", "plot", "methods", "book")
 
-for _name in ("toss", "check", "plot", "methods", "book"):
+#: the module that registers each command: a run imports that one alone.  Only a shortcut: a
+#: name missing here, or registered elsewhere, is found by importing every module.
+COMMAND_MODULE = {"design": "design", "table": "design", "stack": "design", "coins": "design",
+                  "fair": "design", "toss": "toss", "simulate": "toss", "phase": "toss",
+                  "check": "check", "fit": "check", "plot": "plot", "book": "book"}
+
+
+def _load(modules) -> None:
+    """Import command ``modules`` (names under ``coincli.cli``); all of them completes ``app``,
+    its commands then in the order of :data:`COMMAND_MODULES` whatever was imported first."""
+    complete = tuple(modules) == COMMAND_MODULES
+    saved, app._complete = app._complete, True  # the modules' decorators append, not load
     try:
-        __import__(f"coincli.cli.{_name}")
-    except ModuleNotFoundError as _exc:  # a command module not written yet
-        if _exc.name != f"coincli.cli.{_name}":
-            raise
+        for name in modules:
+            try:
+                __import__(f"coincli.cli.{name}")
+            except ModuleNotFoundError as exc:  # a command module not written yet
+                if exc.name != f"coincli.cli.{name}":
+                    raise
+    finally:
+        app._complete = saved or complete
+    if complete:
+        rank = {f"coincli.cli.{m}": k for k, m in enumerate(COMMAND_MODULES)}
+
+        def order(info):
+            fn = info.callback if hasattr(info, "callback") and info.callback else None
+            if fn is None and getattr(info, "typer_instance", None) is not None:
+                fn = info.typer_instance.registered_callback
+                fn = fn.callback if fn is not None else None
+            return rank.get(getattr(fn, "__module__", ""), len(rank))
+
+        app._registered_commands.sort(key=order)
+        app._registered_groups.sort(key=order)
 
 
 def _fail(message: str, code: int) -> int:
@@ -224,23 +279,102 @@ def _click_command(argv):
     """The click command for ``argv``: the root group holding only the subcommand named.
 
     Turning a typer app into click commands inspects every parameter of every command (about
-    10 ms for all of them, a fifth of a closed-form run); a run needs one.  The whole tree is
-    built for help at the root, an unknown name (click then suggests one) and shell completion.
+    10 ms for all of them, a fifth of a closed-form run); a run needs one.  Help at the root and
+    an unknown name (click then suggests one) need only each command's name and help: they get
+    a listing (:func:`_listing`).  Shell completion builds the whole tree.
     """
     import copy
 
     name = next((a for a in argv if not a.startswith("-")), None)
     before = argv[: argv.index(name)] if name is not None else argv
     if name is None or any(a in ("-h", "--help") for a in before):
-        return _prepare(typer.main.get_command(app))
-    commands = [c for c in app.registered_commands
-                if (c.name or typer.main.get_command_name(c.callback.__name__)) == name]
-    groups = [g for g in app.registered_groups if g.name == name]
-    if not commands and not groups:
-        return _prepare(typer.main.get_command(app))
+        return _prepare(typer.main.get_command(_listing(app)))
+    if name in COMMAND_MODULE:
+        _load([COMMAND_MODULE[name]])
+    commands = [c for c in app._registered_commands if _command_name(c) == name]
+    groups = [g for g in app._registered_groups if g.name == name]
+    if not commands and not groups:  # not in the map: look in every module
+        commands = [c for c in app.registered_commands if _command_name(c) == name]
+        groups = [g for g in app.registered_groups if g.name == name]
+    if not commands and not groups:  # an unknown name: click says so, suggesting one
+        return _prepare(typer.main.get_command(_listing(app)))
     lean = copy.copy(app)
+    lean._complete = True
     lean.registered_commands, lean.registered_groups = commands, groups
+    _resolve_annotations(lean)
     return _prepare(typer.main.get_command(lean))
+
+
+def _resolve_annotations(typer_app) -> None:
+    """Look up the string annotations (``from __future__ import annotations``) that are plain
+    (dotted) names, like ``FormatOpt`` or ``_options.CoinOpt``, for the callbacks typer is
+    about to inspect.  typer evaluates each annotation twice (``inspect.signature(eval_str=True)``
+    and ``typing.get_type_hints``), compiling its text each time: most of the cost of building
+    a command.  Any other annotation is left to typer (coin's source evaluates no text)."""
+    infos = [*typer_app.registered_commands, typer_app.registered_callback]
+    for group in typer_app.registered_groups:
+        sub = group.typer_instance
+        infos += [*sub.registered_commands, sub.registered_callback, group]
+    for info in infos:
+        fn = getattr(info, "callback", None)
+        ann = getattr(fn, "__annotations__", None)
+        if not ann:
+            continue
+        for name, text in ann.items():
+            if isinstance(text, str):
+                value = _named(text, fn.__globals__)
+                if value is not _NOT_A_NAME:
+                    ann[name] = value
+
+
+_NOT_A_NAME = object()
+
+
+def _named(text: str, namespace: dict):
+    """The object a dotted name ``text`` names in ``namespace``; _NOT_A_NAME otherwise."""
+    parts = text.split(".")
+    if not all(p.isidentifier() for p in parts) or parts[0] not in namespace:
+        return _NOT_A_NAME
+    value = namespace[parts[0]]
+    for attr in parts[1:]:
+        value = getattr(value, attr, _NOT_A_NAME)
+        if value is _NOT_A_NAME:
+            break
+    return value
+
+
+def _command_name(info) -> str:
+    return info.name or typer.main.get_command_name(info.callback.__name__)
+
+
+def _listing(typer_app):
+    """``typer_app`` with every command and group replaced by one without parameters: the same
+    name, help, short help and flags, so the root's help and click's suggestions read exactly as
+    from the whole tree, without turning every command's parameters into click options (about
+    two thirds of the time of ``coin --help``)."""
+    import copy
+    import inspect
+
+    def no_parameters():  # pragma: no cover - a listing is never invoked
+        raise AssertionError("a command listing is only for help")
+
+    commands = []
+    for info in typer_app.registered_commands:
+        stub = copy.copy(info)
+        stub.name = _command_name(info)
+        stub.help = info.help if info.help is not None else inspect.getdoc(info.callback)
+        stub.callback = no_parameters
+        commands.append(stub)
+    groups = []
+    for info in typer_app.registered_groups:
+        stub, sub = copy.copy(info), copy.copy(info.typer_instance)
+        sub.registered_commands, sub.registered_groups = [], []
+        stub.typer_instance = sub
+        groups.append(stub)
+    lean = copy.copy(typer_app)
+    lean._complete = True
+    lean.registered_commands, lean.registered_groups = commands, groups
+    return lean
 
 
 NO_HEADERS_HELP = "With --format csv or tsv: leave out the header line."
@@ -261,6 +395,7 @@ def _prepare(root):
         cmd = stack.pop()
         cmd.rich_markup_mode = None
         cmd.help = _plain_help(cmd.help)
+        cmd.get_short_help_str = _short_help(cmd)
         for p in cmd.params:
             if getattr(p, "help", None):
                 p.help = p.help.replace("\\[", "[")
@@ -281,6 +416,30 @@ def _prepare(root):
 
 
 _METAVARS = {"IntParamType": "N", "IntRange": "N", "FloatParamType": "X", "FloatRange": "X"}
+
+#: a word ending in '.' that does not end a sentence (click's short help stops at the first)
+_ABBREVIATIONS = r"\b(?:Figs?|[Ee]qs?|Secs?|Refs?|Tab|vs|cf|e\.g|i\.e|No)\. (?=\S)"
+
+
+def _short_help(cmd):
+    """``cmd.get_short_help_str`` for a command listing that reads past an abbreviation: the
+    first sentence of 'The pre-images ... (u, omega): Fig. 3 of the paper.' is not '...: Fig.'.
+    """
+    whole = cmd.get_short_help_str
+
+    def short_help(limit: int = 45) -> str:
+        if cmd.short_help or not cmd.help:
+            return whole(limit)
+        import re
+
+        saved = cmd.help  # the abbreviation's blank, a non-blank for click, back after
+        cmd.help = re.sub(_ABBREVIATIONS, lambda m: m.group()[:-1] + "\0", saved)
+        try:
+            return whole(limit).replace("\0", " ")
+        finally:
+            cmd.help = saved
+
+    return short_help
 
 
 def _plain_help(text):

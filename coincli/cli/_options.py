@@ -20,12 +20,13 @@ Commands declare the options with these ``Annotated`` aliases (parameter names `
 from __future__ import annotations
 
 import math
+import sys
 from typing import Annotated
 
 import typer
 
 from coincli import parse
-from coincli.cli._common import usage_error, values_option, values_stream
+from coincli.cli._common import shown, usage_error, values_option, values_stream
 
 __all__ = [
     "XiOpt", "XisOpt", "CoinOpt", "CountOpt", "CountsOpt", "QuartersOpt", "QuartersManyOpt",
@@ -145,7 +146,8 @@ class Coins:
         return name if n == 1 else f"{name} x{n}"
 
 
-def _check_group(xi, coin, count, quarters, diameter, thickness, *, default) -> str:
+def _check_group(xi, coin, count, quarters, diameter, thickness, *, default,
+                 takes_xi: bool = True) -> str:
     """The kind of coin the options give ("xi", "coin", "quarters", "size", or "default"),
     or the one usage error every command gives for a contradiction or a missing part."""
     kinds = []
@@ -175,7 +177,8 @@ def _check_group(xi, coin, count, quarters, diameter, thickness, *, default) -> 
             raise usage_error("--count N stacks a --coin or a --diameter/--thickness coin; --xi "
                               "is already the whole coin's h/D (drop --count)")
     if diameter is not None and thickness is None and xi is None:
-        raise usage_error("--diameter D needs --thickness H (or --xi X) to make a coin")
+        raise usage_error("--diameter D needs --thickness H" + (" (or --xi X)" if takes_xi else "")
+                          + " to make a coin")
     if thickness is not None and diameter is None:
         raise usage_error("--thickness H needs --diameter D to make a coin")
     if not kinds:
@@ -252,7 +255,7 @@ def resolve_coin(xi: str | None = None, coin: str | None = None, count: str | No
                  default: str | None = None, required: bool = True, xi_rule: str = "finite",
                  need_size: bool = False, need_count: bool = True,
                  max_values: int | None = None, command: str = "this command",
-                 stream: bool = False) -> Coins | None:
+                 stream: bool = False, takes_xi: bool = True) -> Coins | None:
     """The coin(s) given by the options of the coin group, or the one-line usage error.
 
     ``many``: ``--xi``, ``--count`` and ``--quarters`` take lists, ranges and ``-`` (stdin).
@@ -265,9 +268,11 @@ def resolve_coin(xi: str | None = None, coin: str | None = None, count: str | No
     ``max_values``: the most coins a list, range or stdin may give (``coin plot``'s marks).
     ``stream`` (with ``many``): several ``--xi`` values, or several counts, come back as a
     :class:`coincli.cli._common.Values` (``xis`` None for counts), read and checked whole but
-    held in chunks, for a command that computes a chunk at a time.
+    held in chunks, for a command that computes a chunk at a time.  ``takes_xi``: False for a
+    command that refuses --xi itself (``coin stack``): its errors then never suggest one.
     """
-    kind = _check_group(xi, coin, count, quarters, diameter, thickness, default=default)
+    kind = _check_group(xi, coin, count, quarters, diameter, thickness, default=default,
+                        takes_xi=takes_xi)
     if kind == "none":
         if required:
             raise usage_error(f"give a coin: {COIN_FORMS}")
@@ -392,6 +397,16 @@ def seed_value(text: str | None) -> int:
     return _one(text, "--seed", parse.parse_seed)
 
 
+def report_seed(seed: int, given: bool) -> None:
+    """A drawn seed on stderr, where the output itself has no room for it (``-q``,
+    ``--stream``): every random result can be repeated.  A seed the user gave is not repeated."""
+    if not given:
+        try:
+            sys.stderr.write(f"coin: seed {seed} (--seed {seed} repeats this run)\n")
+        except (OSError, ValueError):
+            pass
+
+
 # --------------------------------------------------------------------------- psi
 
 PsiOpt = Annotated[
@@ -426,9 +441,29 @@ def _deg_item(text: str, what: str) -> float:
     return v + 0.0
 
 
+PSI_AND_DIST = "give --psi DEG (a fixed angle) or --psi-dist SPEC (a distribution), not both"
+
+
+def refuse_psi_and_dist(psi, psi_dist) -> None:
+    """The one usage error for --psi and --psi-dist given together."""
+    if psi is not None and psi_dist is not None:
+        raise usage_error(PSI_AND_DIST)
+
+
+def _a_list(text: str) -> bool:
+    return any(c in text for c in ",:") and str(text).strip() != "-"
+
+
 def psi_angle(text: str, what: str = "--psi") -> float:
-    """One angle in degrees, in [0, 180]."""
-    return _one(text, what, _deg_item)
+    """One angle in degrees, in [0, 180]; a list or range is refused as such (a command that
+    takes many uses :func:`psi_angles`)."""
+    try:
+        return _deg_item(text, what)
+    except ValueError as exc:
+        if _a_list(text):
+            raise usage_error(f"{what} takes one angle here (degrees, 0 to 180), not a list or "
+                              f"range; got {shown(text)}") from None
+        raise usage_error(str(exc)) from None
 
 
 def psi_angles(text: str, what: str = "--psi", *, max_rows: int = parse.MAX_ROWS) -> list[float]:
@@ -451,6 +486,9 @@ def psi_density(spec: str, what: str = "--psi-dist"):
     try:
         return parse_density(spec)
     except ValueError as exc:
+        if "," in spec and not spec.strip().lower().startswith("table:"):
+            raise usage_error(f"{what} takes one density here, not a list; got {shown(spec)} "
+                              "(give one SPEC, e.g. normal:90:18)") from None
         raise usage_error(f"{what}: {exc}") from None
 
 

@@ -19,8 +19,8 @@ import typer
 
 from coincli import parse
 from coincli.cli import app
-from coincli.cli._options import SeedOpt, TossesOpt, seed_value, tosses_value
 from coincli.cli._common import (
+    CHUNK_ROWS,
     Column,
     FormatOpt,
     QuietOpt,
@@ -32,6 +32,7 @@ from coincli.cli._common import (
     usage_error,
     values_option,
 )
+from coincli.cli._options import SeedOpt, TossesOpt, report_seed, seed_value, tosses_value
 
 MAX_TOSSES = 10**7  # tosses of one --toss run (a box costs ~10 coins: elliptic integrals)
 MAX_PHASE = 1e12  # coincli.rigid.MAX_PHASE
@@ -55,15 +56,22 @@ def _usage(fn, *args, **kwargs):
 # --------------------------------------------------------------------------- parsing
 
 
-def _time_value(text: str, what: str) -> float:
-    """A time in s, with an optional unit (``0.5``, ``0.5s``, ``500ms``)."""
+def _time_seconds(text: str, what: str) -> float:
+    """A time in s, with an optional unit (``0.5``, ``0.5s``, ``500ms``); ValueError if not."""
     num, unit = parse.split_unit(text, _TIME_UNITS)
     try:
-        v = parse.parse_number(num, what) * _TIME_UNITS[unit or "s"]
+        return parse.parse_number(num, what) * _TIME_UNITS[unit or "s"]
     except ValueError:
-        raise usage_error(f"{what} must be a time with an optional unit (s, the default; ms), "
-                          f"got {text!r}") from None
-    return v
+        raise ValueError(f"{what} must be a time with an optional unit (s, the default; ms), "
+                         f"got {text!r}") from None
+
+
+def _time_value(text: str, what: str) -> float:
+    """:func:`_time_seconds`, or the one-line usage error."""
+    try:
+        return _time_seconds(text, what)
+    except ValueError as exc:
+        raise usage_error(str(exc)) from None
 
 
 def _spin_value(text: str, what: str) -> float:
@@ -79,9 +87,11 @@ def _spin_value(text: str, what: str) -> float:
                           f"default; rev/s, rpm, deg/s), got {text!r}") from None
 
 
-def _dist(text: str, what: str, number, default: str, lo: float):
+def _dist(text: str, what: str, number, default: str, lo: float, units, example: str):
     """A value or a distribution ``normal:MEAN:SD`` / ``uniform:LOW:HIGH`` (``fixed:V``) whose
-    numbers may carry units; returned as a :class:`coincli.toss.Dist` in the default unit."""
+    numbers may carry units: one after every number, or once at the end for all of them
+    (``normal:6:1rev/s``, as ``coin simulate --omega`` reads it); returned as a
+    :class:`coincli.toss.Dist` in the default unit."""
     from coincli import toss as T
 
     parts = [p.strip() for p in text.split(":")]
@@ -90,7 +100,15 @@ def _dist(text: str, what: str, number, default: str, lo: float):
         if head not in _DIST_KINDS:
             raise usage_error(f"{what}: unknown distribution {text!r}; expected a value, "
                               "normal:MEAN:SD or uniform:LOW:HIGH")
-        nums = [number(p, what) for p in parts[1:]]
+        nums = parts[1:]
+        has = [parse.split_unit(p, units)[1] is not None for p in nums]
+        if any(has) and not all(has):
+            if not has[-1] or any(has[:-1]):  # a unit on some numbers only: ambiguous
+                raise usage_error(f"{what}: give the unit once at the end ({example}) or after "
+                                  f"every number, got {text!r}")
+            unit = parse.split_unit(nums[-1], units)[1]
+            nums = [p + unit for p in nums[:-1]] + nums[-1:]
+        nums = [number(p, what) for p in nums]
         spec = ":".join([head] + [repr(v) for v in nums])
     else:
         if len(parts) != 1:
@@ -138,10 +156,63 @@ def _moments(text: str) -> tuple[float, float, float]:
 
 
 def _time_item(text: str, what: str) -> float:
-    v = _time_value(text, what)
+    v = _time_seconds(text, what)  # ValueError: a stdin batch names the line
     if not v >= 0:
         raise ValueError(f"{what} must be a time >= 0 s, got {text!r}")
     return v
+
+
+def _typed(text: str, units, unit: str) -> str:
+    """A value or distribution as typed, with the default unit appended when it has none."""
+    t = text.strip()
+    return t if parse.split_unit(t.split(":")[-1], units)[1] is not None else f"{t} {unit}"
+
+
+def _times(text: str):
+    """--times: a value, a list, a range or - (coincli.cli._common.values_option), each time
+    with an optional unit; a range takes its unit once at the end (``0:500:100ms``, as
+    ``coin simulate --omega 38:40:1rev/s`` does) or the same unit after every number."""
+    t = text.strip()
+    if ":" in t:
+        parts = [p.strip() for p in t.split(":")]
+        split = [parse.split_unit(p, _TIME_UNITS) for p in parts]
+        units = [u for _, u in split]
+        if any(units):
+            unit = units[-1]
+            if unit is None or (any(units[:-1]) and set(units) != {unit}):
+                raise usage_error(f"--times: give a range's unit once at the end (0:500:100ms) "
+                                  f"or the same after every number, got {text!r}")
+            head = ":".join(num for num, _ in split)
+            return _time_range(head, _TIME_UNITS[unit], text)
+        return _time_range(t, 1.0, text)
+    return values_option(t, "--times", _time_item)
+
+
+def _time_range(head: str, factor: float, text: str):
+    """A range of times as an array, the values coincli.parse.parse_values gives (``start +
+    k*step``, the last held to ``stop``; whole numbers as integers), times the unit's factor,
+    computed at once rather than parsed back one by one (10^6 times: 0.05 s, not 7 s)."""
+    import numpy as np
+
+    try:
+        start, stop, step, count, whole = parse.parse_range(head, "--times")
+    except ValueError as exc:
+        raise usage_error(str(exc)) from None
+    if whole:
+        parts = head.split(":")
+        a, d = int(parts[0]), int(parts[2])
+        if abs(a) + abs(d) * count < 2**53:  # exact in doubles
+            vals = a + d * np.arange(count, dtype=float)
+        else:
+            vals = np.array([float(a + d * k) for k in range(count)])
+    else:
+        vals = start + np.arange(count) * step
+        vals[-1] = min(vals[-1], stop)
+    if factor != 1.0:
+        vals = vals * factor
+    if not (np.all(np.isfinite(vals)) and vals[0] >= 0):
+        raise usage_error(f"--times must be times >= 0 s, got {text.strip()!r}")
+    return vals
 
 
 def _reach(dist) -> float:
@@ -199,22 +270,35 @@ def _emit(result: Result, fmt: str, quiet: bool, out: str | None) -> None:
         return
     import io
 
-    buf = io.StringIO()
-    emit(result, fmt, quiet, out=buf)
-    size = _write(out, buf.getvalue().encode("utf-8"))
+    def write(fh):  # streamed into the temporary file (a long --times never sits in memory)
+        text = io.TextIOWrapper(fh, encoding="utf-8", newline="", write_through=False)
+        emit(result, fmt, quiet, out=text)
+        text.flush()
+        text.detach()
+
+    size = _write(out, write)
     if stderr_is_terminal():
         sys.stderr.write(f"coin: wrote {out} ({size:,} bytes)\n")
 
 
-def _figure(path: str, build) -> None:
-    """Draw and save a figure: coincli.plot.save_figure writes it through write_atomic."""
+def _require_matplotlib() -> None:
+    """A figure file needs matplotlib: exit 1 with the install hint (as coin plot does)."""
     from coincli import plot as P
-    from coincli._files import FileKindError
 
     try:
         P.require_matplotlib()
     except P.MatplotlibMissing as exc:
         raise compute_error(str(exc)) from None
+
+
+def _figure(path: str, build) -> None:
+    """Draw and save a figure: coincli.plot.save_figure writes it through
+    coincli._files.write_atomic (the shared writer of every --out figure), with the errors
+    mapped as coin plot maps them."""
+    from coincli import plot as P
+    from coincli._files import FileKindError
+
+    _require_matplotlib()
     import warnings
 
     with warnings.catch_warnings():
@@ -226,6 +310,10 @@ def _figure(path: str, build) -> None:
             raise usage_error(f"--out: {exc}") from None
         except OSError as exc:
             raise compute_error(f"cannot write {path!r}: {exc.strerror or exc}") from None
+        except MemoryError:
+            raise compute_error(f"not enough memory to draw {path!r}") from None
+        except ValueError as exc:  # the figure itself (FigureTooSmall): nothing was written
+            raise compute_error(f"cannot draw {path!r}: {exc}") from None
     if stderr_is_terminal():
         sys.stderr.write(f"coin: wrote {path} ({size:,} bytes)\n")
 
@@ -245,10 +333,12 @@ def book_cmd(
     spin: Annotated[str | None, typer.Option(
         "--spin", help="Angular velocity at launch about body axes 1, 2, 3: w1,w2,w3 in rad/s "
         "(or with a unit: rev/s, rpm, deg/s).  With --toss each component may be a "
-        "distribution: normal:MEAN:SD or uniform:LOW:HIGH.", metavar="W1,W2,W3")] = None,
+        "distribution: normal:MEAN:SD or uniform:LOW:HIGH (a unit once at the end applies to "
+        "both numbers: normal:6:1rev/s).", metavar="W1,W2,W3")] = None,
     times: Annotated[str | None, typer.Option(
         "--times", help="Times (s) for the time series of omega, the attitude and the face up: "
-        "a list a,b,c, a range START:STOP:STEP, or - for stdin.", metavar="TIMES")] = None,
+        "a list a,b,c, a range START:STOP:STEP, or - for stdin; units s or ms (500ms, "
+        "0:600:100ms).", metavar="TIMES")] = None,
     toss: Annotated[bool, typer.Option(
         "--toss", help="Toss many boxes with random spins and flight times; give the chance of "
         "each face beside the geometric model.")] = False,
@@ -295,6 +385,8 @@ def book_cmd(
     if out is not None and not figure and os.path.splitext(out)[1].lower() in _IMAGES:
         raise usage_error(f"--out: figures are written as .png, .svg or .pdf, got {out!r}")
     _check_out(out)
+    if figure:
+        _require_matplotlib()  # before any computing (10^7 tosses take a minute)
     if not (toss or times is not None or flight is not None or figure):
         for opt, given in (("--start", start), ("--rule", rule)):
             if given is not None:
@@ -326,7 +418,7 @@ def book_cmd(
         return
     tf = None
     if flight is not None:
-        tf = _time_item(flight, "--flight") if ":" not in flight else None
+        tf = _usage(_time_item, flight, "--flight") if ":" not in flight else None
         if tf is None:
             raise usage_error("--flight takes one time (s) without --toss, got "
                               f"{flight!r}")
@@ -357,6 +449,7 @@ def _box(size, moments) -> _Box:
         b.sides = _usage(R.box_sides, b.moments)
         b.label = "moments " + ", ".join(_fmt(v) for v in b.moments)
         b.unit = "as given"
+    _usage(R.check_moments, b.moments)  # before any computing (and any toss)
     return b
 
 
@@ -383,7 +476,7 @@ def _motion(box, w, tf, start, rule, out, fmt, quiet):
 
         _check_phase(max(abs(v) for v in w) * (math.sqrt(3) * tf), "--flight", f"{tf:g} s")
         q0 = _start_quaternion(start)
-        o = R.orbit(box.moments, np.asarray(w, dtype=float))
+        o = _usage(R.orbit, box.moments, np.asarray(w, dtype=float))
         q = R.attitude_at(o, tf, q0)
         face = FACES[int(R.face_up(R.up_vector(q), box.sides, rule))]
     cols, vals = [], []
@@ -401,7 +494,8 @@ def _motion(box, w, tf, start, rule, out, fmt, quiet):
     kind_text = {"rest": "at rest", "steady": "steady spin (omega constant)",
                  "periodic": "periodic", "separatrix": "on the separatrix (one flip, never back)"}
     add("motion", "motion", kind_text[mo.kind], "text")
-    add("spin_axis", "spin axis (nearest L at launch)", ax(mo.spin_axis), "text")
+    add("spin_axis", "spin axis (nearest L at launch)",
+        ax(mo.spin_axis) if mo.kind != "rest" else None, "text")  # at rest there is no L
     add("circulates_about", "omega circulates about axis",
         ax(mo.axis) if mo.kind in ("periodic", "separatrix") else None, "text")
     for i in range(3):
@@ -416,13 +510,14 @@ def _motion(box, w, tf, start, rule, out, fmt, quiet):
     add("period", "period of omega (s)", period)
     add("frequency", "exact frequency 2 pi/period (rad/s)",
         mo.frequency if mo.frequency is not None else (0.0 if period == math.inf else None))
-    osc = mo.gamma_kind == "oscillation"
-    growth = mo.gamma_kind == "growth"
+    osc = mo.gamma_kind == "oscillation" and mo.kind != "rest"
+    growth = mo.gamma_kind == "growth" and mo.kind != "rest"
     add("gamma", "paper's Gamma (rad/s)", mo.gamma if osc else None)
     add("gamma_shift", "exact/Gamma - 1", mo.gamma_shift if osc else None)
     add("gamma_shift_2", "  second-order prediction", mo.gamma_shift_2 if osc else None)
     add("lambda", "growth rate lambda (1/s)", mo.gamma if growth else None)
-    flips = growth and mo.kind in ("periodic", "separatrix", "steady")
+    flips = (growth and mo.kind in ("periodic", "separatrix", "steady")) or \
+        mo.kind == "separatrix"
     add("flip_time", "time between flips (s)",
         (mo.half_period if mo.kind != "steady" else math.inf) if flips else None)
     add("flip_asymptote", "  separatrix asymptote (s)", mo.flip_asymptote if flips else None)
@@ -444,6 +539,11 @@ def _motion_note(mo, box) -> str:
             "Yong & Mahadevan, arXiv:1008.4559, Problem 1.")
     if mo.kind == "rest":
         return base + "  No spin: nothing moves."
+    if mo.kind == "separatrix":
+        return base + ("  Exactly on the separatrix (L^2 = 2 E I, I the middle moment): omega "
+                       "tends to a spin about the middle axis, and the body turns over at most "
+                       "once (the first flip, inf when it was before launch), never back; the "
+                       "period is infinite.")
     if mo.gamma_kind == "oscillation":
         return base + ("  A spin about the largest or the smallest axis is stable: the other two "
                        "components stay bounded and oscillate at nearly Gamma, Gamma^2 = "
@@ -485,8 +585,7 @@ def _series(box, w, times, start, rule, out, figure, fmt, quiet):
         span = _default_span(mo)
         ts = np.linspace(0.0, span, FIGURE_POINTS)
     else:
-        vals = values_option(times, "--times", _time_item)
-        ts = np.asarray(vals, dtype=float)
+        ts = np.asarray(_times(times), dtype=float)
         if ts.size and not (np.all(np.isfinite(ts)) and ts.min() >= 0):
             raise usage_error("--times must be times >= 0 s")
     wmax = max(abs(v) for v in w)
@@ -494,25 +593,36 @@ def _series(box, w, times, start, rule, out, figure, fmt, quiet):
         _check_phase(wmax * (math.sqrt(3) * float(ts.max())), "--times up to",
                      f"{float(ts.max()):g} s")
     q0 = _start_quaternion(start)
-    o = R.orbit(box.moments, np.asarray(w, dtype=float))
-    om = R.omega_at(o, ts)
-    q = R.attitude_at(o, ts, q0)
-    up = R.face_up(R.up_vector(q), box.sides, rule)
+    o = _usage(R.orbit, box.moments, np.asarray(w, dtype=float))
+
+    def block(t):
+        om = R.omega_at(o, t)
+        q = R.attitude_at(o, t, q0)
+        return om, q, R.face_up(R.up_vector(q), box.sides, rule)
+
     if figure:
         from coincli import bookplot
 
+        om, _, up = block(ts)
         _figure(out, lambda: bookplot.omega_figure(ts, om, up, mo, box.label, start, rule))
         return
-    labels = np.array(FACES)[up].tolist()
-    data = [ts.tolist()] + [om[:, i].tolist() for i in range(3)] + \
-        [q[:, i].tolist() for i in range(4)] + [labels]
+    faces = np.array(FACES)
+
+    def chunks():  # computed, formatted and written a block at a time: memory stays flat
+        for i in range(0, ts.size, CHUNK_ROWS):
+            t = ts[i:i + CHUNK_ROWS]
+            om, q, up = block(t)
+            yield [t] + [om[:, k] for k in range(3)] + [q[:, k] for k in range(4)] + \
+                [faces[up].tolist()]
+
     cols = [Column("t", "t (s)", "g10")] + [
         Column(f"omega{i + 1}", f"omega{i + 1} (rad/s)", "g10") for i in range(3)] + [
         Column(f"q{c}", f"q{c}", "g10") for c in "wxyz"] + [Column("up", "face up", "text")]
     note = (f"{box.label}; spin {', '.join(_fmt(v) for v in w)} rad/s at launch, face {start} "
             f"up; attitude as a unit quaternion (w, x, y, z), w >= 0, turning body axes into the "
             f"lab's (z up); face up by the {rule} rule.")
-    _emit(Result("coin book --times", cols, [], note, quiet=labels, data=data), fmt, quiet, out)
+    _emit(Result("coin book --times", cols, [], note, quiet=len(cols) - 1, chunks=chunks()),
+          fmt, quiet, out)
 
 
 def _default_span(mo) -> float:
@@ -536,10 +646,12 @@ def _toss(box, spin, n, seed, flight, start, rule, out, figure, fmt, quiet):
     count = tosses_value("10000" if n is None else n, high=MAX_TOSSES)
     seed_v = seed_value(seed)
     comps = _three(spin, "--spin")
-    dists = [_dist(p, f"--spin component {k}", _spin_value, "rad/s", -math.inf)
+    dists = [_dist(p, f"--spin component {k}", _spin_value, "rad/s", -math.inf,
+                   parse.SPIN_UNITS, "normal:6:1rev/s")
              for k, p in enumerate(comps, start=1)]
     flight_text = "0.5" if flight is None else flight
-    fd = _dist(flight_text, "--flight", _time_value, "s", 0.0)
+    fd = _dist(flight_text, "--flight", _time_value, "s", 0.0, _TIME_UNITS,
+               "normal:500:50ms")
     # every toss must be one the core can follow, checked at the top of the distributions
     wtop = max(_reach(d) for d in dists)  # |omega| <= sqrt(3) times this, as the core checks
     ttop = _reach(fd)
@@ -555,8 +667,16 @@ def _toss(box, spin, n, seed, flight, start, rule, out, figure, fmt, quiet):
     counts = np.zeros(6, dtype=np.int64)
     with _progress(count) as tick:
         done = 0
-        for codes in R.toss_chunks(count, seed_v, moments=box.moments, sides=box.sides,
-                                   spin=dists, flight=fd, start=start, rule=rule):
+        chunks = R.toss_chunks(count, seed_v, moments=box.moments, sides=box.sides, spin=dists,
+                               flight=fd, start=start, rule=rule)
+        while True:
+            try:  # a motion the core cannot follow is the input's fault: nothing is printed
+                codes = next(chunks, None)
+            except ValueError as exc:
+                raise usage_error(f"toss {done + 1} to {min(done + R._CHUNK, count)}: "
+                                  f"{exc}") from None
+            if codes is None:
+                break
             counts += np.bincount(codes, minlength=6)
             done += codes.size
             tick(done)
@@ -574,8 +694,9 @@ def _toss(box, spin, n, seed, flight, start, rule, out, figure, fmt, quiet):
         Column("geometric", "geometric"), Column("difference", "freq - geometric"),
         Column("seed", "seed", "int"),
     ]
-    fl = "0.5 s (default)" if flight is None else f"{flight.strip()} s"
-    note = (f"{count} tosses, seed {seed_v}: {box.label}; spin ~ ({', '.join(comps)}) rad/s "
+    fl = "0.5 s (default)" if flight is None else _typed(flight, _TIME_UNITS, "s")
+    spins = ", ".join(_typed(c, parse.SPIN_UNITS, "rad/s") for c in comps)
+    note = (f"{count} tosses, seed {seed_v}: {box.label}; spin ~ ({spins}) "
             f"about body axes 1, 2, 3; flight {fl}; face {start} up at launch; {rule} rule.  "
             "95% Wilson intervals.  Geometric: every orientation equally likely (each face's "
             + ("solid angle from the centre / 4 pi)." if rule == "centre" else "1/6).")
@@ -588,3 +709,5 @@ def _toss(box, spin, n, seed, flight, start, rule, out, figure, fmt, quiet):
         _figure(out, lambda: bookplot.faces_figure(rows, box.label, count, seed_v, rule))
         return
     _emit(result, fmt, quiet, out)
+    if quiet:  # the note that names the seed is not shown
+        report_seed(seed_v, seed is not None)

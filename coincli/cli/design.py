@@ -84,9 +84,7 @@ def choose_model(model: str | None, psi: str | None, psi_dist: str | None) -> Mo
     m = (model or "").strip().lower()
     if m not in ("", "geometric", "dynamic", "psi"):
         raise usage_error(f"--model must be geometric, dynamic or psi; got {model!r}")
-    if psi is not None and psi_dist is not None:
-        raise usage_error("give either --psi (a fixed angle) or --psi-dist (a distribution), "
-                          "not both")
+    _options.refuse_psi_and_dist(psi, psi_dist)
     if m in ("geometric", "dynamic") and (psi is not None or psi_dist is not None):
         raise usage_error(f"--model {m} takes no --psi or --psi-dist; use --model psi")
     if psi is not None:
@@ -462,6 +460,12 @@ def table(
             extra.append(ModelSpec.psi_density(d))
     acc = _accuracy.parse(tol, method, seed)
     _accuracy.require_density(acc, bool(dens))
+    _table_rows(coins, extra, acc, fmt, quiet)
+    if quiet and acc is not None and acc.sampling:  # the note that names the seed is not shown
+        _options.report_seed(acc.seed, seed is not None)
+
+
+def _table_rows(coins, extra, acc, fmt: str, quiet: bool) -> None:
     models_ = (GEOMETRIC, DYNAMIC, *extra)
     many = coins.counts if isinstance(coins.counts, Values) else coins.xis
     if isinstance(many, Values) and len(many) > 1 and acc is None:
@@ -621,7 +625,7 @@ def stack(
                           "table --xi X)")
     coins = _options.resolve_coin(None, coin, count, quarters, diameter, thickness, many=True,
                                   default="quarter", need_count=False, command="coin stack",
-                                  stream=True)
+                                  stream=True, takes_xi=False)
     c = coins.unit
     if quarters is not None:
         count = quarters

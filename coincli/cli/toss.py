@@ -164,13 +164,7 @@ def _got(*, xi, u, omega, g, diameter, z0=None):
             "z0": None if z0 is None else _mm(z0)}
 
 
-def _report_seed(seed: int, given: bool) -> None:
-    """A drawn seed on stderr, where the output itself has no room for it (-q, --stream)."""
-    if not given:
-        try:
-            sys.stderr.write(f"coin: seed {seed} (--seed {seed} repeats this run)\n")
-        except (OSError, ValueError):
-            pass
+_report_seed = _options.report_seed  # a drawn seed on stderr (-q, --stream)
 
 
 # --------------------------------------------------------------------------- units
