@@ -142,6 +142,7 @@ SLIP_TOL = 2e-3  #: m/s: a contact point moving slower than this does not slip (
 ROLLING_XI_MIN = 0.3
 _ZOOM = 32  #: cells a cell of the flight scan is cut into when it may hold a contact
 BLOCK = 256  #: tosses per random block: the seed of block k is (seed, k), whatever the workers
+CHUNK = 16  #: tosses a worker simulates between progress reports (a fraction of a second)
 
 
 class PhysicsMissing(RuntimeError):
@@ -271,6 +272,63 @@ def inertia(coin: Coin):
     a, h = coin.a, 2 * coin.hh
     m = coin.density * math.pi * a * a * h
     return m, m * (a * a / 4 + h * h / 12), m * a * a / 2
+
+
+MJ_MINVAL = 1e-15  #: MuJoCo's mjMINVAL: a moving body's mass and inertia must be above it
+ENGINE_SMALLEST = 10 * MJ_MINVAL  #: the smallest mass (kg) and inertia (kg m^2) simulated
+TRIANGLE_MARGIN = 1e-12  #: (2 I1 - I3) / I3 at least this: MuJoCo's A + B >= C, with room
+
+
+def smallest_xi(diameter: float, density: float = DEFAULT_DENSITY) -> float:
+    """The smallest aspect ratio whose coin (``diameter`` m, ``density``) MuJoCo can simulate:
+    mass and both moments of inertia at least :data:`ENGINE_SMALLEST` (ten times mjMINVAL), and
+    the moments clear of MuJoCo's triangle inequality by :data:`TRIANGLE_MARGIN` (xi >= 8.7e-7).
+    All three grow with xi; ``inf`` when even xi = 100 is too light (a tiny diameter)."""
+    def light(xi):
+        c = Coin(xi, diameter, density)
+        h2, a2 = (2 * c.hh) ** 2, c.a * c.a
+        # MuJoCo also refuses I1 + I1 < I3, which a thin disc meets only by I1 + I1 - I3 =
+        # m h^2/6: keep that a relative TRIANGLE_MARGIN of I3 = m a^2/2 (not lost to rounding)
+        return min(inertia(c)) < ENGINE_SMALLEST or h2 / 6 < TRIANGLE_MARGIN * a2 / 2
+
+    if light(100.0):
+        return math.inf
+    lo, hi = 1e-300, 100.0
+    if not light(lo):
+        return lo
+    for _ in range(200):  # bisection in log xi to a relative 1e-12
+        mid = math.sqrt(lo * hi)
+        if light(mid):
+            lo = mid
+        else:
+            hi = mid
+        if hi / lo < 1 + 1e-12:
+            break
+    return hi
+
+
+def smallest_diameter(density: float = DEFAULT_DENSITY) -> float:
+    """The smallest diameter (m) MuJoCo can simulate at some xi up to 100 (at xi = 100)."""
+    lo, hi = 1e-4, 10.0
+    for _ in range(200):
+        mid = math.sqrt(lo * hi)
+        if smallest_xi(mid, density) > 100.0:
+            lo = mid
+        else:
+            hi = mid
+        if hi / lo < 1 + 1e-12:
+            break
+    return hi
+
+
+def round_up(v: float, digits: int = 3) -> float:
+    """``v`` to ``digits`` significant digits, rounded up (a stated lower limit that is
+    itself allowed)."""
+    if not math.isfinite(v) or v <= 0:
+        return v
+    e = math.floor(math.log10(v)) - digits + 1
+    r = math.ceil(v / 10.0**e) * 10.0**e
+    return float(f"{r:.{digits}g}") if float(f"{r:.{digits}g}") >= v else r
 
 
 # --------------------------------------------------------------------------- the launch
@@ -463,6 +521,10 @@ def _stiffness(dt):
 
 
 def _model(coin, surf, dt, b, g):
+    lo = smallest_xi(coin.diameter, coin.density)
+    if not coin.xi >= lo:
+        raise ValueError(f"xi must be at least {round_up(lo):g} for a {coin.diameter:g} m coin "
+                         f"(MuJoCo's smallest mass and inertia), got {coin.xi:g}")
     mujoco = require_mujoco()
     m = mujoco.MjModel.from_xml_string(_mjcf(coin, surf, dt, _stiffness(dt), b, g))
     return mujoco, m, mujoco.MjData(m)
@@ -856,11 +918,12 @@ class BounceSimulation:
 _DOMAINS = {"height": (0.0, 100.0), "vx": (0.0, 100.0), "z0": (0.0, 100.0)}
 
 
-def _block_launches(seed, block, count, dists, coin, stream=()):
-    """The launches of block ``block`` of a run: its own generator, seeded ``(seed, block)``, so
-    a toss's conditions do not depend on how blocks are shared among workers.  Draws u, omega,
-    psi (as :func:`coincli.toss.sample_conditions`), then height, horizontal speed, its azimuth,
-    and z0, always a full block."""
+def _block_launches(seed, block, count, dists, coin, stream=(), start=0):
+    """The launches ``start`` to ``count`` of block ``block`` of a run: its own generator,
+    seeded ``(seed, block)``, so a toss's conditions do not depend on how blocks are shared
+    among workers or cut into chunks.  Draws u, omega, psi (as
+    :func:`coincli.toss.sample_conditions`), then height, horizontal speed, its azimuth, and z0,
+    always a full block."""
     import numpy as np
 
     rng = np.random.default_rng([seed, *stream, block])
@@ -868,7 +931,7 @@ def _block_launches(seed, block, count, dists, coin, stream=()):
     extra = {k: dists[k].sample(rng, BLOCK) for k in ("height", "vx", "z0")}
     az = rng.uniform(0.0, 2 * math.pi, BLOCK)
     out = []
-    for i in range(count):
+    for i in range(start, count):
         def pick(v, i=i):
             return float(v if isinstance(v, float) else v[i])
         out.append(Launch(pick(c["u"]), pick(c["omega"]), pick(c["psi"]), pick(extra["z0"]),
@@ -879,22 +942,29 @@ def _block_launches(seed, block, count, dists, coin, stream=()):
 _WORKER: dict = {}
 
 
-def _worker_init(args):
+def _worker_init(args, quiet_sigint=False):
+    if quiet_sigint:  # a worker process: Ctrl-C is the parent's to handle (it ends the pool)
+        import signal
+
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
     coin, surf, dt, g, landing, t_max, flight, damping = args
     _WORKER["engine"] = Engine(coin, surf, dt=dt, g=g, landing=landing, t_max=t_max,
                                flight=flight, damping=damping)
 
 
 def _run_block(job):
-    seed, block, count, dists, stream = job
+    """Tosses ``start`` to ``stop`` of one block (a chunk): ``(k, rows)``, ``k`` the chunk's
+    index.  The first contacts are found for the whole block's launches, then sliced, so that a
+    toss's numbers do not depend on the chunking."""
+    k, (seed, block, start, stop, count, dists, stream) = job
     eng = _WORKER["engine"]
     rows = []
     launches = _block_launches(seed, block, count, dists, eng.coin, stream)
     t_first = eng.first_contacts(launches) if eng.flight == "exact" else [None] * count
-    for launch, t_f in zip(launches, t_first, strict=True):
+    for launch, t_f in zip(launches[start:stop], t_first[start:stop], strict=True):
         r = eng.run(launch, t_contact=t_f)
         rows.append((r.code, r.catch_code, r.bounces, r.t_settle, r.steps))
-    return rows
+    return k, rows
 
 
 def default_jobs():
@@ -908,7 +978,8 @@ def default_jobs():
 def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=0.0, vx=0.0,
              z0=None, diameter=DEFAULT_DIAMETER, density=DEFAULT_DENSITY, g=STANDARD_G,
              dt=DEFAULT_DT, t_max=DEFAULT_T_MAX, jobs=None, level=0.95, flight="exact",
-             progress: Callable[[int], None] | None = None, stream=()) -> BounceSimulation:
+             progress: Callable[[int], None] | None = None, stream=(),
+             chunk=None) -> BounceSimulation:
     """Toss ``n`` coins onto ``surf`` (a :class:`Surface`, default wood) with seeded random
     launches and count the outcomes.
 
@@ -919,6 +990,8 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
     processes (default: every core); block ``k`` of 256 tosses draws from the seed ``(seed, k)``,
     so the counts are the same for any number of workers.  ``stream`` (a tuple of whole numbers)
     names an independent stream of the same seed (:func:`design` uses one per simulated point).
+    Workers take chunks of ``chunk`` tosses (default :data:`CHUNK`) and ``progress(done)`` is
+    called as each completes; the results do not depend on ``chunk`` or ``jobs``.
     """
     import numpy as np
 
@@ -939,31 +1012,48 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
         raise ValueError(f"jobs must be >= 1, got {jobs}")
     damping = calibrate(coin, surf, dt, g)
     args = (coin, surf, dt, g, landing, t_max, flight, damping)
-    nblocks = -(-n // BLOCK)
-    work = [(seed, k, min(BLOCK, n - k * BLOCK), dists, tuple(stream)) for k in range(nblocks)]
-    results = [None] * nblocks
+    chunk = CHUNK if chunk is None else int(chunk)
+    if not 1 <= chunk <= BLOCK:
+        raise ValueError(f"chunk must be from 1 to {BLOCK}, got {chunk}")
+    work = []
+    for b in range(-(-n // BLOCK)):
+        count = min(BLOCK, n - b * BLOCK)
+        for s in range(0, count, chunk):
+            work.append((len(work), (seed, b, s, min(s + chunk, count), count, dists,
+                                     tuple(stream))))
+    results = [None] * len(work)
     done = 0
-    if jobs == 1 or nblocks == 1:
+    if jobs == 1 or len(work) == 1:
         _worker_init(args)
-        for k, job in enumerate(work):
-            results[k] = _run_block(job)
-            done += job[2]
+        for job in work:
+            k, results[k] = _run_block(job)
+            done += len(results[k])
             if progress is not None:
                 progress(done)
     else:
-        import concurrent.futures as cf
         import multiprocessing as mp
 
         ctx = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
-        with cf.ProcessPoolExecutor(max_workers=min(jobs, nblocks), mp_context=ctx,
-                                    initializer=_worker_init, initargs=(args,)) as pool:
-            futures = {pool.submit(_run_block, job): k for k, job in enumerate(work)}
-            for fut in cf.as_completed(futures):
-                k = futures[fut]
-                results[k] = fut.result()
-                done += work[k][2]
+        pool = ctx.Pool(min(jobs, len(work)), initializer=_worker_init, initargs=(args, True))
+        try:
+            it = pool.imap_unordered(_run_block, work)
+            for _ in work:
+                while True:  # a timeout, so that Ctrl-C is seen at once on every platform
+                    try:
+                        k, rows = it.next(timeout=0.2)
+                        break
+                    except mp.TimeoutError:
+                        continue
+                results[k] = rows
+                done += len(rows)
                 if progress is not None:
                     progress(done)
+        except BaseException:  # Ctrl-C or a failed toss: stop the workers now, not after
+            pool.terminate()
+            pool.join()
+            raise
+        pool.close()
+        pool.join()
     rows = np.array([r for block in results for r in block], dtype=float)
     code = rows[:, 0].astype(int)
     catch = rows[:, 1].astype(int)
@@ -1094,6 +1184,7 @@ class Design:
     seed: int
     unsettled: int
     fits: list = field(default_factory=list)  #: per target, the local fit its answer is from
+    first: int = 200  #: tosses at each xi of the first sweep (below DESIGN_FIRST: max_tosses cut it)
 
 
 #: A target's answer comes from the probit fitted to the points within this factor of its
@@ -1124,7 +1215,8 @@ def _local_fit(points: dict, target, est):
 
 
 DESIGN_GRID = (0.1, 0.15, 0.22, 0.33, 0.5, 0.75, 1.1, 1.6, 2.4)  #: first sweep of xi
-DESIGN_FIRST = 200  #: tosses at each xi of the first sweep
+DESIGN_FIRST = 200  #: tosses at each xi of the first sweep (fewer when max_tosses is smaller)
+DESIGN_FIRST_MIN = 20  #: the fewest tosses at each xi of a first sweep cut by max_tosses
 DESIGN_ROUND = 400  #: tosses at each of the three xi added near each target per round
 
 
@@ -1137,7 +1229,9 @@ def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, lev
     :class:`SidesFit` to every point, then for each target again to the points near its answer
     (:func:`_local_fit`; the answer and its interval come from that fit), then adds rounds of
     :data:`DESIGN_ROUND` tosses at 0.93, 1 and 1.07 times each target's estimate until every
-    interval is within ``tol`` of its estimate (both ends), or ``max_tosses`` would be passed,
+    interval is within ``tol`` of its estimate (both ends), or ``max_tosses`` would be passed
+    (never: a ``max_tosses`` below the first sweep's cuts its tosses per xi, to at least
+    :data:`DESIGN_FIRST_MIN`, and stops there),
     or ``time_limit`` seconds (of ``clock``, default
     ``time.monotonic``) have gone by at the end of a round.  Every simulation is seeded
     ``(seed, round, point)``: the result is a function of the seed and the number of rounds, so a
@@ -1167,7 +1261,14 @@ def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, lev
             if progress is not None:
                 progress(tosses, planned)
 
-    run(DESIGN_GRID, DESIGN_FIRST, 0)
+    first = min(DESIGN_FIRST, int(max_tosses) // len(DESIGN_GRID))
+    if first < DESIGN_FIRST_MIN:
+        raise ValueError(f"--max-tosses must be at least {DESIGN_FIRST_MIN * len(DESIGN_GRID)} "
+                         f"with --landing bounce ({DESIGN_FIRST_MIN} tosses at each of the "
+                         f"{len(DESIGN_GRID)} aspect ratios of the first sweep), got "
+                         f"{max_tosses}")
+    planned = len(DESIGN_GRID) * first
+    run(DESIGN_GRID, first, 0)
     rnd = 0
     stopped = "tol"
     while True:
@@ -1182,8 +1283,8 @@ def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, lev
             break
         nxt = sorted({round(x * f, 6) for x in est for f in (0.93, 1.0, 1.07)})
         nxt = [x for x in nxt if 1e-3 <= x <= 100.0]
-        if tosses + len(nxt) * DESIGN_ROUND > max_tosses:
-            stopped = "max_tosses"
+        if first < DESIGN_FIRST or tosses + len(nxt) * DESIGN_ROUND > max_tosses:
+            stopped = "max_tosses"  # a cut first sweep: the cap stopped it, whatever is left
             break
         if clock() - start > time_limit:
             stopped = "time_limit"
@@ -1192,5 +1293,5 @@ def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, lev
         planned = tosses + len(nxt) * DESIGN_ROUND
         run(nxt, DESIGN_ROUND, rnd)
     return Design(targets, est, [lo for lo, _ in ivs], [hi for _, hi in ivs], fit, tosses,
-                  rnd, met, stopped, seed, unsettled, fits)
+                  rnd, met, stopped, seed, unsettled, fits, first)
 

@@ -239,10 +239,16 @@ def test_rolling_rule_changes_no_outcome():
 
 def test_determinism_across_workers():
     kw = dict(xi=0.577, psi=math.pi / 2, surf=B.SURFACES["wood"], **HAND)
-    one = B.simulate(300, 5, jobs=1, **kw)
-    two = B.simulate(300, 5, jobs=2, **kw)
+    one = B.simulate(300, 5, jobs=1, chunk=B.BLOCK, **kw)
+    ticks = []
+    two = B.simulate(300, 5, jobs=2, chunk=7, progress=ticks.append, **kw)
     assert one.counts == two.counts and one.steps == two.steps
-    assert one.mean_bounces == two.mean_bounces
+    assert one.mean_bounces == two.mean_bounces and one.mean_t_settle == two.mean_t_settle
+    # the bar advances chunk by chunk (37 + 7 chunks of at most 7 tosses), not block by block
+    assert len(ticks) == 37 + 7 and ticks == sorted(set(ticks)) and ticks[-1] == 300
+    assert all(0 < b - a <= 7 for a, b in zip([0, *ticks], ticks))
+    with pytest.raises(ValueError, match="chunk must be from 1 to 256"):
+        B.simulate(10, 5, chunk=0, **kw)
 
 
 def test_trajectory_is_recorded():
@@ -330,3 +336,41 @@ def test_design_answers_from_the_points_near_the_target(monkeypatch, curve, targ
     assert abs(r.xi[0] - truth) < 0.01, (r.xi, truth)
     assert r.low[0] <= truth <= r.high[0]
     assert B.fit_sides(r.fit.points).p_value < 1e-3  # the whole-sweep probit misses them
+
+
+@pytest.mark.parametrize("cap", [180, 600, 1799, 1800, 2999, 3000, 5000])
+def test_design_never_passes_max_tosses(monkeypatch, cap):
+    """--max-tosses is a cap: below the first sweep's 9 x 200 tosses the sweep is cut (and
+    design stops there, saying so); never a toss more than the cap."""
+    import numpy as np
+
+    sims = []
+
+    def fake(n, seed, *, xi, stream=(), **kw):
+        sims.append(n)
+        k = int(np.random.default_rng([seed, *stream]).binomial(n, _floor(xi)))
+        return type("R", (), {"settled": n, "counts": (0, k, n - k, 0)})()
+
+    monkeypatch.setattr(B, "simulate", fake)
+    r = B.design([1 / 3], seed=4, tol=1e-4, max_tosses=cap)
+    assert sum(sims) == r.tosses <= cap
+    assert r.first == min(200, cap // 9) and r.stopped_by == "max_tosses" and not r.met
+    if cap < 1800:
+        assert r.rounds == 0 and r.tosses == 9 * (cap // 9)
+    with pytest.raises(ValueError, match="--max-tosses must be at least 180"):
+        B.design([1 / 3], seed=4, max_tosses=179)
+
+
+def test_smallest_xi_is_what_mujoco_builds():
+    """Just above smallest_xi every coin builds (a sweep: the triangle inequality is a
+    rounding matter on thin discs); just below, the engine refuses it in one ValueError."""
+    import numpy as np
+
+    for dia in (B.smallest_diameter(), 1e-3, 0.02426, 3.0):
+        lo = B.smallest_xi(dia)
+        for xi in np.minimum(np.geomspace(lo * (1 + 1e-9), lo * 1e4, 40), 100.0):
+            B._model(B.Coin(float(xi), dia), B.SURFACES["wood"], 1e-4, 1.0, 9.81)
+        with pytest.raises(ValueError, match="xi must be at least"):
+            B._model(B.Coin(lo * 0.999, dia), B.SURFACES["wood"], 1e-4, 1.0, 9.81)
+    assert B.smallest_xi(1e-4) == math.inf
+    assert B.round_up(2.1103e-5) == 2.12e-5 and B.round_up(8.67e-7) == 8.67e-7

@@ -197,3 +197,103 @@ def test_without_mujoco_one_line_says_how_to_install(argv):
     assert p.returncode == 1 and p.stdout == ""
     assert p.stderr.count("\n") == 1 and "pip install 'coincli[physics]'" in p.stderr
     assert "Traceback" not in p.stderr
+
+
+@pytest.mark.parametrize("u", ["50", "100", "1e3", "1e7"])
+def test_bounce_speed_beyond_the_flight_limit_is_refused(coin, u):
+    """A launch at u > g t_max / 2 is still in the air at --t-max: it never reached the surface,
+    so it has no catch outcome (this used to end in an IndexError)."""
+    toss = ["toss", "--xi", "0.577", "--psi", "90", "--u", u, "--omega", "40", "--landing",
+            "bounce", "-q"]
+    error(coin(*toss), 2, "--u must be at most 49.1 m/s", "--t-max 10 s", repr(u))
+    sim = ["simulate", "-n", "10", "--xi", "0.577", "--psi", "90", "--u", u, "--landing",
+           "bounce", "--jobs", "1"]
+    error(coin(*sim), 2, "--u must be at most 49.1 m/s")
+    error(coin("design", "-p", "1/3", "--landing", "bounce", "--u", u), 2, "--u must be at most")
+    # a longer --t-max moves the limit; a lower surface is checked on the exact flight
+    assert ok(coin(*toss[:6], "20", *toss[7:], "--t-max", "30")).strip() in SIDE_NAMES
+    error(coin(*toss[:6], "45", *toss[7:], "--release-height", "100m"), 2, "past --t-max 10 s")
+
+
+SIDE_NAMES = ("heads", "sides", "tails", "unsettled")
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+def test_ctrl_c_ends_a_bounce_simulation_at_once():
+    """SIGINT to `coin simulate --landing bounce` with worker processes: exit 130 with one line
+    within a few seconds, the workers gone (the pool used to wait for every queued block)."""
+    import os
+    import signal
+    import time
+
+    p = subprocess.Popen([sys.executable, "-m", "coincli", "simulate", "-n", "1000", "--seed",
+                          "1", "--xi", "0.577", "--landing", "bounce", "--jobs", "2"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         start_new_session=True)
+    try:
+        time.sleep(2.0)
+        with open(f"/proc/{p.pid}/task/{p.pid}/children") as f:  # the worker processes
+            kids = f.read().split()
+        p.send_signal(signal.SIGINT)
+        out, err = p.communicate(timeout=5)
+    finally:
+        if p.poll() is None:
+            os.killpg(p.pid, signal.SIGKILL)
+            p.wait()
+    assert (p.returncode, out, err) == (130, "", "coin: error: interrupted\n")
+    time.sleep(0.5)
+    assert kids and not [k for k in kids if os.path.exists(f"/proc/{k}")]
+
+
+def test_design_bounce_honours_a_small_max_tosses(coin):
+    out = ok(coin("design", "-p", "1/3", "--landing", "bounce", "--seed", "1", "--max-tosses",
+                  "200", "--tol", "0.5", "--jobs", "2"))
+    assert "198 tosses" in out and "in 1 round." in out
+    assert "--max-tosses 200 cut the first sweep to 22 tosses per aspect ratio, from 200" in out
+    error(coin("design", "-p", "1/3", "--landing", "bounce", "--max-tosses", "100"), 2,
+          "--max-tosses must be at least 180", "got 100")
+
+
+def test_zero_lengths_are_the_defaults_they_name(coin):
+    """--release-height 0 is the default (help: 'Default 0'); --torsional/--rolling 0 are in
+    their stated range 0 to 100 mm.  A negative or unitless-garbage length is still refused."""
+    base = ["simulate", "-n", "10", "--seed", "1", "--xi", "0.577", "--psi", "90", "--landing",
+            "bounce", "--jobs", "1", "-f", "csv"]
+    default = ok(coin(*base))
+    for h in ("0", "0mm", "0.0cm", "0in"):
+        assert ok(coin(*base, "--release-height", h)) == default
+    ok(coin(*base, "--torsional", "0", "--rolling", "0mm"))
+    error(coin(*base, "--release-height", "-3"), 2, "--release-height must be a finite length "
+          ">= 0", "'-3'")
+    error(coin(*base, "--release-height", "0xx"), 2, "--release-height must be a length like")
+
+
+def test_coin_beyond_the_engines_limits_is_refused_naming_the_option(coin):
+    """MuJoCo refuses a body lighter than mjMINVAL or a disc so thin that I1 + I1 >= I3 is lost
+    to rounding (a two-line 'line 7' error used to leak); checked up front, one line naming the
+    option as typed, the smallest allowed value, lengths in mm."""
+    toss = ["toss", "--psi", "90", "--u", "2", "--omega", "40", "--landing", "bounce", "-q"]
+    error(coin(*toss, "--xi", "1e-320"), 2, "--xi must be at least 8.67e-07",
+          "D = 24.26 mm", "got '1e-320'", longest=200)
+    error(coin(*toss, "--diameter", "1e-300", "--thickness", "1e-300"), 2,
+          "--diameter must be from 0.163 to 10000 mm", "got '1e-300'")
+    error(coin(*toss, "--diameter", "20m", "--thickness", "1"), 2, "--diameter must be from",
+          "got '20m'")
+    error(coin(*toss, "--diameter", "24.26", "--thickness", "1e-7"), 2,
+          "--thickness must be at least 2.11e-05 mm", "got '1e-7'")
+    # the stated smallest values are themselves allowed (the triangle at 4.1e-9 used to leak)
+    for coin_args in (["--xi", "8.67e-07"], ["--diameter", "24.26", "--thickness", "2.11e-5"],
+                      ["--diameter", "0.163", "--xi", "99.3"]):
+        assert ok(coin(*toss, *coin_args)).strip() in SIDE_NAMES
+    error(coin("simulate", "-n", "5", "--xi", "1e-12", "--landing", "bounce"), 2,
+          "--xi must be at least 8.67e-07")
+    error(coin("design", "-p", "1/3", "--diameter", "0.1mm", "--landing", "bounce"), 2,
+          "--diameter must be from 0.163 to 10000 mm", "got '0.1mm'")
+
+
+def test_simulate_help_states_the_bounce_cost(coin):
+    """A default bounce run takes minutes: --help says how many tosses a second, so that a
+    user is not surprised."""
+    out = " ".join(ok(coin("simulate", "--help")).split())
+    assert "74-108 tosses a second on two idle cores" in out
+    assert "10,000 tosses take some 4.5 CPU-minutes" in out

@@ -117,11 +117,31 @@ def _number(text: str, what: str, lo: float, hi: float) -> float:
     return v
 
 
+def _zero_length(text: str) -> bool:
+    """``0``, ``0mm``, ``0.0 cm``...: a zero length (which the shared length parser, made for
+    sizes, refuses), its unit checked by that parser."""
+    import re
+
+    m = re.fullmatch(r"\s*([-+]?[0-9.]+(?:e[-+]?[0-9]+)?)\s*([a-z]*)\s*", str(text).lower())
+    if m is None:
+        return False
+    try:
+        if parse.parse_number(m.group(1), "length") != 0:
+            return False
+        return not m.group(2) or parse.parse_length_mm("1" + m.group(2)) > 0
+    except ValueError:
+        return False
+
+
 def _length_m(text: str, what: str, hi_mm: float) -> float:
+    """A length from 0 to ``hi_mm`` mm (a number in mm, or with a unit), in metres."""
     try:
         v = parse.parse_length_mm(text, what)
     except ValueError as exc:
-        raise usage_error(str(exc)) from None
+        if not _zero_length(text):
+            raise usage_error(str(exc).replace("a finite length > 0", "a finite length >= 0")
+                              ) from None
+        v = 0.0
     if not 0.0 <= v <= hi_mm:
         raise usage_error(f"{what} must be a length from 0 to {hi_mm:g} mm, got {text!r}")
     return v / 1000.0
@@ -203,6 +223,45 @@ def _run(fn, *args, **kwargs):
         raise usage_error(str(exc)) from None
 
 
+def check_speed(p: Physics, u_top: float, g: float, text: str) -> None:
+    """Refuse a launch speed whose flight cannot end within ``--t-max``: the coin rises and
+    falls back for ``2 u / g`` seconds before it reaches a surface at the launch plane, so
+    ``u`` may be at most ``g t_max / 2`` (49 m/s at the default 10 s).  ``u_top``: the largest
+    speed the run draws (m/s); ``text``: the value as typed."""
+    u_max = g * p.t_max / 2
+    if not u_top <= u_max:
+        raise usage_error(f"--u must be at most {u_max:.3g} m/s with --landing bounce and "
+                          f"--t-max {p.t_max:g} s (the coin must land within --t-max: the "
+                          f"flight lasts 2u/g), got {text!r}")
+
+
+def check_coin(p: Physics, xi: float | None, dia: float, *, xi_text=None, diameter_text=None,
+               thickness_text=None) -> None:
+    """Refuse, naming the option as typed, a coin MuJoCo cannot simulate: a diameter outside
+    [the smallest with a mass and inertia MuJoCo takes at xi = 100, 10 m], or an aspect ratio
+    (``xi`` None: not checked) too thin for that diameter
+    (:func:`coincli.bounce.smallest_xi`)."""
+    B = p.B
+    why = "(MuJoCo's limits on a body's mass and inertia)"
+    if not B.smallest_diameter() <= dia <= 10.0:
+        lo = B.round_up(B.smallest_diameter() * 1000)
+        what = "--diameter" if diameter_text is not None else "the coin's diameter"
+        got = repr(diameter_text) if diameter_text is not None else f"{dia * 1000:g} mm"
+        raise usage_error(f"{what} must be from {lo:g} to 10000 mm with --landing bounce "
+                          f"{why}, got {got}")
+    if xi is None:
+        return
+    lo = B.smallest_xi(dia)
+    if not xi >= lo:
+        if thickness_text is not None:
+            raise usage_error(f"--thickness must be at least {B.round_up(lo * dia * 1000):g} mm "
+                              f"with --landing bounce and a {dia * 1000:g} mm diameter {why}, "
+                              f"got {thickness_text!r}")
+        got = repr(xi_text) if xi_text is not None else f"{xi:g}"
+        raise usage_error(f"--xi must be at least {B.round_up(lo):g} with --landing bounce and "
+                          f"D = {dia * 1000:g} mm {why}, got {got}")
+
+
 def dist_text(v, unit: str, scale: float = 1.0) -> str:
     if isinstance(v, float):
         return f"{v * scale:g} {unit}"
@@ -282,7 +341,11 @@ def toss(p: Physics, *, xi, psi, u, omega, diameter, g, z0, trajectory, fmt, qui
     z0v = B.default_z0(xi, diameter, "thick") if z0 is None else z0
     eng = _run(B.Engine, coin, p.surface, dt=p.dt, g=g, landing="bounce", t_max=p.t_max)
     launch = B.Launch(u, omega, psi, z0v, p.height, p.vx, 0.0)
-    r = _run(eng.run, launch, record=trajectory is not None)
+    t_land = eng.first_contacts([launch])[0]
+    if not t_land < p.t_max:  # a lower surface lengthens the flight past 2u/g
+        raise usage_error(f"the coin lands {t_land:.4g} s after launch, past --t-max "
+                          f"{p.t_max:g} s: lower --u or --release-height, or raise --t-max")
+    r = _run(eng.run, launch, record=trajectory is not None, t_contact=t_land)
     if trajectory is not None:
         write_csv_atomic(trajectory, B.TRAJECTORY_COLUMNS, r.trajectory)
     names = B.NAMES
@@ -368,7 +431,8 @@ def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, 
            "time_limit": f"the --time-limit of {time_limit:g} s passed before --tol {tol:g}"}
     note = (f"Simulated table (MuJoCo), not the paper's catch: tosses onto {p.describe()}, "
             f"{labels}; seed {r.seed}.  {r.tosses} tosses ({r.unsettled} unsettled, left out) "
-            f"at {len(r.fit.points)} aspect ratios in {r.rounds + 1} rounds.  Each answer is "
+            f"at {len(r.fit.points)} aspect ratios in {r.rounds + 1} "
+            f"round{'' if r.rounds == 0 else 's'}.  Each answer is "
             "from P(sides) = Phi(alpha + beta ln xi) fitted by maximum likelihood to the "
             "aspect ratios near it ('aspect ratios fitted'; "
             + "; ".join(f"{t:.4g}: Phi({f.alpha:.4g} + {f.beta:.4g} ln xi), deviance "
@@ -378,6 +442,9 @@ def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, 
                      "widened by the dispersion" if any(f.p_value < 0.01 for f in r.fits)
                      else "")
             + f"; 95% intervals by the delta method.  Stopped: {why[r.stopped_by]}"
+            + ("" if r.first >= B.DESIGN_FIRST else
+               f" (--max-tosses {max_tosses} cut the first sweep to {r.first} tosses per aspect "
+               f"ratio, from {B.DESIGN_FIRST})")
             + ("" if r.stopped_by == "tol" else
                f"; --max-tosses {r.tosses} reproduces this result") + ".  "
             "The catch model (no --landing) gives the paper's xi.  Toss a prototype and check "

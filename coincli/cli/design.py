@@ -247,7 +247,7 @@ def design(
                     ] = None,
     max_tosses: Annotated[str | None, typer.Option("--max-tosses", help="With --landing "
                                                    "bounce: stop before simulating more tosses "
-                                                   "than this (default 200000).",
+                                                   "than this (default 200000, at least 180).",
                                                    metavar="N")] = None,
     time_limit: Annotated[str | None, typer.Option("--time-limit", help="With --landing bounce: "
                                                    "stop at the end of the first round after "

@@ -398,6 +398,9 @@ def toss_cmd(
         if wf > 1e4:
             raise usage_error(f"--omega must be at most 10000 rad/s with --landing bounce, got "
                               f"{_num(wf)} rad/s")
+        BO.check_coin(physics, xf, dia, xi_text=xi, diameter_text=diameter,
+                      thickness_text=thickness)
+        BO.check_speed(physics, uf, gv, u if u is not None else f"{_num(uf)} m/s")
         extra = ""
         if drawn:
             what = ", ".join(f"{k} ~ {T.HAND_TOSS_TEXT[k]}" for k in drawn)
@@ -512,7 +515,9 @@ def simulate_cmd(
 
     --landing bounce tosses the coins onto a surface (--surface, or --restitution and
     --friction) and lets them bounce and settle, simulated with MuJoCo (pip install
-    'coincli[physics]'): a simulated table, not the paper's catch.
+    'coincli[physics]'): a simulated table, not the paper's catch.  It is slow: 20-30 ms of
+    CPU a toss, 74-108 tosses a second on two idle cores (docs/performance.md), so the default
+    10,000 tosses take some 4.5 CPU-minutes; a progress bar on a terminal shows the time left.
 
     Examples: coin simulate --xi 0.577 ;
     coin simulate -n 1000000 --seed 7 --xi 0.577 --omega normal:6:1rev/s ;
@@ -577,6 +582,9 @@ def simulate_cmd(
     hand = [k for k, v in (("u", u), ("omega", omega), ("psi", psi or psi_dist)) if v is None]
     source = f" (hand toss, {DHM}: {', '.join(hand)})" if hand else ""
     if physics is not None:
+        BO.check_coin(physics, xv, dia, xi_text=xi, diameter_text=diameter,
+                      thickness_text=thickness)
+        BO.check_speed(physics, u_hi, gv, u or HAND["u"])
         if quiet:
             _report_seed(seed_v, seed is not None)
         BO.simulate(physics, count=count_n, seed=seed_v, xi=xv, u=u_spec, omega=w_spec,
@@ -753,6 +761,8 @@ def bounce_design(physics, *, p_sides, psi, psi_dist, u, omega, diameter, coin, 
         except ValueError as exc:
             raise usage_error(str(exc)) from None
     u_spec, w_spec, psi_spec, labels = bounce_launch(psi, psi_dist, u, omega)
+    BO.check_coin(physics, None, dia, diameter_text=diameter)
+    BO.check_speed(physics, _reach(u_spec, U_MAX), T_G, u or HAND["u"])
     from coincli.cli._options import seed_value
 
     BO.design(physics, targets=targets, seed=seed_value(seed), tol=tol_v, max_tosses=mt,
