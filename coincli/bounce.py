@@ -632,7 +632,7 @@ class TossResult:
     outcome: str  #: 'heads', 'sides', 'tails' or 'unsettled'
     t_first: float  #: s, first contact
     t_settle: float  #: s, when the outcome could no longer change (nan if unsettled)
-    bounces: int  #: flights after the first impact
+    bounces: int  #: flights of at least BOUNCE_MIN after the first impact
     alpha: float  #: rad, tilt of the normal at the end (catch: at first contact)
     catch_code: int  #: the outcome the catch (first contact, eq. 7) would have given
     steps: int  #: MuJoCo steps taken
@@ -813,8 +813,26 @@ class Engine:
         airborne = None  # time the coin last left the surface, while it is in the air
         jump_min = JUMP_MIN_STEPS * dt
         no_jump_until = -math.inf  # a flight found too short to solve: step it out
+        lift_lo, lift_state = None, None  # lift-off bracket and state, when seen at a check
         while True:
-            mj.mj_step(m, d, nstep=CHECK_STEPS)
+            if airborne is None:
+                mj.mj_step(m, d, nstep=CHECK_STEPS)
+            else:
+                # In the air at the last check (or just placed before a solved landing): step
+                # one at a time, so that a landing shorter than the checks' spacing is seen and
+                # the flight it ends is counted.  The same steps as nstep=CHECK_STEPS.
+                for _ in range(CHECK_STEPS):
+                    mj.mj_step(m, d)
+                    if d.ncon > 0:
+                        if airborne is not None:
+                            # a bounce is a flight of at least BOUNCE_MIN; shorter is chatter
+                            if self._flight_length(d.time, airborne, lift_lo, lift_state) \
+                                    >= BOUNCE_MIN:
+                                bounces += 1
+                            airborne = None
+                    elif airborne is None:
+                        airborne = lift_lo = float(d.time)
+                        lift_state = None
             steps += CHECK_STEPS
             if record:
                 self._record(traj, "mujoco")
@@ -829,14 +847,13 @@ class Engine:
                 return self._result(UNSETTLED, t_first, math.nan, bounces, steps, catch_code,
                                     traj, self._tilt())
             if self._touching():
-                # a bounce is a flight of at least BOUNCE_MIN; shorter ones are chatter
-                if airborne is not None and d.time - airborne >= BOUNCE_MIN:
-                    bounces += 1
-                airborne = None
+                airborne = None  # (a landing in the air's steps was counted there)
                 m.opt.integrator = self._implicit
                 continue
             if airborne is None:
-                airborne = float(d.time)
+                # it left the surface since the last check, at a time in (lift_lo, airborne]
+                airborne, lift_lo = float(d.time), float(d.time) - CHECK_STEPS * dt
+                lift_state = (d.qpos.copy(), d.qvel.copy())
             if self.flight == "mujoco":
                 m.opt.integrator = self._rk4
                 continue
@@ -859,6 +876,26 @@ class Engine:
             self._set(free.state(t_start, g))
             d.time = t_start
             mj.mj_forward(m, d)
+
+    def _flight_length(self, t_land, t_seen, t_lo, state):
+        """The length of a flight that ended at ``t_land``.  Lift-off was seen at ``t_seen`` and
+        happened after ``t_lo``; when the bracket leaves the length's side of BOUNCE_MIN open,
+        lift-off is the last time in it that the exact free flight through the state at
+        ``t_seen`` (``state``) meets the plane."""
+        if t_land - t_seen >= BOUNCE_MIN or t_land - t_lo < BOUNCE_MIN or state is None:
+            return t_land - t_seen
+        fl = _flight_from_state(t_seen, state[0], state[1], self.i1, self.i3)
+        a, hh, g = self.coin.a, self.coin.hh, self.g
+        lo, hi = t_lo, t_seen
+        if fl.clearance(lo, a, hh, g) > 0.0:
+            return t_land - lo
+        for _ in range(40):  # 2 ms / 2^40: far below a step
+            mid = 0.5 * (lo + hi)
+            if fl.clearance(mid, a, hh, g) > 0.0:
+                hi = mid
+            else:
+                lo = mid
+        return t_land - hi
 
     def _result(self, code, t_first, t_settle, bounces, steps, catch_code, traj, alpha=math.nan):
         name = NAMES[code] if code < 3 else "unsettled"
