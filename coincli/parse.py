@@ -16,6 +16,7 @@ __all__ = [
     "parse_angle_deg",
     "parse_values",
     "parse_range",
+    "Range",
     "parse_count",
     "parse_ratio",
     "parse_seed",
@@ -284,11 +285,74 @@ def _range_bound(text: str, what: str) -> float:
     return parse_number(text, what)
 
 
-def parse_range(text: str, what: str, *, max_rows: int = MAX_ROWS):
-    """An inclusive range ``start:stop:step`` (step > 0; decimals or fractions) as ``(start, stop, step, count,
-    whole)``: its values are ``start + k*step`` for k < count, the last one held to ``stop``
-    (which is included when within a millionth of a step of it); ``whole`` when all three parts
-    are whole numbers.  More than ``max_rows`` values is an error naming the limit."""
+_EXACT_PART = re.compile(r"^[+-]?(\d{1,30}(\.\d{0,30})?|\.\d{1,30})([eE][+-]?\d{1,2})?$")
+
+
+def _exact(text: str):
+    """A range part as a Fraction when it is a short decimal or a fraction of two short ones
+    (``0.35``, ``1e-3``, ``17/30``), else None."""
+    from fractions import Fraction
+
+    parts = [p.strip() for p in text.strip().split("/")]
+    if len(parts) > 2 or not all(_EXACT_PART.match(p) for p in parts):
+        return None
+    num = Fraction(parts[0])
+    if len(parts) == 1:
+        return num
+    den = Fraction(parts[1])
+    return num / den if den else None
+
+
+class Range:
+    """An inclusive range ``start:stop:step``: its ``count`` values are ``start + k*step`` for
+    k < count, the last one held to ``stop`` (which is included when within a millionth of a
+    step of it).
+
+    When ``start`` and ``step`` are short decimals or fractions, each value is the double nearest
+    the exact decimal (``0.3:0.4:0.05`` gives 0.35, not 0.35000000000000003): the values are
+    ``(S + k T) / D`` in integers, divided once (correctly rounded), the same in
+    :meth:`value` (Python) and :meth:`chunk` (numpy) while ``|S| + k |T|`` and ``D`` stay below
+    2^53.  Otherwise they are ``start + k*step`` in doubles.
+    """
+
+    __slots__ = ("start", "stop", "step", "count", "whole", "_sdt")
+
+    def __init__(self, start, stop, step, count, whole, sdt=None):
+        self.start, self.stop, self.step, self.count, self.whole = start, stop, step, count, whole
+        self._sdt = sdt  # (S, T, D) integers, when exact
+
+    def __iter__(self):  # start, stop, step, count, whole
+        return iter((self.start, self.stop, self.step, self.count, self.whole))
+
+    def value(self, k: int) -> float:
+        """The ``k``-th value (a float)."""
+        if self._sdt is not None:
+            s, t, d = self._sdt
+            v = (s + k * t) / d
+        else:
+            v = self.start + k * self.step
+        return min(v, self.stop) if k == self.count - 1 else v
+
+    def chunk(self, k0: int, k1: int):
+        """Values ``k0 <= k < k1`` as a float64 array, equal to :meth:`value` one by one."""
+        import numpy as np
+
+        k = np.arange(k0, k1, dtype=float)
+        if self._sdt is not None:
+            s, t, d = self._sdt
+            v = (float(s) + k * float(t)) / float(d)  # exact numerator and denominator
+        else:
+            v = self.start + k * self.step
+        if k1 >= self.count and v.size:
+            v[-1] = min(v[-1], self.stop)
+        return v + 0.0  # no -0.0
+
+
+def parse_range(text: str, what: str, *, max_rows: int = MAX_ROWS) -> Range:
+    """An inclusive range ``start:stop:step`` (step > 0; decimals or fractions) as a
+    :class:`Range` (which unpacks as ``start, stop, step, count, whole``; ``whole`` when all
+    three parts are whole numbers).  More than ``max_rows`` values is an error naming the
+    limit."""
     s = str(text).strip()
     parts = s.split(":")
     if len(parts) != 3:
@@ -304,30 +368,37 @@ def parse_range(text: str, what: str, *, max_rows: int = MAX_ROWS):
         has = f"{math.floor(span) + 1}" if span < 1e18 else f"more than {max_rows}"
         raise ValueError(f"{what} range {text!r} has {has} values; at most {max_rows} are allowed")
     whole = all(_INT.match(p.strip()) for p in parts)
-    return start, stop, step, math.floor(span) + 1, whole
+    count = math.floor(span) + 1
+    sdt = None
+    a, b = _exact(parts[0]), _exact(parts[2])
+    if a is not None and b is not None and b > 0:
+        d = math.lcm(a.denominator, b.denominator)
+        num0, dnum = a.numerator * (d // a.denominator), b.numerator * (d // b.denominator)
+        if d < 2**53 and abs(num0) + (count - 1) * abs(dnum) < 2**53:
+            sdt = (num0, dnum, d)
+    return Range(start, stop, step, count, whole, sdt)
 
 
 def parse_values(text: str, what: str, item=parse_number, *, max_rows: int = MAX_ROWS) -> list:
     """``a``, a list ``a,b,c`` or an inclusive range ``start:stop:step`` (step > 0; its three
     numbers decimals or fractions such as ``1/10``).
 
-    Each item is parsed by ``item(text, what)``; a range is computed as ``start + k*step`` (no
-    accumulated rounding) and includes ``stop`` when it is within a millionth of a step of it.
+    Each item is parsed by ``item(text, what)``; a range's values are :meth:`Range.value` (no
+    accumulated rounding; a decimal grid gives its decimals) and include ``stop`` when it is
+    within a millionth of a step of it.
     More than ``max_rows`` values is an error naming the limit.
     """
     s = str(text).strip()
     if not s:
         raise ValueError(f"{what} is empty; give a value, a list a,b,c or a range start:stop:step")
     if ":" in s:
-        start, stop, step, count, whole = parse_range(s, what, max_rows=max_rows)
-        if whole:
+        rng = parse_range(s, what, max_rows=max_rows)
+        if rng.whole:
             # whole numbers stay whole: counts (1:12:1) must not turn into '1.0'
             parts = s.split(":")
             a, d = int(parts[0]), int(parts[2])
-            return [item(str(a + k * d), what) for k in range(count)]
-        vals = [start + k * step for k in range(count)]
-        vals[-1] = min(vals[-1], stop)  # stop is included when within 1e-6 steps; never passed
-        return [item(repr(v), what) for v in vals]
+            return [item(str(a + k * d), what) for k in range(rng.count)]
+        return [item(repr(rng.value(k)), what) for k in range(rng.count)]
     items = s.split(",")
     if len(items) > max_rows:
         raise ValueError(f"{what} lists {len(items)} values; at most {max_rows} are allowed")

@@ -12,6 +12,7 @@ import csv
 import io
 import json
 import math
+from fractions import Fraction
 
 import pytest
 from cli_helpers import error as _error
@@ -254,7 +255,7 @@ def test_quiet_is_a_bare_number_per_row(coin):
     assert _ok(coin("design", "-p", "1/3", "-q")) == repr(models.dynamic_inverse(1 / 3)) + "\n"
     out = _ok(coin("design", "-p", "0.1:0.5:0.1", "-q"))
     assert [float(v) for v in out.split()] == core(
-        models.dynamic_inverse, [0.1, 0.1 + 0.1, 0.1 + 2 * 0.1, 0.1 + 3 * 0.1, 0.5])
+        models.dynamic_inverse, [0.1, 0.2, 0.3, 0.4, 0.5])  # the decimals, not 0.1 + 2 * 0.1
     # stack --p-sides: the count, as a whole number (was '8.0')
     assert _ok(coin("stack", "--coin", "quarter", "--p-sides", "1/3", "-q")) == "8\n"
     out = _ok(coin("stack", "--coin", "quarter", "--count", "8", "-q"))
@@ -275,7 +276,8 @@ def test_table_lists_ranges_and_models(coin):
     out = _ok(coin("table", "--xi", "0.1:1:0.05", "-f", "csv"))
     xs = sorted({float(r["xi"]) for r in rows_csv(out)})
     assert len(xs) == 19 and xs[0] == 0.1 and xs[-1] == 1.0
-    assert xs == [0.1 + k * 0.05 for k in range(18)] + [1.0]
+    # each value is the double nearest the decimal (0.35, not 0.35000000000000003)
+    assert xs == [float(Fraction(1, 10) + k * Fraction(1, 20)) for k in range(19)]
 
 
 def test_table_psi_and_vs_psi(coin):
@@ -704,8 +706,6 @@ def test_stack_p_sides_bad_line_stops_with_its_number(coin, data, line, words):
 
 
 def test_every_command_agrees_on_a_stacks_xi(coin):
-    from fractions import Fraction
-
     for name, n in (("quarter", 9), ("quarter", 8), ("cent", 7), ("nickel", 3), ("euro-2", 11),
                     ("dime", 13)):
         c = coins.CATALOG[name]

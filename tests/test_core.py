@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from fractions import Fraction
 
 import mpmath as mp
 import pytest
@@ -171,6 +172,39 @@ def test_parse_forms():
     assert parse_density("normal:90:18").spec == "normal:90:18"
     with pytest.raises(ValueError, match="normal:MEAN:SD"):
         parse_density("normal:90")
+
+
+@pytest.mark.parametrize("start,stop,step", [
+    ("0.3", "0.4", "0.05"), ("0", "2", "0.01"), ("0.001", "1000", "0.001"), ("-1.5", "1.5", "0.1"),
+    ("1e-3", "2e-3", "1e-5"), ("0", "1", "1/3"), ("1/7", "3", "2/7"), ("0.5", "0.5", "0.1"),
+    ("123.456", "123.5", "0.0001"), ("2.5e2", "2.6e2", "0.25")])
+def test_range_values_are_the_nearest_doubles_of_the_exact_grid(start, stop, step):
+    """Each value of a decimal or fractional range is the double nearest start + k step done in
+    exact rationals (Fraction), in the Python path (parse_values) and the numpy path (chunk)."""
+    r = parse.parse_range(f"{start}:{stop}:{step}", "x")
+    a = Fraction(start) if "/" not in start else Fraction(*map(int, start.split("/")))
+    d = Fraction(step) if "/" not in step else Fraction(*map(int, step.split("/")))
+    want = [float(a + k * d) for k in range(r.count)]
+    want[-1] = min(want[-1], float(Fraction(stop) if "/" not in stop else Fraction(
+        *map(int, stop.split("/")))))
+    got = r.chunk(0, r.count).tolist()
+    assert got == want
+    assert [r.value(k) for k in range(r.count)] == want
+    assert parse.parse_values(f"{start}:{stop}:{step}", "x") == want
+    # chunks join to the whole
+    mid = r.count // 3
+    assert r.chunk(0, mid).tolist() + r.chunk(mid, r.count).tolist() == want
+
+
+def test_range_beyond_exact_integers_falls_back_to_doubles():
+    """Parts too long or too large for the integer form keep start + k*step in doubles, the
+    same in both paths, and never pass stop."""
+    for text in ("1e300:1.0000000000000002e300:1e284", "0.1234567890123456789:0.2:0.01",
+                 "9007199254740990.5:9007199254740993:0.5"):
+        r = parse.parse_range(text, "x")
+        vals = r.chunk(0, r.count).tolist()
+        assert vals == [r.value(k) for k in range(r.count)]
+        assert vals[0] == r.start and max(vals) <= r.stop
 
 
 def _exact_stack_xi(coin, n):

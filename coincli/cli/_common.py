@@ -1125,7 +1125,7 @@ class Values:
     """The values of an option that takes one value, a list, a range or ``-`` (stdin), all
     checked before any output, then handed out :data:`CHUNK_ROWS` at a time by :meth:`chunks`.
 
-    A range is never stored (each chunk is ``start + k*step``); a stdin batch is read and
+    A range is never stored (each chunk is computed, :meth:`coincli.parse.Range.chunk`); a stdin batch is read and
     checked a piece at a time, and past :data:`SPOOL_VALUES` values waits as doubles in an
     anonymous temporary file (in ``TMPDIR``; in memory if none can be made), so memory stays
     flat in the number of values.  ``single`` is the value when one plain value was typed.
@@ -1160,12 +1160,8 @@ class Values:
         if self.single is not None:
             yield np.array([self.single])
         elif self._range is not None:
-            start, step, stop = self._range
             for k in range(0, self.n, size):
-                v = start + np.arange(k, min(k + size, self.n), dtype=float) * step
-                if k + size >= self.n:
-                    v[-1] = min(v[-1], stop)  # stop is included when within 1e-6 steps
-                yield v + 0.0
+                yield self._range.chunk(k, min(k + size, self.n))
         elif self._spool is not None:
             self._spool.seek(0)
             for k in range(0, self.n, size):
@@ -1249,12 +1245,11 @@ def values_stream(text: str, what: str, item: Callable, *, bounds=None, stdin=No
         return _stdin_values(what, item, bounds, stdin)
     try:
         if ":" in s and bounds is not None:
-            start, stop, step, n, whole = parse.parse_range(s, what)
-            if not whole or stop <= 2.0**53:  # whole numbers below 2^53 are exact doubles
-                last = min(start + (n - 1) * step, stop)
-                for v in (start, last):
-                    item(str(int(v)) if whole else repr(v), what)
-                return Values(n, rng=(start, step, stop))
+            rng = parse.parse_range(s, what)
+            if not rng.whole or rng.stop <= 2.0**53:  # whole numbers below 2^53 are exact
+                for v in (rng.value(0), rng.value(rng.count - 1)):
+                    item(str(int(v)) if rng.whole else repr(v), what)
+                return Values(rng.count, rng=rng)
         vals = parse.parse_values(text, what, item)
     except ValueError as exc:
         raise usage_error(str(exc)) from None
