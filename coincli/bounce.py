@@ -1173,6 +1173,15 @@ def fit_sides(points) -> SidesFit:
     x = np.log([p[0] for p in pts])
     n = np.array([p[1] for p in pts], dtype=float)
     k = np.array([p[2] for p in pts], dtype=float)
+    # A probit has a finite fit only when no threshold in xi separates the tosses that landed on
+    # a side from those that did not, even with one aspect ratio holding both (its slope then
+    # runs off to infinity): a side must lie below a face, and a face below a side.
+    xs, xf = x[k > 0], x[k < n]
+    if not (xs.size and xf.size and xs.min() < xf.max() and xf.min() < xs.max()):
+        raise ValueError("the simulated points do not determine a curve of P(sides) in xi (a "
+                         "threshold in xi separates the tosses on a side from the rest); "
+                         "simulate more tosses, or a range of xi where P(sides) is between 0 "
+                         "and 1")
     design = np.column_stack([np.ones_like(x), x])
     f = np.clip((k + 0.5) / (n + 1), 1e-6, 1 - 1e-6)
     coef = np.linalg.lstsq(design, norm.ppf(f), rcond=None)[0]
@@ -1183,7 +1192,13 @@ def fit_sides(points) -> SidesFit:
         w = n * phi * phi / (mu * (1 - mu))
         z = eta + (k / n - mu) / phi
         info = design.T @ (w[:, None] * design)
-        new = np.linalg.solve(info, design.T @ (w * z))
+        try:
+            new = np.linalg.solve(info, design.T @ (w * z))
+        except np.linalg.LinAlgError:
+            new = np.full(2, np.nan)
+        if not np.all(np.isfinite(new)):
+            raise ValueError("the simulated points do not determine a curve of P(sides) in xi "
+                             "(the fit diverges); simulate more tosses")
         done = np.max(np.abs(new - coef)) < 1e-12
         coef = new
         if done:
@@ -1232,18 +1247,25 @@ DESIGN_WINDOWS = (1.12, 1.3, 1.6, 2.2, 3.3)
 
 def _local_fit(points: dict, target, est):
     """The probit fitted near ``est`` (see :data:`DESIGN_WINDOWS`), re-centred on its own answer
-    until that stays within its window; falls back to every point."""
+    until that stays within its window; falls back to every point.  A window whose points do
+    not determine a probit (separated: P(sides) jumps from 0 to 1 inside it) gives way to the
+    next wider one."""
+    every = [(x, n, k) for x, (n, k) in sorted(points.items())]
     fit = None
     for _ in range(5):
         for w in DESIGN_WINDOWS:
-            near = [(x, n, k) for x, (n, k) in sorted(points.items()) if est / w <= x <= est * w]
+            near = [(x, n, k) for x, n, k in every if est / w <= x <= est * w]
             if len(near) >= 3:
+                try:
+                    local = fit_sides(near)
+                except ValueError:
+                    continue
                 break
         else:
-            return fit_sides([(x, n, k) for x, (n, k) in sorted(points.items())])
-        fit = fit_sides(near)
+            return fit_sides(every)
+        fit = local
         if fit.beta <= 0:
-            return fit_sides([(x, n, k) for x, (n, k) in sorted(points.items())])
+            return fit_sides(every)
         new = fit.inverse(target)
         if abs(math.log(new / est)) < 1e-3:
             break

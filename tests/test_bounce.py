@@ -309,6 +309,22 @@ def test_fit_sides_recovers_an_exact_probit():
     assert f.inverse(1 / 3) == pytest.approx(want, rel=1e-5)
 
 
+@pytest.mark.parametrize("points", [
+    [(0.1, 10, 0), (0.2, 10, 0)],  # no side anywhere
+    [(0.1, 10, 10), (0.2, 10, 10)],  # all sides
+    [(0.1, 10, 0), (0.2, 10, 10)],  # a jump between two aspect ratios
+    [(0.1, 10, 0), (0.2, 10, 5), (0.3, 10, 10)],  # quasi-separated: the slope is unbounded
+])
+def test_fit_sides_refuses_separated_points_in_one_line(points):
+    with pytest.raises(ValueError, match="do not determine a curve of P\\(sides\\)"):
+        B.fit_sides(points)
+
+
+def test_fit_sides_fits_points_that_overlap():
+    f = B.fit_sides([(0.1, 10, 1), (0.2, 10, 5), (0.3, 10, 10)])
+    assert f.beta > 0 and 0.1 < f.inverse(0.5) < 0.3
+
+
 def test_fit_sides_widens_intervals_by_the_dispersion():
     """Points that scatter beyond binomial noise widen the interval by sqrt(deviance / df)."""
     pts = [(0.2, 400, 40), (0.3, 400, 150), (0.45, 400, 110), (0.7, 400, 260), (1.0, 400, 250)]

@@ -117,6 +117,24 @@ def test_plot_sides_bounce_terminal(coin):
     assert "omega ~ normal:38:4 rev/s, psi ~ normal:90:10 deg (hand toss" in note
 
 
+def test_plot_sides_bounce_range_outside_the_simulated_window_is_one_line(coin):
+    for rng in ("0:0.01", "200:300"):
+        error(coin("plot", "sides", "--landing", "bounce", "--seed", "1", "-n", "5",
+                   "--xi-range", rng, "--terminal"), 2, f"--xi-range '{rng}'",
+              "holds no aspect ratio that --landing bounce simulates (0.05 to 100)")
+
+
+def test_plot_sides_bounce_without_a_curve_draws_the_points(coin):
+    """Thin coins and few tosses: no side at all, so no probit can be fitted (it was 'coin:
+    error: Singular matrix'); the points are drawn and the note says why there is no curve."""
+    rc, out, note = coin("plot", "sides", "--landing", "bounce", "--seed", "1", "-n", "3",
+                         "--jobs", "1", "--xi-range", "0.05:0.06", "--terminal")
+    assert rc == 0 and "Traceback" not in note
+    assert "at each of 8 xi from 0.05 to 0.06" in note
+    assert "no curve: the simulated points do not determine a curve of P(sides)" in note
+    assert "simulated bounce on wood (8 rows)" in out and "fitted probit" not in out
+
+
 def test_bounce_launch_defaults_are_the_hand_toss():
     """design and plot sides --landing bounce launch as simulate and toss do: the one hand toss
     of coincli.toss, not a copy of it."""

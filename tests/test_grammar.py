@@ -130,6 +130,11 @@ REFUSED = [
     (["--quarters", "0"], "--quarters must be a whole number >= 1, got '0'"),
     (["--coin", "dime", "--count", "2.5"], "--count must be a whole number >= 1, got '2.5'"),
     (["--diameter", "3 furlongs", "--thickness", "2"], "--diameter must be a length like"),
+    # finite sizes whose ratio leaves the doubles never become xi = inf or 0
+    (["--diameter", "1e-300", "--thickness", "1e300"],
+     "the coin's xi = thickness/diameter overflows a double (1e-300 x 1e300)"),
+    (["--diameter", "1e300", "--thickness", "1e-300"],
+     "the coin's xi = thickness/diameter underflows to 0 (1e300 x 1e-300)"),
 ]
 
 

@@ -512,8 +512,14 @@ class FittedSpec:
         return self.fit.inverse(p)
 
 
+#: The aspect ratios `coin plot sides --landing bounce` simulates, at most: below 0.05 a coin
+#: hardly ever lands on its side (no points worth their time), above 100 MuJoCo's body limits.
+PLOT_XI = (0.05, 100.0)
+
+
 def sides_points(p: Physics, *, seed, n, xis, u, omega, psi, diameter, g):
-    """Simulated points (one per xi, 95% Wilson intervals) and the fitted curve."""
+    """Simulated points (one per xi, 95% Wilson intervals) and the fitted curve, or None and
+    why not when the points do not determine one."""
     from coincli.plot import ExperimentPoint
 
     B = p.B
@@ -525,5 +531,8 @@ def sides_points(p: Physics, *, seed, n, xis, u, omega, psi, diameter, g):
         f = r.frequencies[1]
         pts.append(ExperimentPoint(f"simulated bounce on {p.surface.name}", x, r.settled,
                                    f.count, f.p, f.lo, f.hi))
-    fit = _run(B.fit_sides, [(e.xi, e.n, e.sides) for e in pts])
-    return pts, FittedSpec(fit, p.surface.name)
+    try:
+        fit = B.fit_sides([(e.xi, e.n, e.sides) for e in pts])
+    except ValueError as exc:
+        return pts, None, str(exc)
+    return pts, FittedSpec(fit, p.surface.name), None

@@ -192,6 +192,18 @@ def _check_group(xi, coin, count, quarters, diameter, thickness, *, default,
             "--diameter/--thickness": "size"}[kinds[0]]
 
 
+def _refuse_out_of_doubles(xis, typed: str) -> None:
+    """A coin's finite, nonzero sizes whose ratio h/D leaves the doubles (inf, or 0 from a
+    thickness > 0) are refused, whatever the command allows of a typed --xi: a size never
+    silently becomes xi = inf or 0."""
+    if not all(math.isfinite(x) for x in xis):
+        raise usage_error(f"the coin's xi = thickness/diameter overflows a double ({typed}); "
+                          "give a smaller stack or a thinner coin")
+    if min(xis) == 0.0:
+        raise usage_error(f"the coin's xi = thickness/diameter underflows to 0 ({typed}); "
+                          "give a thicker coin or a smaller diameter")
+
+
 def _xi_item(rule: str):
     allowed = _XI_RULES[rule]
 
@@ -318,9 +330,8 @@ def resolve_coin(xi: str | None = None, coin: str | None = None, count: str | No
                               bounds=(1.0, float(parse.MAX_COUNT)))
         if len(batch) > 1:
             top = max(float(c.max()) for c in batch.chunks())
-            if xi_rule != "any" and not math.isfinite(catalog.stack_xi(unit, int(top))):
-                raise usage_error(f"the coin's xi = thickness/diameter overflows ({typed}); "
-                                  "give a smaller stack or a thinner coin")
+            _refuse_out_of_doubles([catalog.stack_xi(unit, 1), catalog.stack_xi(unit, int(top))],
+                                   typed)
             return Coins(None, "size" if kind == "size" else "coin", unit, batch,
                          unit.diameter_mm, typed)
         count_text = repr(int(batch.values()))
@@ -332,9 +343,7 @@ def resolve_coin(xi: str | None = None, coin: str | None = None, count: str | No
         xis = catalog.stack_xis(unit, np.asarray(counts, dtype=float)).tolist()
     else:
         xis = [catalog.stack_xi(unit, k) for k in counts]
-    if xi_rule != "any" and not all(math.isfinite(x) for x in xis):
-        raise usage_error(f"the coin's xi = thickness/diameter overflows ({typed}); give a "
-                          "smaller stack or a thinner coin")
+    _refuse_out_of_doubles(xis, typed)
     return Coins(xis, "size" if kind == "size" else "coin", unit, counts, unit.diameter_mm,
                  typed)
 

@@ -363,16 +363,22 @@ def sides(
         seed_v = _options.seed_value(seed)
         u_spec, w_spec, psi_spec, labels = bounce_launch(None, None, None, None)
         lo, hi = rng if rng is not None else (0.1, 2.0)
-        lo = max(lo, 0.05)
+        lo, hi = max(lo, BO.PLOT_XI[0]), min(hi, BO.PLOT_XI[1])
+        if not lo < hi:
+            raise usage_error(f"--xi-range {xi_range.strip()!r} holds no aspect ratio that "
+                              f"--landing bounce simulates ({BO.PLOT_XI[0]:g} to "
+                              f"{BO.PLOT_XI[1]:g}); give a range that overlaps it")
         import numpy as np
 
         xis = [float(x) for x in np.geomspace(lo, hi, 8)]
-        pts, fitted = BO.sides_points(physics, seed=seed_v, n=count, xis=xis, u=u_spec,
-                                      omega=w_spec, psi=psi_spec, diameter=0.02426, g=9.81)
+        pts, fitted, why = BO.sides_points(physics, seed=seed_v, n=count, xis=xis, u=u_spec,
+                                           omega=w_spec, psi=psi_spec, diameter=0.02426, g=9.81)
         bounce = (pts, fitted)
-        sys.stderr.write(f"coin: note: simulated points: {count} tosses at each xi onto "
-                         f"{physics.describe()}, {labels}; seed {seed_v}; the curve is the "
-                         f"probit fitted to them (fit p-value {fitted.fit.p_value:.3g})\n")
+        curve = (f"the curve is the probit fitted to them (fit p-value "
+                 f"{fitted.fit.p_value:.3g})" if fitted is not None else f"no curve: {why}")
+        sys.stderr.write(f"coin: note: simulated points: {count} tosses at each of 8 xi from "
+                         f"{lo:.4g} to {hi:.4g} onto {physics.describe()}, {labels}; seed "
+                         f"{seed_v}; {curve}\n")
     with _quiet():
         _sides(target, xi_marks, p_marks, psi_curves, dens, rng, exps, log, (w, h, d), title,
                bounce)
@@ -387,7 +393,8 @@ def _sides(target, xi_marks, p_marks, psi_curves, dens, rng, exps, log, size, ti
     models += [P.density_spec(d) for d in dens]
     points = _compute(P.experiment_points, exps) if exps else []
     if bounce is not None:
-        models.append(bounce[1])
+        if bounce[1] is not None:
+            models.append(bounce[1])
         points = points + bounce[0]
 
     def build(n):
