@@ -8,6 +8,7 @@ pay for them.
 
 from __future__ import annotations
 
+import builtins
 import errno
 import os
 import sys
@@ -189,8 +190,12 @@ def _guard_standard_streams() -> None:
         sys.stderr = _Discard()
 
 
-def run(argv=None) -> int:
+def run(argv=None, *, gc_paused: bool = False) -> int:
     """Run ``coin`` with ``argv`` and return the exit code (never raises, never prints a trace).
+
+    ``gc_paused``: the console script paused the garbage collector while starting up
+    (:mod:`coincli._entry`); it is resumed, with every object so far frozen, once the command is
+    built.
 
     No Python warning reaches stderr (``PYTHONWARNINGS=error`` cannot turn one into a failure):
     a library's warning is not the user's business once the answer is right; ``--traceback``
@@ -204,7 +209,7 @@ def run(argv=None) -> int:
         with warnings.catch_warnings():
             if not saved_traceback and "--traceback" not in (argv or sys.argv):
                 warnings.simplefilter("ignore")
-            return _run(argv)
+            return _run(argv, gc_paused)
     finally:  # --traceback lasts one run (run() is also called in-process, by tests)
         if saved_traceback is None:
             os.environ.pop("COIN_TRACEBACK", None)
@@ -212,7 +217,7 @@ def run(argv=None) -> int:
             os.environ["COIN_TRACEBACK"] = saved_traceback
 
 
-def _run(argv) -> int:
+def _run(argv, gc_paused: bool = False) -> int:
     from typer.exceptions import TyperException
 
     try:
@@ -220,6 +225,8 @@ def _run(argv) -> int:
         if os.environ.get(COMPLETE_VAR):
             return _complete(os.environ[COMPLETE_VAR])
         command = _click_command(argv)
+        if gc_paused:
+            _resume_gc()
         rv = command.main(argv, prog_name="coin", standalone_mode=False)
         if rv == ExitCode.INTERRUPTED:  # typer turns Ctrl-C into a silent Exit(130)
             return _fail("interrupted", ExitCode.INTERRUPTED)
@@ -275,6 +282,15 @@ def _run(argv) -> int:
                      ExitCode.ERROR)
 
 
+def _resume_gc() -> None:
+    """Collect again, for the command's own work; what start-up built is frozen (it lives until
+    exit, so scanning it would find nothing)."""
+    import gc
+
+    gc.freeze()
+    gc.enable()
+
+
 def _click_command(argv):
     """The click command for ``argv``: the root group holding only the subcommand named.
 
@@ -301,6 +317,8 @@ def _click_command(argv):
     lean = copy.copy(app)
     lean._complete = True
     lean.registered_commands, lean.registered_groups = commands, groups
+    if not before:  # no root option given: --install/--show-completion cannot be asked for
+        lean._add_completion = False
     _resolve_annotations(lean)
     return _prepare(typer.main.get_command(lean))
 
@@ -328,14 +346,20 @@ def _resolve_annotations(typer_app) -> None:
 
 
 _NOT_A_NAME = object()
+_BUILTINS = vars(builtins)
 
 
 def _named(text: str, namespace: dict):
     """The object a dotted name ``text`` names in ``namespace``; _NOT_A_NAME otherwise."""
     parts = text.split(".")
-    if not all(p.isidentifier() for p in parts) or parts[0] not in namespace:
+    if not all(p.isidentifier() for p in parts):
         return _NOT_A_NAME
-    value = namespace[parts[0]]
+    if parts[0] in namespace:
+        value = namespace[parts[0]]
+    elif parts[0] in _BUILTINS:  # ``bool``, ``str``
+        value = _BUILTINS[parts[0]]
+    else:
+        return _NOT_A_NAME
     for attr in parts[1:]:
         value = getattr(value, attr, _NOT_A_NAME)
         if value is _NOT_A_NAME:
