@@ -268,3 +268,29 @@ def test_toss_simulate_phase_import_neither_scipy_nor_rich_nor_matplotlib():
     for argv, code, loaded in report:
         assert code == 0, argv
         assert loaded == [], f"coin {' '.join(argv)} imported {loaded}"
+
+
+_GC_DURING_THE_COMMAND = """
+import gc, sys
+import coincli.cli.design as design
+from coincli._entry import main
+
+real = design.models.dynamic_inverse
+
+def probe(*args, **kwargs):  # the command's own work: is the collector back?
+    sys.stderr.write(f"enabled={gc.isenabled()} frozen={gc.get_freeze_count() > 10000}\\n")
+    return real(*args, **kwargs)
+
+design.models.dynamic_inverse = probe
+sys.argv = ["coin", "design", "--p-sides", "0.33", "-q"]
+main()
+"""
+
+
+def test_the_console_script_pauses_the_collector_only_while_starting():
+    # coincli._entry disables gc for the imports and the command's building; the command
+    # itself runs with collection on, start-up's objects frozen (never scanned again)
+    r = subprocess.run([sys.executable, "-c", _GC_DURING_THE_COMMAND], capture_output=True,
+                       timeout=60, text=True)
+    assert r.returncode == 0, r.stderr
+    assert "enabled=True frozen=True" in r.stderr
