@@ -243,6 +243,10 @@ def figure_format(path: str) -> str:
     import os
 
     ext = os.path.splitext(str(path))[1].lower()
+    base = os.path.basename(str(path)).lower()
+    if not ext and base in FORMATS:  # '.png': a hidden file with no extension, not a PNG
+        raise ValueError(f"{path!r} is an extension without a file name; give a name such as "
+                         f"figure{base}")
     if ext not in FORMATS:
         raise ValueError(
             f"cannot tell the figure format from {path!r}: the file name must end in "

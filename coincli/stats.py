@@ -1701,6 +1701,8 @@ CSV_COLUMNS = ("label", "xi", "coin", "count", "diameter", "thickness", "heads",
                "n")
 _CSV_ALIASES = {"name": "label", "tosses": "n", "diameter_mm": "diameter",
                 "thickness_mm": "thickness"}
+#: A number written with a decimal comma (``0,5``, ``2,4cm``): read so in semicolon files
+_DECIMAL_COMMA = re.compile(r"^[+-]?\d+,\d+([eE][+-]?\d+)?[a-zA-Z\"]*$")
 
 
 class Experiment(namedtuple("Experiment", "line xi counts label")):
@@ -1809,9 +1811,14 @@ def parse_experiments(text: str, *, max_rows: int = 100_000, delimiter: str | No
                 continue
             if header is None:
                 header, header_line = [], line
+                while cells and not cells[-1].strip():  # a spreadsheet's trailing separators
+                    cells = cells[:-1]
                 for k, raw in enumerate(cells, start=1):
                     name = raw.strip().lower()
                     name = _CSV_ALIASES.get(name, name)
+                    if not name:
+                        raise _err(line, f"#{k}", f"the header's column {k} has no name; expected "
+                                   f"some of {', '.join(CSV_COLUMNS)} ({read_as})")
                     if name not in CSV_COLUMNS:
                         raise _err(line, raw.strip() or f"#{k}",
                                    f"unknown column; expected some of {', '.join(CSV_COLUMNS)} "
@@ -1837,6 +1844,11 @@ def parse_experiments(text: str, *, max_rows: int = 100_000, delimiter: str | No
             elif len(cells) < width:
                 cells = cells + [""] * (width - len(cells))
             row = dict(zip(header, (c.strip() for c in cells), strict=True))
+            if sep == ";":  # a decimal comma, as such spreadsheets write it: 0,5 is 0.5
+                for key in ("xi", "diameter", "thickness"):
+                    v = row.get(key)
+                    if v and _DECIMAL_COMMA.match(v):
+                        row[key] = v.replace(",", ".")
             out.append(_experiment(line, row, parse_number, parse_length_mm, coins))
             if len(out) > max_rows:
                 raise _err(line, None, f"more than {max_rows} experiments")
@@ -1885,11 +1897,15 @@ def _experiment(line: int, row: dict, parse_number, parse_length_mm, coins) -> E
             other = sorted(geo - {"xi"})[0]
             raise _err(line, other, "give xi, or coin, or diameter and thickness; not several")
         try:
-            xi = parse_number(row["xi"], "xi")
+            from coincli.parse import parse_ratio
+
+            xi = parse_ratio(row["xi"], "xi")  # as --xi takes it: 0.5, 1/2, 17/30
         except ValueError as exc:
             raise _err(line, "xi", str(exc)) from None
         if not (math.isfinite(xi) and xi > 0):
-            raise _err(line, "xi", f"xi must be a finite number > 0, got {row['xi']!r}")
+            raise _err(line, "xi", f"xi must be a finite number > 0 in a file of tosses (at "
+                       f"xi = 0 no model lands on a side: coin check --xi 0 tests such a coin), "
+                       f"got {row['xi']!r}")
         desc = f"xi={row['xi']}"
     elif "coin" in geo:
         if len(geo) > 1:

@@ -1759,7 +1759,8 @@ def parse_dist(spec, name, lo=-math.inf, hi=math.inf, unit=""):
     vals = [float(p) for p in parts]
     if not all(math.isfinite(v) for v in vals):
         raise ValueError(f"{name}: numbers must be finite, got {spec!r}")
-    rng = f"[{lo:g}, {hi:g}]{u}" if math.isfinite(hi) else f">= {lo:g}{u}"
+    rng = (f"[{lo:g}, {hi:g}]{u}" if math.isfinite(hi) else f">= {lo:g}{u}"
+           if math.isfinite(lo) else f"finite{u}")
     if kind == "fixed":
         v = vals[0]
         if not lo <= v <= hi:

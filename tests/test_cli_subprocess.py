@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -170,6 +171,32 @@ def test_ctrl_c_exits_130_without_a_traceback():
         if p.poll() is None:
             p.kill()
         p.stdin.close()
+
+
+@pytest.mark.parametrize("seed", [None, "5"])
+def test_an_interrupted_run_reports_the_seed_it_drew(seed):
+    """Ctrl-C on a random run that drew its seed: the one line names the seed, so the run can
+    be repeated; a seed the user gave is not repeated back."""
+    argv = ["simulate", "-n", "100000000", "--xi", "0.577"] + ([] if seed is None else
+                                                               ["--seed", seed])
+    p = subprocess.Popen([sys.executable, "-c", _WAIT_FOR_STDIN, *argv], stdin=subprocess.DEVNULL,
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    try:
+        assert p.stderr.readline() == b"ready\n"
+        time.sleep(1.0)  # well into the tosses (10^8 take tens of seconds)
+        p.send_signal(signal.SIGINT)
+        assert p.wait(timeout=30) == 130
+        err = p.stderr.read().decode()
+        assert p.stdout.read() == b""
+    finally:
+        if p.poll() is None:
+            p.kill()
+    if seed is None:
+        m = re.fullmatch(r"coin: error: interrupted \(seed (\d+): --seed (\d+) repeats this "
+                         r"run\)\n", err)
+        assert m and m.group(1) == m.group(2), err
+    else:
+        assert err == "coin: error: interrupted\n"
 
 
 _INTERRUPT_WHILE_IMPORTING = """

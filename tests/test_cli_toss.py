@@ -579,3 +579,31 @@ def test_a_drawn_seed_is_reported_and_repeats_the_same_bytes(coin):
     rc, out, err = coin("toss", "--xi", "0.577", "-q")
     assert rc == 0 and out.strip() in ("heads", "sides", "tails") and err.startswith("coin: seed")
     assert coin("toss", "--xi", "0.577", "--psi", "90", "--u", "2", "--omega", "40", "-q")[2] == ""
+
+
+@pytest.mark.parametrize("once, every", [
+    (["--omega", "2000:2400:100rpm"], ["--omega", "2000rpm:2400rpm:100rpm"]),
+    (["--u", "100:300:50cm/s"], ["--u", "100cm/s:300cm/s:50cm/s"]),
+])
+def test_a_range_takes_its_unit_once_or_after_every_number(coin, once, every):
+    """One grammar for a range with a unit, as `coin book --times` takes it."""
+    base = ["toss", "--xi", "0.577", "--psi", "90", "-f", "csv"]
+    fill = {"--omega": ["--u", "2"], "--u": ["--omega", "38rev/s"]}[once[0]]
+    assert _ok(coin(*base, *fill, *once)) == _ok(coin(*base, *fill, *every))
+
+
+@pytest.mark.parametrize("value, words", [
+    ("2000rpm:2400:100rpm", "give a range's unit once at the end (38:40:1rev/s) or the same "
+                            "after every number, got '2000rpm:2400:100rpm'"),
+    ("2000rpm:2400rpm:100rad/s", "or the same after every number"),
+    ("2400:2000:100rpm", "--omega range must have start <= stop, got '2400:2000:100rpm'"),
+])
+def test_a_range_with_a_unit_is_refused_as_typed(coin, value, words):
+    _error(coin("toss", "--xi", "0.577", "--psi", "90", "--u", "2", "--omega", value), 2, words)
+
+
+def test_distribution_bounds_are_stated_as_they_are(coin):
+    _error(coin("simulate", "--xi", "0.5", "--omega", "uniform:3:1"), 2,
+           "uniform:LOW:HIGH needs LOW <= HIGH, both >= 0 rad/s; got 'uniform:3:1'")
+    _error(coin("book", "--size", "235x155x30", "--toss", "-n", "5", "--spin",
+                "uniform:3:1,1,1"), 2, "needs LOW <= HIGH, both finite rad/s")

@@ -505,3 +505,21 @@ def test_a_list_where_one_psi_is_taken_is_refused_as_a_list(coin, argv):
     _error(coin(*argv, "--psi-dist", "normal:90:x"), 2, "normal sd (degrees) must be a number")
     _error(coin(*argv, "--psi", "90", "--psi-dist", "uniform"), 2,
            "give --psi DEG (a fixed angle) or --psi-dist SPEC (a distribution), not both")
+
+
+@pytest.mark.parametrize("argv, what", [
+    (["stack", "--count", "1:3:0.5"], "--count"),
+    (["table", "--quarters", "1:3:1.5"], "--quarters"),
+    (["table", "--coin", "dime", "--count", "2:4:0.5"], "--count"),
+])
+def test_a_count_range_must_be_whole(coin, argv, what):
+    """A count range that steps by a fraction names the range, not a value it made ('1.0')."""
+    text = argv[-1]
+    _error(coin(*argv), 2, f"{what} range must be whole numbers start:stop:step (like 1:12:1), "
+           f"got '{text}'")
+
+
+@pytest.mark.parametrize("value", ["0", "1", "1.5", "-0.1", "150%"])
+def test_alpha_states_the_levels_it_takes(coin, value):
+    _error(coin("check", "--xi", "0.5", "--sides", "3", "-n", "9", "--alpha", value), 2,
+           f"--alpha must be strictly between 0 and 1 (0.05, 1/20 or 5%), got '{value}'")

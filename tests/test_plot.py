@@ -168,6 +168,14 @@ def test_unwritable_output_is_exit_1(capsys, tmp_path):
     assert code == 1 and err.count("\n") == 1 and "cannot write" in err
 
 
+@pytest.mark.parametrize("name", [".png", ".SVG", "sub/.pdf"])
+def test_an_extension_alone_is_not_a_file_name(capsys, tmp_path, name):
+    code, out, err = _run(["plot", "sides", "--out", str(tmp_path / name)], capsys)
+    assert code == 2 and err.count("\n") == 1 and out == ""
+    assert "is an extension without a file name; give a name such as figure." in err
+    assert not any(tmp_path.rglob("*"))
+
+
 def test_import_budget():
     """Registering and asking for help loads neither numpy nor matplotlib nor rich; a text plot
     does not load matplotlib."""

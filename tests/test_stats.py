@@ -610,3 +610,26 @@ def test_percent_is_the_exact_decimal_product(level):
     """percent() shifts the repr's digits as text (no decimal import at start-up); it says
     exactly what the decimal module's exact product by 100 says."""
     assert stats.percent(level) == _percent_by_decimal(level)
+
+
+def test_a_semicolon_file_reads_decimal_commas():
+    """README: semicolons 'as spreadsheets write csv where the decimal mark is a comma'."""
+    a = stats.parse_experiments("xi;heads;sides;tails\n0,5;40;20;40\n")
+    b = stats.parse_experiments("diameter;thickness;heads;sides;tails\n24,26;1,75mm;4;2;4\n")
+    assert a[0].xi == 0.5 and a[0].counts.sides == 20
+    assert b[0].xi == 1.75 / 24.26
+    with pytest.raises(stats.CSVError, match="xi must be a number"):  # a comma file: no
+        stats.parse_experiments("xi,heads,sides,tails\n\"0,5\",40,20,40\n")
+
+
+def test_the_xi_column_reads_xi_as_the_option_does():
+    assert stats.parse_experiments("xi,heads,sides,tails\n17/30,4,2,4\n")[0].xi == 17 / 30
+    with pytest.raises(stats.CSVError, match="at xi = 0 no model lands on a side"):
+        stats.parse_experiments("xi,heads,sides,tails\n0,4,2,4\n")
+
+
+def test_trailing_empty_header_cells_are_ignored_and_a_nameless_column_is_named():
+    rows = stats.parse_experiments("xi,heads,sides,tails,,\n0.5,40,20,40,,\n")
+    assert rows[0].counts.n == 100
+    with pytest.raises(stats.CSVError, match="the header's column 2 has no name"):
+        stats.parse_experiments("xi,,heads,sides,tails\n0.5,,40,20,40\n")

@@ -116,6 +116,14 @@ def _load(modules) -> None:
         app._registered_groups.sort(key=order)
 
 
+def _interrupted() -> str:
+    """'interrupted', with the seed the run drew (if it drew one), so that it can be repeated."""
+    options = sys.modules.get("coincli.cli._options")
+    seed = getattr(options, "DRAWN_SEED", None)
+    return "interrupted" if seed is None else (f"interrupted (seed {seed}: --seed {seed} "
+                                               "repeats this run)")
+
+
 def _fail(message: str, code: int) -> int:
     from coincli.cli._common import clip_message
 
@@ -229,7 +237,7 @@ def _run(argv, gc_paused: bool = False) -> int:
             _resume_gc()
         rv = command.main(argv, prog_name="coin", standalone_mode=False)
         if rv == ExitCode.INTERRUPTED:  # typer turns Ctrl-C into a silent Exit(130)
-            return _fail("interrupted", ExitCode.INTERRUPTED)
+            return _fail(_interrupted(), ExitCode.INTERRUPTED)
         _flush_stdout()
         return int(rv) if isinstance(rv, int) else 0
     except CoinError as exc:
@@ -253,7 +261,7 @@ def _run(argv, gc_paused: bool = False) -> int:
     except typer.Abort:
         return _fail("aborted", ExitCode.INTERRUPTED)
     except KeyboardInterrupt:
-        return _fail("interrupted", ExitCode.INTERRUPTED)
+        return _fail(_interrupted(), ExitCode.INTERRUPTED)
     except BrokenPipeError:
         return _quiet_broken_pipe()
     except StdoutClosed as exc:

@@ -325,6 +325,14 @@ def resolve_coin(xi: str | None = None, coin: str | None = None, count: str | No
             return Coins(None, "coin" if kind != "size" else "size", unit, None,
                          unit.diameter_mm, typed)
         count_text = "1"
+    if ":" in count_text:
+        try:
+            whole = parse.parse_range(count_text, what).whole
+        except ValueError:
+            whole = True  # the range's own error comes from the parse below
+        if not whole:
+            raise usage_error(f"{what} range must be whole numbers start:stop:step (like "
+                              f"1:12:1), got {count_text.strip()!r}")
     if many and stream and max_values is None:
         batch = values_stream(count_text, what, _count_item,
                               bounds=(1.0, float(parse.MAX_COUNT)))
@@ -399,11 +407,17 @@ SeedOpt = Annotated[
 def seed_value(text: str | None) -> int:
     """The seed typed, or a fresh one drawn from the operating system's entropy (63 bits, so
     that it prints short and any tool reads it back); the caller reports it."""
+    global DRAWN_SEED
     if text is None:
         import secrets
 
-        return secrets.randbits(63)
+        DRAWN_SEED = secrets.randbits(63)
+        return DRAWN_SEED
     return _one(text, "--seed", parse.parse_seed)
+
+
+#: The seed this run drew, if it drew one: an interrupted run still reports it (coincli.cli).
+DRAWN_SEED: int | None = None
 
 
 def unit_at_end(nums: list[str], units, what: str, example: str, text: str) -> list[str]:
@@ -418,6 +432,29 @@ def unit_at_end(nums: list[str], units, what: str, example: str, text: str) -> l
         unit = parse.split_unit(nums[-1], units)[1]
         nums = [p + unit for p in nums[:-1]] + nums[-1:]
     return nums
+
+
+def range_unit(text: str, units, what: str, example: str) -> tuple[str, str | None]:
+    """A range ``start:stop:step`` with its unit typed once at the end (``0:500:100ms``) or the
+    same after every number (``0ms:500ms:100ms``), as ``(numbers, unit)``; ``unit`` None when
+    no number has one.  A unit on some numbers only, or two different units, is refused in one
+    line that shows the forms allowed."""
+    parts = [p.strip() for p in text.strip().split(":")]
+    split = [parse.split_unit(p, units) for p in parts]
+    found = [u for _, u in split]
+    if not any(found):
+        return text.strip(), None
+    unit = found[-1]
+    if unit is None or (any(found[:-1]) and set(found) != {unit}):
+        raise usage_error(f"{what}: give a range's unit once at the end ({example}) or the same "
+                          f"after every number, got {text.strip()!r}")
+    return ":".join(num for num, _ in split), unit
+
+
+def typed_range_error(exc: Exception, head: str, text: str) -> Exception:
+    """A range error about the numbers ``head`` of a range typed as ``text`` (with its unit),
+    shown as typed."""
+    return usage_error(str(exc).replace(repr(head), repr(text.strip())))
 
 
 def report_seed(seed: int, given: bool) -> None:

@@ -21,6 +21,7 @@ from coincli import parse
 from coincli.cli import app
 from coincli.cli._common import (
     CHUNK_ROWS,
+    CoinError,
     Column,
     FormatOpt,
     QuietOpt,
@@ -36,9 +37,11 @@ from coincli.cli._common import (
 from coincli.cli._options import (
     SeedOpt,
     TossesOpt,
+    range_unit,
     report_seed,
     seed_value,
     tosses_value,
+    typed_range_error,
     unit_at_end,
 )
 
@@ -175,17 +178,11 @@ def _times(text: str):
     ``coin simulate --omega 38:40:1rev/s`` does) or the same unit after every number."""
     t = text.strip()
     if ":" in t:
-        parts = [p.strip() for p in t.split(":")]
-        split = [parse.split_unit(p, _TIME_UNITS) for p in parts]
-        units = [u for _, u in split]
-        if any(units):
-            unit = units[-1]
-            if unit is None or (any(units[:-1]) and set(units) != {unit}):
-                raise usage_error(f"--times: give a range's unit once at the end (0:500:100ms) "
-                                  f"or the same after every number, got {text!r}")
-            head = ":".join(num for num, _ in split)
-            return _time_range(head, _TIME_UNITS[unit], text)
-        return _time_range(t, 1.0, text)
+        head, unit = range_unit(t, _TIME_UNITS, "--times", "0:500:100ms")
+        try:
+            return _time_range(head, 1.0 if unit is None else _TIME_UNITS[unit], text)
+        except CoinError as exc:  # a range error shows the range as typed, with its unit
+            raise typed_range_error(exc, head, t) from None
     return values_option(t, "--times", _time_item)
 
 

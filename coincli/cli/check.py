@@ -54,9 +54,12 @@ def _level(text: str, what: str) -> float:
     try:
         v = parse.parse_probability(text, what)
     except ValueError as exc:
-        raise usage_error(str(exc)) from None
+        if "must be in [0, 1]" not in str(exc):
+            raise usage_error(str(exc)) from None
+        v = math.nan  # out of [0, 1]: the message below states what a level may be
     if not 0.0 < v < 1.0:
-        raise usage_error(f"{what} must be strictly between 0 and 1, got {text!r}")
+        like = "0.05, 1/20 or 5%" if what == "--alpha" else "0.95 or 95%"
+        raise usage_error(f"{what} must be strictly between 0 and 1 ({like}), got {text!r}")
     return v
 
 

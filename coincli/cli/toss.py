@@ -190,10 +190,14 @@ def _values(text: str, what: str, kind: str):
     its own unit or a range with one unit at its end (``38:40:1rev/s``)."""
     t = text.strip()
     units = _units_of(kind)
-    if ":" in t:
-        head, unit = parse.split_unit(t, units)
-        if unit is not None and not any(parse.split_unit(p, units)[1] for p in
-                                        head.split(":")):
+    if ":" in t and t.count(":") == 2:
+        example = "1:3:0.5m/s" if kind == "u" else "38:40:1rev/s"
+        head, unit = _options.range_unit(t, units, what, example)
+        if unit is not None:
+            try:
+                parse.parse_range(head, what)
+            except ValueError as exc:
+                raise _options.typed_range_error(exc, head, t) from None
             return values_option(head, what, lambda s, w: _one_value(s + unit, w, kind))
     bounds = (0.0, U_MAX) if kind == "u" else (0.0, sys.float_info.max)
     return values_option(t, what, lambda s, w: _one_value(s, w, kind), bounds=bounds)
@@ -247,8 +251,8 @@ def _spec(text: str, what: str, kind: str):
         return T.Dist("fixed", vals[0], 0.0, lo, hi)
     if name == "uniform":
         if not lo <= vals[0] <= vals[1] <= hi:
-            raise usage_error(f"{what}: uniform:LOW:HIGH needs LOW <= HIGH, both in {rng}; got "
-                              f"{text!r}")
+            raise usage_error(f"{what}: uniform:LOW:HIGH needs LOW <= HIGH, both "
+                              f"{'in ' if math.isfinite(hi) else ''}{rng}; got {text!r}")
         return T.Dist("uniform", vals[0], vals[1], lo, hi)
     mu, sd = vals
     mass = T._normal_mass((lo - mu) / sd, (hi - mu) / sd)
