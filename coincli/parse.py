@@ -321,9 +321,6 @@ class Range:
         self.start, self.stop, self.step, self.count, self.whole = start, stop, step, count, whole
         self._sdt = sdt  # (S, T, D) integers, when exact
 
-    def __iter__(self):  # start, stop, step, count, whole
-        return iter((self.start, self.stop, self.step, self.count, self.whole))
-
     def value(self, k: int) -> float:
         """The ``k``-th value (a float)."""
         if self._sdt is not None:
@@ -350,8 +347,7 @@ class Range:
 
 def parse_range(text: str, what: str, *, max_rows: int = MAX_ROWS) -> Range:
     """An inclusive range ``start:stop:step`` (step > 0; decimals or fractions) as a
-    :class:`Range` (which unpacks as ``start, stop, step, count, whole``; ``whole`` when all
-    three parts are whole numbers).  More than ``max_rows`` values is an error naming the
+    :class:`Range` (``whole`` when all three parts are whole numbers).  More than ``max_rows`` values is an error naming the
     limit."""
     s = str(text).strip()
     parts = s.split(":")
