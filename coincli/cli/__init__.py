@@ -233,6 +233,9 @@ def _run(argv, gc_paused: bool = False) -> int:
         if os.environ.get(COMPLETE_VAR):
             return _complete(os.environ[COMPLETE_VAR])
         command = _click_command(argv)
+        options = sys.modules.get("coincli.cli._options")
+        if options is not None:  # run() may be called again in one process (tests)
+            options.DRAWN_SEED = None
         if gc_paused:
             _resume_gc()
         rv = command.main(argv, prog_name="coin", standalone_mode=False)
