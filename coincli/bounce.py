@@ -293,26 +293,22 @@ def smallest_xi(diameter: float, density: float = DEFAULT_DENSITY) -> float:
 
     if light(100.0):
         return math.inf
-    lo, hi = 1e-300, 100.0
-    if not light(lo):
-        return lo
-    for _ in range(200):  # bisection in log xi to a relative 1e-12
-        mid = math.sqrt(lo * hi)
-        if light(mid):
-            lo = mid
-        else:
-            hi = mid
-        if hi / lo < 1 + 1e-12:
-            break
-    return hi
+    if not light(1e-300):
+        return 1e-300
+    return _log_bisect(light, 1e-300, 100.0)
 
 
 def smallest_diameter(density: float = DEFAULT_DENSITY) -> float:
     """The smallest diameter (m) MuJoCo can simulate at some xi up to 100 (at xi = 100)."""
-    lo, hi = 1e-4, 10.0
+    return _log_bisect(lambda d: smallest_xi(d, density) > 100.0, 1e-4, 10.0)
+
+
+def _log_bisect(below, lo: float, hi: float) -> float:
+    """The boundary in ``[lo, hi]`` (both > 0) where ``below`` turns false, by bisection in log
+    to a relative 1e-12: the smallest point found where it is false."""
     for _ in range(200):
         mid = math.sqrt(lo * hi)
-        if smallest_xi(mid, density) > 100.0:
+        if below(mid):
             lo = mid
         else:
             hi = mid
