@@ -1336,17 +1336,19 @@ def _cat_batches(np, qs, sizes):
 _SIN_TAYLOR = tuple((-1.0) ** i / math.factorial(2 * i + 1) for i in range(9))[::-1]
 
 
-def _abs_sin_rough(np, x):
+def _abs_sin_rough(np, x, terms=9):
     """``|sin x|`` for ``0 <= x < 1e5`` within ``5e-11``: the reduction ``x - k pi`` by a double
     ``pi`` errs by ``k * 1.3e-16`` plus two roundings of the size of ``x`` (an ulp of ``1e5`` is
     ``1.5e-11``), the Taylor polynomial on ``[-pi/2, pi/2]`` by ``5e-14``.  For bounds (with a
-    margin of ``1e-9``), not for results."""
+    margin of ``1e-9``), not for results.  With ``terms=6`` (to ``r^11``) the polynomial errs by
+    ``(pi/2)^13 / 13! < 6e-8``."""
     r = np.rint(x * (1.0 / math.pi))
     r *= -math.pi
     r += x
     z = r * r
-    p = z * _SIN_TAYLOR[0]
-    for c in _SIN_TAYLOR[1:-1]:
+    taylor = _SIN_TAYLOR[9 - terms:]
+    p = z * taylor[0]
+    for c in taylor[1:-1]:
         p += c
         p *= z
     p += 1.0
@@ -1372,6 +1374,8 @@ def _window_outcomes(np, psi, u, om, xi, dia, g, thick, bands, m):
     """
     psi, u, om = (np.broadcast_to(np.asarray(v, dtype=float), (m,)) for v in (psi, u, om))
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # (those not ok)
+        if not thick:
+            return _descent_codes(np, psi, u, om, xi, dia, g, bands, m)
         return _window_codes(np, psi, u, om, xi, dia, g, thick, bands, m)
 
 
@@ -1428,6 +1432,219 @@ def _window_codes(np, psi, u, om, xi, dia, g, thick, bands, m):
     k[(k != kh) | ~ok] = -1
     return k
 
+
+
+_DESCENT_EPS = 1e-9  #: T1, T2 = Tc (1 -+ this): just before and after the centre passes a sin theta0
+_R2 = math.sqrt(0.5)  #: sin(alpha/2) at alpha = pi/2
+_SAMPLES = 4  #: sub-intervals of [w2s, T2] sampled for the tosses the tilt alone leaves open
+# cos r for |r| <= pi/4: Taylor to r^10 (the next term is below 1.2e-10).
+_COS_TAYLOR = tuple((-1.0) ** i / math.factorial(2 * i) for i in range(6))[::-1]
+
+
+def _descent_codes(np, psi, u, om, xi, dia, g, bands, m):
+    r"""Rim contact: outcome codes (-1 where undecided) from where the coin is when its centre
+    falls through the height ``c = a sin theta0``, without finding the root.
+
+    A rim touching at ``t_f`` has ``a sin alpha_f = L = z(t_f)``, so it lands on its side (eq. 7,
+    ``sin alpha_f > sin theta0``) exactly when ``z(t_f) > c``: when the first contact comes before
+    ``Tc``, the time ``z = c`` on the descent.  Take ``T1 < Tc < T2`` a hair apart, ``z(T1) >=
+    c + D/2`` and ``z(T2) <= c - D/2`` (``D = r Tc 1e-9``, ``r`` the speed at ``Tc``; ``z`` within
+    ``2D`` of ``c`` at both), with ``D`` over four times ``M``, which bounds the contact's rounding
+    band (``M = 1e-12 (u^2/g + a (3 + 6 x_c))`` is some 270 times the scan's ``tol``, which is
+    the deepest dip the scan can step over, and the most ``F`` can miss zero at its root):
+
+    - ``F(T1) < -M`` (``a sin alpha(T1) > z(T1) + M``): the scan stops at or before ``T1``, where
+      ``L = z >= c + D/2``: sides.
+    - ``F > M`` over all of ``[w2s, T2]``: the scan goes beyond ``T2``, where ``L = z <= c - D/2``:
+      not sides; heads or tails as the coin faces at ``T2``, for alpha cannot pass ``pi/2``
+      before contact (there ``L = a > z``).
+
+    Both read ``sin(alpha/2) = S = sin psi |sin x|`` (``x = omega t / 2``), which is monotone
+    between multiples of ``pi/2`` in ``x``: over ``[w2s, Tc]`` it lies between its values at the
+    ends, or reaches 0 or ``sin psi`` where such a multiple is crossed (as
+    :func:`_window_codes`).  With ``f = S^2 (1 - S^2) = (L / 2a)^2``, ``L > z`` where ``|S^2 -
+    1/2| < sqrt(1/4 - (z/2a)^2)``: at ``z = c`` the band of eq. (7), ``sin^2(theta0/2) < S^2 <
+    cos^2(theta0/2)``, moved by at most ``e/Y0`` inwards (sides) or ``e/(2 max(Y0, 1e-4)) (+
+    1e-4 when Y0 < 1e-4)`` outwards (heads, tails), ``e = (2D + M)/2a``, ``Y0 = cos(theta0)/2``.
+    ``S`` is known within ``1e-6`` (sines by a Taylor polynomial within ``6e-8``) plus the ``x``
+    turned between ``Tc`` and ``T1`` or ``T2``.  Most tosses end here (95% of hand tosses, 99%
+    of ordinary ones); :func:`_sampled_codes` takes those whose coin tilted through its side band
+    on the way down, and the rest go to the scan.
+
+    The toss must let alpha reach ``pi/2`` (``|psi - pi/2| < pi/4``, so that ``Lmax = a``), rise
+    above ``Lmax`` (the second window then starts at ``w2s``, taken ``1e-12`` early, beyond the
+    scan's rounding of its own), leave the launch window clear by ``1e-6 z0`` (there ``z >= z0``
+    and ``L <= a omega t sin psi``), with ``M`` below that, and ``x_c < 9e4``.  Any other is
+    left to the scan.
+    """
+    a = 0.5 * dia
+    z0 = _SQRT3_2 * a
+    d = a * (1.0 + 8 * _EPS) - z0  # Lmax - z0 > 0
+    sb, cb = bands
+    c = 2.0 * a * sb * cb  # a sin theta0
+    # sin psi = cos(psi - pi/2) for |psi - pi/2| <= pi/4 (the others are not decided).
+    sp = psi - 0.5 * math.pi
+    z = sp * sp
+    ok = z <= (0.25 * math.pi - 1e-9) ** 2
+    np.multiply(z, _COS_TAYLOR[0], out=sp)
+    for k in _COS_TAYLOR[1:-1]:
+        sp += k
+        sp *= z
+    sp += 1.0
+    u2 = u * u
+    disc = u2 * (1.0 - 1e-12)
+    disc -= 2.0 * g * d * (1.0 + 1e-12)  # below the scan's, whatever its rounding
+    ok &= disc > 0  # (else the coin never rises above Lmax)
+    root = np.sqrt(disc, out=disc)
+    root += u
+    w2s = root * ((1.0 - 1e-12) / g)  # the scan's w2s or a little before
+    # The launch window [0, w1], w1 = 2 d / (u + root): a omega w1 sin psi < z0 (1 - 1e-6)
+    # (sin psi >= 0.7 here, so (1 + 2e-10) sin psi covers its error).
+    lw = om * sp
+    lw *= 2.0 * d * (1.0 + 1e-12) * (1.0 + 2e-10) * a / (z0 * (1.0 - 1e-6))
+    ok &= lw < root
+    # Tc: z(Tc) = c on the descent; r the speed there.
+    r = np.add(u2, 2.0 * g * (z0 - c), out=lw)
+    ok &= r > 1e-6 * u2
+    np.sqrt(r, out=r)
+    tc = np.add(u, r)
+    tc *= 1.0 / g
+    hom = 0.5 * om
+    x = np.empty((2, m))  # x at w2s and at Tc, in one array: one pass of the sine for both
+    x1, xc = x
+    np.multiply(w2s, hom, out=x1)
+    np.multiply(tc, hom, out=xc)
+    ok &= xc < 9e4
+    # D, M (omega t_end <= omega (Tc + 1.01 sqrt(2a/g)) <= 6 x_c, as Tc >= 0.51 sqrt(2a/g)).
+    dd = r * tc
+    dd *= _DESCENT_EPS
+    mm = xc * (6e-12 * a)
+    mm += u2 * (1e-12 / g)
+    mm += 3e-12 * a
+    ok &= (dd > 4.0 * mm) & (dd < 1e-4 * a) & (mm < 1e-7 * z0)
+    ez = np.multiply(dd, 2.0 / (2.0 * a))
+    ez += mm * (1.0 / (2.0 * a))  # e = (2D + M) / 2a
+    s = _abs_sin_rough(np, x, 6)
+    s1, sc = s
+    q = np.floor(x * (2.0 / math.pi), out=x)
+    q1, q2 = q
+    lo = np.minimum(s1, sc)
+    hi = np.maximum(s1, sc, out=s1)
+    span = q2 - q1
+    cross = np.flatnonzero(span > 0)
+    if cross.size:
+        sc_, qc = span[cross], q2[cross]
+        even_end = 0.5 * qc == np.floor(0.5 * qc)  # the multiple q2 pi/2 is one of pi
+        lo[cross[even_end | (sc_ > 1)]] = 0.0
+        hi[cross[~even_end | (sc_ > 1)]] = 1.0
+    w = np.multiply(xc, 1.01 * _DESCENT_EPS, out=q1)  # the widening of S
+    w += 1e-6
+    sc *= sp
+    lo *= sp
+    lo -= w
+    hi *= sp
+    hi += w
+    y0 = 0.5 * (cb - sb) * (cb + sb)  # cos(theta0) / 2
+    # Sides: S(T1) in [sc - w, sc + w] with S^2 inside (sb^2 + e/Y0, cb^2 - e/Y0)
+    # ((1 + e) e / Y0, in fact: e < 1.2e-4).
+    if y0 > 0:
+        ks = np.multiply(ez, (1.0 + 1.2e-4) / y0)
+        sl = np.subtract(sc, w)
+        sides = sl > 0
+        sl *= sl
+        sl -= ks
+        sides &= sl > sb * sb + 1e-12
+        sh = np.add(sc, w, out=sl)
+        sh *= sh
+        sh += ks
+        sides &= sh < cb * cb - 1e-12
+    else:  # xi = 0: no side band
+        sides = np.zeros(m, dtype=bool)
+    # Heads: S over [w2s, T2] with S^2 below sb^2 - e / 2Yb (- 1e-4 when Y0 < 1e-4); tails:
+    # above cb^2 + the same.
+    yb = max(y0, 1e-4)
+    slack = 1e-12 + (1e-4 if y0 < 1e-4 else 0.0)
+    kh = np.multiply(ez, 0.5 / yb, out=ez)
+    hi *= hi
+    hi += kh
+    heads = hi < sb * sb - slack
+    lo *= lo
+    lo -= kh
+    tails = lo > cb * cb + slack
+    heads &= ok
+    sides &= ok
+    tails &= ok
+    k = heads.view(np.int8) - 1
+    k += 2 * sides.view(np.int8)
+    k += 3 * tails.view(np.int8)
+    und = np.flatnonzero(ok & (k < 0))
+    if und.size:
+        k[und] = _sampled_codes(np, u[und], om[und], sp[und], w2s[und], tc[und], dd[und],
+                                mm[und], a, z0, g, c)
+    return k
+
+
+def _sampled_codes(np, u, om, sp, w2s, tc, dd, mm, a, z0, g, c):
+    """The tosses :func:`_descent_codes` leaves open (its arguments, for them): F sampled at
+    ``_SAMPLES + 1`` points from ``w2s`` to ``T2`` (the last ``Tc (1 + 2e-9) >= T2``).
+
+    Sides where ``F < -M`` at a sample before the last (all before ``T1``: the gap between
+    samples is checked to exceed ``4e-9 Tc``); heads or tails where every gap is free,
+    ``min(F_i, F_i+1) - K2 h^2 / 8 > M`` (``F'' <= K2 <= omega^2 a sin psi``, the module's
+    semi-concavity), and ``S`` at the last sample is on one side of ``1/sqrt 2`` (the face at
+    ``T2``).  ``L`` is bounded from ``S`` within ``1e-7`` (``L = 2a S sqrt(1 - S^2)``, each
+    factor bounded on its own), ``z`` within ``M``.  Else -1."""
+    n = u.size
+    ns = _SAMPLES
+    tn = tc * (1.0 + 2.0 * _DESCENT_EPS)
+    h = tn - w2s
+    h *= 1.0 / ns
+    p = np.multiply.outer(h, np.arange(ns + 1, dtype=float))
+    p += w2s[:, None]
+    p[:, ns] = tn
+    x = p * (0.5 * om)[:, None]
+    s = _abs_sin_rough(np, x, 6)
+    s *= sp[:, None]
+    e2 = 1e-7
+    slo = np.maximum(s - e2, 0.0)
+    shi = s + e2
+    lhi = slo * slo
+    np.subtract(1.0, lhi, out=lhi)
+    np.sqrt(lhi, out=lhi)
+    lhi *= shi
+    llo = np.minimum(shi, 1.0)
+    llo *= llo
+    np.subtract(1.0, llo, out=llo)
+    np.sqrt(llo, out=llo)
+    llo *= slo
+    zz = p * (-0.5 * g)
+    zz += u[:, None]
+    zz *= p
+    zz += z0  # z within M: F's rounding bound covers it
+    mc = mm[:, None]
+    # F's bounds, from L's (2a (1 +- 1e-12) times the products above) and z's.
+    flo = lhi * (-2.0 * a * (1.0 + 1e-12))
+    flo += zz
+    flo -= mc
+    fhi = llo * (-2.0 * a * (1.0 - 1e-12))
+    fhi += zz
+    fhi += mc
+    sides = (fhi[:, :ns] < -mc).any(axis=1)
+    kk = om * om
+    kk *= sp + e2
+    kk *= (a / 8.0) * (1.001) ** 2
+    kk *= h
+    kk *= h
+    gap = np.minimum(flo[:, :-1], flo[:, 1:])
+    gap -= kk[:, None]
+    free = (gap > mc).all(axis=1)
+    sn = s[:, ns]
+    code = np.full(n, -1, dtype=np.int8)
+    code[free & (sn + e2 < _R2)] = HEADS
+    code[free & (sn - e2 > _R2)] = TAILS
+    code[sides] = SIDES
+    code[h <= 4.0 * _DESCENT_EPS * tc] = -1
+    return code
 
 
 # --------------------------------------------------------------------------- phase space
