@@ -1283,15 +1283,17 @@ def _outcomes_flat(np, flat, n, thick):
     xi, dia, g = float(xi), float(dia), float(g)
     t0 = math.atan2(1.0, xi)
     bands = (math.sin(0.5 * t0), math.cos(0.5 * t0))
-    code = np.empty(n, dtype=np.int8)
-    rest = []
-    for lo in range(0, n, _BATCH):
-        sl = slice(lo, min(n, lo + _BATCH))
-        k = _window_outcomes(np, *(v if isinstance(v, float) else v[sl] for v in (psi, u, om)),
-                             xi, dia, g, thick, bands, sl.stop - sl.start)
-        code[sl] = k
-        rest.append(np.flatnonzero(k < 0) + lo)
-    rest = np.concatenate(rest)
+    if thick:
+        code = np.empty(n, dtype=np.int8)
+        for lo in range(0, n, _BATCH):
+            sl = slice(lo, min(n, lo + _BATCH))
+            code[sl] = _window_outcomes(np, *(v if isinstance(v, float) else v[sl]
+                                              for v in (psi, u, om)),
+                                        xi, dia, g, thick, bands, sl.stop - sl.start)
+    else:
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # (those not ok)
+            code = _descent_outcomes(np, psi, u, om, xi, dia, g, bands, n)
+    rest = np.flatnonzero(code < 0)
     pending = []
     for lo in range(0, rest.size, _BATCH):
         r = rest[lo:lo + _BATCH]
@@ -1375,7 +1377,7 @@ def _window_outcomes(np, psi, u, om, xi, dia, g, thick, bands, m):
     psi, u, om = (np.broadcast_to(np.asarray(v, dtype=float), (m,)) for v in (psi, u, om))
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # (those not ok)
         if not thick:
-            return _descent_codes(np, psi, u, om, xi, dia, g, bands, m)
+            return _descent_outcomes(np, psi, u, om, xi, dia, g, bands, m)
         return _window_codes(np, psi, u, om, xi, dia, g, thick, bands, m)
 
 
@@ -1434,216 +1436,294 @@ def _window_codes(np, psi, u, om, xi, dia, g, thick, bands, m):
 
 
 
-_DESCENT_EPS = 1e-9  #: T1, T2 = Tc (1 -+ this): just before and after the centre passes a sin theta0
+_DESCENT_EPS = 1e-10  #: T1, T2 = Tc (1 -+ this): just before and after the centre passes a sin theta0
 _R2 = math.sqrt(0.5)  #: sin(alpha/2) at alpha = pi/2
-_SAMPLES = 4  #: sub-intervals of [w2s, T2] sampled for the tosses the tilt alone leaves open
-# cos r for |r| <= pi/4: Taylor to r^10 (the next term is below 1.2e-10).
-_COS_TAYLOR = tuple((-1.0) ** i / math.factorial(2 * i) for i in range(6))[::-1]
+_SAMPLES = (4, 32)  #: sub-intervals of [w2s, T2] sampled, in turn, for the tosses left open
+_SUB = 2048  #: tosses sampled at once (arrays below 128 kB: malloc reuses them, no page faults)
+# cos r for |r| <= pi/4: Taylor to r^8 (the next term is below 2.5e-8).
+_COS_TAYLOR = tuple((-1.0) ** i / math.factorial(2 * i) for i in range(5))[::-1]
+_SIN5 = _SIN_TAYLOR[4:]  # sin r / r to r^8, |r| <= pi/2: within (pi/2)^11 / 11! < 3.6e-6
+_SIN6 = _SIN_TAYLOR[3:]  # to r^10: within (pi/2)^13 / 13! < 6e-8
+_E_MAX = 1e-6  #: the most (2D + M) / 2a may be (see _descent_limits)
+_W1 = 1e-5  #: S's error in _descent_batch: sines 3.6e-6, sin psi 2.5e-8, the x turned 1e-6
+_W2 = 2e-7  #: S's error in _sampled_codes: sines 6e-8, sin psi 2.5e-8
 
 
-def _descent_codes(np, psi, u, om, xi, dia, g, bands, m):
-    r"""Rim contact: outcome codes (-1 where undecided) from where the coin is when its centre
-    falls through the height ``c = a sin theta0``, without finding the root.
+def _descent_outcomes(np, psi, u, om, xi, dia, g, bands, n):
+    r"""Rim contact: outcome codes (-1 where the scan must decide) of ``n`` tosses (``psi``,
+    ``u``, ``om`` numbers or arrays of length ``n``), from where the coin is when its centre
+    falls through the height ``c = a sin theta0``: no root finding.
 
     A rim touching at ``t_f`` has ``a sin alpha_f = L = z(t_f)``, so it lands on its side (eq. 7,
-    ``sin alpha_f > sin theta0``) exactly when ``z(t_f) > c``: when the first contact comes before
-    ``Tc``, the time ``z = c`` on the descent.  Take ``T1 < Tc < T2`` a hair apart, ``z(T1) >=
-    c + D/2`` and ``z(T2) <= c - D/2`` (``D = r Tc 1e-9``, ``r`` the speed at ``Tc``; ``z`` within
-    ``2D`` of ``c`` at both), with ``D`` over four times ``M``, which bounds the contact's rounding
-    band (``M = 1e-12 (u^2/g + a (3 + 6 x_c))`` is some 270 times the scan's ``tol``, which is
-    the deepest dip the scan can step over, and the most ``F`` can miss zero at its root):
+    ``sin alpha_f > sin theta0``) exactly when ``z(t_f) > c``: when the first contact comes
+    before ``Tc``, the time ``z = c`` on the descent.  Take ``T1 < Tc < T2`` a hair apart,
+    ``Tc (1 -+ 1e-10)``: ``z(T1) >= c + D/2``, ``z(T2) <= c - D/2``, both within ``2D`` of ``c``
+    (``D = r Tc 1e-10``, ``r`` the speed at ``Tc``; ``Tc``'s own rounding is far below), with
+    ``D`` over four times ``M = 4e-13 (u^2/g + a (3 + 6.1 x_c))``, over a hundred times the
+    scan's ``tol`` at ``t_end`` (``omega t_end < 6.1 x_c``, ``x_c = omega Tc / 2``), which bounds
+    both the deepest dip the scan steps over and how far ``F`` can be from zero at the root it
+    returns:
 
-    - ``F(T1) < -M`` (``a sin alpha(T1) > z(T1) + M``): the scan stops at or before ``T1``, where
-      ``L = z >= c + D/2``: sides.
-    - ``F > M`` over all of ``[w2s, T2]``: the scan goes beyond ``T2``, where ``L = z <= c - D/2``:
-      not sides; heads or tails as the coin faces at ``T2``, for alpha cannot pass ``pi/2``
-      before contact (there ``L = a > z``).
+    - ``F(T1) < -M``: the scan stops at or before ``T1``, where ``L = z >= c + D/2``: sides.
+    - ``F > M`` over all of ``[w2s, T2]``: the scan goes beyond ``T2``, where ``L = z <= c -
+      D/2``: not sides; heads or tails as the coin faces at ``T2``, for alpha cannot pass
+      ``pi/2`` before contact (there ``L = a > z``).
 
-    Both read ``sin(alpha/2) = S = sin psi |sin x|`` (``x = omega t / 2``), which is monotone
-    between multiples of ``pi/2`` in ``x``: over ``[w2s, Tc]`` it lies between its values at the
-    ends, or reaches 0 or ``sin psi`` where such a multiple is crossed (as
-    :func:`_window_codes`).  With ``f = S^2 (1 - S^2) = (L / 2a)^2``, ``L > z`` where ``|S^2 -
-    1/2| < sqrt(1/4 - (z/2a)^2)``: at ``z = c`` the band of eq. (7), ``sin^2(theta0/2) < S^2 <
-    cos^2(theta0/2)``, moved by at most ``e/Y0`` inwards (sides) or ``e/(2 max(Y0, 1e-4)) (+
-    1e-4 when Y0 < 1e-4)`` outwards (heads, tails), ``e = (2D + M)/2a``, ``Y0 = cos(theta0)/2``.
-    ``S`` is known within ``1e-6`` (sines by a Taylor polynomial within ``6e-8``) plus the ``x``
-    turned between ``Tc`` and ``T1`` or ``T2``.  Most tosses end here (95% of hand tosses, 99%
-    of ordinary ones); :func:`_sampled_codes` takes those whose coin tilted through its side band
-    on the way down, and the rest go to the scan.
-
-    The toss must let alpha reach ``pi/2`` (``|psi - pi/2| < pi/4``, so that ``Lmax = a``), rise
-    above ``Lmax`` (the second window then starts at ``w2s``, taken ``1e-12`` early, beyond the
-    scan's rounding of its own), leave the launch window clear by ``1e-6 z0`` (there ``z >= z0``
-    and ``L <= a omega t sin psi``), with ``M`` below that, and ``x_c < 9e4``.  Any other is
-    left to the scan.
+    First (:func:`_descent_batch`) by bounds of ``sin(alpha/2)`` at ``T1`` and over ``[w2s,
+    T2]`` (95% of hand tosses, 99% of ordinary ones); then (:func:`_sampled_codes`) by ``F``
+    sampled at 5, then 33 points of ``[w2s, T2]`` (nearly all the rest: tosses whose coin tilted
+    through its side band on the way down).  What is left (about one toss in 10^5, and those
+    outside :func:`_descent_limits`) goes to the scan.
     """
     a = 0.5 * dia
     z0 = _SQRT3_2 * a
-    d = a * (1.0 + 8 * _EPS) - z0  # Lmax - z0 > 0
     sb, cb = bands
     c = 2.0 * a * sb * cb  # a sin theta0
-    # sin psi = cos(psi - pi/2) for |psi - pi/2| <= pi/4 (the others are not decided).
-    sp = psi - 0.5 * math.pi
-    z = sp * sp
+    lim = _descent_limits(a, z0, g, c, sb, cb)
+    code = np.empty(n, dtype=np.int8)
+    m = min(n, _BATCH)
+    work = np.empty((9, m))  # the batches' scratch, reused: no allocation a batch
+    flags = np.empty((3, m), dtype=bool)
+    for lo in range(0, n, _BATCH):
+        sl = slice(lo, min(n, lo + _BATCH))
+        k = sl.stop - sl.start
+        args = (np.broadcast_to(v, (k,)) if isinstance(v, float) else v[sl] for v in (psi, u, om))
+        _descent_batch(np, *args, a, z0, g, lim, work[:, :k], flags[:, :k], code[sl])
+    cand = np.flatnonzero(code == -3)
+    code[cand] = -1
+    for ns in _SAMPLES:
+        left = []
+        for lo in range(0, cand.size, _SUB):
+            ci = cand[lo:lo + _SUB]
+            p_, u_, o_ = (np.broadcast_to(v, ci.shape) if isinstance(v, float) else v[ci]
+                          for v in (psi, u, om))
+            kk = _sampled_codes(np, p_, u_, o_, a, z0, g, c, lim, ns)
+            code[ci] = kk
+            left.append(ci[kk < 0])
+        if not left:
+            break
+        cand = np.concatenate(left)
+    return code
+
+
+def _descent_limits(a, z0, g, c, sb, cb):
+    """The constants of :func:`_descent_outcomes`'s preconditions and thresholds (a dict).
+
+    A toss is tried where alpha can reach ``pi/2`` (``|psi - pi/2| < pi/4``, so that ``Lmax =
+    a`` and ``sin psi >= 0.7``, here a Taylor polynomial within ``2.5e-8``), ``x_c < 1e4``, the
+    launch window ``[0, w1]`` is clear by ``1e-6 z0`` (there ``z >= z0`` and ``L <= a omega t
+    sin psi``), ``D > 4M`` and ``u^2`` lies between ``u2lo`` and ``u2hi``: above the least
+    that rises above ``Lmax`` (the second window then starts at ``w2s``, taken ``1e-12`` early,
+    beyond the scan's rounding of its own) and makes the speed at ``Tc`` over ``1e-3 u``; below
+    what keeps ``M < 1e-7 z0`` (far below the launch window's clearance) and ``e = (2D + M)/2a
+    <= 1e-6`` (``2D <= 4 (u^2 + max(K, 0)) 1e-10 / g``, ``K = 2g (z0 - c)``).
+
+    The thresholds of ``S = sin(alpha/2)`` (``S`` known within ``W``): at ``z = c`` the band
+    of eq. (7) is ``sb^2 < S^2 < cb^2``: ``L > z`` where ``(L/2a)^2 = S^2 (1 - S^2) > (z/2a)^2``,
+    i.e. ``|S^2 - 1/2| < sqrt(1/4 - (z/2a)^2)``, which is ``Y0 = cos(theta0)/2`` at ``z = c``, at
+    least ``sqrt(Y0^2 - e (1 + e))`` at ``z = c + 2a e`` and at most ``sqrt(Y0^2 + e)`` at ``z = c
+    - 2a e`` (``c = 2a sb cb``, ``sb^2 + cb^2 = 1``)."""
+    d = a * (1.0 + 8 * _EPS) - z0  # Lmax - z0 > 0
+    k = 2.0 * g * (z0 - c)
+    lo = max(2.0 * g * d * (1.0 + 1e-12) / (1.0 - 1e-12), -k / (1.0 - 1e-6)) * (1.0 + 1e-13)
+    hi_m = 1.55e5 * a * g  # 4e-13 u^2 / g + 2.44e-8 a < 1e-7 z0 (x_c < 1e4)
+    hi_e = (2.0 * _E_MAX * a - 2.44e-8 * a - 4.0 * _DESCENT_EPS * max(k, 0.0) / g) * g / (
+        4.0 * _DESCENT_EPS + 4e-13)
+    y0 = 0.5 * (cb - sb) * (cb + sb)  # cos(theta0) / 2
+    e = _E_MAX
+    ys = math.sqrt(max(y0 * y0 - e * (1.0 + e), 0.0))  # |S^2 - 1/2| below this: L > z at T1
+    yh = math.sqrt(y0 * y0 + e)  # above this: L < z over [w2s, T2]
+    sides = ((math.sqrt(0.5 - ys + 1e-12) * (1.0 + 1e-15) + _W1,
+              math.sqrt(0.5 + ys - 1e-12) * (1.0 - 1e-15) - _W1) if ys > 0 else (2.0, 0.0))
+    return {
+        "d": d, "k": k, "u2lo": lo, "u2hi": min(hi_m, hi_e) * (1.0 - 1e-13),
+        # a omega w1 sin psi < z0 (1 - 1e-6), w1 = 2 d / (u + sqrt(disc)); sin psi's error
+        # (relative, at >= 0.7) within 4e-8.
+        "launch": 2.0 * d * (1.0 + 1e-12) * (1.0 + 4e-8) * a / (z0 * (1.0 - 1e-6)),
+        "sides": sides,  # S(T1) strictly between these: sides
+        "heads": math.sqrt(max(0.5 - yh - 1e-12, 0.0)) * (1.0 - 1e-15) - _W1,  # S below
+        "tails": math.sqrt(0.5 + yh + 1e-12) * (1.0 + 1e-15) + _W1,  # S above
+    }
+
+
+def _descent_setup(np, psi, u, om, a, z0, g, lim):
+    """Per toss: whether :func:`_descent_outcomes` can decide it (``ok``, see
+    :func:`_descent_limits`), ``sin psi``, ``w2s`` (the scan's, or a little before), ``Tc``, ``M``.
+    :func:`_descent_batch` is the same arithmetic, in place."""
+    r = psi - 0.5 * math.pi
+    z = r * r
     ok = z <= (0.25 * math.pi - 1e-9) ** 2
-    np.multiply(z, _COS_TAYLOR[0], out=sp)
+    sp = z * _COS_TAYLOR[0]
     for k in _COS_TAYLOR[1:-1]:
         sp += k
         sp *= z
     sp += 1.0
     u2 = u * u
-    disc = u2 * (1.0 - 1e-12)
-    disc -= 2.0 * g * d * (1.0 + 1e-12)  # below the scan's, whatever its rounding
-    ok &= disc > 0  # (else the coin never rises above Lmax)
-    root = np.sqrt(disc, out=disc)
+    ok &= (u2 > lim["u2lo"]) & (u2 < lim["u2hi"])
+    root = np.sqrt(np.maximum(u2 * (1.0 - 1e-12) - 2.0 * g * lim["d"] * (1.0 + 1e-12), 0.0))
     root += u
-    w2s = root * ((1.0 - 1e-12) / g)  # the scan's w2s or a little before
-    # The launch window [0, w1], w1 = 2 d / (u + root): a omega w1 sin psi < z0 (1 - 1e-6)
-    # (sin psi >= 0.7 here, so (1 + 2e-10) sin psi covers its error).
-    lw = om * sp
-    lw *= 2.0 * d * (1.0 + 1e-12) * (1.0 + 2e-10) * a / (z0 * (1.0 - 1e-6))
-    ok &= lw < root
-    # Tc: z(Tc) = c on the descent; r the speed there.
-    r = np.add(u2, 2.0 * g * (z0 - c), out=lw)
-    ok &= r > 1e-6 * u2
-    np.sqrt(r, out=r)
-    tc = np.add(u, r)
-    tc *= 1.0 / g
-    hom = 0.5 * om
-    x = np.empty((2, m))  # x at w2s and at Tc, in one array: one pass of the sine for both
-    x1, xc = x
-    np.multiply(w2s, hom, out=x1)
-    np.multiply(tc, hom, out=xc)
-    ok &= xc < 9e4
-    # D, M (omega t_end <= omega (Tc + 1.01 sqrt(2a/g)) <= 6 x_c, as Tc >= 0.51 sqrt(2a/g)).
-    dd = r * tc
-    dd *= _DESCENT_EPS
-    mm = xc * (6e-12 * a)
-    mm += u2 * (1e-12 / g)
-    mm += 3e-12 * a
-    ok &= (dd > 4.0 * mm) & (dd < 1e-4 * a) & (mm < 1e-7 * z0)
-    ez = np.multiply(dd, 2.0 / (2.0 * a))
-    ez += mm * (1.0 / (2.0 * a))  # e = (2D + M) / 2a
-    s = _abs_sin_rough(np, x, 6)
-    s1, sc = s
-    q = np.floor(x * (2.0 / math.pi), out=x)
-    q1, q2 = q
-    lo = np.minimum(s1, sc)
-    hi = np.maximum(s1, sc, out=s1)
-    span = q2 - q1
-    cross = np.flatnonzero(span > 0)
+    ok &= om * sp * lim["launch"] < root
+    w2s = root * ((1.0 - 1e-12) / g)
+    r = np.sqrt(np.maximum(u2 + lim["k"], 0.0))
+    tc = (u + r) * (1.0 / g)
+    xc = tc * (0.5 * om)
+    ok &= xc < 1e4
+    mm = xc * (6.1 * 4e-13 * a) + u2 * (4e-13 / g) + 3.0 * 4e-13 * a
+    ok &= r * tc * _DESCENT_EPS > 4.0 * mm
+    return ok, sp, w2s, tc, mm
+
+
+def _descent_batch(np, psi, u, om, a, z0, g, lim, work, flags, code):
+    """:func:`_descent_outcomes`'s first test on one batch, into ``code`` (-3 where
+    :func:`_sampled_codes` should look, -1 where the scan must): :func:`_descent_setup`'s
+    arithmetic, then ``S = sin(alpha/2) = sin psi |sin x|`` (``x = omega t / 2``) bounded at
+    ``T1`` and over ``[w2s, T2]`` and compared with :func:`_descent_limits`'s thresholds; in
+    place, in the scratch ``work`` (9 float rows) and ``flags`` (3 bool rows): a batch of 8192
+    stays within the cache.
+
+    ``S`` is monotone between multiples of ``pi/2`` in ``x``: over ``[w2s, Tc]`` it lies between
+    its values at the ends, or reaches 0 or ``sin psi`` where such a multiple is crossed (as
+    :func:`_window_codes`), and it moves by at most ``1e-6`` between ``Tc`` and ``T1`` or
+    ``T2`` (``x_c < 1e4``)."""
+    A, B, C, D, E, F, G, H, I = work
+    ok, f1, f2 = flags
+    # sin psi = cos(psi - pi/2) for |psi - pi/2| <= pi/4 (the others are not decided).
+    np.subtract(psi, 0.5 * math.pi, out=A)
+    np.multiply(A, A, out=B)
+    np.less_equal(B, (0.25 * math.pi - 1e-9) ** 2, out=ok)
+    np.multiply(B, _COS_TAYLOR[0], out=A)
+    for k in _COS_TAYLOR[1:-1]:
+        A += k
+        A *= B
+    A += 1.0  # A: sin psi
+    np.multiply(u, u, out=B)  # B: u^2
+    np.greater(B, lim["u2lo"], out=f1)
+    ok &= f1
+    np.less(B, lim["u2hi"], out=f1)
+    ok &= f1
+    np.multiply(B, 1.0 - 1e-12, out=C)
+    C -= 2.0 * g * lim["d"] * (1.0 + 1e-12)  # below the scan's disc, whatever its rounding
+    np.sqrt(C, out=C)
+    C += u  # C: u + sqrt(disc) = g w2s
+    np.multiply(om, A, out=D)
+    D *= lim["launch"]
+    np.less(D, C, out=f1)
+    ok &= f1  # the launch window is clear
+    np.add(B, lim["k"], out=D)
+    np.sqrt(D, out=D)  # D: r, the speed at Tc
+    np.add(u, D, out=E)
+    E *= 0.5 / g  # E: Tc / 2
+    np.multiply(E, om, out=H)  # H: xc = x at Tc
+    np.less(H, 1e4, out=f1)
+    ok &= f1
+    np.multiply(C, om, out=G)
+    G *= 0.5 * (1.0 - 1e-12) / g  # G: x1 = x at w2s (a little early)
+    np.multiply(D, E, out=I)  # I: r Tc / 2; D > 4M
+    np.multiply(H, 6.1 * 8e-13 * a / _DESCENT_EPS, out=D)
+    np.multiply(B, 8e-13 / (g * _DESCENT_EPS), out=F)
+    D += F
+    D += 3.0 * 8e-13 * a / _DESCENT_EPS
+    np.greater(I, D, out=f1)
+    ok &= f1
+    _sin_into(np, G, B, C, E, _SIN5)  # B: |sin x1|
+    _sin_into(np, H, F, C, E, _SIN5)  # F: |sin xc|
+    np.multiply(G, 2.0 / math.pi, out=C)
+    np.floor(C, out=C)  # C: q1
+    np.multiply(H, 2.0 / math.pi, out=E)
+    np.floor(E, out=E)  # E: q2
+    np.minimum(B, F, out=I)  # I: lo
+    np.maximum(B, F, out=D)  # D: hi
+    np.greater(E, C, out=f1)
+    cross = np.flatnonzero(f1)
     if cross.size:
-        sc_, qc = span[cross], q2[cross]
+        qc = E[cross]
+        far = qc - C[cross] > 1
         even_end = 0.5 * qc == np.floor(0.5 * qc)  # the multiple q2 pi/2 is one of pi
-        lo[cross[even_end | (sc_ > 1)]] = 0.0
-        hi[cross[~even_end | (sc_ > 1)]] = 1.0
-    w = np.multiply(xc, 1.01 * _DESCENT_EPS, out=q1)  # the widening of S
-    w += 1e-6
-    sc *= sp
-    lo *= sp
-    lo -= w
-    hi *= sp
-    hi += w
-    y0 = 0.5 * (cb - sb) * (cb + sb)  # cos(theta0) / 2
-    # Sides: S(T1) in [sc - w, sc + w] with S^2 inside (sb^2 + e/Y0, cb^2 - e/Y0)
-    # ((1 + e) e / Y0, in fact: e < 1.2e-4).
-    if y0 > 0:
-        ks = np.multiply(ez, (1.0 + 1.2e-4) / y0)
-        sl = np.subtract(sc, w)
-        sides = sl > 0
-        sl *= sl
-        sl -= ks
-        sides &= sl > sb * sb + 1e-12
-        sh = np.add(sc, w, out=sl)
-        sh *= sh
-        sh += ks
-        sides &= sh < cb * cb - 1e-12
-    else:  # xi = 0: no side band
-        sides = np.zeros(m, dtype=bool)
-    # Heads: S over [w2s, T2] with S^2 below sb^2 - e / 2Yb (- 1e-4 when Y0 < 1e-4); tails:
-    # above cb^2 + the same.
-    yb = max(y0, 1e-4)
-    slack = 1e-12 + (1e-4 if y0 < 1e-4 else 0.0)
-    kh = np.multiply(ez, 0.5 / yb, out=ez)
-    hi *= hi
-    hi += kh
-    heads = hi < sb * sb - slack
-    lo *= lo
-    lo -= kh
-    tails = lo > cb * cb + slack
-    heads &= ok
-    sides &= ok
-    tails &= ok
-    k = heads.view(np.int8) - 1
-    k += 2 * sides.view(np.int8)
-    k += 3 * tails.view(np.int8)
-    und = np.flatnonzero(ok & (k < 0))
-    if und.size:
-        k[und] = _sampled_codes(np, u[und], om[und], sp[und], w2s[und], tc[und], dd[und],
-                                mm[und], a, z0, g, c)
-    return k
+        I[cross[even_end | far]] = 0.0
+        D[cross[~even_end | far]] = 1.0
+    F *= A  # S(Tc)
+    I *= A  # S over [w2s, T2] from I
+    D *= A  # to D
+    s1, s2 = lim["sides"]
+    np.greater(F, s1, out=f1)
+    np.less(F, s2, out=f2)
+    f1 &= f2
+    f1 &= ok  # sides
+    np.less(D, lim["heads"], out=f2)
+    f2 &= ok  # heads
+    # -1, plus 1 heads, 2 sides, 3 tails; then -3 where ok and none: for _sampled_codes.
+    np.subtract(f2.view(np.int8), 1, out=code)
+    code += f1.view(np.int8)
+    code += f1.view(np.int8)
+    np.greater(I, lim["tails"], out=f1)
+    f1 &= ok  # tails
+    f2 = f1.view(np.int8)
+    code += f2
+    code += f2
+    code += f2
+    np.less(code, 0, out=f1)
+    f1 &= ok
+    code -= f1.view(np.int8)
+    code -= f1.view(np.int8)
 
 
-def _sampled_codes(np, u, om, sp, w2s, tc, dd, mm, a, z0, g, c):
-    """The tosses :func:`_descent_codes` leaves open (its arguments, for them): F sampled at
-    ``_SAMPLES + 1`` points from ``w2s`` to ``T2`` (the last ``Tc (1 + 2e-9) >= T2``).
+def _sin_into(np, x, out, r, z, taylor):
+    """``|sin x|`` for ``0 <= x < 1e5`` into ``out`` (``r``, ``z`` scratch): as
+    :func:`_abs_sin_rough`, in place, with the Taylor coefficients ``taylor`` (of ``sin r /
+    r``, highest first)."""
+    np.multiply(x, 1.0 / math.pi, out=r)
+    np.rint(r, out=r)
+    r *= -math.pi
+    r += x
+    np.multiply(r, r, out=z)
+    np.multiply(z, taylor[0], out=out)
+    for k in taylor[1:-1]:
+        out += k
+        out *= z
+    out += 1.0
+    out *= r
+    np.abs(out, out=out)
+
+
+def _sampled_codes(np, psi, u, om, a, z0, g, c, lim, ns):
+    """Outcome codes (-1 where undecided) of tosses the bounds on the tilt leave open
+    (:func:`_descent_outcomes`), from ``F`` sampled at ``ns + 1`` points from ``w2s`` to ``T2``
+    (the last ``Tc (1 + 2e-10) >= T2``).
 
     Sides where ``F < -M`` at a sample before the last (all before ``T1``: the gap between
-    samples is checked to exceed ``4e-9 Tc``); heads or tails where every gap is free,
-    ``min(F_i, F_i+1) - K2 h^2 / 8 > M`` (``F'' <= K2 <= omega^2 a sin psi``, the module's
-    semi-concavity), and ``S`` at the last sample is on one side of ``1/sqrt 2`` (the face at
-    ``T2``).  ``L`` is bounded from ``S`` within ``1e-7`` (``L = 2a S sqrt(1 - S^2)``, each
-    factor bounded on its own), ``z`` within ``M``.  Else -1."""
+    samples is checked to exceed ``4e-10 Tc``); heads or tails where every gap is free,
+    ``min(F_i, F_i+1) - K2 h^2 / 8 > M`` (``F'' <= K2 <= omega^2 a sin psi``: the module's
+    semi-concavity), as ``S`` at the last sample is below or above ``1/sqrt 2`` (the face at
+    ``T2``).  ``S`` is known within ``2e-7``, so ``L = 2a S sqrt(1 - S^2)`` is bounded by
+    bounding each factor; ``z`` within ``M``."""
+    ok, sp, w2s, tc, mm = _descent_setup(np, psi, u, om, a, z0, g, lim)
     n = u.size
-    ns = _SAMPLES
     tn = tc * (1.0 + 2.0 * _DESCENT_EPS)
-    h = tn - w2s
-    h *= 1.0 / ns
+    h = (tn - w2s) * (1.0 / ns)
+    ok &= h > 4.0 * _DESCENT_EPS * tc
     p = np.multiply.outer(h, np.arange(ns + 1, dtype=float))
     p += w2s[:, None]
     p[:, ns] = tn
     x = p * (0.5 * om)[:, None]
     s = _abs_sin_rough(np, x, 6)
     s *= sp[:, None]
-    e2 = 1e-7
-    slo = np.maximum(s - e2, 0.0)
-    shi = s + e2
-    lhi = slo * slo
-    np.subtract(1.0, lhi, out=lhi)
-    np.sqrt(lhi, out=lhi)
-    lhi *= shi
-    llo = np.minimum(shi, 1.0)
-    llo *= llo
-    np.subtract(1.0, llo, out=llo)
-    np.sqrt(llo, out=llo)
-    llo *= slo
-    zz = p * (-0.5 * g)
-    zz += u[:, None]
-    zz *= p
-    zz += z0  # z within M: F's rounding bound covers it
+    slo = np.maximum(s - _W2, 0.0)
+    shi = s + _W2
+    lhi = np.sqrt(np.maximum(1.0 - slo * slo, 0.0)) * shi
+    llo = np.sqrt(np.maximum(1.0 - shi * shi, 0.0)) * slo
+    zz = z0 + p * (u[:, None] - 0.5 * g * p)  # within M: F's rounding bound covers it
     mc = mm[:, None]
-    # F's bounds, from L's (2a (1 +- 1e-12) times the products above) and z's.
-    flo = lhi * (-2.0 * a * (1.0 + 1e-12))
-    flo += zz
-    flo -= mc
-    fhi = llo * (-2.0 * a * (1.0 - 1e-12))
-    fhi += zz
-    fhi += mc
+    flo = zz - lhi * (2.0 * a * (1.0 + 1e-12)) - mc
+    fhi = zz - llo * (2.0 * a * (1.0 - 1e-12)) + mc
     sides = (fhi[:, :ns] < -mc).any(axis=1)
-    kk = om * om
-    kk *= sp + e2
-    kk *= (a / 8.0) * (1.001) ** 2
-    kk *= h
-    kk *= h
-    gap = np.minimum(flo[:, :-1], flo[:, 1:])
-    gap -= kk[:, None]
-    free = (gap > mc).all(axis=1)
+    kk = om * om * (sp + _W2) * ((a / 8.0) * 1.001 ** 2) * h * h  # (gaps within 0.1% of h)
+    free = ((np.minimum(flo[:, :-1], flo[:, 1:]) - kk[:, None]) > mc).all(axis=1)
     sn = s[:, ns]
     code = np.full(n, -1, dtype=np.int8)
-    code[free & (sn + e2 < _R2)] = HEADS
-    code[free & (sn - e2 > _R2)] = TAILS
+    code[free & (sn + _W2 < _R2)] = HEADS
+    code[free & (sn - _W2 > _R2)] = TAILS
     code[sides] = SIDES
-    code[h <= 4.0 * _DESCENT_EPS * tc] = -1
+    code[~ok] = -1
     return code
 
 
