@@ -1687,12 +1687,13 @@ def _sin_into(np, x, out, r, z, taylor):
 
 def _sampled_codes(np, psi, u, om, a, z0, g, c, lim, ns):
     """Outcome codes (-1 where undecided) of tosses the bounds on the tilt leave open
-    (:func:`_descent_outcomes`), from ``F`` sampled at ``ns + 1`` points from ``w2s`` to ``T2``
-    (the last ``Tc (1 + 2e-10) >= T2``).
+    (:func:`_descent_outcomes`), from ``F`` sampled at ``ns + 2`` points from ``w2s`` to ``T2``:
+    ``ns`` evenly spaced from ``w2s``, then ``Tc (1 - 2e-10) <= T1`` and ``Tc (1 + 2e-10) >=
+    T2``.
 
-    Sides where ``F < -M`` at a sample before the last (all before ``T1``: the gap between
-    samples is checked to exceed ``4e-10 Tc``); heads or tails where every gap is free,
-    ``min(F_i, F_i+1) - K2 h^2 / 8 > M`` (``F'' <= K2 <= omega^2 a sin psi``: the module's
+    Sides where ``F < -M`` at a sample before the last (all before ``T1``: the grid's step is
+    checked to exceed ``4e-10 Tc``); heads or tails where every gap is free, ``min(F_i, F_i+1) -
+    K2 h_i^2 / 8 > M`` (``F'' <= K2 <= omega^2 a sin psi``: the module's
     semi-concavity), as ``S`` at the last sample is below or above ``1/sqrt 2`` (the face at
     ``T2``).  ``S`` is known within ``2e-7``, so ``L = 2a S sqrt(1 - S^2)`` is bounded by
     bounding each factor; ``z`` within ``M``."""
@@ -1701,24 +1702,29 @@ def _sampled_codes(np, psi, u, om, a, z0, g, c, lim, ns):
     tn = tc * (1.0 + 2.0 * _DESCENT_EPS)
     h = (tn - w2s) * (1.0 / ns)
     ok &= h > 4.0 * _DESCENT_EPS * tc
-    p = np.multiply.outer(h, np.arange(ns + 1, dtype=float))
-    p += w2s[:, None]
-    p[:, ns] = tn
-    x = p * (0.5 * om)[:, None]
-    s = _abs_sin_rough(np, x, 6)
-    s *= sp[:, None]
+    # One row a sample (rows contiguous: numpy reduces across rows fast, along them slowly):
+    # the grid from w2s, then Tc (1 - 2e-10) <= T1 (a contact from the centre's passing c
+    # itself), then Tc (1 + 2e-10) >= T2.
+    p = np.multiply.outer(np.arange(ns + 2, dtype=float), h)
+    p += w2s
+    p[ns] = tc * (1.0 - 2.0 * _DESCENT_EPS)
+    p[ns + 1] = tn
+    s = _abs_sin_rough(np, p * (0.5 * om), 6)
+    s *= sp
     slo = np.maximum(s - _W2, 0.0)
     shi = s + _W2
     lhi = np.sqrt(np.maximum(1.0 - slo * slo, 0.0)) * shi
     llo = np.sqrt(np.maximum(1.0 - shi * shi, 0.0)) * slo
-    zz = z0 + p * (u[:, None] - 0.5 * g * p)  # within M: F's rounding bound covers it
-    mc = mm[:, None]
-    flo = zz - lhi * (2.0 * a * (1.0 + 1e-12)) - mc
-    fhi = zz - llo * (2.0 * a * (1.0 - 1e-12)) + mc
-    sides = (fhi[:, :ns] < -mc).any(axis=1)
-    kk = om * om * (sp + _W2) * ((a / 8.0) * 1.001 ** 2) * h * h  # (gaps within 0.1% of h)
-    free = ((np.minimum(flo[:, :-1], flo[:, 1:]) - kk[:, None]) > mc).all(axis=1)
-    sn = s[:, ns]
+    zz = z0 + p * (u - 0.5 * g * p)  # within M: F's rounding bound covers it
+    flo = zz - lhi * (2.0 * a * (1.0 + 1e-12)) - mm
+    fhi = zz - llo * (2.0 * a * (1.0 - 1e-12)) + mm
+    sides = (fhi[:ns + 1] < -mm).any(axis=0)
+    gap = p[1:] - p[:-1]
+    gap *= 1.001  # (beyond the rounding of p)
+    gap *= gap
+    gap *= om * om * (sp + _W2) * (a / 8.0)  # K2 gap^2 / 8
+    free = ((np.minimum(flo[:-1], flo[1:]) - gap) > mm).all(axis=0)
+    sn = s[ns + 1]
     code = np.full(n, -1, dtype=np.int8)
     code[free & (sn + _W2 < _R2)] = HEADS
     code[free & (sn - _W2 > _R2)] = TAILS
