@@ -1438,15 +1438,23 @@ def _window_codes(np, psi, u, om, xi, dia, g, thick, bands, m):
 
 _DESCENT_EPS = 1e-10  #: T1, T2 = Tc (1 -+ this): just before and after the centre passes a sin theta0
 _R2 = math.sqrt(0.5)  #: sin(alpha/2) at alpha = pi/2
-_SAMPLES = (4, 32)  #: sub-intervals of [w2s, T2] sampled, in turn, for the tosses left open
+#: Samples of F (evenly spaced, approaching Tc, about Tc) and the sine's Taylor terms, in turn,
+#: for the tosses left open.
+_SAMPLES = ((4, 0, (-2e-10, 2e-10), 6),
+            (32, 8, (-2e-10, -2e-11, -3e-12, 3e-12, 2e-11, 2e-10), 9))
 _SUB = 2048  #: tosses sampled at once (arrays below 128 kB: malloc reuses them, no page faults)
-# cos r for |r| <= pi/4: Taylor to r^8 (the next term is below 2.5e-8).
-_COS_TAYLOR = tuple((-1.0) ** i / math.factorial(2 * i) for i in range(5))[::-1]
+_DBATCH = 1 << 15  #: tosses of one pass of the bounds (scratch reused: numpy's per-call cost)
+# cos r for |r| <= pi/4: Taylor to r^6 (the next term is below 3.6e-6) for _descent_batch, to
+# r^8 (below 2.5e-8) for _descent_setup.
+_COS3 = tuple((-1.0) ** i / math.factorial(2 * i) for i in range(4))[::-1]
+_COS4 = tuple((-1.0) ** i / math.factorial(2 * i) for i in range(5))[::-1]
 _SIN5 = _SIN_TAYLOR[4:]  # sin r / r to r^8, |r| <= pi/2: within (pi/2)^11 / 11! < 3.6e-6
 _SIN6 = _SIN_TAYLOR[3:]  # to r^10: within (pi/2)^13 / 13! < 6e-8
 _E_MAX = 1e-6  #: the most (2D + M) / 2a may be (see _descent_limits)
-_W1 = 1e-5  #: S's error in _descent_batch: sines 3.6e-6, sin psi 2.5e-8, the x turned 1e-6
-_W2 = 2e-7  #: S's error in _sampled_codes: sines 6e-8, sin psi 2.5e-8
+_W1 = 1e-5  #: S's error in _descent_batch: sines 3.6e-6, sin psi 3.6e-6, the x turned 1e-6
+#: S's error in _sampled_codes by the sine's Taylor terms: 6e-8 (6) or 5e-11 (9), sin psi
+#: 5e-11, x's rounding 2e-12.
+_W2 = {6: 2e-7, 9: 2e-10}
 
 
 def _descent_outcomes(np, psi, u, om, xi, dia, g, bands, n):
@@ -1481,23 +1489,24 @@ def _descent_outcomes(np, psi, u, om, xi, dia, g, bands, n):
     c = 2.0 * a * sb * cb  # a sin theta0
     lim = _descent_limits(a, z0, g, c, sb, cb)
     code = np.empty(n, dtype=np.int8)
-    m = min(n, _BATCH)
+    m = min(n, _DBATCH)
     work = np.empty((9, m))  # the batches' scratch, reused: no allocation a batch
-    flags = np.empty((3, m), dtype=bool)
-    for lo in range(0, n, _BATCH):
-        sl = slice(lo, min(n, lo + _BATCH))
+    flags = np.empty((4, m), dtype=bool)
+    cand = []
+    for lo in range(0, n, _DBATCH):
+        sl = slice(lo, min(n, lo + _DBATCH))
         k = sl.stop - sl.start
         args = (np.broadcast_to(v, (k,)) if isinstance(v, float) else v[sl] for v in (psi, u, om))
-        _descent_batch(np, *args, a, z0, g, lim, work[:, :k], flags[:, :k], code[sl])
-    cand = np.flatnonzero(code == -3)
-    code[cand] = -1
-    for ns in _SAMPLES:
+        ci = _descent_batch(np, *args, a, z0, g, lim, work[:, :k], flags[:, :k], code[sl])
+        cand.append(ci + lo)
+    cand = np.concatenate(cand)
+    for ns, geo, tail, terms in _SAMPLES:
         left = []
         for lo in range(0, cand.size, _SUB):
             ci = cand[lo:lo + _SUB]
             p_, u_, o_ = (np.broadcast_to(v, ci.shape) if isinstance(v, float) else v[ci]
                           for v in (psi, u, om))
-            kk = _sampled_codes(np, p_, u_, o_, a, z0, g, c, lim, ns)
+            kk = _sampled_codes(np, p_, u_, o_, a, z0, g, c, lim, ns, geo, tail, terms)
             code[ci] = kk
             left.append(ci[kk < 0])
         if not left:
@@ -1512,9 +1521,12 @@ def _descent_limits(a, z0, g, c, sb, cb):
     A toss is tried where alpha can reach ``pi/2`` (``|psi - pi/2| < pi/4``, so that ``Lmax =
     a`` and ``sin psi >= 0.7``, here a Taylor polynomial within ``2.5e-8``), ``x_c < 1e4``, the
     launch window ``[0, w1]`` is clear by ``1e-6 z0`` (there ``z >= z0`` and ``L <= a omega t
-    sin psi``), ``D > 4M`` and ``u^2`` lies between ``u2lo`` and ``u2hi``: above the least
-    that rises above ``Lmax`` (the second window then starts at ``w2s``, taken ``1e-12`` early,
-    beyond the scan's rounding of its own) and makes the speed at ``Tc`` over ``1e-3 u``; below
+    sin psi``), ``r > 0.1464 a omega`` and ``u^2`` lies between ``u2lo`` and ``u2hi``: above
+    the least that rises above ``Lmax`` (the second window then starts at ``w2s``, taken
+    ``1e-12`` early, beyond the scan's rounding of its own), makes the speed at ``Tc`` ``r >
+    0.0481 u`` and ``r Tc > 0.1441 a`` (with the last, ``D > 4M``: each of ``M``'s three terms
+    below ``D/12``;
+    and ``r > 1e-3 u``, so that ``D`` bounds ``|z - c|`` at ``T1``, ``T2``); below
     what keeps ``M < 1e-7 z0`` (far below the launch window's clearance) and ``e = (2D + M)/2a
     <= 1e-6`` (``2D <= 4 (u^2 + max(K, 0)) 1e-10 / g``, ``K = 2g (z0 - c)``).
 
@@ -1524,8 +1536,10 @@ def _descent_limits(a, z0, g, c, sb, cb):
     least ``sqrt(Y0^2 - e (1 + e))`` at ``z = c + 2a e`` and at most ``sqrt(Y0^2 + e)`` at ``z = c
     - 2a e`` (``c = 2a sb cb``, ``sb^2 + cb^2 = 1``)."""
     d = a * (1.0 + 8 * _EPS) - z0  # Lmax - z0 > 0
-    k = 2.0 * g * (z0 - c)
-    lo = max(2.0 * g * d * (1.0 + 1e-12) / (1.0 - 1e-12), -k / (1.0 - 1e-6)) * (1.0 + 1e-13)
+    k = 2.0 * g * (z0 - c)  # r^2 = u^2 + k
+    lo = max(2.0 * g * d * (1.0 + 1e-12) / (1.0 - 1e-12),  # the coin rises above Lmax
+             -k / (1.0 - 0.0481 ** 2),  # r > 0.0481 u
+             0.1441 * a * g / 0.0481)  # r Tc > 0.0481 u^2 / g > 0.1441 a
     hi_m = 1.55e5 * a * g  # 4e-13 u^2 / g + 2.44e-8 a < 1e-7 z0 (x_c < 1e4)
     hi_e = (2.0 * _E_MAX * a - 2.44e-8 * a - 4.0 * _DESCENT_EPS * max(k, 0.0) / g) * g / (
         4.0 * _DESCENT_EPS + 4e-13)
@@ -1536,10 +1550,13 @@ def _descent_limits(a, z0, g, c, sb, cb):
     sides = ((math.sqrt(0.5 - ys + 1e-12) * (1.0 + 1e-15) + _W1,
               math.sqrt(0.5 + ys - 1e-12) * (1.0 - 1e-15) - _W1) if ys > 0 else (2.0, 0.0))
     return {
-        "d": d, "k": k, "u2lo": lo, "u2hi": min(hi_m, hi_e) * (1.0 - 1e-13),
+        "d": d, "k": k, "u2lo": lo * (1.0 + 1e-13), "u2hi": min(hi_m, hi_e) * (1.0 - 1e-13),
         # a omega w1 sin psi < z0 (1 - 1e-6), w1 = 2 d / (u + sqrt(disc)); sin psi's error
-        # (relative, at >= 0.7) within 4e-8.
-        "launch": 2.0 * d * (1.0 + 1e-12) * (1.0 + 4e-8) * a / (z0 * (1.0 - 1e-6)),
+        # (relative, at >= 0.7) within 1e-5 (_descent_batch) or 4e-8 (_descent_setup).
+        "launch": 2.0 * d * (1.0 + 1e-12) * (1.0 + 1e-5) * a / (z0 * (1.0 - 1e-6)),
+        # D > 4M: r Tc 1e-10 / 3 exceeds each of 4M's three terms: r > 0.0481 u and r Tc >
+        # 0.1441 a (u2lo), and r > 0.1464 a omega.
+        "spin": 0.1464 * a * (1.0 + 1e-12),
         "sides": sides,  # S(T1) strictly between these: sides
         "heads": math.sqrt(max(0.5 - yh - 1e-12, 0.0)) * (1.0 - 1e-15) - _W1,  # S below
         "tails": math.sqrt(0.5 + yh + 1e-12) * (1.0 + 1e-15) + _W1,  # S above
@@ -1549,56 +1566,51 @@ def _descent_limits(a, z0, g, c, sb, cb):
 def _descent_setup(np, psi, u, om, a, z0, g, lim):
     """Per toss: whether :func:`_descent_outcomes` can decide it (``ok``, see
     :func:`_descent_limits`), ``sin psi``, ``w2s`` (the scan's, or a little before), ``Tc``, ``M``.
-    :func:`_descent_batch` is the same arithmetic, in place."""
-    r = psi - 0.5 * math.pi
-    z = r * r
-    ok = z <= (0.25 * math.pi - 1e-9) ** 2
-    sp = z * _COS_TAYLOR[0]
-    for k in _COS_TAYLOR[1:-1]:
-        sp += k
-        sp *= z
-    sp += 1.0
+    :func:`_descent_batch` is the same arithmetic, in place, for ``|psi - pi/2| < pi/4``; here
+    ``psi`` is free (``sin psi`` within ``5e-11``: when ``psi`` keeps alpha below ``pi/2``, the
+    scan's ``Lmax`` is below ``a`` and its ``w2s`` later)."""
+    sp = _abs_sin_rough(np, psi)
+    ok = np.ones(sp.shape, dtype=bool)
     u2 = u * u
     ok &= (u2 > lim["u2lo"]) & (u2 < lim["u2hi"])
     root = np.sqrt(np.maximum(u2 * (1.0 - 1e-12) - 2.0 * g * lim["d"] * (1.0 + 1e-12), 0.0))
     root += u
-    ok &= om * sp * lim["launch"] < root
+    ok &= om * (sp + 1e-10) * lim["launch"] < root
     w2s = root * ((1.0 - 1e-12) / g)
     r = np.sqrt(np.maximum(u2 + lim["k"], 0.0))
+    ok &= om * lim["spin"] < r
     tc = (u + r) * (1.0 / g)
     xc = tc * (0.5 * om)
     ok &= xc < 1e4
     mm = xc * (6.1 * 4e-13 * a) + u2 * (4e-13 / g) + 3.0 * 4e-13 * a
-    ok &= r * tc * _DESCENT_EPS > 4.0 * mm
     return ok, sp, w2s, tc, mm
 
 
 def _descent_batch(np, psi, u, om, a, z0, g, lim, work, flags, code):
-    """:func:`_descent_outcomes`'s first test on one batch, into ``code`` (-3 where
-    :func:`_sampled_codes` should look, -1 where the scan must): :func:`_descent_setup`'s
+    """:func:`_descent_outcomes`'s first test on one batch, into ``code`` (-1 where undecided);
+    returns the undecided tosses :func:`_sampled_codes` should look at.  :func:`_descent_setup`'s
     arithmetic, then ``S = sin(alpha/2) = sin psi |sin x|`` (``x = omega t / 2``) bounded at
     ``T1`` and over ``[w2s, T2]`` and compared with :func:`_descent_limits`'s thresholds; in
-    place, in the scratch ``work`` (9 float rows) and ``flags`` (3 bool rows): a batch of 8192
-    stays within the cache.
+    place, in the scratch ``work`` (9 float rows) and ``flags`` (4 bool rows), reused from batch
+    to batch (numpy then spends its time on arithmetic, not on allocating memory).
 
     ``S`` is monotone between multiples of ``pi/2`` in ``x``: over ``[w2s, Tc]`` it lies between
     its values at the ends, or reaches 0 or ``sin psi`` where such a multiple is crossed (as
     :func:`_window_codes`), and it moves by at most ``1e-6`` between ``Tc`` and ``T1`` or
     ``T2`` (``x_c < 1e4``)."""
     A, B, C, D, E, F, G, H, I = work
-    ok, f1, f2 = flags
-    # sin psi = cos(psi - pi/2) for |psi - pi/2| <= pi/4 (the others are not decided).
+    ok, f1, f2, pk = flags
+    # sin psi = cos(psi - pi/2) for |psi - pi/2| <= pi/4 (pk; the others are not decided here).
     np.subtract(psi, 0.5 * math.pi, out=A)
     np.multiply(A, A, out=B)
-    np.less_equal(B, (0.25 * math.pi - 1e-9) ** 2, out=ok)
-    np.multiply(B, _COS_TAYLOR[0], out=A)
-    for k in _COS_TAYLOR[1:-1]:
+    np.less_equal(B, (0.25 * math.pi - 1e-9) ** 2, out=pk)
+    np.multiply(B, _COS3[0], out=A)
+    for k in _COS3[1:-1]:
         A += k
         A *= B
     A += 1.0  # A: sin psi
     np.multiply(u, u, out=B)  # B: u^2
-    np.greater(B, lim["u2lo"], out=f1)
-    ok &= f1
+    np.greater(B, lim["u2lo"], out=ok)
     np.less(B, lim["u2hi"], out=f1)
     ok &= f1
     np.multiply(B, 1.0 - 1e-12, out=C)
@@ -1611,6 +1623,9 @@ def _descent_batch(np, psi, u, om, a, z0, g, lim, work, flags, code):
     ok &= f1  # the launch window is clear
     np.add(B, lim["k"], out=D)
     np.sqrt(D, out=D)  # D: r, the speed at Tc
+    np.multiply(om, lim["spin"], out=E)
+    np.less(E, D, out=f1)
+    ok &= f1  # D > 4M
     np.add(u, D, out=E)
     E *= 0.5 / g  # E: Tc / 2
     np.multiply(E, om, out=H)  # H: xc = x at Tc
@@ -1618,13 +1633,6 @@ def _descent_batch(np, psi, u, om, a, z0, g, lim, work, flags, code):
     ok &= f1
     np.multiply(C, om, out=G)
     G *= 0.5 * (1.0 - 1e-12) / g  # G: x1 = x at w2s (a little early)
-    np.multiply(D, E, out=I)  # I: r Tc / 2; D > 4M
-    np.multiply(H, 6.1 * 8e-13 * a / _DESCENT_EPS, out=D)
-    np.multiply(B, 8e-13 / (g * _DESCENT_EPS), out=F)
-    D += F
-    D += 3.0 * 8e-13 * a / _DESCENT_EPS
-    np.greater(I, D, out=f1)
-    ok &= f1
     _sin_into(np, G, B, C, E, _SIN5)  # B: |sin x1|
     _sin_into(np, H, F, C, E, _SIN5)  # F: |sin xc|
     np.multiply(G, 2.0 / math.pi, out=C)
@@ -1644,27 +1652,25 @@ def _descent_batch(np, psi, u, om, a, z0, g, lim, work, flags, code):
     F *= A  # S(Tc)
     I *= A  # S over [w2s, T2] from I
     D *= A  # to D
+    pk &= ok
     s1, s2 = lim["sides"]
     np.greater(F, s1, out=f1)
     np.less(F, s2, out=f2)
     f1 &= f2
-    f1 &= ok  # sides
+    f1 &= pk  # sides
     np.less(D, lim["heads"], out=f2)
-    f2 &= ok  # heads
-    # -1, plus 1 heads, 2 sides, 3 tails; then -3 where ok and none: for _sampled_codes.
+    f2 &= pk  # heads
+    # -1, plus 1 heads, 2 sides, 3 tails.
     np.subtract(f2.view(np.int8), 1, out=code)
-    code += f1.view(np.int8)
-    code += f1.view(np.int8)
+    np.left_shift(f1.view(np.int8), 1, out=f2.view(np.int8))
+    code += f2.view(np.int8)
     np.greater(I, lim["tails"], out=f1)
-    f1 &= ok  # tails
-    f2 = f1.view(np.int8)
-    code += f2
-    code += f2
-    code += f2
+    f1 &= pk  # tails
+    np.multiply(f1.view(np.int8), 3, out=f2.view(np.int8))
+    code += f2.view(np.int8)
     np.less(code, 0, out=f1)
-    f1 &= ok
-    code -= f1.view(np.int8)
-    code -= f1.view(np.int8)
+    f1 &= ok  # (psi free: _sampled_codes takes any)
+    return np.flatnonzero(f1)  # for _sampled_codes
 
 
 def _sin_into(np, x, out, r, z, taylor):
@@ -1685,53 +1691,57 @@ def _sin_into(np, x, out, r, z, taylor):
     np.abs(out, out=out)
 
 
-def _sampled_codes(np, psi, u, om, a, z0, g, c, lim, ns):
+def _sampled_codes(np, psi, u, om, a, z0, g, c, lim, ns, geo, tail, terms):
     """Outcome codes (-1 where undecided) of tosses the bounds on the tilt leave open
-    (:func:`_descent_outcomes`), from ``F`` sampled at ``ns + 2`` points from ``w2s`` to ``T2``:
-    ``ns`` evenly spaced from ``w2s``, then ``Tc (1 - 2e-10) <= T1`` and ``Tc (1 + 2e-10) >=
-    T2``.
+    (:func:`_descent_outcomes`), from ``F`` sampled at ``ns`` points evenly spaced from ``w2s``
+    to ``Tc - h`` (``h = (Tc - w2s)/ns``), ``geo`` more approaching ``Tc`` tenfold each (``Tc -
+    h/10``, ...; never closer than ``2e-10 Tc``), and at ``Tc (1 + d)`` for ``d`` in ``tail``.
 
-    Sides where ``F < -M`` at a sample before the last (all before ``T1``: the grid's step is
-    checked to exceed ``4e-10 Tc``); heads or tails where every gap is free, ``min(F_i, F_i+1) -
-    K2 h_i^2 / 8 > M`` (``F'' <= K2 <= omega^2 a sin psi``: the module's
-    semi-concavity), as ``S`` at the last sample is below or above ``1/sqrt 2`` (the face at
-    ``T2``).  ``S`` is known within ``2e-7``, so ``L = 2a S sqrt(1 - S^2)`` is bounded by
-    bounding each factor; ``z`` within ``M``."""
+    Sides where some sample has ``F < -M`` and ``z > c + 2M`` (the scan stops there or before,
+    where ``L = z > c``); heads or tails where, up to some sample with ``z < c - 2M``, every gap
+    between samples is free, ``min(F_i, F_i+1) - K2 h_i^2 / 8 > M`` (``F'' <= K2 <= omega^2 a
+    sin psi``: the module's semi-concavity), and ``S`` there is below or above ``1/sqrt 2`` (the
+    face down when the scan goes beyond).  ``S`` is known within ``_W2[terms]`` (the sines
+    by :func:`_abs_sin_rough` with ``terms`` terms), so ``L = 2a S sqrt(1 - S^2)`` is bounded by
+    bounding each factor; ``z`` (within ``7e-15 (u^2/g + a)``) and ``F`` within ``M``."""
     ok, sp, w2s, tc, mm = _descent_setup(np, psi, u, om, a, z0, g, lim)
     n = u.size
-    tn = tc * (1.0 + 2.0 * _DESCENT_EPS)
-    h = (tn - w2s) * (1.0 / ns)
-    ok &= h > 4.0 * _DESCENT_EPS * tc
-    # One row a sample (rows contiguous: numpy reduces across rows fast, along them slowly):
-    # the grid from w2s, then Tc (1 - 2e-10) <= T1 (a contact from the centre's passing c
-    # itself), then Tc (1 + 2e-10) >= T2.
-    p = np.multiply.outer(np.arange(ns + 2, dtype=float), h)
-    p += w2s
-    p[ns] = tc * (1.0 - 2.0 * _DESCENT_EPS)
-    p[ns + 1] = tn
-    s = _abs_sin_rough(np, p * (0.5 * om), 6)
+    h = (tc - w2s) * (1.0 / ns)
+    ok &= h > 0
+    # One row a sample (rows contiguous: numpy reduces across rows fast, along them slowly).
+    p = np.empty((ns + geo + len(tail), n))
+    np.multiply.outer(np.arange(ns, dtype=float), h, out=p[:ns])
+    p[:ns] += w2s
+    for j in range(geo):
+        p[ns + j] = tc - np.maximum(h * 0.1 ** (j + 1), 2.0 * _DESCENT_EPS * tc)
+    for j, d in enumerate(tail):
+        p[ns + geo + j] = tc * (1.0 + d)
+    s = _abs_sin_rough(np, p * (0.5 * om), terms)
+    w = _W2[terms]
     s *= sp
-    slo = np.maximum(s - _W2, 0.0)
-    shi = s + _W2
+    slo = np.maximum(s - w, 0.0)
+    shi = s + w
     lhi = np.sqrt(np.maximum(1.0 - slo * slo, 0.0)) * shi
     llo = np.sqrt(np.maximum(1.0 - shi * shi, 0.0)) * slo
-    zz = z0 + p * (u - 0.5 * g * p)  # within M: F's rounding bound covers it
+    zz = z0 + p * (u - 0.5 * g * p)
     flo = zz - lhi * (2.0 * a * (1.0 + 1e-12)) - mm
     fhi = zz - llo * (2.0 * a * (1.0 - 1e-12)) + mm
-    sides = (fhi[:ns + 1] < -mm).any(axis=0)
+    sides = ((fhi < -mm) & (zz > c + 3.0 * mm)).any(axis=0)
     gap = p[1:] - p[:-1]
     gap *= 1.001  # (beyond the rounding of p)
     gap *= gap
-    gap *= om * om * (sp + _W2) * (a / 8.0)  # K2 gap^2 / 8
-    free = ((np.minimum(flo[:-1], flo[1:]) - gap) > mm).all(axis=0)
-    sn = s[ns + 1]
+    gap *= om * om * (sp + w) * (a / 8.0)  # K2 gap^2 / 8
+    free = (np.minimum(flo[:-1], flo[1:]) - gap) > mm
+    np.logical_and.accumulate(free, axis=0, out=free)  # free from w2s to each sample
+    free &= zz[1:] < c - 3.0 * mm
+    heads = (free & (s[1:] + w < _R2)).any(axis=0)
+    tails = (free & (s[1:] - w > _R2)).any(axis=0)
     code = np.full(n, -1, dtype=np.int8)
-    code[free & (sn + _W2 < _R2)] = HEADS
-    code[free & (sn - _W2 > _R2)] = TAILS
+    code[heads] = HEADS
+    code[tails] = TAILS
     code[sides] = SIDES
     code[~ok] = -1
     return code
-
 
 # --------------------------------------------------------------------------- phase space
 
