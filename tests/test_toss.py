@@ -377,6 +377,119 @@ def test_outcomes_without_refinement_are_those_of_toss_many(xi, contact):
     assert changes > 20 or xi == 0 or math.isinf(xi)
 
 
+
+ORDINARY = {"u": "normal:2.4:0.3", "omega": "normal:38:4",
+            "psi": T.Dist("normal", math.pi / 2, math.radians(10), 0.0, math.pi)}
+
+
+def _descent_stages(xi, psi, u, om, diameter=D, g=G):
+    """simulate's rim path by stage: the codes of the bounds pass (-1 where undecided), the
+    indices it hands to the sampled passes, and the codes of the whole path."""
+    a = diameter / 2
+    z0 = math.sqrt(3) / 2 * a
+    t0 = math.atan2(1.0, xi)
+    sb, cb = math.sin(t0 / 2), math.cos(t0 / 2)
+    lim = T._descent_limits(a, z0, g, 2 * a * sb * cb, sb, cb)
+    n = psi.size
+    code = np.empty(n, dtype=np.int8)
+    with np.errstate(all="ignore"):
+        cand = T._descent_batch(np, psi, u, om, a, z0, g, lim, np.empty((9, n)),
+                                np.empty((4, n), dtype=bool), code)
+        full = T._descent_outcomes(np, psi, u, om, xi, diameter, g, (sb, cb), n)
+    return code, cand, full
+
+
+@pytest.mark.parametrize("xi", [0.0, 0.2, FAIR, 1.0, 3.0, math.inf])
+@pytest.mark.parametrize("kind", ["hand", "ordinary"])
+def test_descent_outcomes_are_those_of_toss_many(kind, xi):
+    """simulate's rim path without root finding (the tilt as the centre falls through a sin
+    theta0, then F sampled) gives toss_many's code toss by toss, and nearly every hand toss or
+    ordinary toss takes it: first the bounds (most), then the samples (the rest)."""
+    rng = np.random.default_rng(31)
+    c = T.sample_conditions(3 * T._CHUNK, rng, **(T.HAND_TOSS if kind == "hand" else ORDINARY))
+    psi, u, om = c["psi"], c["u"], c["omega"]
+    ref = T.toss_many(xi, psi, u, om).code
+    assert np.array_equal(T._outcomes(xi, psi, u, om), ref)
+    first, cand, full = _descent_stages(xi, psi, u, om)
+    got = first >= 0
+    assert np.array_equal(first[got], ref[got])
+    assert np.array_equal(full[full >= 0], ref[full >= 0])
+    assert got.mean() > (0.8 if kind == "hand" else 0.95)
+    # The scan: a handful at most (xi = 0: contact as the centre falls through a, the top of
+    # the window, where the bounds have no room; a tenth of a percent).
+    assert np.count_nonzero(full >= 0) >= ref.size - (3 if xi > 0 else ref.size // 1000)
+    if 0 < xi < math.inf:  # (each outcome, and the sampled pass at work)
+        assert set(np.unique(first[got])) == {T.HEADS, T.SIDES, T.TAILS}
+        assert np.count_nonzero(full[cand] >= 0) > 0.9 * cand.size > 10
+
+
+@pytest.mark.parametrize("xi", [0.3, FAIR, 1.0, 2.5])
+def test_descent_outcomes_at_the_side_boundary(xi):
+    """Contacts at the very height a sin theta0 that splits sides from the faces: omega tuned
+    so that the tilt is theta0 or pi - theta0 exactly when the centre gets there (at psi =
+    pi/2, sin(alpha/2) = |sin(omega t/2)|), then moved by 1e-14 to 1e-2: every code is
+    toss_many's, and most of those moved by 1e-10 to 1e-6 are decided without the scan."""
+    a = D / 2
+    z0 = math.sqrt(3) / 2 * a
+    t0 = math.atan2(1.0, xi)
+    c = a * math.sin(t0)
+    rel = np.concatenate([-np.logspace(-14, -2, 120), [0.0], np.logspace(-14, -2, 120)])
+    near = (np.abs(rel) >= 1e-10) & (np.abs(rel) <= 1e-6)  # contact within ~1e-6 of a sin theta0
+    seen = decided = 0
+    for u in (1.0, 2.4):
+        tc = (u + math.sqrt(u * u + 2 * G * (z0 - c))) / G
+        for k in (0, 3, 12, 40):
+            for target in (t0 / 2, math.pi - t0 / 2, math.pi / 2 - t0 / 2, math.pi / 2 + t0 / 2):
+                om = 2 * (target + k * math.pi) / tc * (1 + rel)
+                for psi in (math.pi / 2, 1.3):
+                    ref = T.toss_many(xi, psi, u, om).code
+                    assert np.array_equal(T._outcomes(xi, psi, u, om), ref), (u, k, target, psi)
+                    if psi == math.pi / 2:
+                        _, _, full = _descent_stages(xi, np.full(om.size, psi),
+                                                     np.full(om.size, u), om)
+                        seen += near.sum()
+                        decided += np.count_nonzero(full[near] >= 0)
+    # (The fastest spins, k = 40 at 1 m/s, are beyond the bounds' limits: left to the scan.)
+    assert decided >= 0.75 * seen
+
+
+def test_descent_outcomes_on_other_coins_planets_and_tilts():
+    """The same on a wide mix: diameters from 0.1 mm to 1 m, g from 0.1 to 100 m/s^2, psi
+    anywhere (the bounds pass needs |psi - pi/2| < pi/4; the sampled passes take any), u and
+    omega over decades."""
+    rng = np.random.default_rng(41)
+    decided = 0
+    for xi in (0.0, 0.05, FAIR, 3.0, 30.0, math.inf):
+        dia, g = 10 ** rng.uniform(-4, 0), 10 ** rng.uniform(-1, 2)
+        n = 15000
+        psi = np.where(rng.random(n) < 0.5, np.clip(rng.normal(math.pi / 2, 0.5, n), 0, math.pi),
+                       rng.uniform(0, math.pi, n))
+        u = 10 ** rng.uniform(-2, 2, n)
+        om = 10 ** rng.uniform(-1, 4.5, n)
+        ref = T.toss_many(xi, psi, u, om, diameter=dia, g=g).code
+        assert np.array_equal(T._outcomes(xi, psi, u, om, diameter=dia, g=g), ref)
+        _, _, full = _descent_stages(xi, psi, u, om, dia, g)
+        assert np.array_equal(full[full >= 0], ref[full >= 0])
+        decided += np.count_nonzero(full >= 0)
+        far = np.abs(psi - math.pi / 2) > math.pi / 4
+        assert np.count_nonzero(full[far] >= 0) > 0  # the sampled passes at any psi
+    assert decided > 0.2 * 6 * 15000
+
+
+def test_simulate_hand_toss_counts_are_those_of_toss_many():
+    """End to end: simulate's counts for the default hand toss are toss_many's on the same
+    draws (the chunks of simulate_chunks, each a full chunk from one generator)."""
+    n = 2 * T._CHUNK + 999
+    sim = T.simulate(n, 2024, xi=FAIR, **T.HAND_TOSS)
+    rng = np.random.default_rng(2024)
+    codes = []
+    for done in range(0, n, T._CHUNK):
+        c = T.sample_conditions(T._CHUNK, rng, **T.HAND_TOSS)
+        m = min(T._CHUNK, n - done)
+        codes.append(T.toss_many(FAIR, c["psi"][:m], c["u"][:m], c["omega"][:m]).code)
+    assert sim.counts == tuple(int(k) for k in np.bincount(np.concatenate(codes), minlength=3))
+
+
 # --------------------------------------------------------------------------- eq. (10)
 
 
