@@ -147,21 +147,38 @@ def throughput(n: int, repeat: int):
         ratios[name] = (s / d, sc / dc)
         rows.append([name, f"{_report.fmt_rate(n / s)}/s", f"{1e9 * s / n:.0f} ns",
                      f"{1e9 * d / n:.0f} ns", f"{s / d:.2f}x", f"{sc / dc:.2f}x",
-                     f"{1e9 * r / n:.0f} ns", f"{100 * window_share(kw):.0f}%"])
+                     f"{1e9 * r / n:.0f} ns",
+                     "{:.1f}% / {:.2f}% / {:.4f}%".format(*(100 * s for s in path_shares(kw)))])
     return rows, ratios
 
 
-def window_share(kw, xi=0.577):
-    """The share of one chunk of tosses whose outcome the contact window alone decides."""
+def path_shares(kw, xi=0.577, chunks=4):
+    """The shares of ``chunks`` chunks of tosses whose outcome the bounds on the tilt settle,
+    the sampled passes settle, and the scan must settle (simulate's rim path)."""
     import numpy as np
 
     from coincli import toss as T
 
-    c = T.sample_conditions(T._CHUNK, np.random.default_rng(7), **kw)
+    rng = np.random.default_rng(7)
+    a = T.DEFAULT_DIAMETER / 2
+    z0 = math.sqrt(3.0) / 2 * a
     t0 = math.atan2(1.0, xi)
-    k = T._window_outcomes(np, c["psi"], c["u"], c["omega"], xi, T.DEFAULT_DIAMETER,
-                           T.STANDARD_G, False, (math.sin(t0 / 2), math.cos(t0 / 2)), T._CHUNK)
-    return float(np.mean(k >= 0))
+    sb, cb = math.sin(t0 / 2), math.cos(t0 / 2)
+    lim = T._descent_limits(a, z0, T.STANDARD_G, 2 * a * sb * cb, sb, cb)
+    m = T._CHUNK
+    first = left = 0
+    for _ in range(chunks):
+        c = T.sample_conditions(m, rng, **kw)
+        code = np.empty(m, dtype=np.int8)
+        with np.errstate(all="ignore"):
+            T._descent_batch(np, c["psi"], c["u"], c["omega"], a, z0, T.STANDARD_G, lim,
+                             np.empty((9, m)), np.empty((4, m), dtype=bool), code)
+            full = T._descent_outcomes(np, c["psi"], c["u"], c["omega"], xi,
+                                       T.DEFAULT_DIAMETER, T.STANDARD_G, (sb, cb), m)
+        first += int(np.count_nonzero(code >= 0))
+        left += int(np.count_nonzero(full < 0))
+    total = chunks * m
+    return first / total, (total - first - left) / total, left / total
 
 
 def engine(n: int, repeat: int):
@@ -245,7 +262,7 @@ def main(argv=None) -> int:
         "",
         _report.table(["tosses", "simulate", "per toss", "draws alone, per toss",
                        "simulate / draws", "same, CPU", "3 numpy normals, per toss",
-                       "decided by the window"], t_rows),
+                       "settled by bounds / samples / scan"], t_rows),
         "Where the time goes.  `simulate` wants outcomes, not times of flight, and reads each "
         "one off the first bound that settles it (`coincli.toss._outcomes`; the same codes as "
         "`toss_many`, compared toss by toss in tests/test_toss.py and on 4.6 million seeded "
