@@ -106,7 +106,29 @@ def startup(repeat: int):
                   if k != base and not k.startswith("`import")}
 
 
+THROUGHPUT_CHILD = r"""
+import math, sys, time
+import numpy as np
+from coincli import toss as T
+kind, cfg, n = sys.argv[1], sys.argv[2], int(sys.argv[3])
+kw = dict(T.HAND_TOSS) if cfg == "hand" else {
+    "u": T.Dist("normal", 2.4, 0.3, 0.0, T.U_MAX),
+    "omega": T.Dist("normal", 38.0, 4.0, 0.0, math.inf),
+    "psi": T.Dist("normal", math.pi / 2, math.radians(10), 0.0, math.pi)}
+c0, t0 = time.process_time(), time.perf_counter()
+if kind == "sim":
+    T.simulate(n, 7, xi=0.577, **kw)
+else:
+    rng = np.random.default_rng(7)
+    for _ in range(n // T._CHUNK):
+        T.sample_conditions(T._CHUNK, rng, **kw)
+print(time.perf_counter() - t0, time.process_time() - c0)
+"""
+
+
 def throughput(n: int, repeat: int):
+    """Tosses per second of simulate against its draws alone: in a fresh process each (as a
+    user gets it: ``coin simulate`` is one run), interleaved, and in this process once warm."""
     import numpy as np
 
     from coincli import toss as T
@@ -114,12 +136,25 @@ def throughput(n: int, repeat: int):
     psi = T.Dist("normal", math.pi / 2, math.radians(10), 0.0, math.pi)
     configs = {
         "ordinary (u N(2.4, 0.3) m/s, omega N(38, 4) rad/s, psi N(90, 10) deg)":
-            {"u": T.Dist("normal", 2.4, 0.3, 0.0, T.U_MAX),
-             "omega": T.Dist("normal", 38.0, 4.0, 0.0, math.inf), "psi": psi},
-        "hand toss (omega N(38, 4) rev/s, the default)": dict(T.HAND_TOSS),
+            ("ordinary", {"u": T.Dist("normal", 2.4, 0.3, 0.0, T.U_MAX),
+                          "omega": T.Dist("normal", 38.0, 4.0, 0.0, math.inf), "psi": psi}),
+        "hand toss (omega N(38, 4) rev/s, the default)": ("hand", dict(T.HAND_TOSS)),
     }
-    rows, ratios = [], {}
-    for name, kw in configs.items():
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    rows, ratios, split = [], {}, []
+    # Freed, a 16 MB block raises glibc's threshold for serving allocations by mmap, so that
+    # numpy's chunk-sized temporaries are reused rather than mapped and faulted in afresh: the
+    # warm in-process figures.  A fresh process starts without it.
+    block = np.ones(2 << 20)
+    del block
+    for name, (cfg, kw) in configs.items():
+        fresh = {"draw": [], "sim": []}
+        for _ in range(repeat):
+            for key in fresh:
+                p = subprocess.run([sys.executable, "-c", THROUGHPUT_CHILD, key, cfg, str(n)],
+                                   env=env, capture_output=True, text=True, check=True)
+                fresh[key].append(tuple(float(v) for v in p.stdout.split()))
+
         def draw(kw=kw):
             rng = np.random.default_rng(7)
             for _ in range(n // T._CHUNK):
@@ -142,14 +177,68 @@ def throughput(n: int, repeat: int):
                 fn()
                 t[key].append(time.perf_counter() - t0)
                 c[key].append(time.process_time() - c0)
-        d, s, r = (_report.median(t[k]) for k in ("draw", "sim", "raw"))
+        fd, fs = (_report.median([v[1] for v in fresh[k]]) for k in ("draw", "sim"))
+        fdw, fsw = (_report.median([v[0] for v in fresh[k]]) for k in ("draw", "sim"))
+        s, r = (_report.median(t[k]) for k in ("sim", "raw"))
         dc, sc = (_report.median(c[k]) for k in ("draw", "sim"))
-        ratios[name] = (s / d, sc / dc)
-        rows.append([name, f"{_report.fmt_rate(n / s)}/s", f"{1e9 * s / n:.0f} ns",
-                     f"{1e9 * d / n:.0f} ns", f"{s / d:.2f}x", f"{sc / dc:.2f}x",
+        ratios[name] = (fsw / fdw, fs / fd, sc / dc)
+        rows.append([name, f"{_report.fmt_rate(n / fs)}/s", f"{1e9 * fs / n:.0f} ns",
+                     f"{1e9 * fd / n:.0f} ns", f"{fs / fd:.2f}x", f"{fsw / fdw:.2f}x",
+                     f"{1e9 * sc / n:.0f} ns", f"{1e9 * dc / n:.0f} ns", f"{sc / dc:.2f}x",
                      f"{1e9 * r / n:.0f} ns",
                      "{:.1f}% / {:.2f}% / {:.4f}%".format(*(100 * s for s in path_shares(kw)))])
-    return rows, ratios
+        b, e, o = stages(kw, n, repeat)
+        split.append([name.split(" (")[0], f"{1e9 * dc / n:.0f}", f"{1e9 * b / n:.1f}",
+                      f"{1e9 * (e - b) / n:.1f}", f"{1e9 * (o - e) / n:.1f}",
+                      f"{1e9 * (sc - dc - o) / n:.1f}", f"{1e9 * sc / n:.0f}"])
+    return rows, ratios, split
+
+
+def stages(kw, n, repeat, xi=0.577):
+    """CPU seconds of simulate's outcome path over ``n`` drawn tosses, cumulatively: the bounds
+    pass alone (``_descent_batch``), the rim path (``_descent_outcomes``: bounds and sampled
+    passes) and all of ``_outcomes`` (validation, then the scan for what is left); medians."""
+    import numpy as np
+
+    from coincli import toss as T
+
+    rng = np.random.default_rng(7)
+    chunks = [T.sample_conditions(T._CHUNK, rng, **kw) for _ in range(n // T._CHUNK)]
+    a = T.DEFAULT_DIAMETER / 2
+    z0 = math.sqrt(3.0) / 2 * a
+    t0 = math.atan2(1.0, xi)
+    sb, cb = math.sin(t0 / 2), math.cos(t0 / 2)
+    lim = T._descent_limits(a, z0, T.STANDARD_G, 2 * a * sb * cb, sb, cb)
+    m = T._CHUNK
+    code = np.empty(m, dtype=np.int8)
+
+    def bounds():
+        work, flags = T._descent_scratch(np)
+        for c in chunks:
+            for lo in range(0, m, T._DBATCH):
+                sl = slice(lo, lo + T._DBATCH)
+                k = sl.stop - sl.start
+                T._descent_batch(np, c["psi"][sl], c["u"][sl], c["omega"][sl], a, z0,
+                                 T.STANDARD_G, lim, work[:, :k], flags[:, :k], code[sl])
+
+    def descent():
+        for c in chunks:
+            T._descent_outcomes(np, c["psi"], c["u"], c["omega"], xi, T.DEFAULT_DIAMETER,
+                                T.STANDARD_G, (sb, cb), m)
+
+    def outcomes():
+        for c in chunks:
+            T._outcomes(xi, c["psi"], c["u"], c["omega"])
+
+    ts = {bounds: [], descent: [], outcomes: []}
+    with np.errstate(all="ignore"):
+        outcomes()  # warm up
+        for _ in range(repeat):
+            for fn in ts:
+                c0 = time.process_time()
+                fn()
+                ts[fn].append(time.process_time() - c0)
+    return tuple(_report.median(v) for v in ts.values())
 
 
 def path_shares(kw, xi=0.577, chunks=4):
@@ -226,7 +315,7 @@ def main(argv=None) -> int:
     reps = 3 if args.quick else 9
     machine = _report.machine()
     s_rows, s_ratios = startup(reps_start)
-    t_rows, t_ratios = throughput(n, reps)
+    t_rows, t_ratios, t_split = throughput(n, reps)
     e_rows = engine(n, 3 if args.quick else 5)
 
     def verdict(ratios, aim):
@@ -236,7 +325,8 @@ def main(argv=None) -> int:
     def verdict2(ratios, aim):
         wall = verdict({k: v[0] for k, v in ratios.items()}, aim)
         cpu = verdict({k: v[1] for k, v in ratios.items()}, aim)
-        return f"wall: {wall}; CPU: {cpu}"
+        warm = verdict({k: v[2] for k, v in ratios.items()}, aim)
+        return f"fresh processes, wall: {wall}; CPU: {cpu}; warm, CPU: {warm}"
 
     body = "\n".join([
         "## Real tosses (`benchmarks/toss_bench.py`)",
@@ -257,36 +347,54 @@ def main(argv=None) -> int:
         "`coincli.toss.simulate` (draws, tosses, counts) against drawing its random numbers "
         "alone (`sample_conditions`, the same chunks and distributions): aim <= "
         f"{AIM_SIMULATE}x.  {verdict2(t_ratios, AIM_SIMULATE)}.  Both are single-threaded; "
-        "on a shared machine the CPU seconds of this process are the steadier measure (the "
-        "wall clock also counts the time other processes hold the CPU).",
+        "on a shared machine CPU seconds are the steadier measure (the wall clock also counts "
+        "the time other processes hold the CPU).  Fresh: each run in a fresh process, as "
+        "`coin simulate` runs (the imports not counted), the two interleaved; per toss in CPU "
+        "time.  Warm: in this process, after a 16 MB block has been freed.  The difference is "
+        "glibc's allocator: until a large block is freed it serves every allocation over 128 kB "
+        "(a numpy temporary of one chunk, 512 kB) by a fresh mmap, faulted in page by page, "
+        "which doubles the cost of the draws (`_truncnorm`'s temporaries) and adds a third to "
+        "simulate's; `_outcomes` itself allocates no such block a batch.",
         "",
-        _report.table(["tosses", "simulate", "per toss", "draws alone, per toss",
-                       "simulate / draws", "same, CPU", "3 numpy normals, per toss",
+        _report.table(["tosses", "simulate, fresh", "per toss", "draws alone, per toss",
+                       "simulate / draws (CPU)", "same, wall", "simulate, warm, per toss",
+                       "draws alone, warm", "warm: simulate / draws", "3 numpy normals, warm",
                        "settled by bounds / samples / scan"], t_rows),
-        "Where the time goes.  `simulate` wants outcomes, not times of flight, and reads each "
-        "one off the first bound that settles it (`coincli.toss._outcomes`; the same codes as "
-        "`toss_many`, compared toss by toss in tests/test_toss.py and on 4.6 million seeded "
-        "tosses of six kinds).  (1) The contact window: first contact lies where the centre "
-        "is below `Lmax`, on the descent `[w2s, t_end]`; where `sin(alpha/2)` over that whole "
-        "window stays inside one outcome's band, the toss is decided in about 50 array "
-        "operations, no root finding (the last column: most ordinary tosses, whose coin turns "
-        "some 0.2 rad while it falls the last 12 mm; few hand tosses, which turn 1.2 rad "
-        "there).  (2) The others run the scan of `toss_many` unchanged (its setup, about 130 "
-        "operations; F and F' at the window's start, about 70, 45 of them the sine and cosine "
-        "polynomials; one evaluation a round), gathered into full batches of 8192, and stop as "
-        "soon as `[front, t_end]` lies in one band, or the certified cell holding the root "
-        "does, or a bracket of a hundredth of that cell around its Hermite estimate (two "
-        "evaluations) does: some 98% of the cells that straddle a boundary.  (3) The last "
-        "half percent are refined by Newton, once a chunk of 65536.  The hand toss stays "
-        "near 10x: most of its tosses take the setup and two to four rounds of the scan (its "
-        "coin turns more than a radian over the window).  Its cells are those of `toss_many`, "
-        "bit for bit, on purpose: a different sequence of cells could move a grazing contact "
-        "(a dip within F's rounding band), so the outcome could change; fewer operations a "
-        "round is what is left (numpy runs each over the whole batch: a toss costs every "
-        "operation of every round it takes part in).  One toss at a time pays numpy's per-call "
-        "overhead some 300 times (about 1.5 ms): nothing for `coin toss`, whose start-up is a "
-        "hundred times that, but a loop over `flight_time` should pass arrays to `toss_many` "
-        "instead.",
+        "Where the time goes, warm (CPU nanoseconds a toss, medians; the stages measured "
+        "cumulatively on the same drawn tosses, so each column is a difference):",
+        "",
+        _report.table(["tosses", "draws", "bounds pass", "sampled passes",
+                       "validation and the scan", "simulate's own", "simulate"], t_split),
+        "`simulate` wants outcomes, not times of flight, and reads each one off the first "
+        "proof that settles it (`coincli.toss._outcomes`; the same codes as `toss_many`, "
+        "compared toss by toss in tests/test_toss.py: seeded hand and ordinary tosses at six "
+        "thicknesses, contacts tuned to the side boundary, other coins, planets and tilts, and "
+        "simulate's counts end to end).  A rim touching at `t_f` has `a sin(alpha_f) = "
+        "z(t_f)`, so it lands on its side exactly when it touches before its centre falls "
+        "through `c = a sin(theta0)`, at `Tc`: the question is only whether `F = z - L` goes "
+        "negative before `Tc`, and which face is down after.  (1) The bounds pass "
+        "(`_descent_batch`, batches of 32768 on scratch kept from call to call): "
+        "`sin(alpha/2) = sin(psi) |sin(omega t/2)|` at `Tc` inside the side band proves a "
+        "contact (sides), and its range over `[w2s, Tc]` outside the band proves none (the "
+        "face down then), each with a margin `M` a hundred times the scan's rounding band; "
+        "about 90 array operations a toss (30 of them two sine polynomials), some 0.2 ns "
+        "each: most tosses (the last column of the table above).  (2) The tosses whose coin "
+        "tilted through its side band on the way down (5% of hand tosses, 1% of ordinary "
+        "ones) have `F` sampled at four points with the semi-concave bound between them, then "
+        "the few left at 46 points closing in on `Tc` (contacts within 1e-8 of `Tc`, a few a "
+        "chunk); the first pass is most of this column (some 200 ns a toss it takes: 30 "
+        "operations on its setup, 40 on each sample), the second about 2 ns a toss of "
+        "numpy's per-call overhead.  (3) Validation of the drawn arrays, and the "
+        "scan of `toss_many` for whatever is left: none of these tosses, so the scan costs "
+        "nothing here; it still settles thick contact, very fast spins and throws, and tilts "
+        "beyond 45 degrees from the Keller flip (the sampled passes take any tilt).  "
+        "(4) `simulate`'s own work: counting (`bincount` of each chunk) and the vigorous limit "
+        "(a quadrature, once a run).  The draws themselves are `sample_conditions`' truncated "
+        "normals; at 38 rev/s the coin turns 1.2 rad while its centre falls the last 12 mm, "
+        "which no longer matters: the hand toss costs little more than the ordinary one.  "
+        "One toss at a time pays numpy's per-call overhead some 300 times (about 1.5 ms): "
+        "nothing for `coin toss`, whose start-up is a hundred times that, but a loop over "
+        "`flight_time` should pass arrays to `toss_many` instead.",
         "",
         "### The engine on other inputs",
         "",

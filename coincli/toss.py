@@ -81,16 +81,17 @@ Outcomes only
       tilt kept out of the side band from ``w2s`` to just after ``Tc`` (``a sin alpha < z``
       throughout: no contact yet, and none on the side after) proves the face down then.  Both
       from ``sin(alpha/2) = sin psi |sin x|`` (``x = omega t / 2``), monotone between multiples
-      of ``pi/2`` in ``x``, at the ends of ``[w2s, Tc]``: some 100 array operations a toss on
+      of ``pi/2`` in ``x``, at the ends of ``[w2s, Tc]``: some 90 array operations a toss on
       reused scratch, no root finding (95% of hand tosses, 99% of ordinary ones).  The rest,
       whose coin tilted through its side band on the way down, are settled by ``F`` sampled at
-      six points of ``[w2s, Tc]`` with the semi-concave bound between them (``F < -M`` at a
-      sample above ``c``: sides; ``F > M`` up to a sample below ``c``: the face), then at 46
-      points closing in on ``Tc``.  Every bound carries ``M``, over a hundred times the scan's
-      rounding band ``tol``: the scan can neither step over a dip deeper than ``M`` nor stop
-      where ``F > M``, so a proof at ``M`` is a proof about the scan's own root, grazing
-      contacts included.  About one toss in 10^6 (and those outside the bounds' limits:
-      ``|psi - pi/2| > pi/4`` in the first pass, very fast spins or throws) goes on.
+      four points of ``[w2s, Tc]`` and just beyond, with the semi-concave bound between them
+      (``F < -M`` at a sample above ``c``: sides; ``F > M`` up to a sample below ``c``: the
+      face), then at 46 points closing in on ``Tc``.  Every bound carries ``M``, over a
+      hundred times the scan's rounding band ``tol``: the scan can neither step over a dip
+      deeper than ``M`` nor stop where ``F > M``, so a proof at ``M`` is a proof about the
+      scan's own root, grazing contacts included.  Hardly a toss goes on (none of 2^21 hand
+      or ordinary tosses; those outside the bounds' limits do: very fast spins or throws,
+      ``u < 0.6 m/s``).
     - Thick contact: ``sin(alpha/2)`` over the contact window ``[w2s, t_end]`` inside one
       outcome's band (by ``1e-9``) decides it (:func:`_window_outcomes`).
     - What is left of either goes to the scan of :func:`toss_many`, cell for cell, which stops
@@ -1502,10 +1503,11 @@ def _descent_outcomes(np, psi, u, om, xi, dia, g, bands, n):
       ``pi/2`` before contact (there ``L = a > z``).
 
     First (:func:`_descent_batch`) by bounds of ``sin(alpha/2)`` at ``T1`` and over ``[w2s,
-    T2]`` (95% of hand tosses, 99% of ordinary ones); then (:func:`_sampled_codes`) by ``F``
-    sampled at 5, then 33 points of ``[w2s, T2]`` (nearly all the rest: tosses whose coin tilted
-    through its side band on the way down).  What is left (about one toss in 10^5, and those
-    outside :func:`_descent_limits`) goes to the scan.
+    T2]`` (95% of hand tosses, 99% of ordinary ones); then (:func:`_sampled_codes`, in batches
+    of :data:`_SUB`) by ``F`` sampled at 4, then 46 points from ``w2s`` to just beyond ``Tc``
+    (nearly all the rest: tosses whose coin tilted through its side band on the way down, a few
+    thousandths of them touching within ``1e-8`` of ``Tc``).  What is left (none of 2^21 hand
+    or ordinary tosses; those outside :func:`_descent_limits`) goes to the scan.
     """
     a = 0.5 * dia
     z0 = _SQRT3_2 * a
