@@ -92,7 +92,11 @@ def faces_figure(rows, label: str, n: int, seed: int, rule: str):
         ax.plot(x, geo, linestyle="none", marker="D", color=OKABE_ITO["vermillion"],
                 label="geometric (solid angle)" if rule == "centre" else "geometric (1/6)",
                 gid="geometric")
-        ax.set_xticks(x, [f"{r[0]}\n{r[1]}" for r in rows], fontsize="small")
+        # "0.7192 x 0.4152 (relative)" (a box from --moments): "(relative)" on a line of its
+        # own, and a smaller font where a line is still long, so that six fit side by side
+        ticks = [f"{r[0]}\n{str(r[1]).replace(' (', chr(10) + '(')}" for r in rows]
+        longest = max(len(line) for t in ticks for line in t.splitlines())
+        ax.set_xticks(x, ticks, fontsize="small" if longest <= 12 else "x-small")
         ax.set_ylabel("chance of the face up")
         ax.set_ylim(0, max(max(freq), max(geo)) * 1.15 + 1e-9)
         ax.set_title(f"{label}: {n:,} tosses, seed {seed}", fontsize="medium")

@@ -69,6 +69,7 @@ import re
 from collections import namedtuple
 from collections.abc import Mapping, Sequence
 
+from coincli._wilson import CONFIDENCE, _check_level, _z, wilson_interval  # noqa: F401
 from coincli.models import Outcome
 
 __all__ = [
@@ -111,7 +112,6 @@ __all__ = [
     "delimiter_of",
 ]
 
-CONFIDENCE = 0.95  #: default confidence level of the intervals
 ALPHA = 0.05  #: default significance level of the verdicts
 EXACT_MAX_N = 1_000_000  #: largest n for which method="auto" runs the exact test
 TIE_RTOL = 1e-7  #: relative tolerance for "no more likely than the observed" (scipy's)
@@ -122,15 +122,6 @@ HALF_PI = math.pi / 2
 
 
 # --------------------------------------------------------------------------- validation
-
-
-def _check_level(value, name: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise ValueError(f"{name} must be a number in (0, 1), got {value!r}")
-    v = float(value)
-    if not 0.0 < v < 1.0:
-        raise ValueError(f"{name} must be in (0, 1), got {value!r}")
-    return v
 
 
 #: The largest count of tosses (every count is exact in a double up to here)
@@ -362,51 +353,6 @@ class Proportion(namedtuple("Proportion", "outcome count n estimate wilson clopp
     # wilson: Interval
     # clopper_pearson: Interval
     __slots__ = ()
-#: ``-ndtri((1 - c) / 2)`` of the common levels, bit for bit (tests/test_toss.py): a Wilson
-#: interval at these levels needs no scipy (``coin simulate`` draws its 95% ones at start-up).
-_Z_COMMON = {0.9: 1.6448536269514729, 0.95: 1.959963984540054, 0.99: 2.5758293035489004}
-
-
-def _z(confidence: float) -> float:
-    """The two-sided normal quantile: ``P(|Z| <= z) = confidence``, finite for every level in
-    (0, 1) (``1 - confidence`` is exact for a level of 1/2 or more; erfinv below)."""
-    z = _Z_COMMON.get(confidence)
-    if z is not None:
-        return z
-    from scipy.special import erfinv, ndtri
-
-    if confidence >= 0.5:
-        return -float(ndtri((1.0 - confidence) / 2))
-    return math.sqrt(2.0) * float(erfinv(confidence))
-
-
-def wilson_interval(count, n, confidence: float = CONFIDENCE):
-    """Wilson score interval(s) ``(low, high)`` for ``count`` successes in ``n`` (arrays too).
-
-    The ends are the roots of ``(k/n - p)^2 = z^2 p (1 - p) / n``.  The upper one is the sum
-    ``(k + z^2/2 + z sqrt(k (n-k)/n + z^2/4)) / (n + z^2)`` of positive terms, and the lower one
-    comes from the product of the roots, ``k^2 / (n (n + z^2) high)``: no difference of nearly
-    equal numbers, so both keep their relative accuracy at ``k = 0``, ``1``, ``n`` and any ``n``
-    (scipy's ``center - delta`` loses digits to cancellation at small ``k``).  ``low = 0`` at
-    ``k = 0`` and ``high = 1`` at ``k = n`` exactly.
-    """
-    import numpy as np
-
-    conf = _check_level(confidence, "confidence")
-    k = np.asarray(count, dtype=float)
-    m = np.asarray(n, dtype=float)
-    z = _z(conf)
-    z2 = z * z
-    with np.errstate(divide="ignore", invalid="ignore"):
-        denom = m + z2
-        hi = (k + z2 / 2 + z * np.sqrt(k * ((m - k) / m) + z2 / 4)) / denom
-        lo = np.where(k > 0, (k * (k / m)) / (denom * hi), 0.0)
-    hi = np.where(k >= m, 1.0, np.minimum(hi, 1.0))
-    # both ends tend to k/n as the level tends to 0: keep the estimate inside after rounding
-    est = k / m
-    return np.minimum(lo, est), np.maximum(hi, est)
-
-
 def clopper_pearson_interval(count, n, confidence: float = CONFIDENCE):
     """Clopper-Pearson ("exact") interval(s) ``(low, high)`` for ``count`` of ``n`` (arrays too).
 

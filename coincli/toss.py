@@ -137,6 +137,7 @@ __all__ = [
     "classify",
     "flight_time",
     "flight_limits",
+    "check_toss",
     "toss",
     "toss_many",
     "hyperbolae",
@@ -650,6 +651,13 @@ def flight_time(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, c
     _scalar_setup(xi, psi, u, omega, diameter, g, contact, z0)
     return float(toss_many(xi, psi, u, omega, diameter=diameter, g=g, contact=contact,
                            z0=z0).t_f)
+
+
+def check_toss(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, contact="rim",
+               z0=None):
+    """Raise the ValueError :func:`toss` would raise for these numbers (out of range, or a toss
+    the scan cannot follow), without tossing; return None when the toss can be made."""
+    _scalar_setup(xi, psi, u, omega, diameter, g, contact, z0)
 
 
 def _scalar_setup(xi, psi, u, omega, diameter, g, contact, z0):
@@ -2189,8 +2197,11 @@ def sample_conditions(n, rng, *, u, omega, psi):
     """
     import numpy as np
 
+    from coincli._backend import numpy_random
+
     n = _count(n)
-    rng = np.random.default_rng(rng) if not isinstance(rng, np.random.Generator) else rng
+    npr = numpy_random()
+    rng = npr.default_rng(rng) if not isinstance(rng, npr.Generator) else rng
     out = {}
     for name, val in (("u", u), ("omega", omega), ("psi", psi)):
         lo, hi = _DOMAINS[name]
@@ -2236,7 +2247,9 @@ def simulate_chunks(n, seed, *, xi, u, omega, psi, diameter=DEFAULT_DIAMETER, g=
     xi = _check("xi", xi, 0.0, allow_inf=not thick)
     dists = {k: as_dist(v, k, *_DOMAINS[k]) for k, v in (("u", u), ("omega", omega),
                                                           ("psi", psi))}
-    rng = np.random.default_rng(seed)
+    from coincli._backend import numpy_random
+
+    rng = numpy_random().default_rng(seed)
     done = 0
     while done < n:
         m = min(_CHUNK, n - done)
@@ -2264,12 +2277,12 @@ class Frequency:
 def wilson_interval(k, n, level=0.95):
     """Wilson score interval ``(low, high)`` (floats) for ``k`` successes in ``n`` trials:
     :func:`coincli.stats.wilson_interval`, the one implementation (no scipy at the common
-    levels 0.9, 0.95, 0.99)."""
+    levels 0.9, 0.95, 0.99; imported from its small module, not the whole of stats)."""
     if n <= 0:
         raise ValueError(f"n must be >= 1, got {n}")
     if not 0 < level < 1:
         raise ValueError(f"level must be in (0, 1), got {level}")
-    from coincli.stats import wilson_interval as _wilson
+    from coincli._wilson import wilson_interval as _wilson
 
     lo, hi = _wilson(k, n, level)
     return float(lo), float(hi)

@@ -569,3 +569,25 @@ def test_a_body_at_rest_has_no_spin_axis_and_no_gamma(coin):
 def test_times_from_stdin_name_the_bad_line(coin):
     error(coin("book", "--size", "235x155x30", "--spin", "0.4,40,0.3", "--times", "-",
                stdin="0\n0.1\nabc\n"), 2, "stdin line 3", "--times", "'abc'")
+
+
+@pytest.mark.parametrize("moments", [(1.0, 2.0, 3.0), (1.0, 1.7, 2.2)])
+def test_the_faces_figure_ticks_do_not_overlap(moments):
+    # a box from --moments labels its faces "0.7071 x 0 (relative)": six such ticks side by
+    # side overlapped in the 7-inch figure until the size went on lines of its own
+    pytest.importorskip("matplotlib")
+    from coincli import bookplot
+    from coincli.cli.book import _face_size
+
+    from types import SimpleNamespace
+
+    box = SimpleNamespace(size_mm=None, sides=R.box_sides(moments))
+    rows = [(f"{s}{k // 2 + 1}", _face_size(box, k), 0, 1 / 6, 0.1, 0.2, 1 / 6)
+            for k, s in zip(range(6), "+-+-+-")]
+    assert all(r[1].endswith("(relative)") for r in rows)
+    fig = bookplot.faces_figure(rows, "moments", 1000, 1, "centre")
+    fig.canvas.draw()
+    boxes = [t.get_window_extent() for t in fig.axes[0].get_xticklabels()]
+    assert len(boxes) == 6
+    for a, b in zip(boxes, boxes[1:]):
+        assert a.x1 < b.x0, (a, b)

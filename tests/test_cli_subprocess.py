@@ -264,7 +264,10 @@ def test_terminal_gets_a_rich_table_and_no_color_removes_every_escape():
 # The real-toss commands need typer and numpy only: one vectorized root refinement (no
 # scipy.optimize), truncated normals and the vigorous limit without scipy, and a picture that
 # is plain text in a pipe (no rich); never matplotlib without --out; never numpy.ma (numpy 2's
-# np.unique imports it: some 30 ms of simulate's start-up, once).
+# np.unique imports it: some 30 ms of simulate's start-up, once); never secrets or hashlib
+# (numpy.random is imported without them, coincli._backend.numpy_random: 7 ms), never
+# numpy.polynomial (the Gauss-Legendre rule is coincli.averages' own: 2 ms), never the whole of
+# coincli.stats (the Wilson interval is coincli._wilson: 2 ms).
 TOSS_COMMANDS = [
     ["toss", "--xi", "0.577", "--psi", "90", "--u", "2", "--omega", "40"],
     ["toss", "--xi", "0.577"],
@@ -282,7 +285,8 @@ TOSS_COMMANDS = [
 ]
 
 _TOSS_PROBE = _PROBE.replace('("numpy", "scipy", "rich")',
-                             '("scipy", "rich", "matplotlib", "numpy.ma")')
+                             '("scipy", "rich", "matplotlib", "numpy.ma", "secrets", "hashlib", '
+                             '"numpy.polynomial", "coincli.stats")')
 
 
 def test_toss_simulate_phase_import_neither_scipy_nor_rich_nor_matplotlib():

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import math
+import subprocess
+import sys
 from fractions import Fraction
 
 import mpmath as mp
@@ -253,3 +255,28 @@ def test_nearest_stack_past_the_cap_is_a_no_stack_error():
     ch = coins.nearest_stack(q, 0.5, lambda x: models.conditional(x, math.radians(0.001)).sides)
     assert ch.xi == coins.stack_xi(q, ch.count)
     assert [x for _, x, _ in ch.neighbours] == [coins.stack_xi(q, k) for k, _, _ in ch.neighbours]
+
+
+def test_numpy_random_is_imported_without_secrets_and_still_draws_entropy():
+    # coincli._backend.numpy_random: a stand-in `secrets` (randbits only) while numpy.random
+    # is imported, removed at once; unseeded SeedSequences still get 128 bits of entropy, and
+    # `import secrets` afterwards is the real module.
+    code = """
+import sys
+from coincli._backend import numpy_random, randbits
+npr = numpy_random()
+assert "secrets" not in sys.modules and "hashlib" not in sys.modules, sorted(sys.modules)
+a, b = npr.SeedSequence().entropy, npr.SeedSequence().entropy
+assert a != b and 0 < a < 2**128 and 0 < b < 2**128
+assert npr.default_rng().random() != npr.default_rng().random()
+assert npr.default_rng(7).integers(0, 2**62) == npr.default_rng(7).integers(0, 2**62)
+import secrets
+assert hasattr(secrets, "token_hex") and secrets.randbits(8) < 256
+assert numpy_random() is npr
+bits = [randbits(k) for k in (0, 1, 7, 8, 9, 63, 128) for _ in range(50)]
+assert all(0 <= x < 2**k for x, k in zip(bits, [k for k in (0, 1, 7, 8, 9, 63, 128) for _ in range(50)]))
+assert max(randbits(63) for _ in range(64)) >= 2**61  # the top bits are drawn
+print("ok")
+"""
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0 and p.stdout.strip() == "ok", p.stderr

@@ -409,9 +409,9 @@ def seed_value(text: str | None) -> int:
     that it prints short and any tool reads it back); the caller reports it."""
     global DRAWN_SEED
     if text is None:
-        import secrets
+        from coincli._backend import randbits
 
-        DRAWN_SEED = secrets.randbits(63)
+        DRAWN_SEED = randbits(63)
         return DRAWN_SEED
     return _one(text, "--seed", parse.parse_seed)
 

@@ -371,7 +371,9 @@ def toss_cmd(
 
     seed_v = _options.seed_value(seed) if drawn else None
     if drawn:
-        rng = np.random.default_rng(seed_v)
+        from coincli._backend import numpy_random
+
+        rng = numpy_random().default_rng(seed_v)
         spec = {k: (T.HAND_TOSS[k] if k in drawn else T.Dist("fixed", 0.0)) for k in
                 ("u", "omega", "psi")}
         got = T.sample_conditions(n, rng, **spec)
@@ -569,7 +571,7 @@ def simulate_cmd(
                omega=_spec_text(omega or HAND["omega"], w_spec, w_hi, "rad/s"), g=g,
                diameter=_dia_text(diameter, dia))
     _follow(T, xv, psi_hi, u_hi, w_hi, dia=dia, g=gv, ct=ct, z0=None, got=got)
-    _usage(T.toss_many, xv, psi_hi, u_hi, w_hi, diameter=dia, g=gv, contact=ct)  # the same, core
+    _usage(T.check_toss, xv, psi_hi, u_hi, w_hi, diameter=dia, g=gv, contact=ct)  # the same, core
     if psi is not None:
         psi_text = f"psi = {psi.strip()} deg"
     elif psi_dist is not None:
