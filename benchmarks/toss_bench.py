@@ -190,16 +190,18 @@ def throughput(n: int, repeat: int):
                      f"{1e9 * r / n:.0f} ns",
                      "{:.1f}% / {:.2f}% / {:.4f}%".format(*(100 * s for s in path_shares(kw)))])
         b, e, o = stages(kw, n, repeat)
-        split.append([name.split(" (")[0], f"{1e9 * dc / n:.0f}", f"{1e9 * b / n:.1f}",
-                      f"{1e9 * (e - b) / n:.1f}", f"{1e9 * (o - e) / n:.1f}",
-                      f"{1e9 * (sc - dc - o) / n:.1f}", f"{1e9 * sc / n:.0f}"])
+        split.append([name.split(" (")[0], f"{1e9 * b / n:.1f}", f"{1e9 * (e - b) / n:.1f}",
+                      f"{1e9 * (o - e) / n:.1f}", f"{1e9 * o / n:.1f}", f"{1e9 * dc / n:.0f}",
+                      f"{1e9 * sc / n:.0f}"])
     return rows, ratios, split
 
 
 def stages(kw, n, repeat, xi=0.577):
     """CPU seconds of simulate's outcome path over ``n`` drawn tosses, cumulatively: the bounds
     pass alone (``_descent_batch``), the rim path (``_descent_outcomes``: bounds and sampled
-    passes) and all of ``_outcomes`` (validation, then the scan for what is left); medians."""
+    passes) and all of ``_outcomes`` (validation, then the scan for what is left): the least of
+    ``2 repeat + 1`` interleaved runs each (the cost without interference: the differences of
+    medians are noise at a few nanoseconds)."""
     import numpy as np
 
     from coincli import toss as T
@@ -235,12 +237,12 @@ def stages(kw, n, repeat, xi=0.577):
     ts = {bounds: [], descent: [], outcomes: []}
     with np.errstate(all="ignore"):
         outcomes()  # warm up
-        for _ in range(repeat):
+        for _ in range(2 * repeat + 1):
             for fn in ts:
                 c0 = time.process_time()
                 fn()
                 ts[fn].append(time.process_time() - c0)
-    return tuple(_report.median(v) for v in ts.values())
+    return tuple(min(v) for v in ts.values())
 
 
 def path_shares(kw, xi=0.577, chunks=4):
@@ -375,11 +377,14 @@ def main(argv=None) -> int:
                        "simulate / draws (CPU)", "same, wall", "simulate, warm, per toss",
                        "draws alone, warm", "warm: simulate / draws", "3 numpy normals, warm",
                        "settled by bounds / samples / scan"], t_rows),
-        "Where the time goes, warm (CPU nanoseconds a toss, medians; the stages measured "
-        "cumulatively on the same drawn tosses, so each column is a difference):",
+        "Where the time goes, warm (CPU nanoseconds a toss).  `_outcomes` by stage, measured "
+        "cumulatively on the same drawn tosses (each column a difference; the least of "
+        f"{2 * reps + 1} interleaved runs, the cost without interference), beside the medians "
+        "of the draws and of simulate above (the rest of simulate is its counting, `bincount` "
+        "of each chunk, and the vigorous limit, a quadrature once a run):",
         "",
-        _report.table(["tosses", "draws", "bounds pass", "sampled passes",
-                       "validation and the scan", "simulate's own", "simulate"], t_split),
+        _report.table(["tosses", "bounds pass", "sampled passes", "validation and the scan",
+                       "`_outcomes`", "draws", "simulate"], t_split),
         "`simulate` wants outcomes, not times of flight, and reads each one off the first "
         "proof that settles it (`coincli.toss._outcomes`; the same codes as `toss_many`, "
         "compared toss by toss in tests/test_toss.py: seeded hand and ordinary tosses at six "
@@ -402,11 +407,10 @@ def main(argv=None) -> int:
         "numpy's per-call overhead.  (3) Validation of the drawn arrays, and the "
         "scan of `toss_many` for whatever is left: none of these tosses, so the scan costs "
         "nothing here; it still settles thick contact, very fast spins and throws, and tilts "
-        "beyond 45 degrees from the Keller flip (the sampled passes take any tilt).  "
-        "(4) `simulate`'s own work: counting (`bincount` of each chunk) and the vigorous limit "
-        "(a quadrature, once a run).  The draws themselves are `sample_conditions`' truncated "
-        "normals; at 38 rev/s the coin turns 1.2 rad while its centre falls the last 12 mm, "
-        "which no longer matters: the hand toss costs little more than the ordinary one.  "
+        "beyond 45 degrees from the Keller flip (the sampled passes take any tilt).  At 38 "
+        "rev/s the coin turns 1.2 rad while its centre falls the last 12 mm, which no longer "
+        "matters much: the hand toss costs little more than the ordinary one, and `_outcomes` "
+        "now costs about what the draws do.  "
         "One toss at a time pays numpy's per-call overhead some 300 times (about 1.5 ms): "
         "nothing for `coin toss`, whose start-up is a hundred times that, but a loop over "
         "`flight_time` should pass arrays to `toss_many` instead.",
