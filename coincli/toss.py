@@ -1531,7 +1531,7 @@ def _descent_outcomes(np, psi, u, om, xi, dia, g, bands, n):
         args = (np.broadcast_to(v, (k,)) if isinstance(v, float) else v[sl] for v in (psi, u, om))
         ci = _descent_batch(np, *args, a, z0, g, lim, work[:, :k], flags[:, :k], code[sl])
         cand.append(ci + lo)
-    cand = np.concatenate(cand)
+    cand = np.concatenate(cand) if cand else np.empty(0, dtype=np.intp)
     for ns, geo, tail, terms in _SAMPLES:
         left = []
         for lo in range(0, cand.size, _SUB):

@@ -476,6 +476,12 @@ def test_descent_outcomes_on_other_coins_planets_and_tilts():
     assert decided > 0.2 * 6 * 15000
 
 
+def test_outcomes_of_no_tosses():
+    for contact in T.CONTACTS:
+        assert T._outcomes(FAIR, np.zeros((2, 0)), 2.0, 40.0, contact=contact).shape == (2, 0)
+        assert T.toss_many(FAIR, np.zeros(0), 2.0, 40.0, contact=contact).code.shape == (0,)
+
+
 def test_simulate_hand_toss_counts_are_those_of_toss_many():
     """End to end: simulate's counts for the default hand toss are toss_many's on the same
     draws (the chunks of simulate_chunks, each a full chunk from one generator)."""
