@@ -1501,7 +1501,7 @@ def _descent_outcomes(np, psi, u, om, xi, dia, g, bands, n):
     ``Tc (1 -+ 1e-10)``: ``z(T1) >= c + D/2``, ``z(T2) <= c - D/2``, both within ``2D`` of ``c``
     (``D = r Tc 1e-10``, ``r`` the speed at ``Tc``; ``Tc``'s own rounding is far below), with
     ``D`` over four times ``M = 4e-13 (u^2/g + a (3 + 6.1 x_c))``, over a hundred times the
-    scan's ``tol`` at ``t_end`` (``omega t_end < 6.1 x_c``, ``x_c = omega Tc / 2``), which bounds
+    scan's ``tol`` at ``t_end`` (``omega t_end < 3.7 x_c``, ``x_c = omega Tc / 2``), which bounds
     both the deepest dip the scan steps over and how far ``F`` can be from zero at the root it
     returns:
 
@@ -1568,17 +1568,17 @@ def _descent_scratch(np):
 def _descent_limits(a, z0, g, c, sb, cb):
     """The constants of :func:`_descent_outcomes`'s preconditions and thresholds (a dict).
 
-    A toss is tried where alpha can reach ``pi/2`` (``|psi - pi/2| < pi/4``, so that ``Lmax =
-    a`` and ``sin psi >= 0.7``, here a Taylor polynomial within ``2.5e-8``), ``x_c < 1e4``, the
-    launch window ``[0, w1]`` is clear by ``1e-6 z0`` (there ``z >= z0`` and ``L <= a omega t
-    sin psi``), ``r > 0.1464 a omega`` and ``u^2`` lies between ``u2lo`` and ``u2hi``: above
-    the least that rises above ``Lmax`` (the second window then starts at ``w2s``, taken
-    ``1e-12`` early, beyond the scan's rounding of its own), makes the speed at ``Tc`` ``r >
-    0.0481 u`` and ``r Tc > 0.1441 a`` (with the last, ``D > 4M``: each of ``M``'s three terms
-    below ``D/12``;
-    and ``r > 1e-3 u``, so that ``D`` bounds ``|z - c|`` at ``T1``, ``T2``); below
-    what keeps ``M < 1e-7 z0`` (far below the launch window's clearance) and ``e = (2D + M)/2a
-    <= 1e-6`` (``2D <= 4 (u^2 + max(K, 0)) 1e-10 / g``, ``K = 2g (z0 - c)``).
+    A toss is tried where ``x_c < 1e4``, the launch window ``[0, w1]`` is clear by ``1e-6 z0``
+    (there ``z >= z0`` and ``L <= a omega t sin psi``), ``r > 0.1464 a omega`` and ``u^2`` lies
+    between ``u2lo`` and ``u2hi``: above the least that rises above ``a`` (the second window
+    then starts at ``w2s``, taken ``1e-12`` early, beyond the scan's rounding of its own; when
+    ``psi`` keeps alpha below ``pi/2`` the scan's ``Lmax`` is lower and its ``w2s`` later),
+    makes the speed at ``Tc`` ``r > 0.0481 u`` and ``r Tc > 0.1441 a`` (so ``D > 4M``: each of
+    ``4M``'s three terms is below ``D/3``; and ``D`` bounds ``|z - c|`` at ``T1``, ``T2``, and
+    ``omega t_end < 3.7 x_c``); below what keeps ``M < 1e-7 z0`` (far below the launch window's
+    clearance) and ``e = (2D + M)/2a <= 1e-6`` (``2D <= 4 (u^2 + max(K, 0)) 1e-10 / g``, ``K =
+    2g (z0 - c)``).  The bounds pass also needs ``|psi - pi/2| < pi/4`` (``sin psi >= 0.7``, a
+    Taylor polynomial in ``psi - pi/2`` within ``3.6e-6``); the sampled passes take any ``psi``.
 
     The thresholds of ``S = sin(alpha/2)`` (``S`` known within ``W``): at ``z = c`` the band
     of eq. (7) is ``sb^2 < S^2 < cb^2``: ``L > z`` where ``(L/2a)^2 = S^2 (1 - S^2) > (z/2a)^2``,
