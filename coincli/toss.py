@@ -1269,6 +1269,9 @@ def _toss_many(xi, psi, u, omega, diameter, g, contact, z0, outcomes_only):
                                     np.broadcast_to(np.asarray(v, dtype=float), shape).ravel())
             for v in args]
     if outcomes_only:
+        # psi, u and omega as arrays of n: the outcome engine's window and band tests index
+        # them per toss (one fixed number among them raised IndexError there)
+        flat[1:4] = [np.full(n, v) if isinstance(v, float) else v for v in flat[1:4]]
         return _outcomes_flat(np, flat, n, thick).reshape(shape)
     t_f = np.empty(n)
     alpha_f = np.empty(n)

@@ -1,0 +1,55 @@
+"""The outcome engine that simulate runs (coincli.toss._outcomes) against toss_many's codes for
+every mix of one number and arrays among psi, u and omega, over a grid that reaches the
+extremes: xi from 0 to 1e99, u from 0 to 1e8 m/s, omega from 0 to 1e10 rad/s (1e11 once), psi at 0, pi/2,
+pi and next to them, rim and thick contact.  A fixed --u, --omega or --psi reaches _outcomes as
+one number: with a fixed --psi and --omega and an array of u (`coin simulate --u uniform:0:0
+--omega 1e11 --psi 90`) its band test raised IndexError (an internal error), and with all three
+fixed an AttributeError."""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+
+from coincli import toss as T
+
+US = [0.0, 1e-300, 1e-6, 2.4, 1e3, 1e8]
+WS = [0.0, 1e-300, 1e-3, 40.0, 240.0, 1e6, 1e10]  # 1e11: the last test (2 s a toss)
+PS = [0.0, 1e-300, 0.3, math.pi / 2, math.pi - 1e-9, math.pi]
+XS = [0.0, 1e-300, 0.577, 1e5, 1e99]
+
+
+def _cases(contact):
+    for xi, u, w, p in itertools.product(XS, US, WS, PS):
+        if contact == "thick" and xi == 1e5 and w >= 1e10:
+            continue  # the scan's round limit: tests/test_toss_shapes.py::test_a_toss_...
+        try:
+            T.check_toss(xi, p, u, w, contact=contact)
+        except ValueError:
+            continue
+        yield xi, u, w, p
+
+
+@pytest.mark.parametrize("contact", ["rim", "thick"])
+def test_outcomes_equal_toss_many_for_every_mix_of_numbers_and_arrays(contact):
+    cases = list(_cases(contact))
+    assert len(cases) > 800
+    for xi, u, w, p in cases:
+        ref = int(T.toss_many(xi, p, u, w, contact=contact).code)
+        one = np.full(3, 1.0)
+        mixes = [(p, u, w), (p * one, u, w), (p, u * one, w), (p, u, w * one),
+                 (p * one, u * one, w * one)]
+        for pp, uu, ww in mixes:
+            got = np.broadcast_to(T._outcomes(xi, pp, uu, ww, contact=contact), (3,))
+            assert (got == ref).all(), (contact, xi, u, w, p, np.shape(pp), np.shape(uu),
+                                        np.shape(ww), got, ref)
+
+
+def test_simulate_with_fixed_psi_and_omega_and_a_degenerate_range_of_u():
+    sim = T.simulate(5, 1, xi=0.577, u="uniform:0:0", omega=1e11, psi=math.pi / 2)
+    assert sim.n == 5 and sum(sim.counts) == 5
+    ref = T.toss_many(0.577, math.pi / 2, 0.0, 1e11).code
+    assert sim.counts[int(ref)] == 5
