@@ -935,8 +935,17 @@ def _first_root(np, s: _Setup, n, thick, bands=None):
             keep = np.flatnonzero(~done)  # gathers then cost what is kept
             st = tuple(v[keep] for v in st)
             q = q.take(keep)
-    else:  # pragma: no cover - a bug, never a slow toss
-        raise RuntimeError("the root scan did not terminate")
+    else:
+        # A toss whose F dips within its rounding band (tol0 + tol1 t, the phase omega t known
+        # to eps omega t) for more cells than the scan can lay: a thick coin of xi 1e4 spun at
+        # 1e10 rad/s first touches, a turn after another, a hair from where the rounding allows
+        # any first contact.  Its outcome is not determined in double precision.
+        k = int(st[8][0])
+        om_k = float(np.broadcast_to(s.om, (n,))[k])
+        raise ValueError(f"this toss cannot be followed in double precision: at omega = "
+                         f"{om_k:g} rad/s its first contact hides within the rounding of the "
+                         f"phase omega * t through {_MAX_ROUNDS} rounds of the scan; "
+                         "lower omega (or xi, for a thick coin)")
     if ends:
         g = np.concatenate(ends)
         te = np.broadcast_to(t_end, (n,))[g]
