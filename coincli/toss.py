@@ -158,7 +158,7 @@ HEADS, SIDES, TAILS = 0, 1, 2  #: outcome codes
 NAMES = ("heads", "sides", "tails")
 LETTERS = ("H", "S", "T")
 MAX_PHASE = 1e12  #: rad; omega * t_end beyond this is refused (the phase would be noise)
-MAX_TOSSES = 10**8  #: the most tosses one simulate run makes (~1.5 min at ~1e6 tosses/s)
+MAX_TOSSES = 10**8  #: the most tosses one simulate run makes (~20 s of hand tosses)
 U_MAX = 1e8  #: m/s, the largest launch speed accepted
 
 _TWO_PI = 2.0 * math.pi
@@ -2313,7 +2313,7 @@ class Simulation:
 
 def simulate(n, seed, *, xi, u, omega, psi, diameter=DEFAULT_DIAMETER, g=STANDARD_G,
              contact="rim", level=0.95, progress: Callable[[int], None] | None = None):
-    """Toss ``n`` coins (at most :data:`MAX_TOSSES`, about a minute and a half of ordinary
+    """Toss ``n`` coins (at most :data:`MAX_TOSSES`, about 20 seconds of hand
     tosses) with seeded random initial conditions; count the outcomes.
 
     Returns a :class:`Simulation` with Wilson intervals and :func:`vigorous_limit` for the same

@@ -49,7 +49,7 @@ from coincli.cli._options import (
 
 # Limits, as in coincli.toss (kept here so that this module needs no numpy to load).
 U_MAX = 1e8  # m/s, coincli.toss.U_MAX
-MAX_TOSSES = 10**8  # coincli.toss.MAX_TOSSES: simulate -n; ~1.5 minutes of ordinary tosses
+MAX_TOSSES = 10**8  # coincli.toss.MAX_TOSSES: simulate -n; ~20 s of hand tosses
 XI_THICK_MAX = 1e100  # h/D with --contact thick (an infinite thickness has no launch height)
 LENGTH_MM_MIN = 1e-300  # mm; smaller would underflow on the way to metres
 NORMAL_REACH = 10  # simulate checks a normal up to MEAN + 10 SD (never drawn: P < 1e-23)
@@ -630,7 +630,7 @@ def _tosses(text: str) -> int:
     if digits.isascii() and digits.isdigit() and (len(digits) > 9 or int(digits) > MAX_TOSSES):
         shown = digits if len(digits) <= 30 else f"{digits[:12]}... ({len(digits)} digits)"
         raise usage_error(f"-n {shown} is more than the {MAX_TOSSES} (10^8) tosses of one run "
-                          "(about a minute and a half); for more, run several times with "
+                          "(about 20 seconds); for more, run several times with "
                           "different --seed values and add the counts")
     return _options.tosses_value(text, high=MAX_TOSSES)
 
