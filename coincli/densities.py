@@ -288,6 +288,8 @@ class Table(Density):
                 raise ValueError(f"{where} line {n}: expected 'psi,weight', got "
                                  f"{_shown(raw.strip())}")
             try:
+                if not (parts[0].isascii() and parts[1].isascii()):  # float() reads '٢' as 2
+                    raise ValueError("digits 0-9 only")
                 a, b = float(parts[0]), float(parts[1])
             except ValueError:
                 if not pts:  # a header line

@@ -33,8 +33,8 @@ MAX_ROWS = 1_000_000  #: the most rows a range or list may expand to
 MAX_COUNT = 2**53  #: the largest count (of coins) that a double still holds exactly
 MAX_SEED_DIGITS = 40  #: the longest seed, in decimal digits
 
-_NUM = re.compile(r"^[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?$")
-_INT = re.compile(r"^[+-]?\d+$")
+_NUM = re.compile(r"^[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?$", re.ASCII)  # 0-9 only
+_INT = re.compile(r"^[+-]?\d+$", re.ASCII)
 # exact factors (as text for Fraction), so 0.955in is the double nearest 24.257 mm
 _LEN_UNITS = {"mm": "1", "cm": "10", "m": "1000", "in": "25.4", '"': "25.4"}
 
@@ -268,7 +268,7 @@ def parse_count(text: str, what: str = "count") -> int:
     """A whole number from 1 to :data:`MAX_COUNT`."""
     s = str(text).strip()
     digits = s.lstrip("+").lstrip("0")
-    if not re.fullmatch(r"\+?\d+", s) or not digits:
+    if not re.fullmatch(r"\+?\d+", s, re.ASCII) or not digits:
         raise ValueError(f"{what} must be a whole number >= 1, got {text!r}")
     if len(digits) > 16 or int(digits) > MAX_COUNT:  # no 5000-digit int() either
         raise ValueError(f"{what} must be a whole number from 1 to {MAX_COUNT}, got {text!r}")
@@ -285,7 +285,8 @@ def _range_bound(text: str, what: str) -> float:
     return parse_number(text, what)
 
 
-_EXACT_PART = re.compile(r"^[+-]?(\d{1,30}(\.\d{0,30})?|\.\d{1,30})([eE][+-]?\d{1,2})?$")
+_EXACT_PART = re.compile(r"^[+-]?(\d{1,30}(\.\d{0,30})?|\.\d{1,30})([eE][+-]?\d{1,2})?$",
+                         re.ASCII)
 
 
 def _exact(text: str):

@@ -1648,7 +1648,7 @@ CSV_COLUMNS = ("label", "xi", "coin", "count", "diameter", "thickness", "heads",
 _CSV_ALIASES = {"name": "label", "tosses": "n", "diameter_mm": "diameter",
                 "thickness_mm": "thickness"}
 #: A number written with a decimal comma (``0,5``, ``2,4cm``): read so in semicolon files
-_DECIMAL_COMMA = re.compile(r"^[+-]?\d+,\d+([eE][+-]?\d+)?[a-zA-Z\"]*$")
+_DECIMAL_COMMA = re.compile(r"^[+-]?\d+,\d+([eE][+-]?\d+)?[a-zA-Z\"]*$", re.ASCII)
 
 
 class Experiment(namedtuple("Experiment", "line xi counts label")):
@@ -1673,7 +1673,7 @@ def _err(line: int, column: str | None, msg: str) -> CSVError:
     return CSVError(f"{where}: {msg}", line, column)
 
 
-_WHOLE = re.compile(r"^\+?\d+(\.0*)?$")
+_WHOLE = re.compile(r"^\+?\d+(\.0*)?$", re.ASCII)
 
 
 def _csv_count(text: str, name: str) -> int:

@@ -1950,7 +1950,7 @@ def _range(name, r, unit):
 
 
 _NUM = r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?"
-_NUM_RE = re.compile(_NUM)
+_NUM_RE = re.compile(_NUM, re.ASCII)
 
 
 @_record(frozen=True, skip_compare=("density",))
@@ -2156,10 +2156,18 @@ def parse_dist(spec, name, lo=-math.inf, hi=math.inf, unit=""):
             raise ValueError(f"{name} must be {'in ' if math.isfinite(hi) else ''}{rng}, got "
                              f"{mu:g}")
         return Dist("normal", mu, 0.0, lo, hi)
+    check_normal_mass(name, spec, mu, sd, lo, hi, rng)
+    return Dist("normal", mu, sd, lo, hi)
+
+
+def check_normal_mass(name, spec, mu, sd, lo, hi, rng):
+    """Refuse a normal(mu, sd > 0) that puts at most 1e-9 of its probability in ``[lo, hi]``
+    (``rng``, that range as text): a ValueError saying how much it puts there."""
     mass = _normal_mass((lo - mu) / sd, (hi - mu) / sd)
     if not mass > 1e-9:
-        raise ValueError(f"{name}: {spec!r} puts no probability in the allowed range {rng}")
-    return Dist("normal", mu, sd, lo, hi)
+        share = "no probability" if not mass > 0 else f"only {mass:.2g} of its probability"
+        raise ValueError(f"{name}: {spec!r} puts {share} in the allowed range {rng}; at least "
+                         "1e-9 is needed")
 
 
 def as_dist(value, name, lo=-math.inf, hi=math.inf):

@@ -198,6 +198,8 @@ def test_simulate_quiet_gives_the_three_frequencies(coin):
     (["--u", "uniform:3:1"], ["--u", "LOW <= HIGH"]),
     (["--u", "-1"], ["--u"]),
     (["--u", "normal:-50:1"], ["--u", "no probability"]),
+    # 9.9e-10 of the mass is in range: not "no probability" (it said so), the share and the rule
+    (["--u", "normal:-6:1"], ["--u", "only 9.9e-10 of its probability", "at least 1e-9"]),
     (["--omega", "cauchy:1:2"], ["--omega", "unknown distribution"]),
     (["--omega", "normal:38:-4"], ["--omega", "SD >= 0"]),
     (["--psi-dist", "foo"], ["--psi-dist"]),

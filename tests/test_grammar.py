@@ -523,3 +523,35 @@ def test_a_count_range_must_be_whole(coin, argv, what):
 def test_alpha_states_the_levels_it_takes(coin, value):
     _error(coin("check", "--xi", "0.5", "--sides", "3", "-n", "9", "--alpha", value), 2,
            f"--alpha must be strictly between 0 and 1 (0.05, 1/20 or 5%), got '{value}'")
+
+
+@pytest.mark.parametrize("argv,stdin", [
+    (["toss", "--xi", "0.577", "--psi", "\u0669\u0660", "--u", "2", "--omega", "40"], None),
+    (["toss", "--xi", "0.577", "--psi", "90", "--u", "\u0662", "--omega", "40"], None),
+    (["design", "-p", "\u0660.\u0663"], None),
+    (["design", "-p", "1/\u0663"], None),
+    (["design", "-p", "-"], "0.3\n\u0660.\u0663\n"),
+    (["table", "--xi", "\u0660.\u0665"], None),
+    (["table", "--xi", "\uff11"], None),  # a full-width 1
+    (["stack", "--coin", "quarter", "--count", "\u0663"], None),
+    (["simulate", "--xi", "0.577", "-n", "\u0663", "--seed", "1"], None),
+    (["simulate", "--xi", "0.577", "-n", "3", "--seed", "\u0663"], None),
+    (["simulate", "--xi", "0.577", "-n", "3", "--seed", "1", "--u", "normal:\u0662:1"], None),
+    (["check", "--xi", "0.5", "--heads", "\u0661\u0660", "--sides", "3", "--tails", "3"], None),
+])
+def test_numbers_are_ascii_digits_everywhere(coin, argv, stdin):
+    # Python's float() and int() read Arabic-Indic and full-width digits ('\u0669\u0660' is 90);
+    # numbers took them while --seed and -n refused them.  One grammar: 0-9 only, refused in
+    # one line with nothing on stdout.
+    rc, out, err = coin(*argv, stdin=stdin)
+    assert rc == 2 and out == "" and err.startswith("coin: error: ") and err.count("\n") == 1, err
+
+
+def test_a_psi_table_file_takes_ascii_digits_only(coin, tmp_path):
+    f = tmp_path / "d.txt"
+    f.write_text("0 1\n90 \u0662\n180 1\n", encoding="utf-8")
+    rc, out, err = coin("table", "--xi", "0.5", "--psi-dist", f"table:{f}", "-q")
+    assert rc == 2 and out == "" and "line 2: not two numbers" in err
+    f.write_text("\u03c8,weight\n0 1\n90 2\n180 1\n", encoding="utf-8")  # a header is skipped
+    rc, out, err = coin("table", "--xi", "0.5", "--psi-dist", f"table:{f}", "-q")
+    assert rc == 0 and len(out.split()) == 3, err

@@ -752,6 +752,7 @@ def test_parse_dist_accepts(spec, kind, p1, p2):
     ("normal:2.4", "cannot read"), ("normal:a:b", "cannot read"), ("uniform:3:1", "LOW <= HIGH"),
     ("cauchy:1:2", "unknown distribution"), ("", "cannot read"), ("1e999", "finite"),
     ("nan", "cannot read"), ("normal:2:-1", "SD >= 0"), ("normal:-50:1", "no probability"),
+    ("normal:-6:1", "only 9.9e-10 of its probability"),
     ("-1", "u must be"), ("uniform:-1:2", "LOW <= HIGH"), ("__import__('os')", "cannot read"),
     ("normal:1:2:3", "cannot read"), ("2,4", "cannot read"), (None, "u must be"),
     ("0x10", "cannot read"), ("inf", "cannot read"),

@@ -255,9 +255,7 @@ def _spec(text: str, what: str, kind: str):
                               f"{'in ' if math.isfinite(hi) else ''}{rng}; got {text!r}")
         return T.Dist("uniform", vals[0], vals[1], lo, hi)
     mu, sd = vals
-    mass = T._normal_mass((lo - mu) / sd, (hi - mu) / sd)
-    if not mass > 1e-9:
-        raise usage_error(f"{what}: {text!r} puts no probability in the allowed range {rng}")
+    _usage(T.check_normal_mass, what, text, mu, sd, lo, hi, rng)
     return T.Dist("normal", mu, sd, lo, hi)
 
 
