@@ -196,6 +196,16 @@ def throughput(n: int, repeat: int):
     return rows, ratios, split
 
 
+def _descent_constants(T, xi):
+    """The rim coin's radius, launch height, band sines and descent limits, as ``_outcomes``
+    sets them up for a quarter-sized coin of aspect ratio ``xi`` under standard gravity."""
+    a = T.DEFAULT_DIAMETER / 2
+    z0 = math.sqrt(3.0) / 2 * a
+    t0 = math.atan2(1.0, xi)
+    sb, cb = math.sin(t0 / 2), math.cos(t0 / 2)
+    return a, z0, sb, cb, T._descent_limits(a, z0, T.STANDARD_G, 2 * a * sb * cb, sb, cb)
+
+
 def stages(kw, n, repeat, xi=0.577):
     """CPU seconds of simulate's outcome path over ``n`` drawn tosses, cumulatively: the bounds
     pass alone (``_descent_batch``), the rim path (``_descent_outcomes``: bounds and sampled
@@ -208,11 +218,7 @@ def stages(kw, n, repeat, xi=0.577):
 
     rng = np.random.default_rng(7)
     chunks = [T.sample_conditions(T._CHUNK, rng, **kw) for _ in range(n // T._CHUNK)]
-    a = T.DEFAULT_DIAMETER / 2
-    z0 = math.sqrt(3.0) / 2 * a
-    t0 = math.atan2(1.0, xi)
-    sb, cb = math.sin(t0 / 2), math.cos(t0 / 2)
-    lim = T._descent_limits(a, z0, T.STANDARD_G, 2 * a * sb * cb, sb, cb)
+    a, z0, sb, cb, lim = _descent_constants(T, xi)
     m = T._CHUNK
     code = np.empty(m, dtype=np.int8)
 
@@ -253,11 +259,7 @@ def path_shares(kw, xi=0.577, chunks=4):
     from coincli import toss as T
 
     rng = np.random.default_rng(7)
-    a = T.DEFAULT_DIAMETER / 2
-    z0 = math.sqrt(3.0) / 2 * a
-    t0 = math.atan2(1.0, xi)
-    sb, cb = math.sin(t0 / 2), math.cos(t0 / 2)
-    lim = T._descent_limits(a, z0, T.STANDARD_G, 2 * a * sb * cb, sb, cb)
+    a, z0, sb, cb, lim = _descent_constants(T, xi)
     m = T._CHUNK
     first = left = 0
     for _ in range(chunks):
