@@ -36,6 +36,7 @@ import numpy as np
 
 from coincli import averages as _mg
 from coincli import models
+from coincli._wilson import _z, wilson_interval
 from coincli.densities import Cosine, Density, Normal, Table, Uniform
 from coincli.models import HALF_PI, Outcome
 
@@ -59,7 +60,7 @@ __all__ = [
 
 METHODS = ("auto", "quad", "mc", "qmc")
 MC_MAX_SAMPLES = 1 << 28  #: default cap on tosses (or points) for a tolerance (seconds)
-_Z95 = 1.959963984540054  # the 97.5% point of the standard normal
+_Z95 = _z(0.95)  # the 97.5% point of the standard normal (coincli._wilson's stored value)
 _MIN_TOL, _MAX_TOL = 1e-16, 0.5
 
 
@@ -375,8 +376,6 @@ def _counts(ca, cs):
 def _wilson(k, n):
     """95% Wilson score interval for k successes in n trials (arrays): the one implementation,
     :func:`coincli.stats.wilson_interval`."""
-    from coincli.stats import wilson_interval
-
     return wilson_interval(k, n, 0.95)
 
 

@@ -640,10 +640,8 @@ def _write_rows(out, cols, sep: str, quote: bool = True) -> None:
     for spec, cells in fields:
         if row:
             row.append(sep)
-        if cells is None:
-            row.append(spec)  # already %-escaped
-        else:
-            row.append(spec)
+        row.append(spec)  # a constant column's text, already %-escaped
+        if cells is not None:
             cells_of.append(cells)
     row = "".join(row) + "\n"
     if not cells_of:  # every column constant

@@ -165,9 +165,6 @@ def _got(*, xi, u, omega, g, diameter, z0=None):
             "z0": None if z0 is None else _mm(z0)}
 
 
-_report_seed = _options.report_seed  # a drawn seed on stderr (-q, --stream)
-
-
 # --------------------------------------------------------------------------- units
 
 
@@ -190,7 +187,7 @@ def _values(text: str, what: str, kind: str):
     its own unit or a range with one unit at its end (``38:40:1rev/s``)."""
     t = text.strip()
     units = _units_of(kind)
-    if ":" in t and t.count(":") == 2:
+    if t.count(":") == 2:
         example = "1:3:0.5m/s" if kind == "u" else "38:40:1rev/s"
         head, unit = _options.range_unit(t, units, what, example)
         if unit is not None:
@@ -411,7 +408,7 @@ def toss_cmd(
             extra = (f"  Drawn from a hand toss ({DHM}): {what}; seed {seed_v} (--seed {seed_v} "
                      "repeats it).")
             if quiet:
-                _report_seed(seed_v, seed is not None)
+                _options.report_seed(seed_v, seed is not None)
         BO.toss(physics, xi=xf, psi=float(psi_rad[0]), u=uf, omega=wf, diameter=dia, g=gv,
                 z0=z0_m, trajectory=trajectory, fmt=fmt, quiet=quiet, note_extra=extra,
                 seed=seed_v if drawn else None)
@@ -447,7 +444,7 @@ def toss_cmd(
         note += (f"  Drawn from a hand toss ({DHM}): {what}; seed {seed_v} (--seed {seed_v} "
                  "repeats it).")
         if quiet:
-            _report_seed(seed_v, seed is not None)
+            _options.report_seed(seed_v, seed is not None)
     emit(Result("coin toss", columns, [], note, quiet=outcome if n > 1 else outcome[0],
                 vertical=True, data=data), fmt, quiet)
 
@@ -590,13 +587,13 @@ def simulate_cmd(
                       thickness_text=thickness)
         BO.check_speed(physics, u_hi, gv, u or HAND["u"])
         if quiet:
-            _report_seed(seed_v, seed is not None)
+            _options.report_seed(seed_v, seed is not None)
         BO.simulate(physics, count=count_n, seed=seed_v, xi=xv, u=u_spec, omega=w_spec,
                     psi=psi_spec, diameter=dia, g=gv, labels=f"{u_text}, {w_text}, {psi_text}{source}", fmt=fmt,
                     quiet=quiet, progress=lambda total: _progress(total, 200))
         return
     if stream:
-        _report_seed(seed_v, seed is not None)
+        _options.report_seed(seed_v, seed is not None)
         _stream(T, count_n, seed_v, kw)
         return
     with _progress(count_n) as tick:
@@ -618,7 +615,7 @@ def simulate_cmd(
             "table).  95% Wilson intervals.  The vigorous limit is Table I averaged over "
             "psi; it holds when u*omega/g >> 1 and omega*a/u << 1.")
     if quiet:
-        _report_seed(seed_v, seed is not None)
+        _options.report_seed(seed_v, seed is not None)
     emit(Result("coin simulate", columns, rows, note, quiet=[r[2] for r in rows]), fmt, quiet)
 
 
