@@ -546,15 +546,7 @@ def simulate_cmd(
     _xi_for_contact(xv, ct == "thick")
     from coincli import toss as T
 
-    _options.refuse_psi_and_dist(psi, psi_dist)
-    if psi is not None:
-        psi_spec = _options.radians(_options.psi_angle(psi))
-    elif psi_dist is not None:
-        psi_spec = _psi_dist(psi_dist)
-    else:
-        psi_spec = T.HAND_TOSS["psi"]
-    u_spec = _spec(u, "--u", "u") if u is not None else T.HAND_TOSS["u"]
-    w_spec = _spec(omega, "--omega", "omega") if omega is not None else T.HAND_TOSS["omega"]
+    u_spec, w_spec, psi_spec, labels = launch(psi, psi_dist, u, omega)
     seed_v = _options.seed_value(seed)
     kw = {"xi": xv, "u": u_spec, "omega": w_spec, "psi": psi_spec, "diameter": dia, "g": gv,
           "contact": ct}
@@ -567,21 +559,6 @@ def simulate_cmd(
                diameter=_dia_text(diameter, dia))
     _follow(T, xv, psi_hi, u_hi, w_hi, dia=dia, g=gv, ct=ct, z0=None, got=got)
     _usage(T.check_toss, xv, psi_hi, u_hi, w_hi, diameter=dia, g=gv, contact=ct)  # the same, core
-    if psi is not None:
-        psi_text = f"psi = {psi.strip()} deg"
-    elif psi_dist is not None:
-        psi_text = f"psi ~ {psi_dist.strip()} deg"
-    else:
-        psi_text = f"psi ~ {T.HAND_TOSS_TEXT['psi']}"
-    u_text = f"u ~ {u.strip()}" if u is not None else f"u ~ {T.HAND_TOSS_TEXT['u']}"
-    w_text = (f"omega ~ {omega.strip()}" if omega is not None else
-              f"omega ~ {T.HAND_TOSS_TEXT['omega']}")
-    if u is not None and parse.split_unit(u.split(":")[-1], parse.SPEED_UNITS)[1] is None:
-        u_text += " m/s"
-    if omega is not None and parse.split_unit(omega.split(":")[-1], parse.SPIN_UNITS)[1] is None:
-        w_text += " rad/s"
-    hand = [k for k, v in (("u", u), ("omega", omega), ("psi", psi or psi_dist)) if v is None]
-    source = f" (hand toss, {DHM}: {', '.join(hand)})" if hand else ""
     if physics is not None:
         BO.check_coin(physics, xv, dia, xi_text=xi, diameter_text=diameter,
                       thickness_text=thickness)
@@ -589,8 +566,8 @@ def simulate_cmd(
         if quiet:
             _options.report_seed(seed_v, seed is not None)
         BO.simulate(physics, count=count_n, seed=seed_v, xi=xv, u=u_spec, omega=w_spec,
-                    psi=psi_spec, diameter=dia, g=gv, labels=f"{u_text}, {w_text}, {psi_text}{source}", fmt=fmt,
-                    quiet=quiet, progress=lambda total: _progress(total, 200))
+                    psi=psi_spec, diameter=dia, g=gv, labels=labels, fmt=fmt, quiet=quiet,
+                    progress=lambda total: _progress(total, 200))
         return
     if stream:
         _options.report_seed(seed_v, seed is not None)
@@ -610,7 +587,7 @@ def simulate_cmd(
         Column("difference", "freq - limit"),
     ] + ([Column("seed", "seed", "int")] if machine else [])
     note = (f"{count_n} toss{'es' if count_n != 1 else ''}, seed {seed_v}: xi = {xv:g}, "
-            f"{u_text}, {w_text}, {psi_text}{source}; D = {dia * 1000:g} mm, g = {gv:g} m/s^2, "
+            f"{labels}; D = {dia * 1000:g} mm, g = {gv:g} m/s^2, "
             f"contact {ct}; caught at first contact (the paper's landing; --landing bounce for a "
             "table).  95% Wilson intervals.  The vigorous limit is Table I averaged over "
             "psi; it holds when u*omega/g >> 1 and omega*a/u << 1.")
@@ -704,27 +681,24 @@ class _progress:
 # ------------------------------------------------------------------------ design --landing bounce
 
 
-def bounce_launch(psi, psi_dist, u, omega):
-    """The launch distributions of a bounce run (``coin design`` and ``coin plot sides``):
-    --u, --omega, --psi (fixed) or --psi-dist; what is not given is the hand toss that ``coin
-    toss`` and ``coin simulate`` draw (:data:`coincli.toss.HAND_TOSS`).  Returns the three specs
-    and their description."""
+def launch(psi, psi_dist, u, omega):
+    """The launch distributions of a run of many tosses (``coin simulate``, and ``coin design``
+    and ``coin plot sides`` with --landing bounce): --u, --omega, --psi (fixed) or --psi-dist;
+    what is not given is the hand toss (:data:`coincli.toss.HAND_TOSS`).  Returns the three
+    specs and their description (``u ~ ..., omega ~ ..., psi ...``, units named)."""
     from coincli import toss as T
 
     _options.refuse_psi_and_dist(psi, psi_dist)
-    if psi_dist is not None:
-        psi_spec = _psi_dist(psi_dist)
-        psi_text = f"psi ~ {psi_dist.strip()} deg"
-    elif psi is not None:
+    if psi is not None:
         psi_spec = _options.radians(_options.psi_angle(psi))
         psi_text = f"psi = {psi.strip()} deg"
+    elif psi_dist is not None:
+        psi_spec = _psi_dist(psi_dist)
+        psi_text = f"psi ~ {psi_dist.strip()} deg"
     else:
         psi_spec, psi_text = T.HAND_TOSS["psi"], f"psi ~ {T.HAND_TOSS_TEXT['psi']}"
     u_spec = _spec(u, "--u", "u") if u is not None else T.HAND_TOSS["u"]
     w_spec = _spec(omega, "--omega", "omega") if omega is not None else T.HAND_TOSS["omega"]
-    if _reach(w_spec, math.inf) > 1e4:
-        raise usage_error(f"--omega must stay at most 10000 rad/s with --landing bounce, got "
-                          f"{omega.strip()!r}")
     u_text = (T.HAND_TOSS_TEXT["u"] if u is None else u.strip() + (
         "" if parse.split_unit(u.split(":")[-1], parse.SPEED_UNITS)[1] else " m/s"))
     w_text = (T.HAND_TOSS_TEXT["omega"] if omega is None else omega.strip() + (
@@ -732,6 +706,15 @@ def bounce_launch(psi, psi_dist, u, omega):
     hand = [k for k, v in (("u", u), ("omega", omega), ("psi", psi or psi_dist)) if v is None]
     source = f" (hand toss, {DHM}: {', '.join(hand)})" if hand else ""
     return u_spec, w_spec, psi_spec, f"u ~ {u_text}, omega ~ {w_text}, {psi_text}{source}"
+
+
+def bounce_launch(psi, psi_dist, u, omega):
+    """:func:`launch` for a bounce run, whose spin stays at most 10^4 rad/s."""
+    u_spec, w_spec, psi_spec, labels = launch(psi, psi_dist, u, omega)
+    if _reach(w_spec, math.inf) > 1e4:
+        raise usage_error(f"--omega must stay at most 10000 rad/s with --landing bounce, got "
+                          f"{omega.strip()!r}")
+    return u_spec, w_spec, psi_spec, labels
 
 
 def bounce_design(physics, *, p_sides, psi, psi_dist, u, omega, diameter, coin, tol, seed,
