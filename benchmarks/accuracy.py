@@ -1,4 +1,4 @@
-"""Regenerate docs/accuracy.md: errors of coincli.models' closed forms against 50-digit mpmath.
+"""Regenerate docs/accuracy.md: errors of coincli.core.models' closed forms against 50-digit mpmath.
 
     python benchmarks/accuracy.py            # writes docs/accuracy.md (about a minute)
     python benchmarks/accuracy.py --stdout   # print instead
@@ -17,12 +17,12 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
-sys.path.insert(0, str(ROOT / "tests"))
+sys.path.insert(0, str(ROOT / "tests" / "reference"))
 
 import numpy as np  # noqa: E402
 import reference as R  # noqa: E402
 
-from coincli import models  # noqa: E402
+from coincli.core import models  # noqa: E402
 
 OUT = ROOT / "docs" / "accuracy.md"
 OUTPUTS = ("heads", "sides", "tails")
@@ -157,8 +157,8 @@ def _steps(v):
 
 
 def step_rows():
-    from coincli.averages import marginal
-    from coincli.densities import Cosine, Normal, Table, Uniform
+    from coincli.core.averages import marginal
+    from coincli.core.densities import Cosine, Normal, Table, Uniform
 
     rows = []
     starts = [1e-12, 1e-3, 0.1, 0.3535, 0.5773502691896, 1.0, 2.7, 30.0, 1e6, 1e15]
@@ -195,7 +195,7 @@ def step_rows():
 def inverse_sections():
     import inverse_reference as IR
 
-    from coincli.averages import conditional_inverse, marginal_inverse
+    from coincli.core.averages import conditional_inverse, marginal_inverse
 
     ref = IR.load()
     cond = inverse_rows(ref["conditional"], lambda p, psi: conditional_inverse(p, psi),
@@ -222,7 +222,7 @@ def issue17_sections():
         "## Root-found inverses",
         "",
         "`conditional_inverse` (Table I at a fixed psi) and `marginal_inverse` (psi averaged "
-        "over a density) solve `P(sides) = p` for xi.  The solver (`coincli.averages._root`) "
+        "over a density) solve `P(sides) = p` for xi.  The solver (`coincli.core.averages._root`) "
         "brackets the root from a start (Table I inverted in closed form for a fixed psi; the "
         "dynamic model's xi, or Table I at the mean of a narrow normal, for a density), then "
         "runs Chandrupatla's method (inverse quadratic interpolation safeguarded by bisection, "
@@ -267,7 +267,7 @@ def issue17_sections():
         "mean (out to 16 sd) left it unresolved (38% off for `normal:30:0.05` at 1e-60, a "
         "factor 2 for `normal:40:0.01` at 1e-300).  The quadrature now also places breakpoints "
         "at `b -+ w 2^k` (k = -2 .. 6) beyond each such boundary `b`, with `w = sd^2/|b - mean|` "
-        "the tail's decay length there (`coincli.averages._tail_points`); past 40 sd the tail "
+        "the tail's decay length there (`coincli.core.averages._tail_points`); past 40 sd the tail "
         "is below 1e-340 of the mass and rounds to 0.  The reference is "
         "`tests/marginal_reference.py` with breakpoints graded from every boundary.  What is left "
         "is the rounding of theta0/2 (half an ulp), which a tail exp(-z^2/2) feels z/sd times "
@@ -383,7 +383,7 @@ def main(argv=None):
         "",
         "Regenerate with `python benchmarks/accuracy.py` (writes this file; about a minute).",
         "",
-        "Every output of `coincli.models.geometric`, `dynamic`, `conditional`, "
+        "Every output of `coincli.core.models.geometric`, `dynamic`, `conditional`, "
         "`geometric_inverse` and `dynamic_inverse` is compared with the paper's textbook "
         "formulas (eqs. 9-12, Table I) evaluated in mpmath to 50 significant digits "
         "(`tests/reference.py`; working precision raised until two precisions agree, so the "

@@ -5,7 +5,7 @@ Run from the repository root (about a minute):
     python benchmarks/accuracy_rigid.py            # rewrites its section of docs/book.md
     python benchmarks/accuracy_rigid.py --no-write # print only
 
-Each function of :mod:`coincli.rigid` on a grid that reaches the extremes (the parameter's
+Each function of :mod:`coincli.core.rigid` on a grid that reaches the extremes (the parameter's
 complement ``m1 = 1 - m`` from 1 down to 1e-300, arguments over whole periods), against mpmath
 at enough digits to hold ``1 - m1`` exactly; and the motion against the frozen 20-digit
 Taylor-series integration of ``tests/data/rigid_reference.json``.  Errors are relative, in
@@ -25,7 +25,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 DOC = ROOT / "docs" / "book.md"
 EPS = 2.220446049250313e-16
-sys.path.insert(0, str(ROOT / "tests"))
+sys.path.insert(0, str(ROOT / "tests" / "reference"))
 
 
 def _dps(m1):
@@ -38,7 +38,7 @@ def _stats(errs):
 
 
 def k_and_f(m1s):
-    from coincli import rigid as R
+    from coincli.core import rigid as R
 
     ek, ef = [], []
     for m1 in m1s:
@@ -56,7 +56,7 @@ def k_and_f(m1s):
 def jacobi(m1s, points=64):
     """Relative error of sn, cn, dn with u in [0, 4K) (the argument itself exact), split into
     values above and below 1e-3 (near a zero of sn or cn, or dn next to the separatrix)."""
-    from coincli import rigid as R
+    from coincli.core import rigid as R
 
     big, small = [], []
     for m1 in m1s:
@@ -80,7 +80,7 @@ def jacobi(m1s, points=64):
 def motion_vs_odefun():
     import rigid_reference
 
-    from coincli import rigid as R
+    from coincli.core import rigid as R
 
     out = []
     for case in rigid_reference.load()["cases"]:

@@ -168,7 +168,7 @@ NUMPY_WIDE = ("import sys, numpy as np; a = np.loadtxt(sys.stdin.buffer); "
 
 NUMPY_TABLE = (
     "import sys, numpy as np\n"
-    "from coincli import models\n"
+    "from coincli.core import models\n"
     "x = 0.001 + np.arange(10**6) * 0.001\n"
     "g, d = models.geometric(x), models.dynamic(x)\n"
     "cols = [np.repeat(x, 2)] + [np.stack([getattr(g, f), getattr(d, f)], axis=1).ravel()\n"
@@ -323,7 +323,7 @@ def main(argv=None) -> int:
         f"**{fit_c / floor_c:.2f}x** the CPU time of `{FIT_FLOOR}` ({fit_w / floor_w:.2f}x its "
         f"wall time); aim <= {AIM_FIT}: {verdict(fit_c / floor_c, AIM_FIT)} in CPU time, "
         f"{verdict(fit_w / floor_w, AIM_FIT)} in wall time.  Most of the rest is the spread "
-        "fit: 57 psi averages (`coincli.averages.marginal`, about 0.5 ms each whatever the "
+        "fit: 57 psi averages (`coincli.core.averages.marginal`, about 0.5 ms each whatever the "
         "number of coins).", "",
         _report.table(["command", "wall", "CPU", "wall / floor", "CPU / floor"], frows),
         f"### A batch of {n_text} targets on stdin ({args.batch_repeat} runs each, interleaved)",

@@ -30,9 +30,9 @@ AIM_ARRAY = 3.0
 
 
 def scalar_rates(repeat: int) -> list[tuple[str, str, float]]:
-    from coincli import models
-    from coincli.densities import parse_density
-    from coincli.averages import conditional_inverse, marginal, marginal_inverse
+    from coincli.core import models
+    from coincli.core.densities import parse_density
+    from coincli.core.averages import conditional_inverse, marginal, marginal_inverse
 
     normal = parse_density("normal")
     cases = [
@@ -70,9 +70,9 @@ def _timed(fn) -> float:
 def array_ratios(n: int, repeat: int):
     import numpy as np
 
-    from coincli import models
-    from coincli.densities import parse_density
-    from coincli.averages import marginal
+    from coincli.core import models
+    from coincli.core.densities import parse_density
+    from coincli.core.averages import marginal
 
     rng = np.random.default_rng(2024)
     xi = rng.uniform(0.0, 3.0, n)  # every regime of a real coin, thin to very thick

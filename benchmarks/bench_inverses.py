@@ -29,8 +29,8 @@ ROOT = Path(__file__).resolve().parents[1]
 def cases():
     import numpy as np
 
-    from coincli import averages as A
-    from coincli.densities import Normal
+    from coincli.core import averages as A
+    from coincli.core.densities import Normal
 
     d, nn = Normal(), Normal(math.radians(30), math.radians(0.05))
     xs = np.random.default_rng(1).uniform(0, 3, 20000)

@@ -63,9 +63,9 @@ def main(argv=None) -> int:
 
     import numpy as np
 
-    from coincli import estimators as est
+    from coincli.core import estimators as est
     from coincli.cli._accuracy import RUN_BUDGET
-    from coincli.densities import parse_density
+    from coincli.core.densities import parse_density
 
     where = _report.machine()
     batch = 1 << 20

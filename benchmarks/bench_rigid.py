@@ -7,7 +7,7 @@ Run from the repository root (a few minutes):
 
 A 235 x 155 x 30 mm book spun near its middle axis (0.4, 40, 0.3 rad/s: it flips every
 0.54 s), sampled at 10^6 times over 20 s (37 periods of omega).  The exact solution
-(``coincli.rigid.omega_at``, and ``attitude_at`` for the quaternion too) against scipy's DOP853
+(``coincli.core.rigid.omega_at``, and ``attitude_at`` for the quaternion too) against scipy's DOP853
 (``solve_ivp`` with ``t_eval`` at the same times, Euler's equations alone, and with the quaternion
 kinematics) at two tolerances, each timed interleaved with the others (medians of the repeats),
 each with its largest error against the exact solution (relative to |omega|; for the attitude the
@@ -61,7 +61,7 @@ def run(n: int, repeat: int):
     import numpy as np
     from scipy.integrate import solve_ivp
 
-    from coincli import rigid as R
+    from coincli.core import rigid as R
 
     I = R.box_moments(SIZE)
     w0 = np.array(SPIN)

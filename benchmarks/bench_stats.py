@@ -15,7 +15,7 @@ which a loaded machine stretches less than wall time), wall time beside them.
 
 Floors: ``check`` needs typer, numpy and scipy.special (binomial tails, beta quantiles,
 chi-square tails); ``fit`` the same plus a one-dimensional optimizer, written in Python in
-coincli.stats (a run of ``import scipy.optimize`` is timed beside it to show what it would
+coincli.core.stats.tests (a run of ``import scipy.optimize`` is timed beside it to show what it would
 cost).  Aim: each command at most 1.2x its floor.
 
 Files: 10^5 experiments of 100 tosses each (4 rows in 5 with heads, sides and tails, 1 in 5
@@ -97,8 +97,8 @@ def write_files(where: Path, rows: int) -> dict[str, Path]:
     """The two experiment files (seeded: the same bytes on every run)."""
     import numpy as np
 
-    from coincli.averages import marginal
-    from coincli.densities import Normal
+    from coincli.core.averages import marginal
+    from coincli.core.densities import Normal
 
     out = {}
     dens = Normal(math.pi / 2, math.radians(18))
@@ -213,7 +213,7 @@ def main(argv=None) -> int:
         f"<= {AIM}: {verdict(chk[1] / f_c)}.  `coin fit tests/data/tosses.csv` takes "
         f"**{fit[1] / f_c:.2f}x** the same floor ({fit[0] / f_w:.2f}x wall): "
         f"{verdict(fit[1] / f_c)}; its optimizer (bounded Brent and Brent's root finder, a "
-        f"few dozen lines of Python in `coincli.stats`) imports nothing, where `import "
+        f"few dozen lines of Python in `coincli.core.stats.tests`) imports nothing, where `import "
         f"scipy.optimize` would add {_report.fmt_time(opt[1] - f_c)} of CPU "
         f"({opt[1] / f_c:.2f}x the floor before any work).  Neither command imports "
         "scipy.stats, scipy.optimize, rich or matplotlib (`tests/test_stats_imports.py`).", "",

@@ -11,11 +11,11 @@ Run from the repository root, in the environment where ``coin``'s dependencies a
    runs as ``python -c "from coincli._entry import main; main()" ARGS`` against ``python -c
    "import typer, numpy"``, the floor of anything that tosses (the aim: at most 1.2x),
    interleaved so that both see the same machine.  Output goes to a pipe.
-2. Tosses per second of ``coin simulate`` (``coincli.toss.simulate``: draws, tosses, counts)
+2. Tosses per second of ``coin simulate`` (``coincli.core.toss.flight.simulate``: draws, tosses, counts)
    against drawing its random numbers alone (``sample_conditions`` in the same chunks of
    65536, the same distributions), interleaved; the aim: at most 3x.  Two tosses: the issue's
    ordinary one (u ~ N(2.4, 0.3) m/s, omega ~ N(38, 4) rad/s, psi ~ N(90, 10) deg) and the
-   hand toss of ``coincli.toss.HAND_TOSS`` (38 rev/s: more turns, so more cells before
+   hand toss of ``coincli.core.toss.flight.HAND_TOSS`` (38 rev/s: more turns, so more cells before
    contact).  Raw ``numpy`` normals (three a toss) are shown for scale.
 3. The engine on other inputs: toss_many on the stress mix (xi in {0, 1e6} or [0, 3], u in
    1e-6..30 m/s, omega in 1e-3..1e6 rad/s, log-uniform), one toss at a time, phase_map.
@@ -82,7 +82,7 @@ def startup(repeat: int):
              "`import typer, numpy, numpy.random` (what drawing needs)":
                  [sys.executable, "-c", "import typer, numpy, numpy.random"],
              "the same, numpy.random as coin imports it (without `secrets`)":
-                 [sys.executable, "-c", "import typer, numpy; from coincli._backend import "
+                 [sys.executable, "-c", "import typer, numpy; from coincli.core._numerics.backend import "
                   "numpy_random; numpy_random()"]}
     cases.update({k: [sys.executable, "-c", ENTRY, *v] for k, v in STARTUP.items()})
     walls = {k: [] for k in cases}
@@ -111,7 +111,7 @@ def startup(repeat: int):
 THROUGHPUT_CHILD = r"""
 import math, sys, time
 import numpy as np
-from coincli import toss as T
+from coincli.core.toss import flight as T
 kind, cfg, n = sys.argv[1], sys.argv[2], int(sys.argv[3])
 kw = dict(T.HAND_TOSS) if cfg == "hand" else {
     "u": T.Dist("normal", 2.4, 0.3, 0.0, T.U_MAX),
@@ -133,7 +133,7 @@ def throughput(n: int, repeat: int):
     user gets it: ``coin simulate`` is one run), interleaved, and in this process once warm."""
     import numpy as np
 
-    from coincli import toss as T
+    from coincli.core.toss import flight as T
 
     psi = T.Dist("normal", math.pi / 2, math.radians(10), 0.0, math.pi)
     configs = {
@@ -214,7 +214,7 @@ def stages(kw, n, repeat, xi=0.577):
     medians are noise at a few nanoseconds)."""
     import numpy as np
 
-    from coincli import toss as T
+    from coincli.core.toss import flight as T
 
     rng = np.random.default_rng(7)
     chunks = [T.sample_conditions(T._CHUNK, rng, **kw) for _ in range(n // T._CHUNK)]
@@ -256,7 +256,7 @@ def path_shares(kw, xi=0.577, chunks=4):
     the sampled passes settle, and the scan must settle (simulate's rim path)."""
     import numpy as np
 
-    from coincli import toss as T
+    from coincli.core.toss import flight as T
 
     rng = np.random.default_rng(7)
     a, z0, sb, cb, lim = _descent_constants(T, xi)
@@ -279,7 +279,7 @@ def path_shares(kw, xi=0.577, chunks=4):
 def engine(n: int, repeat: int):
     import numpy as np
 
-    from coincli import toss as T
+    from coincli.core.toss import flight as T
 
     rng = np.random.default_rng(7)
     rows = []
@@ -350,20 +350,20 @@ def main(argv=None) -> int:
         "What a drawn toss or a simulate run adds to the floor: `numpy.random`, imported without "
         "the `secrets` module that numpy's `bit_generator` loads for unseeded entropy (with it "
         "come `hashlib` and OpenSSL, `hmac`, `base64` and `random`: some 7 ms; "
-        "`coincli._backend.numpy_random` lets a stand-in holding only `randbits`, the same "
-        "`os.urandom` entropy, serve that one import and removes it at once); `coincli.toss`; "
-        "for simulate's vigorous limit `coincli.averages` with its own Gauss-Legendre rule "
+        "`coincli.core._numerics.backend.numpy_random` lets a stand-in holding only `randbits`, the same "
+        "`os.urandom` entropy, serve that one import and removes it at once); `coincli.core.toss.flight`; "
+        "for simulate's vigorous limit `coincli.core.averages` with its own Gauss-Legendre rule "
         "(`numpy.polynomial` was 2 ms) and the Wilson interval's small module (all of "
-        "`coincli.stats` was 2 ms); the top of the distributions is checked by "
+        "`coincli.core.stats.tests` was 2 ms); the top of the distributions is checked by "
         "`check_toss`, without tossing.  A command can read below 1.0x: `coin` pauses the "
         "garbage collector while it imports (coincli._entry), the floor does not.  "
         "tests/test_cli_subprocess.py forbids `scipy`, `rich`, `matplotlib`, `numpy.ma`, "
-        "`secrets`, `hashlib`, `numpy.polynomial` and `coincli.stats` in these commands.",
+        "`secrets`, `hashlib`, `numpy.polynomial` and `coincli.core.stats.tests` in these commands.",
         "",
         f"### Tosses per second of `coin simulate` ({n:,} tosses, {reps} runs each, "
         "interleaved)",
         "",
-        "`coincli.toss.simulate` (draws, tosses, counts) against drawing its random numbers "
+        "`coincli.core.toss.flight.simulate` (draws, tosses, counts) against drawing its random numbers "
         "alone (`sample_conditions`, the same chunks and distributions): aim <= "
         f"{AIM_SIMULATE}x.  {verdict2(t_ratios, AIM_SIMULATE)}.  Both are single-threaded; "
         "on a shared machine CPU seconds are the steadier measure (the wall clock also counts "
@@ -388,7 +388,7 @@ def main(argv=None) -> int:
         _report.table(["tosses", "bounds pass", "sampled passes", "validation and the scan",
                        "`_outcomes`", "draws", "simulate"], t_split),
         "`simulate` wants outcomes, not times of flight, and reads each one off the first "
-        "proof that settles it (`coincli.toss._outcomes`; the same codes as `toss_many`, "
+        "proof that settles it (`coincli.core.toss.flight._outcomes`; the same codes as `toss_many`, "
         "compared toss by toss in tests/test_toss.py: seeded hand and ordinary tosses at six "
         "thicknesses, contacts tuned to the side boundary, other coins, planets and tilts, and "
         "simulate's counts end to end).  A rim touching at `t_f` has `a sin(alpha_f) = "

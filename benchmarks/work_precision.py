@@ -8,14 +8,14 @@ ratio) and each method it measures the median CPU time over repeats and the erro
 40-digit mpmath reference (tests/marginal_reference.py): the largest absolute error of
 P(heads), P(sides), P(tails); for Monte Carlo and quasi-Monte Carlo the RMS error over 20 seeds.
 
-- quad: Gauss-Legendre (coincli.averages) with 2 to 16 nodes per subinterval;
+- quad: Gauss-Legendre (coincli.core.averages) with 2 to 16 nodes per subinterval;
 - scipy: scipy.integrate.quad (QUADPACK QAGP) with epsabs from 1e-2 to 1e-13;
-- mc: simulated tosses, 2^8 to 2^24 (coincli.estimators.monte_carlo);
+- mc: simulated tosses, 2^8 to 2^24 (coincli.core.estimators.monte_carlo);
 - qmc: the same tosses from 16 scrambled Sobol sequences, 2^8 to 2^24 points in all;
 - qmc-psi: Sobol points in psi only, the landing phase integrated exactly (Table I).
 
 It prints the fitted convergence slopes, the time each method needs for 1e-3, 1e-6 and 1e-12,
-and checks the --tol chooser (coincli.estimators.estimate) against the fastest measured method
+and checks the --tol chooser (coincli.core.estimators.estimate) against the fastest measured method
 that meets each tolerance, and the speed targets of the quadrature.
 """
 
@@ -30,16 +30,16 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
-sys.path.insert(0, str(ROOT / "tests"))
+sys.path.insert(0, str(ROOT / "tests" / "reference"))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 import numpy as np  # noqa: E402
 from _report import machine, table  # noqa: E402
 from marginal_reference import ref_marginal  # noqa: E402
 
-from coincli import estimators as E  # noqa: E402
-from coincli.densities import Cosine, Normal, Table, Uniform  # noqa: E402
-from coincli.averages import marginal, order_for_tol  # noqa: E402
+from coincli.core import estimators as E  # noqa: E402
+from coincli.core.densities import Cosine, Normal, Table, Uniform  # noqa: E402
+from coincli.core.averages import marginal, order_for_tol  # noqa: E402
 
 DOC = ROOT / "docs" / "work-precision.md"
 PNG = ROOT / "docs" / "work-precision.png"
@@ -308,7 +308,7 @@ def report(results, seeds, top, started, targets):
             "splits at those kinks, removes the square roots by psi = boundary + c s^2, and "
             "converges geometrically: about one decade per node per subinterval.", ""]
     out += ["## The --tol chooser", "",
-            "`coin table --tol TOL` (`coincli.estimators.estimate(xi, density, tol=TOL)`) "
+            "`coin table --tol TOL` (`coincli.core.estimators.estimate(xi, density, tol=TOL)`) "
             "against the fastest measured configuration whose error is within TOL, for every "
             "case and TOL = 1e-1 ... 1e-13.  The requirement: never slower than 2x.", ""]
     rows = []

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 __version__ = "0.1.0"
 
-from coincli.models import (  # noqa: E402
+from coincli.core.models import (  # noqa: E402
     FAIR_XI_DYNAMIC,
     FAIR_XI_GEOMETRIC,
     Outcome,
@@ -25,13 +25,13 @@ from coincli.models import (  # noqa: E402
 )
 
 _LAZY = {
-    "marginal": "coincli.averages",
-    "marginal_inverse": "coincli.averages",
-    "conditional_inverse": "coincli.averages",
-    "Uniform": "coincli.densities",
-    "Cosine": "coincli.densities",
-    "Normal": "coincli.densities",
-    "Table": "coincli.densities",
+    "marginal": "coincli.core.averages",
+    "marginal_inverse": "coincli.core.averages",
+    "conditional_inverse": "coincli.core.averages",
+    "Uniform": "coincli.core.densities",
+    "Cosine": "coincli.core.densities",
+    "Normal": "coincli.core.densities",
+    "Table": "coincli.core.densities",
 }
 
 __all__ = [

@@ -8,6 +8,12 @@ import sys
 
 import pytest
 
+# the helper modules (mpmath references, CLI helpers) are imported by name from every layer
+for _sub in ("reference", "cli"):
+    _path = str(__import__("pathlib").Path(__file__).with_name(_sub))
+    if _path not in sys.path:
+        sys.path.insert(0, _path)
+
 _REPORT: dict[str, list[str]] = {}
 
 

@@ -16,7 +16,7 @@ import sys
 import typer
 
 from coincli import __version__
-from coincli.cli._common import CoinError, ExitCode
+from coincli.io.table import CoinError, ExitCode
 
 class _Loaded:
     """An attribute of :class:`_App` that imports every command module on its first read."""
@@ -125,7 +125,7 @@ def _interrupted() -> str:
 
 
 def _fail(message: str, code: int) -> int:
-    from coincli.cli._common import clip_message
+    from coincli.io.table import clip_message
 
     try:
         sys.stderr.write(f"coin: error: {clip_message(message)}\n")
@@ -419,9 +419,9 @@ def _prepare(root):
     """The click tree as ``coin`` shows it: plain click help (no rich panels: a third of the
     time of ``--help``, and no second wrapping) laid out in the terminal's width, and every
     command that takes the shared ``--format`` option also takes ``--no-headers`` (one
-    definition here, so a command added later has it too; :func:`coincli.cli._common.emit`
+    definition here, so a command added later has it too; :func:`coincli.io.table.emit`
     reads it)."""
-    from coincli._terminal import terminal_width
+    from coincli.render.terminal import terminal_width
 
     root.context_settings = {**(root.context_settings or {}),
                              "terminal_width": terminal_width(), "max_content_width": 80}
@@ -527,7 +527,7 @@ def _example_lines(example: str) -> str:
 
 
 def _with_no_headers(callback, fmt_name):
-    from coincli.cli._common import usage_error
+    from coincli.io.table import usage_error
 
     def run_command(*args, no_headers=False, **kwargs):
         if no_headers:

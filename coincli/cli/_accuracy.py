@@ -1,6 +1,6 @@
 """``--tol``, ``--method`` and ``--seed``: how the psi-averaged rows are computed, and how well.
 
-Shared by ``coin table`` and ``coin design``.  The numbers come from :mod:`coincli.estimators`
+Shared by ``coin table`` and ``coin design``.  The numbers come from :mod:`coincli.core.estimators`
 (loaded only when a psi density is used); this module adds the options, their one-line usage
 errors, the error columns and a progress bar for long Monte Carlo runs (rich, on stderr, only
 when stderr is a terminal and a run has taken more than a second).  No numpy, scipy or rich at
@@ -15,9 +15,9 @@ from typing import Annotated, NamedTuple
 
 import typer
 
-from coincli.cli._common import Column, compute_error, stderr_is_terminal, usage_error
+from coincli.io.table import Column, compute_error, stderr_is_terminal, usage_error
 from coincli.cli._options import seed_value
-from coincli.modelspec import ModelSpec
+from coincli.core.modelspec import ModelSpec
 
 TolOpt = Annotated[
     str | None,
@@ -67,7 +67,7 @@ def parse(tol: str | None, method: str | None, seed: str | None) -> Accuracy | N
         return None
     t = None
     if tol is not None:
-        from coincli import parse as p
+        from coincli.io import grammar as p
 
         try:
             t = p.parse_number(tol, "--tol")
@@ -88,7 +88,7 @@ def parse(tol: str | None, method: str | None, seed: str | None) -> Accuracy | N
 
 
 def _check_tol(t: float) -> None:
-    # the same range as coincli.estimators.check_tol, without importing numpy to say so
+    # the same range as coincli.core.estimators.check_tol, without importing numpy to say so
     if not 1e-16 <= t <= 0.5:
         raise ValueError(f"--tol must be in [1e-16, 0.5] (an absolute error on a chance), "
                          f"got {t!r}")
@@ -117,7 +117,7 @@ def design_model(acc: Accuracy | None, model: ModelSpec) -> ModelSpec:
                           f"{model.density.spec} --method {acc.method}")
     if acc.tol is None:
         return model
-    from coincli.averages import order_for_tol
+    from coincli.core.averages import order_for_tol
 
     return model.with_order(order_for_tol(acc.tol, model.density))
 
@@ -125,7 +125,7 @@ def design_model(acc: Accuracy | None, model: ModelSpec) -> ModelSpec:
 def design_note(acc: Accuracy | None, model: ModelSpec) -> str:
     if acc is None or acc.tol is None or model.order is None:
         return ""
-    from coincli.averages import error_bound
+    from coincli.core.averages import error_bound
 
     return (f"; quadrature with {model.order} nodes per subinterval for --tol {acc.tol:g} "
             f"(error <= {error_bound(model.order, model.density):.0e})")
@@ -188,7 +188,7 @@ def plan(acc: Accuracy | None, densities: list, x) -> Budget:
     budget = Budget(len(densities))
     if acc is None or acc.method != "mc" or acc.tol is None or not densities:
         return budget
-    from coincli import estimators as est
+    from coincli.core import estimators as est
 
     try:
         spreads = [est.chance_spread(est.quad(x, d, tol=1e-9).value) for d in densities]
@@ -211,7 +211,7 @@ def run(acc: Accuracy, density, x, n: int, budget: Budget | None = None):
     """(Outcome, per-row extra cells) for one density at x (a float or an array of n xi).
 
     A sampling method with --tol draws at most ``budget.share()`` tosses (or points)."""
-    from coincli import estimators as est
+    from coincli.core import estimators as est
 
     if budget is None:
         budget = Budget(1)

@@ -1,7 +1,7 @@
 """``--landing bounce``: the options and outputs shared by ``coin simulate``, ``coin toss``,
 ``coin design`` and ``coin plot sides`` for tosses that land on a surface (issue 16).
 
-The physics is :mod:`coincli.bounce` (MuJoCo, an optional extra).  This module parses the
+The physics is :mod:`coincli.core.bounce.engine` (MuJoCo, an optional extra).  This module parses the
 surface and launch options, turns a missing MuJoCo into the one-line hint
 ``pip install 'coincli[physics]'`` (exit 1), and builds the results.  Nothing here imports
 numpy, scipy, rich or mujoco at import time; ``--landing catch`` (the default) never loads them.
@@ -15,11 +15,11 @@ from typing import Annotated
 
 import typer
 
-from coincli import parse
-from coincli.cli._common import Column, Result, compute_error, usage_error
+from coincli.io import grammar as parse
+from coincli.io.table import Column, Result, compute_error, usage_error
 
 LANDINGS = ("catch", "bounce")
-SURFACE_NAMES = ("wood", "hard-floor", "felt", "rice")  # coincli.bounce.SURFACES, without mujoco
+SURFACE_NAMES = ("wood", "hard-floor", "felt", "rice")  # coincli.core.bounce.engine.SURFACES, without mujoco
 MAX_BOUNCE_TOSSES = 10**6  #: -n with --landing bounce: ~4 hours at ~75 tosses/s on two cores
 
 LandingOpt = Annotated[
@@ -90,8 +90,8 @@ class Physics:
 
 
 def bounce_module():
-    """:mod:`coincli.bounce` with MuJoCo loaded, or the one-line install hint (exit 1)."""
-    from coincli import bounce as B
+    """:mod:`coincli.core.bounce.engine` with MuJoCo loaded, or the one-line install hint (exit 1)."""
+    from coincli.core.bounce import engine as B
 
     try:
         B.require_mujoco()
@@ -149,7 +149,7 @@ def _length_m(text: str, what: str, hi_mm: float) -> float:
 
 def _dist(text: str, what: str, unit: str, scale: float, hi: float):
     """A fixed value (a length with a unit for mm) or normal:MEAN:SD / uniform:LOW:HIGH."""
-    from coincli import toss as T
+    from coincli.core.toss import flight as T
 
     t = text.strip()
     if ":" not in t:
@@ -240,7 +240,7 @@ def check_coin(p: Physics, xi: float | None, dia: float, *, xi_text=None, diamet
     """Refuse, naming the option as typed, a coin MuJoCo cannot simulate: a diameter outside
     [the smallest with a mass and inertia MuJoCo takes at xi = 100, 10 m], or an aspect ratio
     (``xi`` None: not checked) too thin for that diameter
-    (:func:`coincli.bounce.smallest_xi`)."""
+    (:func:`coincli.core.bounce.engine.smallest_xi`)."""
     B = p.B
     why = "(MuJoCo's limits on a body's mass and inertia)"
     if not B.smallest_diameter() <= dia <= 10.0:
@@ -275,7 +275,7 @@ def simulate(p: Physics, *, count, seed, xi, u, omega, psi, diameter, g, labels,
              progress):
     """``coin simulate --landing bounce``: frequencies among settled tosses with Wilson
     intervals, what the catch would have said of the same tosses, the vigorous limit."""
-    from coincli.cli._common import emit
+    from coincli.io.table import emit
 
     B = p.B
     if count > MAX_BOUNCE_TOSSES:
@@ -329,7 +329,7 @@ def toss(p: Physics, *, xi, psi, u, omega, diameter, g, z0, trajectory, fmt, qui
          note_extra: str = "", seed: int | None = None):
     """``coin toss --landing bounce``: one toss onto the surface, its bounces, time to settle
     and final side; ``trajectory`` (a path) gets the time series as CSV, written atomically."""
-    from coincli.cli._common import emit
+    from coincli.io.table import emit
 
     B = p.B
     if trajectory is not None:
@@ -377,7 +377,7 @@ def toss(p: Physics, *, xi, psi, u, omega, diameter, g, z0, trajectory, fmt, qui
 
 def _output_path(path: str) -> None:
     """Refuse a --trajectory path that cannot be written, before any simulating."""
-    from coincli._files import FileKindError, check_output_path
+    from coincli.io.files import FileKindError, check_output_path
 
     try:
         check_output_path(path)
@@ -388,8 +388,8 @@ def _output_path(path: str) -> None:
 
 
 def write_csv_atomic(path: str, header, rows) -> None:
-    """A CSV written whole or not at all (:func:`coincli._files.write_atomic`)."""
-    from coincli._files import FileKindError, write_atomic
+    """A CSV written whole or not at all (:func:`coincli.io.files.write_atomic`)."""
+    from coincli.io.files import FileKindError, write_atomic
 
     lines = [",".join(header)]
     lines += [",".join(repr(v) if isinstance(v, float) else str(v) for v in row) for row in rows]
@@ -406,7 +406,7 @@ def write_csv_atomic(path: str, header, rows) -> None:
 
 def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, psi, diameter,
            g, labels, fmt, quiet, progress):
-    from coincli.cli._common import emit
+    from coincli.io.table import emit
 
     B = p.B
     with progress() as tick:
@@ -464,7 +464,7 @@ class design_progress:
         self.bar = None
 
     def __enter__(self):
-        from coincli.cli._common import stderr_is_terminal
+        from coincli.io.table import stderr_is_terminal
 
         if stderr_is_terminal():
             from rich.console import Console
@@ -491,7 +491,7 @@ class design_progress:
 
 
 class FittedSpec:
-    """The fitted bounce curve, shaped as :class:`coincli.modelspec.ModelSpec` for the plots
+    """The fitted bounce curve, shaped as :class:`coincli.core.modelspec.ModelSpec` for the plots
     (``forward``, ``inverse``, ``label``, ``gid``)."""
 
     key = "fitted"
@@ -503,7 +503,7 @@ class FittedSpec:
         self.name = self.gid = "bounce"
 
     def forward(self, xi):
-        from coincli.models import Outcome
+        from coincli.core.models import Outcome
 
         s = self.fit.p_sides(xi)
         return Outcome((1 - s) / 2, s, (1 - s) / 2)  # faces not told apart by the fit
@@ -520,7 +520,7 @@ PLOT_XI = (0.05, 100.0)
 def sides_points(p: Physics, *, seed, n, xis, u, omega, psi, diameter, g):
     """Simulated points (one per xi, 95% Wilson intervals) and the fitted curve, or None and
     why not when the points do not determine one."""
-    from coincli.plot import ExperimentPoint
+    from coincli.render.figures import ExperimentPoint
 
     B = p.B
     pts = []

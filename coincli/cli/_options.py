@@ -10,7 +10,7 @@
   ``coin table`` and ``coin stack`` fails naming ``--count``: :data:`OldCountOpt`).
 - **A seed**: ``--seed N``; when absent one is drawn (:func:`seed_value`) and reported.
 - **psi**: ``--psi DEG`` (a list or a range where a command takes many) and
-  ``--psi-dist SPEC[,SPEC...]``, parsed by :func:`coincli.densities.parse_density` everywhere.
+  ``--psi-dist SPEC[,SPEC...]``, parsed by :func:`coincli.core.densities.parse_density` everywhere.
 
 Commands declare the options with these ``Annotated`` aliases (parameter names ``xi``,
 ``coin``, ``count``, ``quarters``, ``diameter``, ``thickness``, ``tosses``, ``seed``, ``psi``,
@@ -25,8 +25,8 @@ from typing import Annotated
 
 import typer
 
-from coincli import parse
-from coincli.cli._common import shown, usage_error, values_option, values_stream
+from coincli.io import grammar as parse
+from coincli.io.table import shown, usage_error, values_option, values_stream
 
 __all__ = [
     "XiOpt", "XisOpt", "CoinOpt", "CountOpt", "CountsOpt", "QuartersOpt", "QuartersManyOpt",
@@ -96,7 +96,7 @@ class Coins:
 
     ``xis`` holds one aspect ratio per coin (a list, or an ndarray for a long stdin batch);
     ``kind`` is "xi", "coin" (catalog, --quarters too) or "size" (--diameter --thickness);
-    ``unit`` is the coin stacked (a :class:`coincli.coins.Coin`, catalog or custom) and
+    ``unit`` is the coin stacked (a :class:`coincli.core.coins.Coin`, catalog or custom) and
     ``counts`` how many, one per xi (both None for ``--xi``); ``diameter_mm`` is the coin's
     size when known (a catalog or custom coin, or ``--xi`` with ``--diameter``).  ``typed``
     says how the user gave it, for notes.  A plain class: a NamedTuple costs a fraction of a
@@ -253,7 +253,7 @@ def _length(text: str, what: str) -> float:
 
 
 def _catalog(name: str):
-    from coincli import coins as catalog
+    from coincli.core import coins as catalog
 
     try:
         return catalog.get_coin(name)
@@ -279,7 +279,7 @@ def resolve_coin(xi: str | None = None, coin: str | None = None, count: str | No
     with ``need_count=False`` its ``counts`` stay None (the command finds the count itself).
     ``max_values``: the most coins a list, range or stdin may give (``coin plot``'s marks).
     ``stream`` (with ``many``): several ``--xi`` values, or several counts, come back as a
-    :class:`coincli.cli._common.Values` (``xis`` None for counts), read and checked whole but
+    :class:`coincli.io.table.Values` (``xis`` None for counts), read and checked whole but
     held in chunks, for a command that computes a chunk at a time.  ``takes_xi``: False for a
     command that refuses --xi itself (``coin stack``): its errors then never suggest one.
     """
@@ -305,7 +305,7 @@ def resolve_coin(xi: str | None = None, coin: str | None = None, count: str | No
             raise usage_error(f"{command} needs the coin's size: give --coin NAME, --quarters N, "
                               "--diameter D --thickness H, or --xi X with --diameter D")
         return Coins(xis, "xi", None, None, dia, f"xi = {xi.strip()}")
-    from coincli import coins as catalog
+    from coincli.core import coins as catalog
 
     if kind == "size":
         d, h = _length(diameter, "--diameter"), _length(thickness, "--thickness")
@@ -392,7 +392,7 @@ def tosses_value(text: str, *, low: int = 1, high: int = parse.MAX_COUNT,
 
 
 def _shown(text: str) -> str:
-    from coincli.cli._common import shown
+    from coincli.io.table import shown
 
     return shown(text)
 
@@ -409,7 +409,7 @@ def seed_value(text: str | None) -> int:
     that it prints short and any tool reads it back); the caller reports it."""
     global DRAWN_SEED
     if text is None:
-        from coincli._backend import randbits
+        from coincli.core._numerics.backend import randbits
 
         DRAWN_SEED = randbits(63)
         return DRAWN_SEED
@@ -540,8 +540,8 @@ def radians(deg: float) -> float:
 
 
 def psi_density(spec: str, what: str = "--psi-dist"):
-    """One psi density (:func:`coincli.densities.parse_density`), or a usage error."""
-    from coincli.densities import parse_density
+    """One psi density (:func:`coincli.core.densities.parse_density`), or a usage error."""
+    from coincli.core.densities import parse_density
 
     try:
         return parse_density(spec)

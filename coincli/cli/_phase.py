@@ -15,13 +15,13 @@ from typing import Annotated, NamedTuple
 
 import typer
 
-from coincli import parse
+from coincli.io import grammar as parse
 from coincli.cli import _options
-from coincli.cli._common import usage_error
+from coincli.io.table import usage_error
 
 U_DEFAULT = "0:3"  #: m/s
 OMEGA_DEFAULT = "0:60"  #: rad/s
-U_TOP = 1e8  #: m/s, coincli.toss.U_MAX
+U_TOP = 1e8  #: m/s, coincli.core.toss.flight.U_MAX
 OMEGA_TOP = 1e12  #: rad/s
 MIN_SPAN = 1e-6  #: the narrowest range, in m/s or rad/s
 MAX_CELLS = 4000  #: along each axis of the grid
@@ -207,7 +207,7 @@ def text_size(ph: Phase, extra_lines: int = 10) -> tuple[int, int]:
     """The grid of a picture in the terminal: ``--cols``/``--rows``, or what fits it with the
     command line above it and the next prompt below (the axis labels take a few columns; the
     title, axes and legend 8 lines, the two prompts 2: ``extra_lines``)."""
-    from coincli._terminal import terminal_height, terminal_width
+    from coincli.render.terminal import terminal_height, terminal_width
 
     tw, th = terminal_width(), terminal_height()
     label = max(len(f"{ph.omega_range[1]:g}"), 4) + 3
@@ -218,7 +218,7 @@ def text_size(ph: Phase, extra_lines: int = 10) -> tuple[int, int]:
 
 def check_followable(ph: Phase) -> None:
     """Every cell must be a toss the core can follow: check the top corner of the ranges."""
-    from coincli import toss as T
+    from coincli.core.toss import flight as T
 
     _, phase, problem = T.flight_limits(ph.xi, _options.radians(ph.psi_deg), ph.u_range[1],
                                         ph.omega_range[1], diameter=ph.diameter, g=ph.g,
@@ -239,12 +239,12 @@ def check_followable(ph: Phase) -> None:
 
 
 def data(ph: Phase, nu: int, nw: int, *, figure: bool = False):
-    """The picture's data on an ``nu`` by ``nw`` grid: :class:`coincli.plot.PhaseData` for a
-    figure; for text and csv the same fields from :func:`coincli.toss.phase_map` directly (so
+    """The picture's data on an ``nu`` by ``nw`` grid: :class:`coincli.render.figures.PhaseData` for a
+    figure; for text and csv the same fields from :func:`coincli.core.toss.flight.phase_map` directly (so
     that they load no plotting module)."""
     check_followable(ph)
     if figure:
-        from coincli import plot as P
+        from coincli.render import figures as P
 
         try:
             d = P.phase_data(ph.xi, ph.psi_deg, u_range=ph.u_range, omega_range=ph.omega_range,
@@ -257,8 +257,8 @@ def data(ph: Phase, nu: int, nw: int, *, figure: bool = False):
         return d
     import types
 
-    from coincli import toss as T
-    from coincli.models import conditional
+    from coincli.core.toss import flight as T
+    from coincli.core.models import conditional
 
     psi = _options.radians(ph.psi_deg)
     try:

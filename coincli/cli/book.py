@@ -1,7 +1,7 @@
 """``coin book``: the paper's Problem 1, a tossed book or die (three different moments).
 
 Thin: parse the box (``--size`` in mm, or ``--moments``), the spin (rad/s about the body axes,
-units allowed), the times and the toss options; call :mod:`coincli.rigid`; build a
+units allowed), the times and the toss options; call :mod:`coincli.core.rigid`; build a
 :class:`Result` or a figure; print.  A ValueError from the core is bad input: one line, exit 2.
 The motion table imports no numpy; ``--times``, ``--toss`` and ``--out`` load numpy and
 ``scipy.special``; only a figure file loads matplotlib.
@@ -17,9 +17,9 @@ from typing import Annotated
 
 import typer
 
-from coincli import parse
+from coincli.io import grammar as parse
 from coincli.cli import app
-from coincli.cli._common import (
+from coincli.io.table import (
     CHUNK_ROWS,
     CoinError,
     Column,
@@ -46,7 +46,7 @@ from coincli.cli._options import (
 )
 
 MAX_TOSSES = 10**7  # tosses of one --toss run (a box costs ~10 coins: elliptic integrals)
-MAX_PHASE = 1e12  # coincli.rigid.MAX_PHASE
+MAX_PHASE = 1e12  # coincli.core.rigid.MAX_PHASE
 NORMAL_REACH = 10  # a normal spin or flight is checked up to MEAN + 10 SD (P < 1e-23 a draw)
 FIGURE_POINTS = 2001  # samples of omega(t) in a figure without --times
 FACES = ("+1", "-1", "+2", "-2", "+3", "-3")
@@ -86,7 +86,7 @@ def _time_value(text: str, what: str) -> float:
 
 
 def _spin_value(text: str, what: str) -> float:
-    """A signed angular velocity component in rad/s: coincli.parse.parse_spin_rads (``40``,
+    """A signed angular velocity component in rad/s: coincli.io.grammar.parse_spin_rads (``40``,
     ``6.4rev/s``, ``2300rpm``, ``-90deg/s``) with a sign in front."""
     s = text.strip()
     sign = -1.0 if s.startswith("-") else 1.0
@@ -102,8 +102,8 @@ def _dist(text: str, what: str, number, default: str, lo: float, units, example:
     """A value or a distribution ``normal:MEAN:SD`` / ``uniform:LOW:HIGH`` (``fixed:V``) whose
     numbers may carry units: one after every number, or once at the end for all of them
     (``normal:6:1rev/s``, as ``coin simulate --omega`` reads it); returned as a
-    :class:`coincli.toss.Dist` in the default unit."""
-    from coincli import toss as T
+    :class:`coincli.core.toss.flight.Dist` in the default unit."""
+    from coincli.core.toss import flight as T
 
     parts = [p.strip() for p in text.split(":")]
     head = parts[0].lower()
@@ -173,7 +173,7 @@ def _typed(text: str, units, unit: str) -> str:
 
 
 def _times(text: str):
-    """--times: a value, a list, a range or - (coincli.cli._common.values_option), each time
+    """--times: a value, a list, a range or - (coincli.io.table.values_option), each time
     with an optional unit; a range takes its unit once at the end (``0:500:100ms``, as
     ``coin simulate --omega 38:40:1rev/s`` does) or the same unit after every number."""
     t = text.strip()
@@ -187,8 +187,8 @@ def _times(text: str):
 
 
 def _time_range(head: str, factor: float, text: str):
-    """A range of times as an array, the values coincli.parse.parse_values gives
-    (:meth:`coincli.parse.Range.chunk`), times the unit's factor, computed at once rather than
+    """A range of times as an array, the values coincli.io.grammar.parse_values gives
+    (:meth:`coincli.io.grammar.Range.chunk`), times the unit's factor, computed at once rather than
     parsed back one by one (10^6 times: 0.05 s, not 7 s)."""
     import numpy as np
 
@@ -228,10 +228,10 @@ def _is_figure(path: str | None) -> bool:
 
 def _check_out(path: str | None) -> None:
     """Before any computing: an --out path that is a FIFO, a device or a directory, or in a
-    missing directory, is refused (coincli._files.check_output_path)."""
+    missing directory, is refused (coincli.io.files.check_output_path)."""
     if path is None or path == "-":
         return
-    from coincli._files import check_output_path
+    from coincli.io.files import check_output_path
 
     try:
         check_output_path(path)
@@ -242,8 +242,8 @@ def _check_out(path: str | None) -> None:
 
 
 def _write(path: str, write) -> int:
-    """coincli._files.write_atomic: a temporary file in the same directory, fsynced, renamed."""
-    from coincli._files import FileKindError, write_atomic
+    """coincli.io.files.write_atomic: a temporary file in the same directory, fsynced, renamed."""
+    from coincli.io.files import FileKindError, write_atomic
 
     try:
         return write_atomic(path, write)
@@ -272,7 +272,7 @@ def _emit(result: Result, fmt: str, quiet: bool, out: str | None) -> None:
 
 def _require_matplotlib() -> None:
     """A figure file needs matplotlib: exit 1 with the install hint (as coin plot does)."""
-    from coincli import plot as P
+    from coincli.render import figures as P
 
     try:
         P.require_matplotlib()
@@ -281,7 +281,7 @@ def _require_matplotlib() -> None:
 
 
 def _figure(path: str, build) -> None:
-    """Draw and save a figure through the shared writer (cli._common.write_figure: atomic,
+    """Draw and save a figure through the shared writer (io.table.write_figure: atomic,
     one-line errors, ``coin: wrote FILE (W x H pixels)`` as coin plot says)."""
     _require_matplotlib()
     import warnings
@@ -407,7 +407,7 @@ class _Box:
 
 
 def _box(size, moments) -> _Box:
-    from coincli import rigid as R
+    from coincli.core import rigid as R
 
     if (size is None) == (moments is None):
         raise usage_error("give --size AxBxC (mm) or --moments I1,I2,I3, one of them")
@@ -444,7 +444,7 @@ _AXIS_ROLE = {"smallest": "smallest moment", "middle": "middle moment",
 
 
 def _motion(box, w, tf, start, rule, out, fmt, quiet):
-    from coincli import rigid as R
+    from coincli.core import rigid as R
 
     mo = _usage(R.motion, box.moments, w)
     face = None
@@ -535,7 +535,7 @@ def _motion_note(mo, box) -> str:
 
 
 def _start_quaternion(start):
-    from coincli import rigid as R
+    from coincli.core import rigid as R
 
     if start == "random":
         raise usage_error("--start random is for --toss (a single launch needs a face up)")
@@ -555,7 +555,7 @@ def _check_phase(phase: float, what: str, shown: str) -> None:
 def _series(box, w, times, start, rule, out, figure, fmt, quiet):
     import numpy as np
 
-    from coincli import rigid as R
+    from coincli.core import rigid as R
 
     mo = _usage(R.motion, box.moments, w)
     if times is None:
@@ -578,7 +578,7 @@ def _series(box, w, times, start, rule, out, figure, fmt, quiet):
         return om, q, R.face_up(R.up_vector(q), box.sides, rule)
 
     if figure:
-        from coincli import bookplot
+        from coincli.render import book_figures as bookplot
 
         om, _, up = block(ts)
         _figure(out, lambda: bookplot.omega_figure(ts, om, up, mo, box.label, start, rule))
@@ -637,9 +637,9 @@ def _toss(box, spin, n, seed, flight, start, rule, out, figure, fmt, quiet):
                  f"{wtop:g} rad/s a component)")
     import numpy as np
 
-    from coincli import rigid as R
+    from coincli.core import rigid as R
     from coincli.cli.toss import _progress
-    from coincli.toss import wilson_interval
+    from coincli.core.toss.flight import wilson_interval
 
     counts = np.zeros(6, dtype=np.int64)
     with _progress(count) as tick:
@@ -681,7 +681,7 @@ def _toss(box, spin, n, seed, flight, start, rule, out, figure, fmt, quiet):
             "coming up: a spin about a stable axis turns the box about that axis only.")
     result = Result("coin book --toss", columns, rows, note, quiet=[r[3] for r in rows])
     if figure:
-        from coincli import bookplot
+        from coincli.render import book_figures as bookplot
 
         _figure(out, lambda: bookplot.faces_figure(rows, box.label, count, seed_v, rule))
         return

@@ -1,6 +1,6 @@
 """``coin check`` and ``coin fit``: real tosses against the models.
 
-Thin: parse the options (or the experiments file), call :mod:`coincli.stats`, build
+Thin: parse the options (or the experiments file), call :mod:`coincli.core.stats.tests`, build
 :class:`Result` tables, emit them.  The human output (``--format table``) is a few short tables;
 every machine format (csv, tsv, json, jsonl) gets one long table instead, one row per experiment
 and model (and, for ``fit``, one per model across experiments), with stable column names.
@@ -15,10 +15,10 @@ from typing import Annotated
 
 import typer
 
-from coincli import parse
-from coincli._files import FileKindError, read_regular
+from coincli.io import grammar as parse
+from coincli.io.files import FileKindError, read_regular
 from coincli.cli import _options, app
-from coincli.cli._common import (
+from coincli.io.table import (
     CHUNK_ROWS,
     Column,
     FormatOpt,
@@ -243,7 +243,7 @@ def _interval_text(lo: float, hi: float) -> str:
 
 def _observed_result(title: str, ch, lines, confidence: float) -> Result:
     """Frequencies with their intervals, one row per experiment and counted outcome."""
-    from coincli.stats import percent
+    from coincli.core.stats.tests import percent
 
     pct = percent(confidence)
     with_line = lines is not None
@@ -376,7 +376,7 @@ def check(
     coin check --quarters 8 --sides 33 -n 100 ;  coin check --coin nickel --count 3 --heads 60
     --sides 9 --tails 31 --psi-dist normal:90:20 --format json
     """
-    from coincli import stats
+    from coincli.core.stats import tests as stats
 
     fmt = check_format(fmt)
     a = _level(alpha, "--alpha")
@@ -423,7 +423,7 @@ def _read_text(path: str) -> tuple[str, str]:
 
     At most :data:`MAX_FILE_BYTES` are read, in chunks, whatever the file claims to be
     (/dev/zero and pipes have no size); reading stops at a NUL byte.  A named file must be a
-    regular file (:func:`coincli._files.read_regular`).
+    regular file (:func:`coincli.io.files.read_regular`).
     """
     if path.strip() == "-":
         if sys.stdin is None:
@@ -467,7 +467,7 @@ def _file_name(path: str) -> str:
 
 def _experiments(text: str, name: str, delimiter: str | None = None) -> list:
     """The experiments of ``text``; each count, and each row's total, at most 2**53."""
-    from coincli import stats
+    from coincli.core.stats import tests as stats
 
     name = _file_name(name)
     try:
@@ -513,7 +513,7 @@ def fit(
     Examples: coin fit tosses.csv ;  coin fit tosses.csv --format csv ;
     coin fit - --psi-dist uniform,cosine < tosses.csv
     """
-    from coincli import stats
+    from coincli.core.stats import tests as stats
 
     fmt = check_format(fmt)
     a = _level(alpha, "--alpha")

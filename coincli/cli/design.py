@@ -1,6 +1,6 @@
 """``coin design``, ``coin table``, ``coin stack``, ``coin coins``, ``coin fair``.
 
-Thin: parse the options, call :mod:`coincli.models` / :mod:`coincli.averages`, build a
+Thin: parse the options, call :mod:`coincli.core.models` / :mod:`coincli.core.averages`, build a
 :class:`Result`, emit it.  A single value under the geometric or dynamic model stays on Python
 floats (no numpy); lists, ranges and stdin batches of those models go through numpy in one
 vectorized call; psi models use quadrature and root finding (numpy, loaded then).
@@ -13,11 +13,12 @@ from typing import Annotated
 
 import typer
 
-from coincli import coins as coin_catalog
-from coincli import models, parse
+from coincli.core import coins as coin_catalog
+from coincli.core import models
+from coincli.io import grammar as parse
 from coincli.cli import _accuracy, _options, app
 from coincli.cli import _bounce as BO
-from coincli.cli._common import (
+from coincli.io.table import (
     CHUNK_ROWS,
     Column,
     FormatOpt,
@@ -30,7 +31,7 @@ from coincli.cli._common import (
     usage_error,
     values_stream,
 )
-from coincli.modelspec import DYNAMIC, GEOMETRIC, ModelSpec
+from coincli.core.modelspec import DYNAMIC, GEOMETRIC, ModelSpec
 
 MACHINE_FORMATS = ("csv", "tsv", "json", "jsonl")
 
@@ -180,8 +181,8 @@ def _stack_columns(coin, p, model: ModelSpec, xi=None):
     """Nearest stack of ``coin`` to each target ``p``: (n, xi_n, p_n, p_n-1, p_n+1) columns.
 
     Vectorized (given the targets' ``xi``) under the geometric and dynamic models; otherwise
-    :func:`coincli.coins.nearest_stack` per target.  Cells are None where there is no stack:
-    ``p = 1`` (infinitely tall), past :data:`coincli.coins.MAX_STACK` coins, and n - 1 = 0.
+    :func:`coincli.core.coins.nearest_stack` per target.  Cells are None where there is no stack:
+    ``p = 1`` (infinitely tall), past :data:`coincli.core.coins.MAX_STACK` coins, and n - 1 = 0.
     """
     if model.key in ("geometric", "dynamic") and xi is not None and not isinstance(xi, float):
         return coin_catalog.nearest_stacks(coin, p, xi, lambda x: model.forward(x).sides)
@@ -474,7 +475,7 @@ def _table_rows(coins, extra, acc, fmt: str, quiet: bool) -> None:
         # bounded for the whole run before the first chunk
         for m in extra:
             if m.key == "dist":
-                from coincli.averages import check_table_work
+                from coincli.core.averages import check_table_work
 
                 try:
                     check_table_work(m.density, len(many))
@@ -652,7 +653,7 @@ def stack(
         if isinstance(counts, Values) and len(counts) > 1 and (m.closed_form or
                                                                 m.key == "dist"):
             if m.key == "dist":  # a table density's work, for the whole run, before a row
-                from coincli.averages import check_table_work
+                from coincli.core.averages import check_table_work
 
                 try:
                     check_table_work(m.density, len(counts), what="counts")

@@ -1,8 +1,8 @@
 """``coin plot sides|psi|map|phase``: the paper's figures with the user's design and data.
 
-Thin: parse the options, compute the figure's data with :mod:`coincli.plot`, then either draw
+Thin: parse the options, compute the figure's data with :mod:`coincli.render.figures`, then either draw
 it with matplotlib into ``--out FILE`` (PNG, SVG or PDF by extension) or, with ``--terminal``,
-``--out -`` or no ``--out``, print a text plot (:mod:`coincli.textplot`).  Nothing heavy is
+``--out -`` or no ``--out``, print a text plot (:mod:`coincli.render.text`).  Nothing heavy is
 imported at module level: numpy, scipy, matplotlib and rich load only when a plot is made.
 """
 
@@ -15,10 +15,10 @@ from typing import Annotated
 
 import typer
 
-from coincli import parse
+from coincli.io import grammar as parse
 from coincli.cli import _bounce as BO
 from coincli.cli import _options, _phase, app
-from coincli.cli._common import compute_error, usage_error, write_figure
+from coincli.io.table import compute_error, usage_error, write_figure
 
 plot_app = typer.Typer(
     name="plot",
@@ -45,7 +45,7 @@ TerminalOpt = Annotated[
     bool, typer.Option("--terminal", help="A text plot on stdout (needs no matplotlib).")
 ]
 # Sizes are parsed here, not by click: click's FloatRange lets nan through (nan < 1 is False) and
-# its messages do not say what is allowed.  Limits: coincli.plot.FIGURE_INCHES, DPI_RANGE and
+# its messages do not say what is allowed.  Limits: coincli.render.figures.FIGURE_INCHES, DPI_RANGE and
 # MAX_PIXELS (width x dpi times height x dpi, so a figure cannot exhaust the memory).
 DpiOpt = Annotated[str, typer.Option("--dpi", help="Dots per inch of a PNG, 10 to 2000 (50 "
                                      "Mpixel at most).", metavar="DPI")]
@@ -142,7 +142,7 @@ def _figure_size(target, width: str | None, height: str | None, dpi: str,
                  default: tuple[float, float]) -> tuple[float, float, float]:
     """--width, --height (inches; ``default`` when not given) and --dpi, checked before any
     computing: each in its range and, for a figure file, at most MAX_PIXELS in all."""
-    from coincli.plot import DPI_RANGE, FIGURE_INCHES, MAX_PIXELS
+    from coincli.render.figures import DPI_RANGE, FIGURE_INCHES, MAX_PIXELS
 
     w = default[0] if width is None else _bounded(width, "--width", FIGURE_INCHES, "inches")
     h = default[1] if height is None else _bounded(height, "--height", FIGURE_INCHES, "inches")
@@ -170,11 +170,11 @@ def _range_of(text: str, what: str, rule: str, unit: str = ""):
 
 
 def _xi_range(text: str | None, log: bool):
-    """--xi-range within coincli.plot's axis limits (matplotlib's tick arithmetic overflows,
+    """--xi-range within coincli.render.figures's axis limits (matplotlib's tick arithmetic overflows,
     with warnings, near the double range)."""
     if text is None:
         return None
-    from coincli.plot import MIN_SPAN, XI_AXIS_MAX, XI_LOG_MIN, xi_range_rule
+    from coincli.render.figures import MIN_SPAN, XI_AXIS_MAX, XI_LOG_MIN, xi_range_rule
 
     what = "--xi-range with --log" if log else "--xi-range"
     lo, hi, bad = _range_of(text, what, xi_range_rule(log))
@@ -192,8 +192,8 @@ class _Target:
         self.text = terminal or out in (None, "-")
         self.path = None if self.text else out
         if self.path is not None:
-            from coincli._files import check_output_path
-            from coincli.plot import figure_format
+            from coincli.io.files import check_output_path
+            from coincli.render.figures import figure_format
 
             try:
                 self.fmt = figure_format(self.path)
@@ -208,7 +208,7 @@ class _Target:
         """Before any computing: a figure file needs matplotlib (exit 1 with the hint)."""
         if self.text:
             return
-        from coincli.plot import MatplotlibMissing, require_matplotlib
+        from coincli.render.figures import MatplotlibMissing, require_matplotlib
 
         try:
             require_matplotlib()
@@ -219,7 +219,7 @@ class _Target:
         write_figure(fig, self.path, dpi, too_small=": give a larger --width or --height")
 
     def text_plot(self, build):
-        from coincli.textplot import emit, plot_size
+        from coincli.render.text import emit, plot_size
 
         cols, rows = plot_size()
         emit(build(cols, rows))
@@ -261,9 +261,9 @@ def _compute(fn, *args, **kwargs):
 
 
 def _read_data(path: str):
-    from coincli._files import FileKindError, read_capped, read_regular
-    from coincli.cli._common import stream_reader
-    from coincli.stats import parse_experiments
+    from coincli.io.files import FileKindError, read_capped, read_regular
+    from coincli.io.table import stream_reader
+    from coincli.core.stats.tests import parse_experiments
 
     name = "stdin" if path == "-" else path
     try:
@@ -386,7 +386,7 @@ def sides(
 
 def _sides(target, xi_marks, p_marks, psi_curves, dens, rng, exps, log, size, title,
            bounce=None):
-    from coincli import plot as P
+    from coincli.render import figures as P
 
     models = [P.GEOMETRIC, P.DYNAMIC]
     models += [P.psi_spec(math.pi if d == 180 else math.radians(d)) for d in psi_curves]
@@ -402,7 +402,7 @@ def _sides(target, xi_marks, p_marks, psi_curves, dens, rng, exps, log, size, ti
                         experiments=points, log=log, xi_range=rng, points=n)
 
     if target.text:
-        from coincli.textplot import text_sides
+        from coincli.render.text import text_sides
 
         target.text_plot(lambda c, r: text_sides(build(c), c, r))
         return
@@ -453,10 +453,10 @@ def psi_cmd(
     w, h, d = _figure_size(target, width, height, dpi, (7.0, 4.5))
     target.check_matplotlib()
     with _quiet():
-        from coincli import plot as P
+        from coincli.render import figures as P
 
         if target.text:
-            from coincli.textplot import text_psi
+            from coincli.render.text import text_psi
 
             target.text_plot(lambda c, r: text_psi(_compute(P.psi_data, x, marks, points=c), c,
                                                    r))
@@ -507,15 +507,15 @@ def map_cmd(
     xi_marks = _mark_coins(xi, coin, count, quarters, diameter, thickness)
     psi_marks = _options.psi_angles(psi, max_rows=MAX_MARKS) if psi is not None else []
     rng = _xi_range(xi_range, log)
-    from coincli.plot import MAP_SIZES
+    from coincli.render.figures import MAP_SIZES
 
     w, h, dots = _figure_size(target, width, height, dpi, MAP_SIZES[st])
     target.check_matplotlib()
     with _quiet():
-        from coincli import plot as P
+        from coincli.render import figures as P
 
         if target.text:
-            from coincli.textplot import text_map
+            from coincli.render.text import text_map
 
             def build(c, r):
                 d = _compute(P.map_data, xi_range=rng, log=log, nx=c, ny=r, xi_marks=xi_marks,
@@ -582,12 +582,12 @@ def phase_cmd(
     target.check_matplotlib()
     with _quiet():
         if target.text:
-            from coincli.textplot import emit, text_phase
+            from coincli.render.text import emit, text_phase
 
             nu, nw = _phase.text_size(ph)
             emit(text_phase(_phase.data(ph, nu, nw), nu, nw, ph.contact))
             return
-        from coincli import plot as P
+        from coincli.render import figures as P
 
         data = _phase.data(ph, ph.cols or _phase.FIGURE_CELLS, ph.rows or _phase.FIGURE_CELLS,
                            figure=True)

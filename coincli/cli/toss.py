@@ -1,10 +1,10 @@
 """``coin toss``, ``coin simulate``, ``coin phase``: real tosses of finite vigor (Sec. II, Fig. 3).
 
 Thin: parse the options (the shared coin group and seed of :mod:`coincli.cli._options`; angles
-in degrees; speeds and spins with units, :func:`coincli.parse.parse_speed_ms` and
-:func:`coincli.parse.parse_spin_rads`), convert to SI radians, call :mod:`coincli.toss`, build a
+in degrees; speeds and spins with units, :func:`coincli.io.grammar.parse_speed_ms` and
+:func:`coincli.io.grammar.parse_spin_rads`), convert to SI radians, call :mod:`coincli.core.toss.flight`, build a
 :class:`Result` or a picture, print.  Whatever is not given is drawn from a natural hand toss
-(:data:`coincli.toss.HAND_TOSS`) with a seed that is reported.  A ValueError from the core is
+(:data:`coincli.core.toss.flight.HAND_TOSS`) with a seed that is reported.  A ValueError from the core is
 bad input: one line, exit 2.  numpy loads only inside the commands, rich only to draw on a
 terminal, scipy never.
 """
@@ -17,10 +17,10 @@ from typing import Annotated
 
 import typer
 
-from coincli import parse
+from coincli.io import grammar as parse
 from coincli.cli import _bounce as BO
 from coincli.cli import _options, _phase, app
-from coincli.cli._common import (
+from coincli.io.table import (
     Column,
     FormatOpt,
     QuietOpt,
@@ -47,14 +47,14 @@ from coincli.cli._options import (
     XisOpt,
 )
 
-# Limits, as in coincli.toss (kept here so that this module needs no numpy to load).
-U_MAX = 1e8  # m/s, coincli.toss.U_MAX
-MAX_TOSSES = 10**8  # coincli.toss.MAX_TOSSES: simulate -n; ~20 s of hand tosses
+# Limits, as in coincli.core.toss.flight (kept here so that this module needs no numpy to load).
+U_MAX = 1e8  # m/s, coincli.core.toss.flight.U_MAX
+MAX_TOSSES = 10**8  # coincli.core.toss.flight.MAX_TOSSES: simulate -n; ~20 s of hand tosses
 XI_THICK_MAX = 1e100  # h/D with --contact thick (an infinite thickness has no launch height)
 LENGTH_MM_MIN = 1e-300  # mm; smaller would underflow on the way to metres
 NORMAL_REACH = 10  # simulate checks a normal up to MEAN + 10 SD (never drawn: P < 1e-23)
 DHM = "Diaconis, Holmes & Montgomery 2007"
-#: the hand toss of coincli.toss.HAND_TOSS, as typed (for help and notes)
+#: the hand toss of coincli.core.toss.flight.HAND_TOSS, as typed (for help and notes)
 HAND = {"u": "normal:2.4:0.3", "omega": "normal:38:4rev/s", "psi": "normal:90:10"}
 
 GOpt = _phase.GOpt
@@ -206,10 +206,10 @@ _KINDS = {"normal": "normal", "norm": "normal", "gauss": "normal", "uniform": "u
 
 
 def _spec(text: str, what: str, kind: str):
-    """A distribution of u (m/s) or omega (rad/s) for simulate, as a coincli.toss.Dist in SI:
+    """A distribution of u (m/s) or omega (rad/s) for simulate, as a coincli.core.toss.flight.Dist in SI:
     a value, ``normal:MEAN:SD`` or ``uniform:LOW:HIGH``; a unit once at the end applies to
     every number (``normal:38:4rev/s``), or one after every number."""
-    from coincli import toss as T
+    from coincli.core.toss import flight as T
 
     lo, hi = (0.0, U_MAX) if kind == "u" else (0.0, math.inf)
     unit_name = "m/s" if kind == "u" else "rad/s"
@@ -362,11 +362,11 @@ def toss_cmd(
     z0_m = _z0_m(z0, xi_max, dia, ct == "thick")
     import numpy as np
 
-    from coincli import toss as T
+    from coincli.core.toss import flight as T
 
     seed_v = _options.seed_value(seed) if drawn else None
     if drawn:
-        from coincli._backend import numpy_random
+        from coincli.core._numerics.backend import numpy_random
 
         rng = numpy_random().default_rng(seed_v)
         spec = {k: (T.HAND_TOSS[k] if k in drawn else T.Dist("fixed", 0.0)) for k in
@@ -455,7 +455,7 @@ def toss_cmd(
 def _psi_dist(text: str):
     """--psi-dist: the shared psi grammar (uniform[:LOW:HIGH], cosine, normal[:MEAN:SD],
     table:FILE), or a fixed angle in degrees."""
-    from coincli import toss as T
+    from coincli.core.toss import flight as T
 
     s = text.strip()
     try:
@@ -544,7 +544,7 @@ def simulate_cmd(
     count_n = _tosses(tosses) if tosses is not None else 10_000
     xv = coins.xi
     _xi_for_contact(xv, ct == "thick")
-    from coincli import toss as T
+    from coincli.core.toss import flight as T
 
     u_spec, w_spec, psi_spec, labels = launch(psi, psi_dist, u, omega)
     seed_v = _options.seed_value(seed)
@@ -684,9 +684,9 @@ class _progress:
 def launch(psi, psi_dist, u, omega):
     """The launch distributions of a run of many tosses (``coin simulate``, and ``coin design``
     and ``coin plot sides`` with --landing bounce): --u, --omega, --psi (fixed) or --psi-dist;
-    what is not given is the hand toss (:data:`coincli.toss.HAND_TOSS`).  Returns the three
+    what is not given is the hand toss (:data:`coincli.core.toss.flight.HAND_TOSS`).  Returns the three
     specs and their description (``u ~ ..., omega ~ ..., psi ...``, units named)."""
-    from coincli import toss as T
+    from coincli.core.toss import flight as T
 
     _options.refuse_psi_and_dist(psi, psi_dist)
     if psi is not None:
@@ -720,7 +720,7 @@ def bounce_launch(psi, psi_dist, u, omega):
 def bounce_design(physics, *, p_sides, psi, psi_dist, u, omega, diameter, coin, tol, seed,
                   max_tosses, time_limit, fmt, quiet):
     """``coin design --landing bounce``."""
-    from coincli import coins as coin_catalog
+    from coincli.core import coins as coin_catalog
 
     targets = values_option(p_sides, "--p-sides", parse.parse_probability, bounds=(0.0, 1.0))
     targets = [float(t) for t in targets]
@@ -754,7 +754,7 @@ def bounce_design(physics, *, p_sides, psi, psi_dist, u, omega, diameter, coin, 
               labels=labels, fmt=fmt, quiet=quiet, progress=BO.design_progress)
 
 
-T_G = 9.81  # coincli.toss.STANDARD_G
+T_G = 9.81  # coincli.core.toss.flight.STANDARD_G
 
 
 def _bounded(text: str, what: str, lo: float, hi: float) -> float:
@@ -817,7 +817,7 @@ def phase_cmd(
         d = _phase.data(ph, ph.cols or _phase.DATA_CELLS, ph.rows or _phase.DATA_CELLS)
         import numpy as np
 
-        from coincli import toss as T
+        from coincli.core.toss import flight as T
 
         shape = np.asarray(d.outcome).shape
         uu = np.broadcast_to(np.asarray(d.u)[None, :], shape).ravel().tolist()
@@ -830,10 +830,10 @@ def phase_cmd(
         return
     nu, nw = _phase.text_size(ph)
     d = _phase.data(ph, nu, nw)
-    from coincli.textplot import phase_text, phase_title
+    from coincli.render.text import phase_text, phase_title
 
     colour = stdout_is_terminal() and not env_no_color()
-    from coincli._terminal import terminal_width
+    from coincli.render.terminal import terminal_width
 
     pic = phase_text(d, colour=colour, title=phase_title(d, ph.contact),
                      width=terminal_width() if stdout_is_terminal() else None)
@@ -847,8 +847,8 @@ def phase_cmd(
 
 
 def _phase_figure(path, ph):
-    from coincli import plot as P
-    from coincli._files import check_output_path
+    from coincli.render import figures as P
+    from coincli.io.files import check_output_path
 
     try:
         P.figure_format(path)

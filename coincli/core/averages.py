@@ -50,9 +50,9 @@ from functools import lru_cache
 
 import numpy as np
 
-from coincli import models
-from coincli.densities import Cosine, Density, Normal, Table, Uniform
-from coincli.models import HALF_PI, Outcome
+from coincli.core import models
+from coincli.core.densities import Cosine, Density, Normal, Table, Uniform
+from coincli.core.models import HALF_PI, Outcome
 
 __all__ = [
     "marginal",
@@ -699,7 +699,7 @@ def marginal(xi, density: Density | None = None, *, order: int = DEFAULT_ORDER) 
     xi : float or array_like
         Aspect ratio, ``0 <= xi <= inf``.
     density : Density
-        A :mod:`coincli.densities` density (default: the paper's normal, mean pi/2, sd 1/sqrt 2).
+        A :mod:`coincli.core.densities` density (default: the paper's normal, mean pi/2, sd 1/sqrt 2).
     order : int
         Gauss-Legendre nodes per subinterval, 2 to 64.  16 (the default) is within a few ulps
         of the exact value; :func:`order_for_tol` gives the fewest nodes for a tolerance.
@@ -712,7 +712,7 @@ def marginal(xi, density: Density | None = None, *, order: int = DEFAULT_ORDER) 
 
     Examples
     --------
-    >>> from coincli.densities import Uniform
+    >>> from coincli.core.densities import Uniform
     >>> [round(v, 3) for v in marginal(3 ** -0.5, Uniform())]  # Table II, uniform column
     [0.63, 0.281, 0.088]
     """
@@ -760,7 +760,7 @@ def check_table_work(density: Density, count: int, per: int = 1, what: str = "xi
 def _check_density(density):
     density = Normal() if density is None else density
     if not isinstance(density, Density):
-        raise ValueError(f"density must be a coincli.densities.Density, got {density!r}")
+        raise ValueError(f"density must be a coincli.core.densities.Density, got {density!r}")
     return density
 
 
@@ -917,7 +917,7 @@ def marginal_inverse(p_sides, density: Density | None = None, *, order: int = DE
     on ``P(heads) + P(tails) = 1 - p`` above; an array is solved in one vectorized pass.
     ``p = 0`` gives 0 and ``p = 1`` gives ``inf`` (the chance tends to 1 only as ``xi`` grows
     without bound).  A normal too narrow for any quadrature is Table I at its mean, and so is
-    its inverse (:func:`conditional_inverse`, or :func:`coincli.models.dynamic_inverse` at a mean
+    its inverse (:func:`conditional_inverse`, or :func:`coincli.core.models.dynamic_inverse` at a mean
     of exactly ``HALF_PI``).  Accuracy: docs/accuracy.md.
     """
     density = _check_density(density)

@@ -11,7 +11,7 @@ import difflib
 import math
 from typing import NamedTuple
 
-from coincli import models
+from coincli.core import models
 
 __all__ = ["Coin", "CATALOG", "get_coin", "custom_coin", "stack_xi", "stack_xis", "nearest_stack",
            "nearest_stacks", "StackChoice", "NoStackError", "MAX_STACK"]
@@ -131,7 +131,7 @@ def stack_xis(coin: Coin, counts):
     """
     import numpy as np
 
-    from coincli.models import _two_prod
+    from coincli.core.models import _two_prod
 
     n = np.asarray(counts, dtype=float)
     h, d = coin.thickness_mm, coin.diameter_mm

@@ -175,7 +175,7 @@ def _relative_mass(mean: float, sd: float) -> float:
         return math.sqrt(math.pi / 2) * (math.erf(a / r2) + math.erf(b / r2))
     a, span = min(lo / sd, big), min(math.pi / sd, big)
     if span <= 4.0 and a * span <= 4.0:
-        from coincli.averages import _gauss_legendre
+        from coincli.core.averages import _gauss_legendre
 
         x, w = _gauss_legendre(24)
         return float(span * sum(wk * math.exp(-a * (span * xk) - 0.5 * (span * xk) ** 2)
@@ -341,7 +341,7 @@ def parse_density(text: str) -> Density:
         parts = rest.split(":")
         if len(parts) != 2:
             raise ValueError(f"psi density must be normal:MEAN:SD in degrees, got {text!r}")
-        from coincli.parse import parse_number
+        from coincli.io.grammar import parse_number
 
         mean = parse_number(parts[0], "normal mean (degrees)")
         sd = parse_number(parts[1], "normal sd (degrees)")
@@ -359,7 +359,7 @@ def parse_density(text: str) -> Density:
 def _uniform_on(rest: str, text: str) -> Density:
     """``uniform:LOW:HIGH`` (degrees, 0 <= LOW < HIGH <= 180): the two-point table of equal
     weights, sampled and integrated exactly; ``uniform:0:180`` is :class:`Uniform` itself."""
-    from coincli.parse import parse_number
+    from coincli.io.grammar import parse_number
 
     parts = rest.split(":")
     rule = "uniform:LOW:HIGH in degrees with 0 <= LOW < HIGH <= 180"
@@ -399,9 +399,9 @@ def _shown(text: str, limit: int = 60) -> str:
 def _read_table_file(path: str) -> str:
     """The text of a psi table file, read in chunks and never more than ``MAX_TABLE_BYTES + 1``
     bytes (a device such as /dev/zero has no size to check first); a NUL byte stops it at once.
-    Only a regular file is read (:func:`coincli._files.read_regular`: a FIFO or a device is
+    Only a regular file is read (:func:`coincli.io.files.read_regular`: a FIFO or a device is
     refused without blocking).  UTF-8, a leading byte-order mark dropped."""
-    from coincli._files import FileKindError, read_regular
+    from coincli.io.files import FileKindError, read_regular
 
     name = _shown(path)
     try:

@@ -1,7 +1,7 @@
 r"""Three ways to average over psi (eq. 15), each with an error estimate, and a chooser.
 
 - :func:`quad`: Gauss-Legendre on the pieces between the integrand's kinks
-  (:func:`coincli.averages.marginal`) with the fewest nodes whose calibrated error is within the
+  (:func:`coincli.core.averages.marginal`) with the fewest nodes whose calibrated error is within the
   tolerance; :func:`scipy_quad` is QUADPACK (``scipy.integrate.quad``) on the same
   breakpoints, as an independent check.
 - :func:`monte_carlo`: the paper's Problem 2.  Simulated tosses: psi drawn from the density (by
@@ -34,11 +34,11 @@ from typing import NamedTuple
 
 import numpy as np
 
-from coincli import averages as _mg
-from coincli import models
-from coincli._wilson import _z, wilson_interval
-from coincli.densities import Cosine, Density, Normal, Table, Uniform
-from coincli.models import HALF_PI, Outcome
+from coincli.core import averages as _mg
+from coincli.core import models
+from coincli.core._numerics.wilson import _z, wilson_interval
+from coincli.core.densities import Cosine, Density, Normal, Table, Uniform
+from coincli.core.models import HALF_PI, Outcome
 
 __all__ = [
     "Estimate",
@@ -60,14 +60,14 @@ __all__ = [
 
 METHODS = ("auto", "quad", "mc", "qmc")
 MC_MAX_SAMPLES = 1 << 28  #: default cap on tosses (or points) for a tolerance (seconds)
-_Z95 = _z(0.95)  # the 97.5% point of the standard normal (coincli._wilson's stored value)
+_Z95 = _z(0.95)  # the 97.5% point of the standard normal (coincli.core._numerics.wilson's stored value)
 _MIN_TOL, _MAX_TOL = 1e-16, 0.5
 
 
 class Estimate(NamedTuple):
     """A psi-averaged estimate and how good it is.
 
-    ``value``, ``error``, ``low`` and ``high`` are :class:`~coincli.models.Outcome` triples
+    ``value``, ``error``, ``low`` and ``high`` are :class:`~coincli.core.models.Outcome` triples
     (floats for a float ``xi``, arrays of its shape otherwise).  ``error`` is the standard error
     for Monte Carlo and quasi-Monte Carlo, the calibrated absolute error bound for quadrature
     (QUADPACK's own estimate for :func:`scipy_quad`); ``low``/``high`` bound a 95% interval (for
@@ -109,7 +109,7 @@ def check_tol(tol, name="tol"):
 def _check_density(density):
     density = Normal() if density is None else density
     if not isinstance(density, Density):
-        raise ValueError(f"density must be a coincli.densities.Density, got {density!r}")
+        raise ValueError(f"density must be a coincli.core.densities.Density, got {density!r}")
     return density
 
 
@@ -133,7 +133,7 @@ def quad(xi, density: Density | None = None, *, tol: float | None = None,
 
     ``order`` forces the nodes per subinterval; neither gives the default (double precision).
     The error reported is the calibrated bound of ``order``
-    (:func:`coincli.averages.error_bound`); ``met`` is whether it is within ``tol``.
+    (:func:`coincli.core.averages.error_bound`); ``met`` is whether it is within ``tol``.
     """
     density = _check_density(density)
     tol = check_tol(tol)
@@ -200,7 +200,7 @@ def scipy_quad(xi, density: Density | None = None, *, tol: float = 1e-10) -> Est
 def sample_psi(density: Density, u):
     """psi = F^-1(u) for u in [0, 1): the density's inverse distribution function (numpy).
 
-    Exact for every density of :mod:`coincli.densities` (a Kepler-type equation solved by
+    Exact for every density of :mod:`coincli.core.densities` (a Kepler-type equation solved by
     Newton for the cosine one, the normal's through ``ndtri``/``ndtri_exp`` in the tail where it
     does not cancel, a table's piecewise-quadratic distribution inverted segment by segment);
     other densities by a tabulated distribution function.
@@ -375,7 +375,7 @@ def _counts(ca, cs):
 
 def _wilson(k, n):
     """95% Wilson score interval for k successes in n trials (arrays): the one implementation,
-    :func:`coincli.stats.wilson_interval`."""
+    :func:`coincli.core.stats.tests.wilson_interval`."""
     return wilson_interval(k, n, 0.95)
 
 

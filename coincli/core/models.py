@@ -11,7 +11,7 @@ launch (the coin starts heads up).
 Every function here takes Python floats or array_likes (broadcasting like a ufunc) and returns an
 :class:`Outcome` of the same shape.  Python floats never touch numpy: the ``math`` module does the
 work, so the closed forms stay cheap for a command-line call.  Each formula is written once, against
-``xp`` (``math`` or ``numpy``; see :mod:`coincli._backend`).
+``xp`` (``math`` or ``numpy``; see :mod:`coincli.core._numerics.backend`).
 
 Accuracy.  The textbook forms lose digits: ``1 - 2 theta0/pi`` for a thin coin, ``1 - theta2/pi``
 when tails is rare, ``arccos`` near 1, ``sqrt(1 + xi**2)`` overflowing past 1e154.  The forms used
@@ -25,7 +25,7 @@ import functools
 import math
 from typing import NamedTuple
 
-from coincli._backend import M, namespace
+from coincli.core._numerics.backend import M, namespace
 
 __all__ = [
     "Outcome",

@@ -6,8 +6,8 @@ and ``coin plot sides`` mean by "a model": the geometric one (eq. 11), the dynam
 quadrature order to average with when a tolerance asks for one.  It is pure: it prints
 nothing and knows no command line; the commands build it (and word its errors) themselves.
 
-The closed forms stay on :mod:`coincli.models` (Python floats for one value); numpy and
-:mod:`coincli.averages` load only when a psi density or a fixed-psi inverse is evaluated (at
+The closed forms stay on :mod:`coincli.core.models` (Python floats for one value); numpy and
+:mod:`coincli.core.averages` load only when a psi density or a fixed-psi inverse is evaluated (at
 90 deg that is eq. 12's own inverse), so a closed-form run imports neither.
 """
 
@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-from coincli import models
+from coincli.core import models
 
 __all__ = ["ModelSpec", "GEOMETRIC", "DYNAMIC"]
 
@@ -25,7 +25,7 @@ DYNAMIC_LABEL = "dynamic (Keller flip, psi = 90 deg, eq. 12)"
 
 
 class ModelSpec(NamedTuple):
-    """A model: ``forward`` (xi -> :class:`coincli.models.Outcome`) and ``inverse``
+    """A model: ``forward`` (xi -> :class:`coincli.core.models.Outcome`) and ``inverse``
     (P(sides) -> xi), for a float or an array.
 
     A NamedTuple: a dataclass costs ~1 ms of import (dataclasses itself and the class), paid
@@ -36,7 +36,7 @@ class ModelSpec(NamedTuple):
     key: str  #: geometric | dynamic | psi | dist
     label: str  #: a human description, for notes and legends
     psi: float | None = None  #: radians, for key "psi"
-    density: object = None  #: a :class:`coincli.densities.Density`, for key "dist"
+    density: object = None  #: a :class:`coincli.core.densities.Density`, for key "dist"
     order: int | None = None  #: quadrature nodes per subinterval (key "dist"); None: default
 
     # ----------------------------------------------------------------------- constructors
@@ -66,7 +66,7 @@ class ModelSpec(NamedTuple):
 
     @classmethod
     def psi_density(cls, density, label: str | None = None) -> ModelSpec:
-        """psi averaged over a :class:`coincli.densities.Density` (eq. 15)."""
+        """psi averaged over a :class:`coincli.core.densities.Density` (eq. 15)."""
         if label is None:
             unit = " deg" if ":" in density.spec and not density.spec.startswith("table:") \
                 else ""
@@ -115,7 +115,7 @@ class ModelSpec(NamedTuple):
             if self.psi == models.HALF_PI:
                 return models.dynamic(xi)
             return models.conditional(xi, self.psi)
-        from coincli.averages import marginal
+        from coincli.core.averages import marginal
 
         return marginal(xi, self.density, **self._quadrature())
 
@@ -125,7 +125,7 @@ class ModelSpec(NamedTuple):
             return models.geometric_inverse(p)
         if self.key == "dynamic" or (self.key == "psi" and self.psi == models.HALF_PI):
             return models.dynamic_inverse(p)
-        from coincli import averages as mg
+        from coincli.core import averages as mg
 
         if self.key == "psi":
             return mg.conditional_inverse(p, self.psi)

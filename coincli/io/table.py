@@ -26,7 +26,7 @@ from typing import Annotated, NamedTuple
 
 import typer
 
-from coincli._files import READ_CHUNK, read_capped
+from coincli.io.files import READ_CHUNK, read_capped
 
 __all__ = [
     "ExitCode",
@@ -137,13 +137,13 @@ def stdout_is_terminal() -> bool:
 
 
 def write_figure(fig, path: str, dpi: float = 150.0, too_small: str = "") -> None:
-    """Save a figure through :func:`coincli.plot.save_figure` (whole or not at all, the old
+    """Save a figure through :func:`coincli.render.figures.save_figure` (whole or not at all, the old
     file intact on failure) and say so on stderr (``coin: wrote sides.png (1050 x 675
     pixels)``), as every command that writes a figure does; each failure is one line (a path
     that is not a regular file is a usage error; ``too_small`` is the hint for a figure too
     small for its labels)."""
-    from coincli._files import FileKindError
-    from coincli.plot import FigureTooSmall, figure_format, save_figure
+    from coincli.io.files import FileKindError
+    from coincli.render.figures import FigureTooSmall, figure_format, save_figure
 
     try:
         save_figure(fig, path, dpi)
@@ -386,7 +386,7 @@ def _human_table(result: Result, out, terminal: bool) -> None:
     column shifts its row, it is never cut."""
     width, bold = None, False
     if terminal:
-        from coincli._terminal import colour_allowed, terminal_width
+        from coincli.render.terminal import colour_allowed, terminal_width
 
         width, bold = terminal_width(out), colour_allowed()
     if result.chunks is None:
@@ -924,7 +924,7 @@ def _md_text(text: str) -> str:
 def _terminal_table(result: Result) -> None:
     """The human table on a terminal: laid out in its width, bold title and headers unless
     NO_COLOR (no-color.org) or TERM=dumb."""
-    from coincli._terminal import colour_allowed, terminal_width
+    from coincli.render.terminal import colour_allowed, terminal_width
 
     sys.stdout.write(plain_table(result, terminal_width(sys.stdout), colour_allowed()))
 
@@ -1123,7 +1123,7 @@ class Values:
     """The values of an option that takes one value, a list, a range or ``-`` (stdin), all
     checked before any output, then handed out :data:`CHUNK_ROWS` at a time by :meth:`chunks`.
 
-    A range is never stored (each chunk is computed, :meth:`coincli.parse.Range.chunk`); a stdin batch is read and
+    A range is never stored (each chunk is computed, :meth:`coincli.io.grammar.Range.chunk`); a stdin batch is read and
     checked a piece at a time, and past :data:`SPOOL_VALUES` values waits as doubles in an
     anonymous temporary file (in ``TMPDIR``; in memory if none can be made), so memory stays
     flat in the number of values.  ``single`` is the value when one plain value was typed.
@@ -1236,7 +1236,7 @@ def values_stream(text: str, what: str, item: Callable, *, bounds=None, stdin=No
     stdin batch be converted in one pass and a range be checked at its two ends.  A bad value
     is a usage error naming it (and its stdin line).
     """
-    from coincli import parse
+    from coincli.io import grammar as parse
 
     s = text.strip()
     if s == "-":
@@ -1267,7 +1267,7 @@ def values_option(text: str, what: str, item: Callable, *, bounds=None, stdin=No
     list; a list or range typed as a list.  Raises :class:`CoinError` (usage) on any bad value.
     A long batch is better read with :func:`values_stream`, whose memory stays flat.
     """
-    from coincli.parse import parse_values
+    from coincli.io.grammar import parse_values
 
     if text.strip() == "-":
         vals = _stdin_values(what, item, bounds, stdin).array()

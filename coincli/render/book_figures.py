@@ -1,8 +1,8 @@
 """Figures of ``coin book``: omega(t) with the face up, and the face chances of tossed boxes.
 
-Builders only: they take the numbers :mod:`coincli.rigid` computed and return a
-:class:`matplotlib.figure.Figure` on its own Agg canvas (through :mod:`coincli.plot`, whose
-palette, style and :func:`coincli.plot.save_figure` they share).  Every artist that carries data
+Builders only: they take the numbers :mod:`coincli.core.rigid` computed and return a
+:class:`matplotlib.figure.Figure` on its own Agg canvas (through :mod:`coincli.render.figures`, whose
+palette, style and :func:`coincli.render.figures.save_figure` they share).  Every artist that carries data
 has a ``gid`` (``omega:1``, ``flip``, ``face-up``, ``bar:+3``, ``geometric``) so tests and
 scripts can find it.
 """
@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 
-from coincli.plot import OKABE_ITO, _new_figure, _style
+from coincli.render.figures import OKABE_ITO, _new_figure, _style
 
 __all__ = ["omega_figure", "faces_figure"]
 

@@ -3,9 +3,9 @@ r"""The paper's figures, with the user's design and data on them (``coin plot``)
 Two layers:
 
 - *data* functions (:func:`sides_data`, :func:`psi_data`, :func:`map_data`, :func:`phase_data`)
-  evaluate the core (:mod:`coincli.models`, :mod:`coincli.averages`, :mod:`coincli.toss`) on a
+  evaluate the core (:mod:`coincli.core.models`, :mod:`coincli.core.averages`, :mod:`coincli.core.toss.flight`) on a
   grid and return plain dataclasses of numpy arrays.  They know nothing of drawing, so the
-  matplotlib figures and the text plots of :mod:`coincli.textplot` show the same numbers;
+  matplotlib figures and the text plots of :mod:`coincli.render.text` show the same numbers;
 - *figure* builders (:func:`sides_figure`, :func:`psi_figure`, :func:`map_figure`,
   :func:`phase_figure`) turn that data into a :class:`matplotlib.figure.Figure` on an Agg
   canvas (no pyplot, no global backend switch, nothing shown on screen).
@@ -29,8 +29,8 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
-from coincli import models
-from coincli.modelspec import ModelSpec
+from coincli.core import models
+from coincli.core.modelspec import ModelSpec
 
 __all__ = [
     "OKABE_ITO",
@@ -111,7 +111,7 @@ MAX_PIXELS = 50_000_000
 #: Axis limits: matplotlib's tick arithmetic overflows (and warns) near the double range, and an
 #: axis narrower than a millionth has no ticks to label.  xi = h/D of a million is a wire a
 #: kilometre long per millimetre of diameter; the launch speed is capped as the toss engine's
-#: (:data:`coincli.toss.U_MAX`); 1e12 rad/s is past any toss the engine can follow.
+#: (:data:`coincli.core.toss.flight.U_MAX`); 1e12 rad/s is past any toss the engine can follow.
 XI_AXIS_MAX = 1e6
 XI_LOG_MIN = 1e-6  #: the lowest low end of a log xi axis
 MIN_SPAN = 1e-6  #: the narrowest axis: HIGH - LOW, in the axis' units
@@ -283,8 +283,8 @@ def save_figure(fig, path: str, dpi: float = 150.0) -> int:
     warning "axes sizes collapsed to zero": the figure is too small for its titles, labels and
     legend, which would be drawn over the axes), :class:`FigureTooSmall` is raised and no file
     is written.  Any other warning is passed on.  The file is written by
-    :func:`coincli._files.write_atomic`: whole or not at all, the old file intact on failure;
-    a path that is not a regular file raises :class:`coincli._files.FileKindError`.
+    :func:`coincli.io.files.write_atomic`: whole or not at all, the old file intact on failure;
+    a path that is not a regular file raises :class:`coincli.io.files.FileKindError`.
     """
     import io
     import warnings
@@ -301,7 +301,7 @@ def save_figure(fig, path: str, dpi: float = 150.0) -> int:
                              "titles, labels and legend")
     for w in caught:
         warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-    from coincli._files import write_atomic
+    from coincli.io.files import write_atomic
 
     return write_atomic(path, buf.getbuffer())
 
@@ -340,13 +340,13 @@ def table_i_deg(xi, psi_deg):
 
 
 def density_spec(density) -> ModelSpec:
-    """psi averaged over a :class:`coincli.densities.Density` (eq. 15)."""
+    """psi averaged over a :class:`coincli.core.densities.Density` (eq. 15)."""
     return ModelSpec.psi_density(density, f"{density_label(density)} (averaged, eq. 15)")
 
 
 def density_label(density) -> str:
     """A short human name: ``ψ ~ normal, mean 90°, sd 40.5°``, ``ψ ~ uniform``."""
-    from coincli.densities import Normal, Table
+    from coincli.core.densities import Normal, Table
 
     if isinstance(density, Normal):
         if density.is_paper:
@@ -385,11 +385,11 @@ def tosses_label(points) -> str:
 
 
 def experiment_points(experiments, confidence: float = 0.95) -> list[ExperimentPoint]:
-    """Frequencies of sides of :class:`coincli.stats.Experiment` rows, with Wilson intervals
-    (all rows in one call of :func:`coincli.stats.wilson_interval`)."""
+    """Frequencies of sides of :class:`coincli.core.stats.tests.Experiment` rows, with Wilson intervals
+    (all rows in one call of :func:`coincli.core.stats.tests.wilson_interval`)."""
     import numpy as np
 
-    from coincli.stats import wilson_interval
+    from coincli.core.stats.tests import wilson_interval
 
     if not experiments:
         return []
@@ -983,8 +983,8 @@ class PhaseData:
     psi_deg: float
     u: object  #: cell centres along the launch speed, m/s (ndarray, nu)
     omega: object  #: cell centres along the spin, rad/s (ndarray, nw)
-    outcome: object  #: (nw, nu) codes of :func:`coincli.toss.toss_many`: 0 heads, 1 sides, 2 tails
-    curves: list = field(default_factory=list)  #: :class:`coincli.toss.Boundary` over ``u``
+    outcome: object  #: (nw, nu) codes of :func:`coincli.core.toss.flight.toss_many`: 0 heads, 1 sides, 2 tails
+    curves: list = field(default_factory=list)  #: :class:`coincli.core.toss.flight.Boundary` over ``u``
     fractions: object = None  #: Outcome: the share of the grid's cells of each outcome
     vigorous: object = None  #: Outcome: the vigorous limit (Table I at this xi and psi)
     marks: list = field(default_factory=list)  #: [(u, omega)] the user's tosses
@@ -1003,12 +1003,12 @@ DEFAULT_OMEGA_RANGE = (0.0, 60.0)  #: rad/s
 def phase_data(xi: float = models.FAIR_XI_DYNAMIC, psi_deg: float = 90.0, *,
                u_range=DEFAULT_U_RANGE, omega_range=DEFAULT_OMEGA_RANGE, nu: int = 400,
                nw: int = 400, marks=(), exact_curves: bool = False, **toss_options) -> PhaseData:
-    """Fig. 3: the outcome of each (u, omega) cell by :func:`coincli.toss.phase_map`.
+    """Fig. 3: the outcome of each (u, omega) cell by :func:`coincli.core.toss.flight.phase_map`.
 
     ``toss_options`` go to it (``diameter`` in m, ``g``, ``contact``, ``z0``).  The boundary
     curves are eq. (10) (or the exact contact-time curves with ``exact_curves``).
     """
-    from coincli import toss
+    from coincli.core.toss import flight as toss
 
     psi_deg = float(psi_deg)
     if not 0.0 <= psi_deg <= 180.0:

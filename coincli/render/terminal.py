@@ -1,7 +1,7 @@
 """The terminal: how wide it is, and whether it takes colour.
 
-One width for everything ``coin`` lays out (tables in :mod:`coincli.cli._common`, text plots in
-:mod:`coincli.textplot`, ``coin phase``): :func:`terminal_width`.  ``COLUMNS`` set to a whole
+One width for everything ``coin`` lays out (tables in :mod:`coincli.io.table`, text plots in
+:mod:`coincli.render.text`, ``coin phase``): :func:`terminal_width`.  ``COLUMNS`` set to a whole
 number from 1 up wins (as in every POSIX tool); anything else there (``0``, empty, a word) is
 ignored and the terminal is asked; when there is no terminal, 80.  Nothing is imported.
 """

@@ -3,7 +3,7 @@
 A :class:`Canvas` is a grid of characters with a data range; curves are drawn one character a
 column (consecutive points joined by a vertical run), marks on top, and :meth:`Canvas.render`
 returns a :class:`rich.text.Text` with axes, tick labels, a legend and notes.  Each figure of
-:mod:`coincli.plot` has a text version here (:func:`text_sides`, :func:`text_psi`,
+:mod:`coincli.render.figures` has a text version here (:func:`text_sides`, :func:`text_psi`,
 :func:`text_map`, :func:`text_phase`) fed by the same data functions, so the numbers are the
 core's.  Characters tell the series apart (colour is only a help: it disappears in a pipe and
 with ``NO_COLOR``).  rich is imported only when a plot is rendered.
@@ -156,10 +156,10 @@ class Canvas:
 
 def plot_size(width: int | None = None, height: int | None = None,
               default_rows: int = 21) -> tuple[int, int]:
-    """Columns and rows of the plot area: the terminal's width (:func:`coincli._terminal.
+    """Columns and rows of the plot area: the terminal's width (:func:`coincli.render.terminal.
     terminal_width`, the same as the tables') less the axis labels, 30 to 110 columns."""
     if width is None:
-        from coincli._terminal import terminal_width
+        from coincli.render.terminal import terminal_width
 
         width = min(max(terminal_width() - 10, 30), 110)
     return max(int(width), 10), max(int(height or default_rows), 5)
@@ -169,11 +169,11 @@ def emit(text, out=None) -> None:
     """Print a rendered plot (colour on a terminal, plain text in a pipe or with NO_COLOR)."""
     from rich.console import Console
 
-    from coincli._terminal import colour_allowed, terminal_width
+    from coincli.render.terminal import colour_allowed, terminal_width
 
     # NO_COLOR (no-color.org, set to anything non-empty): rich drops colours by itself but keeps
     # bold, italic, dim and reverse; no colour system at all means no escape codes at all, as
-    # the tables do (coincli.cli._common).  The width is given: rich reads COLUMNS itself, and
+    # the tables do (coincli.io.table).  The width is given: rich reads COLUMNS itself, and
     # COLUMNS=0 made it print nothing.
     # On a terminal, titles, legends and notes wrap at words to its width (the plot itself is
     # sized to fit); in a pipe nothing is wrapped.
@@ -195,7 +195,7 @@ def emit(text, out=None) -> None:
 
 
 def _ascii(text: str) -> str:
-    """Labels of :mod:`coincli.plot` in the text plot's plain words."""
+    """Labels of :mod:`coincli.render.figures` in the text plot's plain words."""
     return text.replace("ψ", "psi").replace("°", " deg").replace("ξ", "xi")
 
 
@@ -262,7 +262,7 @@ def text_sides(data, cols: int, rows: int):
         cv.point(e.xi, e.frequency, "o", "bold #E69F00", layer=5)
     if data.experiments:
         n = len(data.experiments)
-        from coincli.plot import tosses_label
+        from coincli.render.figures import tosses_label
 
         legend.append(("o", "bold #E69F00", f"{tosses_label(data.experiments)} ({n} "
                        f"row{'s' if n > 1 else ''}): frequency of sides, | = 95% Wilson "
@@ -331,7 +331,7 @@ def text_map(data, cols: int, rows: int):
             cv.put(c, r, ch if top[i, j] > 0.5 else ch.lower(), OUTCOME_STYLE[name], 1)
     legend = [(OUTCOME_CHAR[n], OUTCOME_STYLE[n], f"{n} likeliest (lower case: under 1/2)")
               for n in names]
-    from coincli.models import FAIR_XI_DYNAMIC
+    from coincli.core.models import FAIR_XI_DYNAMIC
 
     cv.point(FAIR_XI_DYNAMIC, 90.0, "*", "bold reverse", layer=6)
     legend.append(("*", "bold reverse", "fair three-sided coin: xi = 1/sqrt 3, psi = 90 deg"))
@@ -421,7 +421,7 @@ def _round_ticks(lo: float, hi: float, cells: int, spacing: int):
 
 
 def phase_text(data, *, colour: bool, title: str, width: int | None = None):
-    """Fig. 3 in the terminal: one character a cell of ``data`` (:class:`coincli.plot.PhaseData`),
+    """Fig. 3 in the terminal: one character a cell of ``data`` (:class:`coincli.render.figures.PhaseData`),
     rows of omega (high at the top) by columns of u, round ticks on both axes.
 
     ``colour``: coloured blocks (:data:`PHASE_BLOCK`), boundaries as dots, returned as a
@@ -541,7 +541,7 @@ def text_phase(data, cols: int, rows: int, contact: str = "rim"):
     except (AttributeError, ValueError):
         tty = False
     colour = tty and not os.environ.get("NO_COLOR")
-    from coincli._terminal import terminal_width
+    from coincli.render.terminal import terminal_width
 
     return phase_text(data, colour=colour, title=phase_title(data, contact),
                       width=terminal_width() if tty else None)

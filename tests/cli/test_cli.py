@@ -1,7 +1,7 @@
 """Behaviour of the ``coin`` command, run in-process through :func:`coincli.cli.run`.
 
 Every number printed in csv/tsv/json/jsonl is read back and compared, as a double, with what
-:mod:`coincli.models` (or :mod:`coincli.coins`) computes: the output layer must not lose a bit.
+:mod:`coincli.core.models` (or :mod:`coincli.core.coins`) computes: the output layer must not lose a bit.
 Errors: one line on stderr, the documented exit code, nothing on stdout, never a traceback.
 No timing here (speed lives in benchmarks/).
 """
@@ -18,9 +18,10 @@ import pytest
 from cli_helpers import error as _error
 from cli_helpers import ok as _ok
 
-from coincli import coins, models
+from coincli.core import coins
+from coincli.core import models
 from coincli.cli import run
-from coincli.cli._common import FAST_MIN_BYTES
+from coincli.io.table import FAST_MIN_BYTES
 
 QUARTER = coins.CATALOG["quarter"]
 
@@ -164,8 +165,8 @@ def test_design_fixed_psi_solves_table_one(coin):
 
 
 def test_design_psi_distribution(coin):
-    from coincli.averages import marginal
-    from coincli.densities import parse_density
+    from coincli.core.averages import marginal
+    from coincli.core.densities import parse_density
 
     out = _ok(coin("design", "-p", "1/3", "--psi-dist", "normal:90:18", "-f", "json"))
     (r,) = _strict_json(out)
@@ -224,7 +225,7 @@ def test_human_table_has_no_escape_codes_when_piped(coin, monkeypatch):
 
 
 def test_rich_table_honours_no_color(coin, monkeypatch):
-    import coincli.cli._common as common
+    import coincli.io.table as common
 
     monkeypatch.setattr(common, "stdout_is_terminal", lambda: True)
     monkeypatch.setenv("FORCE_COLOR", "1")  # rich styles even a captured stream...
@@ -569,7 +570,7 @@ def test_output_is_written_only_after_everything_is_computed(coin, monkeypatch):
 
 
 def test_design_past_the_stack_cap_still_designs_the_coin(coin):
-    from coincli.averages import conditional_inverse
+    from coincli.core.averages import conditional_inverse
 
     psi = math.radians(1e-10)
     out = _ok(coin("design", "-p", "0.5", "--model", "psi", "--psi", "1e-10", "-f", "csv"))
@@ -637,7 +638,7 @@ def test_stack_p_sides_from_stdin_one_row_per_line(coin):
     assert list(rows[0]) == STACK_BATCH_COLUMNS
     assert len(rows) == len(targets)
     nickel = coins.CATALOG["nickel"]
-    from coincli.parse import parse_probability
+    from coincli.io.grammar import parse_probability
 
     for r, t in zip(rows, targets, strict=True):
         p = parse_probability(t)

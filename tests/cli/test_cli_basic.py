@@ -11,7 +11,7 @@ import sys
 
 import pytest
 
-from coincli import models
+from coincli.core import models
 from coincli.cli import run
 
 

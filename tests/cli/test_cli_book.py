@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from cli_helpers import error, ok
 
-from coincli import rigid as R
+from coincli.core import rigid as R
 
 BOOK = ["book", "--size", "235x155x30"]
 
@@ -491,8 +491,8 @@ def test_times_take_units_in_ranges_as_in_lists(coin):
                                         ("1/3:3:1/7", ""), ("0.5:0.5:1", "s"),
                                         ("0:0.99999:0.00001", "")])
 def test_a_range_of_times_is_the_shared_grammar_s_values(spec, unit):
-    # the vectorized range gives exactly what coincli.parse.parse_values gives item by item
-    from coincli import parse
+    # the vectorized range gives exactly what coincli.io.grammar.parse_values gives item by item
+    from coincli.io import grammar as parse
     from coincli.cli import book as B
 
     factor = B._TIME_UNITS[unit or "s"]
@@ -534,7 +534,7 @@ def test_a_long_time_series_is_streamed_in_flat_memory(tmp_path):
 
 def test_the_figure_of_a_separatrix_marks_its_one_flip():
     pytest.importorskip("matplotlib")
-    from coincli import bookplot
+    from coincli.render import book_figures as bookplot
 
     I, w = (3.0, 4.0, 6.0), (2.0, -1.0, 1.0)
     mo = R.motion(I, w)
@@ -576,7 +576,7 @@ def test_the_faces_figure_ticks_do_not_overlap(moments):
     # a box from --moments labels its faces "0.7071 x 0 (relative)": six such ticks side by
     # side overlapped in the 7-inch figure until the size went on lines of its own
     pytest.importorskip("matplotlib")
-    from coincli import bookplot
+    from coincli.render import book_figures as bookplot
     from coincli.cli.book import _face_size
 
     from types import SimpleNamespace

@@ -13,11 +13,12 @@ from pathlib import Path
 
 import pytest
 
-from coincli import coins, stats
+from coincli.core import coins
+from coincli.core.stats import tests as stats
 from coincli.cli import run
-from coincli.models import dynamic, geometric
+from coincli.core.models import dynamic, geometric
 
-DATA = Path(__file__).resolve().parent / "data"
+DATA = Path(__file__).resolve().parents[1] / "data"
 TOSSES = DATA / "tosses.csv"
 
 
@@ -84,8 +85,8 @@ def test_check_coin_forms(capsys, coin_args, xi):
 
 
 def test_check_psi_dist_and_json(capsys):
-    from coincli.densities import Normal, Uniform
-    from coincli.averages import marginal
+    from coincli.core.densities import Normal, Uniform
+    from coincli.core.averages import marginal
 
     code, out, _ = _run(["check", "--xi", "0.58", "--heads", "45", "--sides", "35", "--tails",
                          "20", "--psi-dist", "uniform,normal:90:20", "--format", "json"], capsys)
@@ -256,7 +257,7 @@ def test_fit_file_errors(capsys, tmp_path):
 
 def test_importing_the_commands_loads_no_numpy_scipy_rich():
     probe = (
-        "import sys\nimport coincli.cli.check\nimport coincli.stats\nfrom coincli.cli import run\n"
+        "import sys\nimport coincli.cli.check\nimport coincli.core.stats.tests\nfrom coincli.cli import run\n"
         "assert run(['check', '--sides', '3', '-n', '9']) == 2\n"
         "assert run(['fit', 'no-such-file.csv']) == 2\n"
         "print('LOADED', sorted(m for m in ('numpy','scipy','rich') if m in sys.modules))\n"

@@ -23,8 +23,8 @@ import pytest
 from cli_helpers import error
 from cli_helpers import ok as _ok
 
-from coincli.cli import _common
-from coincli.cli._common import MAX_LINE_CHARS, MAX_STDIN_BYTES, MAX_STDIN_LINES
+from coincli.io import table as _common
+from coincli.io.table import MAX_LINE_CHARS, MAX_STDIN_BYTES, MAX_STDIN_LINES
 
 
 def _error(result, code: int, *words: str, longest: int = 300) -> str:
@@ -190,7 +190,7 @@ def test_fit_file_cap_names_the_limit(coin, tmp_path, monkeypatch):
 
 
 def test_psi_table_cap_names_the_limit(coin, tmp_path, monkeypatch):
-    from coincli import densities
+    from coincli.core import densities
 
     monkeypatch.setattr(densities, "MAX_TABLE_BYTES", 1000)
     path = tmp_path / "psi.csv"

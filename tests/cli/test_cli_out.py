@@ -19,11 +19,11 @@ from pathlib import Path
 
 import pytest
 
-from tests.cli_helpers import error as _error
-from tests.cli_helpers import ok as _ok
+from cli_helpers import error as _error
+from cli_helpers import ok as _ok
 
 COIN = [sys.executable, "-m", "coincli"]
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 TOSSES = ROOT / "tests" / "data" / "tosses.csv"
 WIDTHS = (40, 60, 80, 100, 200)
 
@@ -145,7 +145,7 @@ def test_columns_zero_or_garbage_is_ignored(argv):
 
 
 def test_the_layout_folds_wraps_and_never_cuts():
-    from coincli.cli._common import Column, Result, plain_table
+    from coincli.io.table import Column, Result, plain_table
 
     cols = [Column("model", "model", "text")] + [
         Column(f"c{k}", f"a long header named {'abcdefgh'[k]}") for k in range(8)]
@@ -322,7 +322,7 @@ def test_a_write_replaces_the_file_whole_and_keeps_its_mode_and_link(tmp_path):
 
 
 def test_write_atomic_cleans_up_after_any_failure(tmp_path):
-    from coincli._files import write_atomic
+    from coincli.io.files import write_atomic
 
     target = tmp_path / "t.csv"
     target.write_bytes(b"old contents\n")
@@ -595,7 +595,7 @@ def test_batches_stream_in_flat_memory(tmp_path):
 
 
 def test_a_spooled_batch_gives_the_same_bytes(coin, monkeypatch):
-    import coincli.cli._common as common
+    import coincli.io.table as common
 
     stdin = "".join(f"{k / 70001!r}\n" for k in range(1, 70001))
     whole = _ok(coin("design", "-p", "-", "-f", "csv", stdin=stdin))
@@ -633,7 +633,7 @@ def test_streamed_json_and_jsonl_are_the_rows_of_csv(coin):
 
 
 def test_a_range_is_generated_as_the_list_would_be(coin):
-    from coincli import parse
+    from coincli.io import grammar as parse
 
     for text in ("0.001:1:0.001", "0.1:0.3:0.1", "0:1e-300:1e-303", "1e300:1.5e300:1e298",
                  "-0:0.5:0.25"):
@@ -644,8 +644,8 @@ def test_a_range_is_generated_as_the_list_would_be(coin):
 
 
 def _naive_rows(cols, sep: str) -> str:
-    """The reference for :func:`coincli.cli._common._write_rows`: one cell at a time."""
-    from coincli.cli._common import _csv_cell, _machine
+    """The reference for :func:`coincli.io.table._write_rows`: one cell at a time."""
+    from coincli.io.table import _csv_cell, _machine
 
     cols = [c.tolist() if hasattr(c, "tolist") else list(c) for c in cols]
     return "".join(sep.join(_csv_cell(_machine(v), sep) for v in row) + "\n"
@@ -676,7 +676,7 @@ def test_the_batch_writer_writes_what_one_cell_at_a_time_writes(n):
     formatting each cell on its own: shortest round-trip text, empty for None."""
     import numpy as np
 
-    from coincli.cli._common import _write_rows
+    from coincli.io.table import _write_rows
 
     rng = np.random.default_rng(n)
     cols = _writer_columns(rng, n)

@@ -16,7 +16,7 @@ import time
 
 import pytest
 
-from coincli import models
+from coincli.core import models
 
 COIN = [sys.executable, "-m", "coincli"]
 
@@ -225,7 +225,7 @@ def test_the_console_script_and_python_m_share_the_guarded_entry_point():
     import tomllib
     from pathlib import Path
 
-    root = Path(__file__).resolve().parents[1]
+    root = Path(__file__).resolve().parents[2]
     scripts = tomllib.loads((root / "pyproject.toml").read_text())["project"]["scripts"]
     assert scripts["coin"] == "coincli._entry:main"
     assert "from coincli._entry import main" in (root / "coincli" / "__main__.py").read_text()
@@ -265,9 +265,9 @@ def test_terminal_gets_a_rich_table_and_no_color_removes_every_escape():
 # scipy.optimize), truncated normals and the vigorous limit without scipy, and a picture that
 # is plain text in a pipe (no rich); never matplotlib without --out; never numpy.ma (numpy 2's
 # np.unique imports it: some 30 ms of simulate's start-up, once); never secrets or hashlib
-# (numpy.random is imported without them, coincli._backend.numpy_random: 7 ms), never
-# numpy.polynomial (the Gauss-Legendre rule is coincli.averages' own: 2 ms), never the whole of
-# coincli.stats (the Wilson interval is coincli._wilson: 2 ms).
+# (numpy.random is imported without them, coincli.core._numerics.backend.numpy_random: 7 ms), never
+# numpy.polynomial (the Gauss-Legendre rule is coincli.core.averages' own: 2 ms), never the whole of
+# coincli.core.stats.tests (the Wilson interval is coincli.core._numerics.wilson: 2 ms).
 TOSS_COMMANDS = [
     ["toss", "--xi", "0.577", "--psi", "90", "--u", "2", "--omega", "40"],
     ["toss", "--xi", "0.577"],
@@ -286,7 +286,7 @@ TOSS_COMMANDS = [
 
 _TOSS_PROBE = _PROBE.replace('("numpy", "scipy", "rich")',
                              '("scipy", "rich", "matplotlib", "numpy.ma", "secrets", "hashlib", '
-                             '"numpy.polynomial", "coincli.stats")')
+                             '"numpy.polynomial", "coincli.core.stats.tests")')
 
 
 def test_toss_simulate_phase_import_neither_scipy_nor_rich_nor_matplotlib():

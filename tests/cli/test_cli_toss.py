@@ -1,6 +1,6 @@
 """``coin toss``, ``coin simulate``, ``coin phase`` run in-process through :func:`coincli.cli.run`.
 
-Every printed number is read back and compared, as a double, with :mod:`coincli.toss`; bad
+Every printed number is read back and compared, as a double, with :mod:`coincli.core.toss.flight`; bad
 input is one line on stderr with exit 2 and nothing on stdout.  No timing here.
 """
 
@@ -19,7 +19,7 @@ import pytest
 from cli_helpers import error as _error
 from cli_helpers import ok as _ok
 
-from coincli import toss as T
+from coincli.core.toss import flight as T
 
 FAIR = 0.577
 
@@ -138,7 +138,7 @@ def test_simulate_csv_is_the_core(coin):
     out = _ok(coin(*SIM, "--psi-dist", "normal:90:10", "-n", "20000", "--seed", "7",
                    "--format", "csv"))
     rows = list(csv.DictReader(io.StringIO(out)))
-    from coincli.densities import parse_density
+    from coincli.core.densities import parse_density
 
     psi = T.Dist.from_density(parse_density("normal:90:10"))  # the grammar of coin design
     sim = T.simulate(20000, 7, xi=0.577, u="normal:2.4:0.3", omega="normal:38:4", psi=psi)

@@ -17,7 +17,7 @@ import warnings
 import numpy as np
 import pytest
 
-from coincli import models
+from coincli.core import models
 from coincli.cli import run
 
 TOSSES = """\
@@ -78,8 +78,8 @@ def test_text_plots(capsys, argv, words):
 
 
 def test_text_plot_values_are_the_cores():
-    from coincli.plot import psi_data
-    from coincli.textplot import Canvas, text_psi
+    from coincli.render.figures import psi_data
+    from coincli.render.text import Canvas, text_psi
 
     d = psi_data(0.577, points=70)
     text = text_psi(d, 70, 21).plain
@@ -203,14 +203,14 @@ mpl = None
 def plotmod():
     global mpl
     mpl = pytest.importorskip("matplotlib")
-    from coincli import plot
+    from coincli.render import figures as plot
 
     return plot
 
 
 def test_sides_curves_are_the_cores(plotmod):
-    from coincli.averages import marginal
-    from coincli.densities import Normal
+    from coincli.core.averages import marginal
+    from coincli.core.densities import Normal
 
     dens = Normal(math.pi / 2, math.radians(18))
     specs = [plotmod.GEOMETRIC, plotmod.DYNAMIC, plotmod.psi_spec(math.radians(60)),
@@ -254,7 +254,7 @@ def test_sides_design_marks(plotmod):
 
 
 def test_sides_experiments_with_wilson_bars(plotmod, tmp_path):
-    from coincli.stats import parse_experiments, proportion
+    from coincli.core.stats.tests import parse_experiments, proportion
 
     exps = parse_experiments(TOSSES)
     data = plotmod.sides_data(experiments=plotmod.experiment_points(exps), points=51)
@@ -327,7 +327,7 @@ def test_map_values(plotmod, style):
 
 
 def test_phase_map_and_hyperbolae(plotmod):
-    from coincli import toss
+    from coincli.core.toss import flight as toss
 
     data = plotmod.phase_data(u_range=(0.0, 2.0), omega_range=(0.0, 60.0), nu=24, nw=20,
                               marks=[(1.0, 30.0)])
@@ -406,7 +406,7 @@ def _tosses(tmp_path):
 
 
 def test_title_option(capsys, tmp_path, plotmod):
-    from coincli.plot import psi_data, psi_figure
+    from coincli.render.figures import psi_data, psi_figure
 
     fig = psi_figure(psi_data(0.3, points=11), title="My coin")
     assert fig.axes[0].get_title() == "My coin"
@@ -467,7 +467,7 @@ def test_pixel_cap_is_not_applied_to_a_text_plot(capsys):
 
 
 def test_check_figure_size_limits():
-    from coincli.plot import MAX_PIXELS, check_figure_size
+    from coincli.render.figures import MAX_PIXELS, check_figure_size
 
     check_figure_size(10.0, 5.0, 1000.0)  # exactly MAX_PIXELS
     assert 10.0 * 5.0 * 1000.0**2 == MAX_PIXELS
@@ -604,7 +604,7 @@ def test_marks_beyond_the_axis_limits_are_notes(capsys, tmp_path, plotmod):
 
 
 def test_tosses_off_the_axis_are_a_note(plotmod):
-    from coincli.stats import parse_experiments
+    from coincli.core.stats.tests import parse_experiments
 
     pts = plotmod.experiment_points(parse_experiments(TOSSES))
     d = plotmod.sides_data(experiments=pts, xi_range=(0.0, 1.0), points=11)
@@ -613,7 +613,7 @@ def test_tosses_off_the_axis_are_a_note(plotmod):
 
 
 def test_text_plot_ticks_survive_degenerate_axes():
-    from coincli.textplot import _ticks
+    from coincli.render.text import _ticks
 
     assert _ticks(0.0, 5e-324, False) == [(0.0, "0"), (5e-324, "4.94066e-324")]
     assert _ticks(1.0, 1.0, False) == []
@@ -631,8 +631,8 @@ class _Tty(io.StringIO):
 
 @pytest.mark.parametrize("no_color, escapes", [(None, True), ("", True), ("1", False)])
 def test_text_plot_emit_honours_no_color(monkeypatch, no_color, escapes):
-    from coincli.plot import psi_data
-    from coincli.textplot import emit, text_psi
+    from coincli.render.figures import psi_data
+    from coincli.render.text import emit, text_psi
 
     for k in ("NO_COLOR", "FORCE_COLOR", "TTY_COMPATIBLE", "TTY_INTERACTIVE"):
         monkeypatch.delenv(k, raising=False)
@@ -695,7 +695,7 @@ def test_psi_90_is_the_keller_flip_in_every_plot(plotmod, xi):
     """`plot psi --psi 90`, its curve at 90 and `plot phase --psi 90` mark what `coin table --psi
     90` prints: eq. (12) exactly (Table I at the double nearest pi/2 lost the tails of a coin
     thicker than 1e16 and was 1% off at 1e15)."""
-    from coincli.modelspec import ModelSpec
+    from coincli.core.modelspec import ModelSpec
 
     want = ModelSpec.fixed_psi(math.radians(90.0)).forward(xi)
     assert want == models.dynamic(xi)

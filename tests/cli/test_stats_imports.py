@@ -1,7 +1,7 @@
 """The import budget of ``coin check`` and ``coin fit``, in a real process (no timing).
 
 Their answers need numpy and scipy.special (binomial tails, beta quantiles, chi-square tails)
-and, for ``fit``, a one-dimensional optimizer (pure Python in coincli.stats).  scipy.stats costs
+and, for ``fit``, a one-dimensional optimizer (pure Python in coincli.core.stats.tests).  scipy.stats costs
 0.6 s of import, scipy.optimize 0.1-0.2 s; rich draws nothing in a pipe; matplotlib draws nothing
 here at all.  Style of tests/test_cli_subprocess.py: one process runs the commands one after
 another through coincli.cli.run with stdout a pipe, then reports which modules were loaded.
@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pytest
 
-TOSSES = str(Path(__file__).resolve().parent / "data" / "tosses.csv")
+TOSSES = str(Path(__file__).resolve().parents[1] / "data" / "tosses.csv")
 
 FORBIDDEN = ("scipy.stats", "scipy.optimize", "scipy.integrate", "scipy.linalg", "rich",
              "matplotlib")

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 from mpmath import mp, mpf
 
-from coincli import models
+from coincli.core import models
 
 EXPONENTS = np.arange(-300, 301, 2.5)  # 241 magnitudes across 600 decades
 XIS = [0.0, *(float(10.0**e) for e in EXPONENTS), math.inf]
@@ -231,8 +231,8 @@ DENSITIES = ["uniform", "cosine", "normal", "normal:90:18", "normal:90:0.001", "
 
 
 def _marginal_sweep(spec):
-    from coincli.densities import parse_density
-    from coincli.averages import marginal
+    from coincli.core.densities import parse_density
+    from coincli.core.averages import marginal
 
     d = parse_density(spec)
     o = marginal(np.array(XIS), d)
@@ -268,8 +268,8 @@ def test_marginal_strictly_in_unit_interval_and_monotone(spec):
 
 @pytest.mark.parametrize("spec", ["uniform", "normal"])
 def test_marginal_inverse_across_magnitudes(spec):
-    from coincli.densities import parse_density
-    from coincli.averages import marginal, marginal_inverse
+    from coincli.core.densities import parse_density
+    from coincli.core.averages import marginal, marginal_inverse
 
     d = parse_density(spec)
     for p in [1e-300, 1e-100, 1e-10, 1e-3, 0.1, 1 / 3, 0.5, 0.9, 1 - 1e-9]:
@@ -282,7 +282,7 @@ def test_marginal_inverse_across_magnitudes(spec):
 
 @pytest.mark.parametrize("psi_deg", [1.0, 30.0, 60.0, 90.0, 150.0])
 def test_conditional_inverse_across_magnitudes(psi_deg):
-    from coincli.averages import conditional_inverse
+    from coincli.core.averages import conditional_inverse
 
     psi = math.radians(psi_deg)
     for p in [0.0, 1e-300, 1e-100, 1e-10, 1e-3, 0.1, 1 / 3, 0.5, 0.9, 1 - 1e-9]:

@@ -1,4 +1,4 @@
-"""Accuracy of the closed forms in coincli.models against 50-digit mpmath (tests/reference.py).
+"""Accuracy of the closed forms in coincli.core.models against 50-digit mpmath (tests/reference.py).
 
 Error is measured in ulps of the reference value: ``|computed - ref| / ulp(ref)`` (ulp of a
 subnormal is 2**-1074; where the reference is exactly 0 or inf the computed value must be too).
@@ -36,7 +36,7 @@ from reference import (
     xi_grid,
 )
 
-from coincli import models
+from coincli.core import models
 
 BAR = 4.0  #: ulps, every output of every closed form
 SECTION = "accuracy (ulps vs mpmath)"

@@ -1,4 +1,4 @@
-"""Validation of the bounce engine (coincli.bounce, MuJoCo): issue 16.
+"""Validation of the bounce engine (coincli.core.bounce.engine, MuJoCo): issue 16.
 
 1. The set-up is the paper's: MuJoCo's mass and inertia are the cylinder's; the exact free
    flight agrees with MuJoCo integrating the same launch (RK4), which checks the free-joint
@@ -19,11 +19,11 @@ import math
 
 import pytest
 
-B = pytest.importorskip("coincli.bounce")
+B = pytest.importorskip("coincli.core.bounce.engine")
 mujoco = pytest.importorskip("mujoco")
 
-from coincli import toss as T  # noqa: E402
-from coincli.models import conditional, dynamic  # noqa: E402
+from coincli.core.toss import flight as T  # noqa: E402
+from coincli.core.models import conditional, dynamic  # noqa: E402
 
 HAND = {"u": "normal:2.4:0.3", "omega": "normal:38:4"}
 

@@ -10,9 +10,11 @@ from fractions import Fraction
 import mpmath as mp
 import pytest
 
-from coincli import coins, models, parse
-from coincli.densities import Cosine, Normal, Table, Uniform, parse_density
-from coincli.averages import conditional_inverse, marginal, marginal_inverse
+from coincli.core import coins
+from coincli.core import models
+from coincli.io import grammar as parse
+from coincli.core.densities import Cosine, Normal, Table, Uniform, parse_density
+from coincli.core.averages import conditional_inverse, marginal, marginal_inverse
 
 XI_FAIR = 1 / math.sqrt(3)
 
@@ -258,12 +260,12 @@ def test_nearest_stack_past_the_cap_is_a_no_stack_error():
 
 
 def test_numpy_random_is_imported_without_secrets_and_still_draws_entropy():
-    # coincli._backend.numpy_random: a stand-in `secrets` (randbits only) while numpy.random
+    # coincli.core._numerics.backend.numpy_random: a stand-in `secrets` (randbits only) while numpy.random
     # is imported, removed at once; unseeded SeedSequences still get 128 bits of entropy, and
     # `import secrets` afterwards is the real module.
     code = """
 import sys
-from coincli._backend import numpy_random, randbits
+from coincli.core._numerics.backend import numpy_random, randbits
 npr = numpy_random()
 assert "secrets" not in sys.modules and "hashlib" not in sys.modules, sorted(sys.modules)
 a, b = npr.SeedSequence().entropy, npr.SeedSequence().entropy

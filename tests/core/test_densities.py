@@ -21,8 +21,8 @@ from cli_helpers import error, ok
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from coincli.averages import marginal, marginal_inverse
-from coincli.densities import MIN_TABLE_SPAN, Normal, Table, _relative_mass
+from coincli.core.averages import marginal, marginal_inverse
+from coincli.core.densities import MIN_TABLE_SPAN, Normal, Table, _relative_mass
 
 EXAMPLES = int(os.environ.get("COIN_FUZZ_EXAMPLES", "60"))
 DEGENERATE = settings(max_examples=EXAMPLES, deadline=None, derandomize=True,
@@ -104,7 +104,7 @@ def test_normal_pdf_integrates_to_one():
 def test_subnormal_and_flat_normals_have_their_limits():
     """sd -> 0 at psi = 0: heads always (the mass never reaches theta0/2 >= 2.8e-309);
     sd -> inf: the uniform density; a mean 1e306 rad below 0: a delta at psi = 0."""
-    from coincli.densities import Uniform
+    from coincli.core.densities import Uniform
 
     for sd in (5e-324, 1e-320, 1e-310):
         for x in (0.5, 1e300, 1.7976931348623157e308):
@@ -207,7 +207,7 @@ def test_a_big_tables_work_is_bounded(coin, tmp_path):
     """Every table point is a breakpoint (exact between them), so points x xi values are capped
     (averages.MAX_TABLE_WORK): within the cap the run completes, beyond it one line says how
     many values fit.  The timing is in benchmarks/bench_core.py, not here."""
-    from coincli.averages import MAX_TABLE_WORK
+    from coincli.core.averages import MAX_TABLE_WORK
 
     n = 20_000
     rng = np.random.default_rng(5)

@@ -1,4 +1,4 @@
-"""coincli.estimators and the --tol/--method/--seed options: Problem 2 of the paper, the three
+"""coincli.core.estimators and the --tol/--method/--seed options: Problem 2 of the paper, the three
 estimators agreeing within their stated errors (hypothesis, across sd 1e-6..1e3 rad, means at 0
 and pi, densities on a regime boundary), exact psi sampling, the chooser, errors.  No timing."""
 
@@ -15,11 +15,11 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from coincli import estimators as E
-from coincli import models
+from coincli.core import estimators as E
+from coincli.core import models
 from coincli.cli import run
-from coincli.densities import Cosine, Normal, Table, Uniform
-from coincli.averages import error_bound, marginal, order_for_tol
+from coincli.core.densities import Cosine, Normal, Table, Uniform
+from coincli.core.averages import error_bound, marginal, order_for_tol
 
 XI_FAIR = 1 / math.sqrt(3)
 P2 = Normal(math.pi / 2, math.sqrt(0.1))  # Problem 2: mean pi/2, variance 0.1
@@ -266,7 +266,7 @@ def test_auto_picks_quadrature_with_the_fewest_nodes():
     (lambda: E.monte_carlo(0.5, n=0), r"n must be an integer in \[1, 2\^40\]"),
     (lambda: E.monte_carlo(0.5, n=1.5), r"n must be an integer in \[1, 2\^40\]"),
     (lambda: E.monte_carlo(-1.0), r"xi must be >= 0"),
-    (lambda: E.monte_carlo(0.5, "normal"), "density must be a coincli.densities.Density"),
+    (lambda: E.monte_carlo(0.5, "normal"), "density must be a coincli.core.densities.Density"),
     (lambda: E.monte_carlo(0.5, seed=-1), "seed must be a whole number >= 0"),
     (lambda: E.quasi_monte_carlo(0.5, seed=1.5), "seed must be a whole number >= 0"),
     (lambda: E.quasi_monte_carlo(0.5, scrambles=1), r"scrambles must be an integer in \[2, 1024\]"),
@@ -417,7 +417,7 @@ def test_monte_carlo_refuses_a_tol_beyond_the_run_limit_up_front(capsys, monkeyp
                                       ("normal:30:5", 0.05), ("uniform", 40.0)])
 def test_the_planned_tosses_meet_the_tolerance(spec, xi):
     # the prediction is an upper bound: seeded runs stop by the planned tosses, having met tol
-    from coincli.densities import parse_density
+    from coincli.core.densities import parse_density
 
     d = parse_density(spec)
     spread = E.chance_spread(E.quad(xi, d).value)

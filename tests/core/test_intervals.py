@@ -17,7 +17,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from coincli import stats
+from coincli.core.stats import tests as stats
 
 CP_TOL = 8e-15
 WILSON_TOL = 1e-15

@@ -20,10 +20,10 @@ import reference as R
 from cli_helpers import ok
 from mpmath import mp, mpf
 
-from coincli import models
-from coincli.averages import conditional_inverse, marginal, marginal_inverse
-from coincli.densities import Normal
-from coincli.modelspec import DYNAMIC, ModelSpec
+from coincli.core import models
+from coincli.core.averages import conditional_inverse, marginal, marginal_inverse
+from coincli.core.densities import Normal
+from coincli.core.modelspec import DYNAMIC, ModelSpec
 
 REF = IR.load()
 ISSUE_P = (1 - 2.0**-53, 1 - 1e-15, 1 - 1e-9, 1e-300, 2.0**-1074)
@@ -97,7 +97,7 @@ def test_closed_form_start_is_close_and_the_answer_is_a_root():
     """The closed-form inverse of Table I (the solver's start) is within 1e-11 where nothing
     cancels, and the answer is the double where sides - p (or heads + tails - (1 - p))
     changes sign: its neighbours lie on either side."""
-    from coincli.averages import _table_i_guess
+    from coincli.core.averages import _table_i_guess
 
     for psi in (0.3, 1.0, 1.2, math.pi / 3, 2.5):
         for p in (0.05, 0.3, 0.6, 0.95):

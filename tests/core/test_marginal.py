@@ -1,4 +1,4 @@
-"""coincli.averages: Table II, the mpmath reference over 600 decades of xi, the calibrated error
+"""coincli.core.averages: Table II, the mpmath reference over 600 decades of xi, the calibrated error
 of every order, the vectorized path, and the invariants.  No timing here (benchmarks/)."""
 
 from __future__ import annotations
@@ -11,10 +11,10 @@ import mpmath
 import numpy as np
 import pytest
 
-from coincli import averages as mg
-from coincli import models
-from coincli.densities import Cosine, Normal, Table, Uniform
-from coincli.averages import error_bound, marginal, order_for_tol
+from coincli.core import averages as mg
+from coincli.core import models
+from coincli.core.densities import Cosine, Normal, Table, Uniform
+from coincli.core.averages import error_bound, marginal, order_for_tol
 
 XI_FAIR = 1 / math.sqrt(3)
 REFERENCE = ref.load()
@@ -137,7 +137,7 @@ def test_bad_tol_names_the_argument(bad):
 
 
 def test_bad_density_is_a_value_error():
-    with pytest.raises(ValueError, match="density must be a coincli.densities.Density"):
+    with pytest.raises(ValueError, match="density must be a coincli.core.densities.Density"):
         marginal(0.5, "normal")
 
 
@@ -227,7 +227,7 @@ def test_scalar_path_finite_and_equal_to_the_array_path(spec):
     """One xi at a time and many at once give the same finite chances (the scalar path once
     built a NaN breakpoint where a far-tail offset passed the end of its piece: xi = 0.05 with
     normal:90:10 printed nan)."""
-    from coincli.densities import parse_density
+    from coincli.core.densities import parse_density
 
     d = parse_density(spec)
     xs = np.concatenate([np.geomspace(1e-3, 1e3, 121), [0.05, 0.0725, 1 / math.sqrt(3)]])
@@ -241,11 +241,11 @@ def test_scalar_path_finite_and_equal_to_the_array_path(spec):
 
 @pytest.mark.parametrize("n", [2, 3, 5, 8, 16, 17, 33, 64])
 def test_gauss_legendre_rule_against_mpmath(n):
-    """The rule of coincli.averages (its own Newton on P_n, no numpy.polynomial) against 40-digit
+    """The rule of coincli.core.averages (its own Newton on P_n, no numpy.polynomial) against 40-digit
     roots of P_n: nodes on [0, 1] within one 2^-53, weights within 2e-13 relative."""
     import mpmath
 
-    from coincli.averages import _gauss_legendre
+    from coincli.core.averages import _gauss_legendre
 
     x, w = _gauss_legendre(n)
     assert x.shape == w.shape == (n,)

@@ -1,4 +1,4 @@
-"""Hypothesis properties of the closed forms in coincli.models.
+"""Hypothesis properties of the closed forms in coincli.core.models.
 
 Where a property holds exactly in real arithmetic but the outputs are rounded, the tolerance is
 the one the 4-ulp accuracy bar (tests/test_accuracy.py) implies, and the largest deviation seen
@@ -15,7 +15,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from reference import ref_conditional, ref_dynamic
 
-from coincli import models
+from coincli.core import models
 
 BAR = 4  #: ulps per output (tests/test_accuracy.py)
 EPS = 2.0**-52

@@ -5,7 +5,7 @@
   periods, for every order of the three moments, stable and unstable axes, the separatrix;
 - the conservation of energy and |L| out to 10^6 periods;
 - the paper's exercise: exact frequency against Gamma with the second-order term derived in
-  coincli.rigid.paper_frequency_shift (computed again here in mpmath); the growth rate lambda;
+  coincli.core.rigid.paper_frequency_shift (computed again here in mpmath); the growth rate lambda;
   the time between flips against the separatrix asymptote; the logarithmic divergence of K;
 - the geometric model (solid angles) against mpmath quadrature and a random-attitude toss;
 - the catch model's limits (a spin about a stable axis keeps its faces).
@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from coincli import rigid as R
+from coincli.core import rigid as R
 
 import rigid_reference  # tests/ is on sys.path under pytest
 
@@ -309,7 +309,7 @@ def test_scalar_summary_matches_array_path():
 
 
 def _m1_mp(I, w):
-    """1 - m at 50 digits from E and L (Landau's form), independent of coincli.rigid."""
+    """1 - m at 50 digits from E and L (Landau's form), independent of coincli.core.rigid."""
     mp.mp.dps = 50
     I = sorted(zip([mp.mpf(v) for v in I], [mp.mpf(v) for v in w]))
     (Ia, wa), (Ib, wb), (Ic, wc) = I
@@ -385,7 +385,7 @@ def test_perturbation_far_below_the_spin_still_counts():
 
 def _shift_mp(I, w, axis):
     """Omega / Gamma - 1 at 50 digits, from the exact period pi |r| / (2 K(m)) with m written
-    from E and L (Landau's form), independent of coincli.rigid's formulas."""
+    from E and L (Landau's form), independent of coincli.core.rigid's formulas."""
     mp.mp.dps = 50
     I = [mp.mpf(v) for v in I]
     w = [mp.mpf(v) for v in w]

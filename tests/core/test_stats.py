@@ -1,4 +1,4 @@
-"""Tests of coincli.stats: counts, intervals, the exact test against brute force, extremes,
+"""Tests of coincli.core.stats.tests: counts, intervals, the exact test against brute force, extremes,
 the G-test, verdicts, the psi-spread fit (a calibration study) and the experiments CSV parser."""
 
 from __future__ import annotations
@@ -13,8 +13,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.stats import binom, binomtest, multinomial, power_divergence
 
-from coincli import models, stats
-from coincli.stats import Counts, CountsError, make_counts
+from coincli.core import models
+from coincli.core.stats import tests as stats
+from coincli.core.stats.tests import Counts, CountsError, make_counts
 
 # --------------------------------------------------------------------------- helpers
 
@@ -365,8 +366,8 @@ def test_verdict_levels_and_asymptotic():
 
 
 def test_model_chances_with_a_density():
-    from coincli.averages import marginal
-    from coincli.densities import Uniform
+    from coincli.core.averages import marginal
+    from coincli.core.densities import Uniform
 
     ch = stats.model_chances(3**-0.5, {"uniform": Uniform()})
     assert list(ch) == ["geometric", "dynamic", "uniform"]
@@ -390,8 +391,8 @@ QUARTER_STACKS = np.array([k * 1.75 / 24.0 for k in range(1, 9)])  # the paper's
 
 
 def _simulate(sigma, seed, n=100, faces=True, xi=QUARTER_STACKS):
-    from coincli.averages import marginal
-    from coincli.densities import Normal
+    from coincli.core.averages import marginal
+    from coincli.core.densities import Normal
 
     ch = np.stack(marginal(xi, Normal(math.pi / 2, sigma)), axis=1)
     ch /= ch.sum(axis=1, keepdims=True)
@@ -493,7 +494,7 @@ def test_fit_compares_models():
 
 
 def test_fit_with_a_density_and_without_spread():
-    from coincli.densities import Cosine
+    from coincli.core.densities import Cosine
 
     r = stats.fit(_experiments(_simulate(0.3, 4)), {"cosine": Cosine()}, spread=False)
     assert r.spread is None

@@ -15,15 +15,15 @@ import numpy as np
 import pytest
 import stats_reference as old
 
-from coincli import stats
-from coincli.densities import Cosine, Normal
-from coincli.models import dynamic, geometric
+from coincli.core.stats import tests as stats
+from coincli.core.densities import Cosine, Normal
+from coincli.core.models import dynamic, geometric
 
 
 def _random_experiments(seed: int, rows: int) -> list[stats.Experiment]:
     """Rows of a few shared coins and some coins of their own; 1 to 3000 tosses, drawn from a
     psi spread of 18 deg, some rows with sides only, some counts at the extremes."""
-    from coincli.averages import marginal
+    from coincli.core.averages import marginal
 
     rng = np.random.default_rng(seed)
     shared = rng.uniform(0.05, 1.5, 4)
@@ -60,7 +60,7 @@ def test_rows_match_the_one_at_a_time_engine(seed):
     assert len(res.rows) == len(exps)
     for e, row in zip(exps, res.rows, strict=True):
         chances = {"geometric": geometric(e.xi), "dynamic": dynamic(e.xi)}
-        from coincli.averages import marginal
+        from coincli.core.averages import marginal
 
         chances["cosine"] = marginal(e.xi, Cosine())
         for t in row.tests:

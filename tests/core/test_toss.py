@@ -1,4 +1,4 @@
-"""Tests of coincli.toss: time of flight, outcomes, many tosses, phase space, distributions.
+"""Tests of coincli.core.toss.flight: time of flight, outcomes, many tosses, phase space, distributions.
 
 The reference for "no missed root" is independent of the module: it evaluates eq. (3) as printed
 (``cos alpha = A + B cos(omega t)``, ``arccos``), and samples ``F = z - L`` densely wherever the
@@ -16,8 +16,8 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from coincli import toss as T
-from coincli.models import conditional, dynamic, theta0
+from coincli.core.toss import flight as T
+from coincli.core.models import conditional, dynamic, theta0
 
 FAIR = 1 / math.sqrt(3)
 D = T.DEFAULT_DIAMETER
@@ -718,11 +718,11 @@ def test_wilson_interval():
 
 @pytest.mark.parametrize("level", [0.5, 0.9, 0.95, 0.99, 1 - 1e-12])
 def test_wilson_interval_is_the_one_of_stats(level):
-    """One Wilson implementation: coincli.stats', whose z at the common levels is a constant
+    """One Wilson implementation: coincli.core.stats.tests', whose z at the common levels is a constant
     equal to scipy's ndtri bit for bit (so that simulate needs no scipy)."""
     from scipy.special import ndtri
 
-    from coincli import stats
+    from coincli.core.stats import tests as stats
 
     assert stats._z(level) == -float(ndtri((1.0 - level) / 2))
     for k, n in ((0, 7), (1, 7), (3, 7), (7, 7), (1, 10**9), (333_333, 10**6)):
@@ -815,7 +815,7 @@ def _density_cdf(d):
 def test_psi_densities_sample_their_pdf():
     from scipy.stats import kstest
 
-    from coincli.densities import Cosine, Normal, Table, Uniform
+    from coincli.core.densities import Cosine, Normal, Table, Uniform
 
     for d in (Cosine(), Uniform(), Normal(1.0, 0.3), Normal(0.1, 2.0),
               Table([0, 1, 2, math.pi], [0, 1, 0.2, 0.5])):
@@ -825,8 +825,8 @@ def test_psi_densities_sample_their_pdf():
 
 
 def test_psi_density_prediction_is_the_projects_marginal_and_simulation_converges():
-    from coincli.averages import marginal
-    from coincli.densities import Cosine
+    from coincli.core.averages import marginal
+    from coincli.core.densities import Cosine
 
     assert T.vigorous_limit(FAIR, Cosine()) == marginal(FAIR, Cosine())
     s = T.simulate(200_000, 1, xi=FAIR, u="normal:153.6:19.2", omega="normal:38:4", psi=Cosine())
@@ -873,7 +873,7 @@ def test_simulate_counts_are_capped():
 
 def test_toss_many_takes_one_element_arrays():
     """numpy 2.4 refuses float() of a 1-element array that is not 0-d: one toss as arrays of
-    length 1 (as coincli.bounce passes a block of one) is the scalar toss."""
+    length 1 (as coincli.core.bounce.engine passes a block of one) is the scalar toss."""
     one = T.toss_many(np.array([0.5]), np.array([1.5]), np.array([2.0]), np.array([38.0]))
     assert one.t_f.shape == (1,)
     assert float(one.t_f[0]) == T.toss_many(0.5, 1.5, 2.0, 38.0).t_f

@@ -1,9 +1,9 @@
 """The first contact time against an independent mpmath reference (tests/toss_reference.py).
 
 The reference scans F = z - L at 40 digits with its own certificate, so it finds the first
-root however thin the dip before it.  coincli.toss must agree with it to within what a double
+root however thin the dip before it.  coincli.core.toss.flight must agree with it to within what a double
 can resolve (:func:`toss_reference.allowed_error`: 4 ulps of t plus the time F takes to cross
-its rounding band), one toss (:func:`coincli.toss.toss`) and a batch (:func:`toss_many`) alike:
+its rounding band), one toss (:func:`coincli.core.toss.flight.toss`) and a batch (:func:`toss_many`) alike:
 grazing contacts, huge spins, tiny launch speeds, psi at 0 and 180, both contact models.
 """
 
@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 import toss_reference as R
 
-from coincli import toss as T
+from coincli.core.toss import flight as T
 
 FAIR = 1 / math.sqrt(3)
 D = T.DEFAULT_DIAMETER

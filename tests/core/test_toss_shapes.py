@@ -1,4 +1,4 @@
-"""The outcome engine that simulate runs (coincli.toss._outcomes) against toss_many's codes for
+"""The outcome engine that simulate runs (coincli.core.toss.flight._outcomes) against toss_many's codes for
 every mix of one number and arrays among psi, u and omega, over a grid that reaches the
 extremes: xi from 0 to 1e99, u from 0 to 1e8 m/s, omega from 0 to 1e10 rad/s (1e11 once), psi at 0, pi/2,
 pi and next to them, rim and thick contact.  A fixed --u, --omega or --psi reaches _outcomes as
@@ -14,7 +14,7 @@ import math
 import numpy as np
 import pytest
 
-from coincli import toss as T
+from coincli.core.toss import flight as T
 
 US = [0.0, 1e-300, 1e-6, 2.4, 1e3, 1e8]
 WS = [0.0, 1e-300, 1e-3, 40.0, 240.0, 1e6, 1e10]  # 1e11: the last test (2 s a toss)

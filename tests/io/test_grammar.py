@@ -16,9 +16,10 @@ import math
 
 import pytest
 
-from coincli import coins, models
-from tests.cli_helpers import error as _error
-from tests.cli_helpers import ok as _ok
+from coincli.core import coins
+from coincli.core import models
+from cli_helpers import error as _error
+from cli_helpers import ok as _ok
 
 
 class Cmd:
@@ -197,7 +198,7 @@ def test_lists_and_ranges_of_coins_where_a_command_takes_many(coin):
 
 
 def test_xi_fractions_are_correctly_rounded():
-    from coincli.parse import parse_ratio
+    from coincli.io.grammar import parse_ratio
 
     assert parse_ratio("17/30", "--xi") == 17 / 30
     assert parse_ratio("1/3.5", "--xi") == 2 / 7  # decimal parts: exact, then one rounding
@@ -282,9 +283,9 @@ def test_uniform_low_high_works_in_every_command_with_psi_dist(coin, argv):
 
 def test_uniform_low_high_is_exact(report):
     """uniform:LOW:HIGH against an mpmath reference of the same density, at regime edges too."""
-    from coincli.averages import marginal
-    from coincli.densities import Table, parse_density
-    from tests.marginal_reference import ref_marginal
+    from coincli.core.averages import marginal
+    from coincli.core.densities import Table, parse_density
+    from marginal_reference import ref_marginal
 
     worst = 0.0
     for spec, lo, hi in (("uniform:60:120", 60, 120), ("uniform:0:30.5", 0, 30.5),
@@ -305,8 +306,8 @@ def test_uniform_low_high_is_exact(report):
 def test_uniform_low_high_samples_exactly():
     import numpy as np
 
-    from coincli.densities import parse_density
-    from coincli.estimators import sample_psi
+    from coincli.core.densities import parse_density
+    from coincli.core.estimators import sample_psi
 
     d = parse_density("uniform:60:120")
     u = np.linspace(0.0, 1.0, 1001)
@@ -384,7 +385,7 @@ def test_seed_option_is_shared():
     assert _options.seed_value("12") == 12
     drawn = {_options.seed_value(None) for _ in range(4)}
     assert len(drawn) == 4 and all(0 <= s < 2**63 for s in drawn)
-    from coincli.cli._common import CoinError
+    from coincli.io.table import CoinError
 
     for bad in ("-1", "1.5", "x", "9" * 41):
         with pytest.raises(CoinError, match="--seed must be a whole number >= 0"):
@@ -397,7 +398,7 @@ def test_seed_option_is_shared():
 @pytest.fixture
 def plotmod():
     pytest.importorskip("matplotlib")
-    from coincli import plot
+    from coincli.render import figures as plot
 
     return plot
 

@@ -1,4 +1,4 @@
-"""Speeds and spins with units (coincli.parse.parse_speed_ms, parse_spin_rads) and the commands
+"""Speeds and spins with units (coincli.io.grammar.parse_speed_ms, parse_spin_rads) and the commands
 that take them: exact factors rounded once, one-line errors naming what is allowed."""
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ import pytest
 from cli_helpers import error as _error
 from cli_helpers import ok as _ok
 
-from coincli import parse
+from coincli.io import grammar as parse
 
 SPEEDS = [  # (text, exact value in m/s)
     ("2", Fraction(2)), ("2m/s", Fraction(2)), ("2 m/s", Fraction(2)), ("240cm/s", Fraction(12, 5)),

@@ -67,7 +67,7 @@ MARGINAL_P = (2.0**-1074, 1e-300, 1e-60, 1e-20, 1e-8, 0.01, 1 / 3, 0.5, 0.9, 1 -
 
 
 def density(label):
-    from coincli.densities import Cosine, Normal, Table, Uniform
+    from coincli.core.densities import Cosine, Normal, Table, Uniform
 
     spec = DENSITIES[label]
     if spec == "uniform":
@@ -107,7 +107,7 @@ def ref_marginal_inverse(p, d, xi_computed, dps=MR.DPS):
     the slope from doubles; for a subnormal target, whose doubles cannot show a slope, from
     mpmath.  For a thin coin (xi below 1e-150) P(sides) = C xi to 1e-100 relative, C measured
     at 1e-100 and 1e-110 (which must agree): xi = p/C, kappa = 1."""
-    from coincli.averages import marginal
+    from coincli.core.averages import marginal
 
     r = target(p)
 
@@ -178,7 +178,7 @@ def marginal_cases():
 
 
 def write(path=DATA, which=("conditional", "marginal")):
-    from coincli.averages import conditional_inverse, marginal_inverse
+    from coincli.core.averages import conditional_inverse, marginal_inverse
 
     data = json.loads(path.read_text()) if path.exists() else {}
     if "conditional" in which:

@@ -1,6 +1,6 @@
 r"""An mpmath reference for the psi-averaged chances (eq. 15), to 40 digits.
 
-Independent of :mod:`coincli.averages` in everything but the mathematics:
+Independent of :mod:`coincli.core.averages` in everything but the mathematics:
 
 - the integral is mpmath's tanh-sinh quadrature (not Gauss-Legendre), in the offsets from each
   piece's left end (not the ``s^2`` variable), at ``DPS + 15`` working digits;
@@ -34,9 +34,9 @@ DATA = Path(__file__).resolve().parent / "data" / "marginal_reference.json"
 def mp_density(spec):
     """(folded pdf on [0, pi/2] as an mpmath function, breakpoints in psi) for a density.
 
-    ``spec`` is a :class:`coincli.densities.Density`; only its parameters are read.
+    ``spec`` is a :class:`coincli.core.densities.Density`; only its parameters are read.
     """
-    from coincli.densities import Cosine, Normal, Table, Uniform
+    from coincli.core.densities import Cosine, Normal, Table, Uniform
 
     pi = mp.pi
     if isinstance(spec, Uniform):
@@ -177,7 +177,7 @@ def ref_marginal(xi: float, density, dps: int = DPS):
         tol = mpf(10) ** (-dps - 5)
         # a narrow normal's far tail cut by a regime boundary (a chance of 1e-60 or 1e-300):
         # offsets sd 2^k from each boundary, k = -20 .. 3, resolve any decay length in that range
-        from coincli.densities import Normal
+        from coincli.core.densities import Normal
 
         edge = ([mpf(density.sd) * mpf(2) ** k for k in range(-20, 4)]
                 if isinstance(density, Normal) and density.sd < 0.5 else [])
@@ -255,7 +255,7 @@ def ref_marginal(xi: float, density, dps: int = DPS):
 
 def cases():
     """(label, xi, density) of the stored reference values."""
-    from coincli.densities import Cosine, Normal, Table, Uniform
+    from coincli.core.densities import Cosine, Normal, Table, Uniform
 
     xis = [0.0, 1e-300, 1e-100, 1e-20, 1e-8, 1e-3, 0.1, 1 / (2 * math.sqrt(2)),
            1 / math.sqrt(3), 1.0, 3.0, 10.0, 1e3, 1e8, 1e20, 1e100, 1e300]
@@ -299,7 +299,7 @@ def write(path=DATA):
 
 
 def _spec(d):
-    from coincli.densities import Normal, Table
+    from coincli.core.densities import Normal, Table
 
     if isinstance(d, Normal):
         return {"kind": "normal", "mean": d.mean.hex(), "sd": d.sd.hex()}
@@ -310,7 +310,7 @@ def _spec(d):
 
 
 def density_from_spec(spec):
-    from coincli.densities import Cosine, Normal, Table, Uniform
+    from coincli.core.densities import Cosine, Normal, Table, Uniform
 
     kind = spec["kind"]
     if kind == "normal":

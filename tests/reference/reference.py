@@ -1,4 +1,4 @@
-r"""Reference values for :mod:`coincli.models`, from the paper's textbook formulas in mpmath.
+r"""Reference values for :mod:`coincli.core.models`, from the paper's textbook formulas in mpmath.
 
 Written independently of ``models.py``: no half-angle forms, no error-free transformations, just
 

@@ -1,6 +1,6 @@
 r"""An mpmath reference for the free rigid body next to (and on) the separatrix.
 
-Independent of :mod:`coincli.rigid` altogether: Euler's equations and the quaternion kinematics
+Independent of :mod:`coincli.core.rigid` altogether: Euler's equations and the quaternion kinematics
 integrated by mpmath's Taylor-series solver (``mpmath.odefun``) at 20 digits.  Double-precision
 integrators cannot serve here: the distance to the separatrix is a small difference of the
 energy and the angular momentum, and their drift (1e-13 relative for DOP853 at its tightest)

@@ -14,8 +14,8 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from coincli.models import Outcome
-from coincli.stats import (
+from coincli.core.models import Outcome
+from coincli.core.stats.tests import (
     _LOG_TINY,
     TIE_RTOL,
     CONFIDENCE,

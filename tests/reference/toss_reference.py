@@ -111,7 +111,7 @@ def _leftmost(f, t1, t2, f1, f2, k2, depth):
 
 
 def band(t, xi, psi, u, om, *, diameter=0.02426, g=9.81, contact="rim", z0=None):
-    """The rounding band of a double evaluation of F at t, as coincli.toss documents it: 16
+    """The rounding band of a double evaluation of F at t, as coincli.core.toss.flight documents it: 16
     eps of the height scale and of the contact depth, and of the phase omega t."""
     eps = 2.0 ** -52
     a = diameter / 2

@@ -73,7 +73,7 @@ def numpy_random():
         import numpy.random
 
         return numpy.random
-    stand_in = types.ModuleType("secrets", "coincli._backend's stand-in while numpy.random "
+    stand_in = types.ModuleType("secrets", "coincli.core._numerics.backend's stand-in while numpy.random "
                                            "is imported (randbits only)")
     stand_in.randbits = randbits
     sys.modules["secrets"] = stand_in

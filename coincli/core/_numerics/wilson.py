@@ -1,8 +1,8 @@
 """The Wilson score interval and the confidence level it takes: the one implementation, which
-:mod:`coincli.stats` re-exports.
+:mod:`coincli.core.stats.tests` re-exports.
 
 It lives in this small module so that ``coin simulate``, which prints a 95% Wilson interval for
-each outcome, imports neither scipy nor the rest of :mod:`coincli.stats` (about 2 ms of its
+each outcome, imports neither scipy nor the rest of :mod:`coincli.core.stats.tests` (about 2 ms of its
 start-up; docs/performance.md).
 """
 

@@ -1,6 +1,6 @@
 r"""Tosses that land on a surface: a rigid-body engine for bouncing coins (MuJoCo).
 
-Every closed form of :mod:`coincli.models` and the deterministic tosses of :mod:`coincli.toss`
+Every closed form of :mod:`coincli.core.models` and the deterministic tosses of :mod:`coincli.core.toss.flight`
 assume the paper's landing: the coin is *caught* at its first contact.  This module answers the
 other question, what a coin does on a table: it bounces, rolls and settles.  It is an optional
 engine, ``pip install 'coincli[physics]'`` (MuJoCo's ``mujoco-core`` bindings); nothing else in
@@ -23,7 +23,7 @@ Free flight is exact, not simulated
     Between contacts the coin is a torque-free symmetric top under gravity: the normal precesses
     about the fixed angular momentum ``L`` at ``Omega = |L| / I1`` and the body spins about its
     axis at ``lambda = (L.n)(1/I3 - 1/I1)``; the centre follows a parabola.  The first contact is
-    the certified root of :func:`coincli.toss.toss_many` (``contact="thick"``: the cylinder's
+    the certified root of :func:`coincli.core.toss.flight.toss_many` (``contact="thick"``: the cylinder's
     lowest corner); later flights use the same certified scan, generalised to any tilt
     (:func:`_first_touch`).  MuJoCo starts :data:`LEAD_STEPS` steps before a contact and stops
     when the coin is airborne again.  (A precessing flight integrated by MuJoCo needs RK4 to keep
@@ -31,7 +31,7 @@ Free flight is exact, not simulated
 
 Landings
     ``catch``: the toss ends at MuJoCo's first contact; the side up is eq. (7) on the tilt then
-    (:func:`coincli.toss.classify`).  ``bounce``: the coin bounces until its outcome can no
+    (:func:`coincli.core.toss.flight.classify`).  ``bounce``: the coin bounces until its outcome can no
     longer change: when its energy (kinetic, gravitational and the contact springs' stored
     energy) is below ``m g (R - 1 um)``, ``R = sqrt(a^2 + h^2/4)`` the half-diagonal, it cannot
     lift its centre over a corner, so it can never cross ``alpha = theta0`` or
@@ -65,8 +65,8 @@ import os
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
-from coincli.rigid import _qconj, _qmul
-from coincli.toss import (
+from coincli.core.rigid import _qconj, _qmul
+from coincli.core.toss.flight import (
     DEFAULT_DIAMETER,
     NAMES,
     SIDES,
@@ -437,7 +437,7 @@ def _first_touch(fl: _Flight, a, hh, g, resolution):
     of the clearance is not positive.
 
     The clearance is ``F(t) = z(t) - a sin alpha - hh |cos alpha|`` with
-    ``cos alpha = A + B cos(Omega s) + C sin(Omega s)``.  As in :mod:`coincli.toss`, ``F`` is
+    ``cos alpha = A + B cos(Omega s) + C sin(Omega s)``.  As in :mod:`coincli.core.toss.flight`, ``F`` is
     semi-concave, ``F'' <= K = Omega^2 sin(beta) (a + hh) - g`` (``beta`` the angle between L and
     the normal), so on a cell of width ``w``, ``F >= min(F(t1), F(t2)) - max(K, 0) w^2 / 8``:
     cells where this is positive hold no contact, however thin a dip could be.
@@ -755,10 +755,10 @@ class Engine:
 
     def first_contacts(self, launches):
         """The exact times of first contact of many launches (one vectorized call of
-        :func:`coincli.toss.toss_many` with the cylinder's corner as the contact)."""
+        :func:`coincli.core.toss.flight.toss_many` with the cylinder's corner as the contact)."""
         import numpy as np
 
-        from coincli.toss import toss_many
+        from coincli.core.toss.flight import toss_many
 
         arr = {k: np.array([getattr(x, k) for x in launches]) for k in
                ("u", "omega", "psi", "z0", "height")}
@@ -928,7 +928,7 @@ class BounceSimulation:
 
     n: int
     counts: tuple  #: heads, sides, tails, unsettled
-    frequencies: list  #: :class:`coincli.toss.Frequency` of heads, sides, tails among settled
+    frequencies: list  #: :class:`coincli.core.toss.flight.Frequency` of heads, sides, tails among settled
     catch_counts: tuple  #: what the catch (first contact, eq. 7) would have said, same tosses
     agree: int  #: tosses whose outcome is the catch's
     mean_bounces: float
@@ -955,7 +955,7 @@ def _block_launches(seed, block, count, dists, coin, stream=(), start=0):
     """The launches ``start`` to ``count`` of block ``block`` of a run: its own generator,
     seeded ``(seed, block)``, so a toss's conditions do not depend on how blocks are shared
     among workers or cut into chunks.  Draws u, omega, psi (as
-    :func:`coincli.toss.sample_conditions`), then height, horizontal speed, its azimuth, and z0,
+    :func:`coincli.core.toss.flight.sample_conditions`), then height, horizontal speed, its azimuth, and z0,
     always a full block."""
     import numpy as np
 
@@ -1016,8 +1016,8 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
     """Toss ``n`` coins onto ``surf`` (a :class:`Surface`, default wood) with seeded random
     launches and count the outcomes.
 
-    ``u``, ``omega``, ``psi`` are as :func:`coincli.toss.sample_conditions` takes them (numbers,
-    spec strings or :class:`coincli.toss.Dist`; SI, radians); ``height`` (surface below the
+    ``u``, ``omega``, ``psi`` are as :func:`coincli.core.toss.flight.sample_conditions` takes them (numbers,
+    spec strings or :class:`coincli.core.toss.flight.Dist`; SI, radians); ``height`` (surface below the
     launch plane, m), ``vx`` (horizontal speed, m/s) and ``z0`` (centre above the launch plane,
     m; default the paper's for a thick coin, ``(sqrt 3/2) a + h/2``) likewise.  ``jobs`` worker
     processes (default: every core); block ``k`` of 256 tosses draws from the seed ``(seed, k)``,
@@ -1028,7 +1028,7 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
     """
     import numpy as np
 
-    from coincli.toss import _count, vigorous_limit
+    from coincli.core.toss.flight import _count, vigorous_limit
 
     n = _count(n)
     coin = Coin(float(xi), float(diameter), float(density))

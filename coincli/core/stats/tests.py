@@ -47,8 +47,8 @@ Log-likelihoods
 Spread of psi (:func:`fit_spread`)
     The tossing style enters through the angle psi between the angular momentum and the normal.
     The model: psi is normal about pi/2 with standard deviation ``sigma``, truncated to [0, pi]
-    (:class:`coincli.densities.Normal`); the chances are the psi-averages of Table I
-    (:func:`coincli.averages.marginal`).  ``sigma = 0`` is the Keller flip, i.e. the dynamic model
+    (:class:`coincli.core.densities.Normal`); the chances are the psi-averages of Table I
+    (:func:`coincli.core.averages.marginal`).  ``sigma = 0`` is the Keller flip, i.e. the dynamic model
     (eq. 12); ``sigma -> inf`` is psi uniform on [0, pi] (Table II, first column).  ``sigma`` is
     estimated by maximum likelihood over ``[0, inf]`` and given a profile-likelihood interval
     ``{sigma: 2 (l_max - l(sigma)) <= chi2_1(0.95) = 3.84}``.
@@ -69,8 +69,8 @@ import re
 from collections import namedtuple
 from collections.abc import Mapping, Sequence
 
-from coincli._wilson import CONFIDENCE, _check_level, _z, wilson_interval  # noqa: F401
-from coincli.models import Outcome
+from coincli.core._numerics.wilson import CONFIDENCE, _check_level, _z, wilson_interval  # noqa: F401
+from coincli.core.models import Outcome
 
 __all__ = [
     "CONFIDENCE",
@@ -1093,15 +1093,15 @@ def _check_method(method) -> None:
 def model_chances(xi, densities: Mapping[str, object] | None = None) -> dict[str, Outcome]:
     """The chances under the geometric and dynamic models, and under each psi density given.
 
-    ``densities`` maps a name to a :class:`coincli.densities.Density`; its chances are the
-    psi-average :func:`coincli.averages.marginal`.  ``xi`` may be an array (then so are the
+    ``densities`` maps a name to a :class:`coincli.core.densities.Density`; its chances are the
+    psi-average :func:`coincli.core.averages.marginal`.  ``xi`` may be an array (then so are the
     chances).
     """
-    from coincli.models import dynamic, geometric
+    from coincli.core.models import dynamic, geometric
 
     out = {"geometric": geometric(xi), "dynamic": dynamic(xi)}
     for name, dens in (densities or {}).items():
-        from coincli.averages import marginal
+        from coincli.core.averages import marginal
 
         out[name] = marginal(xi, dens)
     return out
@@ -1260,12 +1260,12 @@ class _Likelihood:
 
 def _spread_chances(xi, sigma: float) -> Outcome:
     """Chances for psi ~ Normal(pi/2, sigma) on [0, pi]; sigma = 0: dynamic, inf: uniform psi."""
-    from coincli.models import dynamic
+    from coincli.core.models import dynamic
 
     if sigma == 0:
         return dynamic(xi)
-    from coincli.averages import marginal
-    from coincli.densities import Normal, Uniform
+    from coincli.core.averages import marginal
+    from coincli.core.densities import Normal, Uniform
 
     return marginal(xi, Uniform() if math.isinf(sigma) else Normal(HALF_PI, sigma))
 
@@ -1438,7 +1438,7 @@ def fit_spread(xi: Sequence[float], counts: Sequence[Counts], *, confidence: flo
     r"""Maximum-likelihood ``sigma`` of psi ~ Normal(pi/2, sigma) truncated to [0, pi].
 
     All experiments share ``sigma`` (one tossing style); each contributes its multinomial (or
-    binomial) log-likelihood with the chances :func:`coincli.averages.marginal` gives at its
+    binomial) log-likelihood with the chances :func:`coincli.core.averages.marginal` gives at its
     ``xi``.  The parameter runs over ``[0, inf]``, mapped to ``u = sigma / (1 + sigma)`` in
     ``[0, 1]``: ``sigma = 0`` is the dynamic model (Keller flip), ``sigma = inf`` uniform psi.
 
@@ -1598,7 +1598,7 @@ def fit(experiments: Sequence[Experiment], densities: Mapping[str, object] | Non
     """
     import numpy as np
 
-    from coincli.models import dynamic, geometric
+    from coincli.core.models import dynamic, geometric
 
     if not experiments:
         raise ValueError("experiments is empty: nothing to fit")
@@ -1615,7 +1615,7 @@ def fit(experiments: Sequence[Experiment], densities: Mapping[str, object] | Non
         "dynamic": (per_row(dynamic(ux)), 0),
     }
     if densities:
-        from coincli.averages import marginal
+        from coincli.core.averages import marginal
 
         for name, dens in densities.items():
             per_model[name] = (per_row(marginal(ux, dens)), 0)
@@ -1717,7 +1717,7 @@ def parse_experiments(text: str, *, max_rows: int = 100_000, delimiter: str | No
     the most frequent of the three in the header line.  The first non-blank, non-``#`` line is
     the header (case-insensitive, any order).  Columns:
 
-    - the coin, one of: ``xi``; ``coin`` (a catalog name, :func:`coincli.coins.get_coin`) with
+    - the coin, one of: ``xi``; ``coin`` (a catalog name, :func:`coincli.core.coins.get_coin`) with
       an optional ``count`` of stacked coins (default 1); ``diameter`` and ``thickness`` (mm, or
       with a unit: ``24.26mm``, ``2.4cm``, ``0.955in``) with an optional ``count``;
     - the tosses: ``heads``, ``sides``, ``tails`` (``n`` optional, must match), or ``sides``
@@ -1731,8 +1731,8 @@ def parse_experiments(text: str, *, max_rows: int = 100_000, delimiter: str | No
     import csv
     import io
 
-    from coincli import coins
-    from coincli.parse import parse_length_mm, parse_number
+    from coincli.core import coins
+    from coincli.io.grammar import parse_length_mm, parse_number
 
     if text.startswith("\ufeff"):
         text = text[1:]
@@ -1833,7 +1833,7 @@ def _experiment(line: int, row: dict, parse_number, parse_length_mm, coins) -> E
         if geo == {"xi"}:
             raise _err(line, "count", "count goes with coin or diameter/thickness, not with xi")
         try:
-            from coincli.parse import parse_count
+            from coincli.io.grammar import parse_count
 
             count = parse_count(row["count"], "count")
         except ValueError as exc:
@@ -1843,7 +1843,7 @@ def _experiment(line: int, row: dict, parse_number, parse_length_mm, coins) -> E
             other = sorted(geo - {"xi"})[0]
             raise _err(line, other, "give xi, or coin, or diameter and thickness; not several")
         try:
-            from coincli.parse import parse_ratio
+            from coincli.io.grammar import parse_ratio
 
             xi = parse_ratio(row["xi"], "xi")  # as --xi takes it: 0.5, 1/2, 17/30
         except ValueError as exc:

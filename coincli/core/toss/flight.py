@@ -1,6 +1,6 @@
 r"""Real tosses: time of flight, outcome, many tosses and phase-space maps (Sec. II, Fig. 3).
 
-The closed forms of :mod:`coincli.models` hold for a vigorous toss, ``u omega / g >> 1``.  This
+The closed forms of :mod:`coincli.core.models` hold for a vigorous toss, ``u omega / g >> 1``.  This
 module is the deterministic model they are the limit of.  A coin of diameter ``D = 2a`` and
 thickness ``h = xi D`` starts heads up with its centre at height ``z0``, is thrown upward at
 ``u`` and precesses at ``omega = omega_N = M / I_1`` about its angular momentum, which makes the
@@ -108,7 +108,7 @@ import math
 import re
 from collections.abc import Callable, Iterator
 
-from coincli.models import Outcome, conditional
+from coincli.core.models import Outcome, conditional
 
 __all__ = [
     "DEFAULT_DIAMETER",
@@ -403,7 +403,7 @@ class _Setup:
 
 
 def _setup(xp, xi, psi, u, om, diameter, g, thick, z0):
-    """Per-toss constants; xp is ``math`` (via coincli._backend.M) or numpy."""
+    """Per-toss constants; xp is ``math`` (via coincli.core._numerics.backend.M) or numpy."""
     a = diameter / 2
     hh = xi * diameter / 2 if thick else 0.0 * a
     if z0 is None:
@@ -461,7 +461,7 @@ def _sin_cos_psi(xp, psi):
 
 
 def _M():
-    from coincli._backend import M
+    from coincli.core._numerics.backend import M
 
     return M
 
@@ -1970,7 +1970,7 @@ class Dist:
 
     @classmethod
     def from_density(cls, density):
-        """A psi distribution from a :mod:`coincli.densities` density (radians on [0, pi]).
+        """A psi distribution from a :mod:`coincli.core.densities` density (radians on [0, pi]).
 
         A normal or uniform density samples exactly; any other (cosine, table) by inverting its
         CDF tabulated on 2^16 + 1 points (plus the table's own points), accurate to ~1e-9 rad.
@@ -2026,12 +2026,12 @@ class Dist:
 
 
 def _sample_density(np, rng, density, n):
-    """n draws of psi (radians) from a coincli.densities density."""
+    """n draws of psi (radians) from a coincli.core.densities density."""
     name = type(density).__name__
     if name == "Uniform":
         return rng.uniform(0.0, math.pi, n)
     if name == "Normal":
-        from coincli.estimators import normal_is_exponential, sample_psi
+        from coincli.core.estimators import normal_is_exponential, sample_psi
 
         if normal_is_exponential(density):  # beyond what Phi resolves: exact by its own inverse
             return sample_psi(density, rng.random(n))
@@ -2217,7 +2217,7 @@ def sample_conditions(n, rng, *, u, omega, psi):
     """
     import numpy as np
 
-    from coincli._backend import numpy_random
+    from coincli.core._numerics.backend import numpy_random
 
     n = _count(n)
     npr = numpy_random()
@@ -2267,7 +2267,7 @@ def simulate_chunks(n, seed, *, xi, u, omega, psi, diameter=DEFAULT_DIAMETER, g=
     xi = _check("xi", xi, 0.0, allow_inf=not thick)
     dists = {k: as_dist(v, k, *_DOMAINS[k]) for k, v in (("u", u), ("omega", omega),
                                                           ("psi", psi))}
-    from coincli._backend import numpy_random
+    from coincli.core._numerics.backend import numpy_random
 
     rng = numpy_random().default_rng(seed)
     done = 0
@@ -2296,13 +2296,13 @@ class Frequency:
 
 def wilson_interval(k, n, level=0.95):
     """Wilson score interval ``(low, high)`` (floats) for ``k`` successes in ``n`` trials:
-    :func:`coincli.stats.wilson_interval`, the one implementation (no scipy at the common
+    :func:`coincli.core.stats.tests.wilson_interval`, the one implementation (no scipy at the common
     levels 0.9, 0.95, 0.99; imported from its small module, not the whole of stats)."""
     if n <= 0:
         raise ValueError(f"n must be >= 1, got {n}")
     if not 0 < level < 1:
         raise ValueError(f"level must be in (0, 1), got {level}")
-    from coincli._wilson import wilson_interval as _wilson
+    from coincli.core._numerics.wilson import wilson_interval as _wilson
 
     lo, hi = _wilson(k, n, level)
     return float(lo), float(hi)
@@ -2350,25 +2350,25 @@ def vigorous_limit(xi, psi):
     """The vigorous-toss chances (Table I) averaged over a psi distribution (radians).
 
     ``psi`` is a number, a spec string, a :class:`Dist` on [0, pi] or a density.  A fixed value
-    gives :func:`coincli.models.conditional`; otherwise :func:`coincli.averages.marginal` (Gauss-
+    gives :func:`coincli.core.models.conditional`; otherwise :func:`coincli.core.averages.marginal` (Gauss-
     Legendre between the regime boundaries, double precision): a normal is the density
-    :class:`coincli.densities.Normal` truncated to [0, pi], as it is sampled, and
+    :class:`coincli.core.densities.Normal` truncated to [0, pi], as it is sampled, and
     ``uniform:LOW:HIGH`` the two-point table of equal weights.
     """
     dist = as_dist(psi, "psi", 0.0, math.pi)
     xi = _check("xi", xi, 0.0, allow_inf=True)
     if dist.is_fixed:
         return conditional(xi, min(max(dist.p1, 0.0), math.pi))
-    from coincli.averages import marginal
+    from coincli.core.averages import marginal
 
     if dist.kind == "density":
         density = dist.density
     elif dist.kind == "uniform":
-        from coincli.densities import Table
+        from coincli.core.densities import Table
 
         density = Table([max(dist.p1, 0.0), min(dist.p2, math.pi)], [1.0, 1.0], "uniform")
     else:
-        from coincli.densities import Normal
+        from coincli.core.densities import Normal
 
         density = Normal(dist.p1, dist.p2)
     # The vectorized path of marginal (one element): its scalar path gives NaN for a narrow

@@ -1,0 +1,1 @@
+"""Numerical kernels shared by the core: the math/numpy backend, the Wilson interval."""

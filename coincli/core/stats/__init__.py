@@ -1,0 +1,1 @@
+"""Counts of tosses against the models: intervals, exact tests, fits across experiments."""

@@ -1,0 +1,1 @@
+"""Figures (matplotlib) and text plots (a terminal)."""
