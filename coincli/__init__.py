@@ -8,7 +8,7 @@ root-found inverses import numpy when first called.
 
 from __future__ import annotations
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 
 from coincli.core.models import (  # noqa: E402
     FAIR_XI_DYNAMIC,

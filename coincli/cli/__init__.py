@@ -16,7 +16,7 @@ import sys
 import typer
 
 from coincli import __version__
-from coincli.io.table import CoinError, ExitCode
+from coincli.errors import CoinError, ExitCode, InputError
 
 class _Loaded:
     """An attribute of :class:`_App` that imports every command module on its first read."""
@@ -548,12 +548,12 @@ def _complete(instruction: str) -> int:
     ``complete_SHELL`` and the words).  Anything else is one error line, exit 2."""
     action, _, shell = instruction.partition("_")
     if action not in ("source", "complete") or shell not in SHELLS:
-        raise CoinError(f"{COMPLETE_VAR} must be source_SHELL or complete_SHELL with SHELL one "
+        raise InputError(f"{COMPLETE_VAR} must be source_SHELL or complete_SHELL with SHELL one "
                         f"of {', '.join(SHELLS)}; got {instruction!r}")
     if action == "complete" and shell == "bash":
         words, cword = os.environ.get("COMP_WORDS"), os.environ.get("COMP_CWORD", "")
         if words is None or not cword.strip().isdigit():
-            raise CoinError(f"{COMPLETE_VAR}=complete_bash needs COMP_WORDS and COMP_CWORD (a "
+            raise InputError(f"{COMPLETE_VAR}=complete_bash needs COMP_WORDS and COMP_CWORD (a "
                             "whole number), as bash's completion sets them; to install it: "
                             f"eval \"$({COMPLETE_VAR}=source_bash coin)\"")
     from typer.completion import shell_complete

@@ -3,7 +3,7 @@
 
 The physics is :mod:`coincli.core.bounce.engine` (MuJoCo, an optional extra).  This module parses the
 surface and launch options, turns a missing MuJoCo into the one-line hint
-``pip install 'coincli[physics]'`` (exit 1), and builds the results.  Nothing here imports
+``pip install 'thickcoin[physics]'`` (exit 1), and builds the results.  Nothing here imports
 numpy, scipy, rich or mujoco at import time; ``--landing catch`` (the default) never loads them.
 """
 
@@ -25,7 +25,7 @@ MAX_BOUNCE_TOSSES = 10**6  #: -n with --landing bounce: ~4 hours at ~75 tosses/s
 LandingOpt = Annotated[
     str, typer.Option("--landing", help="catch (the paper's: caught at first contact, the "
                       "exact model) or bounce (lands on a surface, bounces and settles; "
-                      "simulated with MuJoCo, pip install 'coincli[physics]').",
+                      "simulated with MuJoCo, pip install 'thickcoin[physics]').",
                       metavar="catch|bounce")
 ]
 SurfaceOpt = Annotated[

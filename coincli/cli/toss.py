@@ -316,7 +316,7 @@ def toss_cmd(
     normal:90:10 deg) with a seed that is reported.  Lists of equal length are paired.
 
     --landing bounce drops the coin onto a surface instead and follows it (MuJoCo, pip install
-    'coincli[physics]') until it settles: its bounces, time to settle and final side;
+    'thickcoin[physics]') until it settles: its bounces, time to settle and final side;
     --trajectory FILE.csv writes the motion.
 
     Examples: coin toss --xi 0.577 ;  coin toss --xi 0.577 --psi 90 --u 2 --omega 40 ;
@@ -516,7 +516,7 @@ def simulate_cmd(
 
     --landing bounce tosses the coins onto a surface (--surface, or --restitution and
     --friction) and lets them bounce and settle, simulated with MuJoCo (pip install
-    'coincli[physics]'): a simulated table, not the paper's catch.  It is slow: 20-30 ms of
+    'thickcoin[physics]'): a simulated table, not the paper's catch.  It is slow: 20-30 ms of
     CPU a toss, 74-108 tosses a second on two idle cores (docs/performance.md), so the default
     10,000 tosses take some 4.5 CPU-minutes; a progress bar on a terminal shows the time left.
 

@@ -16,7 +16,6 @@ rich is imported only to draw a table on a terminal.
 
 from __future__ import annotations
 
-import enum
 import itertools
 import math
 import os
@@ -26,6 +25,7 @@ from typing import Annotated, NamedTuple
 
 import typer
 
+from coincli.errors import CoinError, ExitCode, InputError, NotComputable
 from coincli.io.files import READ_CHUNK, read_capped
 
 __all__ = [
@@ -48,29 +48,6 @@ __all__ = [
     "stdout_is_terminal",
     "stderr_is_terminal",
 ]
-
-
-class ExitCode(enum.IntEnum):
-    """Exit codes of ``coin``; part of its public interface (see README)."""
-
-    OK = 0
-    ERROR = 1  #: the input is valid but the answer cannot be computed
-    USAGE = 2  #: the input is wrong: a bad option, value, file line or combination
-    INTERRUPTED = 130  #: Ctrl-C
-
-
-class CoinError(Exception):
-    """An error to print as one line on stderr, with its exit code.
-
-    The message is passed through :func:`clip_message`: a quoted value longer than
-    :data:`MAX_SHOWN_CHARS` (a 10,000-character option, a 5 MB stdin line) is cut short.
-    """
-
-    def __init__(self, message: str, code: ExitCode = ExitCode.USAGE):
-        message = clip_message(str(message))
-        super().__init__(message)
-        self.message = message
-        self.code = code
 
 
 MAX_SHOWN_CHARS = 60  #: the most characters of a user's value that an error message repeats
@@ -121,12 +98,14 @@ def clip_message(message: str) -> str:
     return message
 
 
-def usage_error(message: str) -> CoinError:
-    return CoinError(message, ExitCode.USAGE)
+def usage_error(message: str) -> InputError:
+    """The error of a wrong input (exit 2)."""
+    return InputError(message)
 
 
-def compute_error(message: str) -> CoinError:
-    return CoinError(message, ExitCode.ERROR)
+def compute_error(message: str) -> NotComputable:
+    """The error of a valid input whose answer cannot be computed (exit 1)."""
+    return NotComputable(message)
 
 
 def stdout_is_terminal() -> bool:
@@ -1324,3 +1303,19 @@ def _fast_floats(data: bytes, what: str, bounds, item, first: int = 1):
 def env_no_color() -> bool:
     """NO_COLOR set to a non-empty value (no-color.org)."""
     return bool(os.environ.get("NO_COLOR"))
+
+
+# --------------------------------------------------------------------------- rows for Python
+
+
+def json_rows(result: Result) -> list[dict]:
+    """The rows of ``result`` as ``--format json`` writes them, as Python dicts: the same writer
+    (:func:`_write_json`, as JSON lines) read back, so ``json.loads`` of a command's JSON equals
+    what :mod:`coincli.api` returns, cell for cell (floats as the shortest repr, non-finite as
+    None / "inf" / "-inf")."""
+    import io
+    import json
+
+    buf = io.StringIO()
+    _write_json(buf, [c.name for c in result.columns], _column_chunks(result), False)
+    return [json.loads(line) for line in buf.getvalue().splitlines()]

@@ -10,7 +10,7 @@ Two layers:
   :func:`phase_figure`) turn that data into a :class:`matplotlib.figure.Figure` on an Agg
   canvas (no pyplot, no global backend switch, nothing shown on screen).
 
-matplotlib is an optional extra (``pip install 'coincli[plot]'``) and is imported only inside
+matplotlib is an optional extra (``pip install 'thickcoin[plot]'``) and is imported only inside
 the builders; :func:`require_matplotlib` raises :class:`MatplotlibMissing` with the install
 hint when it is absent.
 
@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 
 from coincli.core import models
 from coincli.core.modelspec import ModelSpec
+from coincli.errors import MatplotlibMissing, install_hint
 
 __all__ = [
     "OKABE_ITO",
@@ -100,7 +101,7 @@ _EXTRA_COLOURS = ("orange", "purple", "sky", "green", "yellow")
 _EXTRA_STYLES = ("-.", (0, (1, 1.5)), (0, (5, 1, 1, 1, 1, 1)), (0, (3, 1, 1, 1)), (0, (6, 2)))
 
 FORMATS = {".png": "png", ".svg": "svg", ".pdf": "pdf"}  #: file extension -> format
-INSTALL_HINT = "pip install 'coincli[plot]'"
+INSTALL_HINT = install_hint("plot")
 
 #: Figure size limits: inches on a side, dots per inch, and pixels in all (width x dpi times
 #: height x dpi, the PNG or a rasterized map inside an SVG/PDF).  50 million pixels is about
@@ -140,9 +141,6 @@ _METADATA = {"png": {"Software": None}, "svg": {"Date": None},
 
 # --------------------------------------------------------------------------- matplotlib
 
-
-class MatplotlibMissing(ImportError):
-    """matplotlib is not installed; the message carries the one-line install hint."""
 
 
 def require_matplotlib():

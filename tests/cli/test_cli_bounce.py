@@ -213,7 +213,7 @@ def test_without_mujoco_one_line_says_how_to_install(argv):
     p = subprocess.run([sys.executable, "-c", _NO_MUJOCO, *argv], capture_output=True,
                        text=True, timeout=120)
     assert p.returncode == 1 and p.stdout == ""
-    assert p.stderr.count("\n") == 1 and "pip install 'coincli[physics]'" in p.stderr
+    assert p.stderr.count("\n") == 1 and "pip install -U 'thickcoin[physics]'" in p.stderr
     assert "Traceback" not in p.stderr
 
 

@@ -112,7 +112,7 @@ def test_missing_matplotlib_is_one_line_with_the_hint(capsys, no_matplotlib, tmp
     path = tmp_path / "f.png"
     code, out, err = _run(["plot", sub, "--out", str(path)], capsys)
     assert code == 1 and out == ""
-    assert err.count("\n") == 1 and "pip install 'coincli[plot]'" in err
+    assert err.count("\n") == 1 and "pip install -U 'thickcoin[plot]'" in err
     assert not path.exists()
 
 

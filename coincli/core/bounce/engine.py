@@ -3,7 +3,7 @@ r"""Tosses that land on a surface: a rigid-body engine for bouncing coins (MuJoC
 Every closed form of :mod:`coincli.core.models` and the deterministic tosses of :mod:`coincli.core.toss.flight`
 assume the paper's landing: the coin is *caught* at its first contact.  This module answers the
 other question, what a coin does on a table: it bounces, rolls and settles.  It is an optional
-engine, ``pip install 'coincli[physics]'`` (MuJoCo's ``mujoco-core`` bindings); nothing else in
+engine, ``pip install 'thickcoin[physics]'`` (MuJoCo's ``mujoco-core`` bindings); nothing else in
 ``coincli`` imports MuJoCo.
 
 The set-up
@@ -65,6 +65,7 @@ import os
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
+from coincli.errors import PhysicsMissing, install_hint
 from coincli.core.rigid import _qconj, _qmul
 from coincli.core.toss.flight import (
     DEFAULT_DIAMETER,
@@ -109,7 +110,7 @@ __all__ = [
     "UNSETTLED",
 ]
 
-INSTALL_HINT = "pip install 'coincli[physics]'"
+INSTALL_HINT = install_hint("physics")
 LANDINGS = ("catch", "bounce")
 UNSETTLED = 3  #: outcome code of a toss still moving at t_max
 DEFAULT_DENSITY = 8920.0  #: kg/m^3, cupronickel (the US quarter's cladding, 75 Cu / 25 Ni)
@@ -144,9 +145,6 @@ _ZOOM = 32  #: cells a cell of the flight scan is cut into when it may hold a co
 BLOCK = 256  #: tosses per random block: the seed of block k is (seed, k), whatever the workers
 CHUNK = 16  #: tosses a worker simulates between progress reports (a fraction of a second)
 
-
-class PhysicsMissing(RuntimeError):
-    """MuJoCo is not installed; the message says how to install it."""
 
 
 def require_mujoco():
