@@ -353,6 +353,13 @@ def emit(result: Result, fmt: str = "table", quiet: bool = False, out=None,
         _human_table(result, out, terminal=False)
 
 
+def emit_all(results, fmt: str = "table", quiet: bool = False, out=None) -> None:
+    """Write a report's output: one :class:`Result` or several, in order, through :func:`emit`
+    (what a command of :mod:`coincli.cli` does with what :mod:`coincli.reports` returns)."""
+    for result in [results] if isinstance(results, Result) else results:
+        emit(result, fmt, quiet, out)
+
+
 def _chunk_result(result: Result, cols) -> Result:
     return Result(result.title, result.columns, [], note=result.note, vertical=result.vertical,
                   data=[_plain_list(c) for c in cols], key=result.key)
