@@ -16,6 +16,7 @@ import sys
 import typer
 
 from coincli import __version__
+from coincli.cli._help import prepare as _prepare
 from coincli.errors import CoinError, ExitCode, InputError
 
 class _Loaded:
@@ -412,133 +413,6 @@ def _listing(typer_app):
     return lean
 
 
-NO_HEADERS_HELP = "With --format csv or tsv: leave out the header line."
-
-
-def _prepare(root):
-    """The click tree as ``coin`` shows it: plain click help (no rich panels: a third of the
-    time of ``--help``, and no second wrapping) laid out in the terminal's width, and every
-    command that takes the shared ``--format`` option also takes ``--no-headers`` (one
-    definition here, so a command added later has it too; :func:`coincli.io.table.emit`
-    reads it)."""
-    from coincli.render.terminal import terminal_width
-
-    root.context_settings = {**(root.context_settings or {}),
-                             "terminal_width": terminal_width(), "max_content_width": 80}
-    stack = [root]
-    while stack:
-        cmd = stack.pop()
-        cmd.rich_markup_mode = None
-        cmd.help = _plain_help(cmd.help)
-        cmd.get_short_help_str = _short_help(cmd)
-        for p in cmd.params:
-            if getattr(p, "help", None):
-                p.help = p.help.replace("\\[", "[")
-            if p.param_type_name == "option" and not getattr(p, "is_flag", False) and \
-                    p.metavar is None:
-                p.metavar = _METAVARS.get(type(p.type).__name__) or p.name.upper()
-        stack.extend(getattr(cmd, "commands", {}).values())
-        fmt = next((p for p in cmd.params if "--format" in getattr(p, "opts", ())), None)
-        if fmt is None or any(p.name == "no_headers" for p in cmd.params):
-            continue
-        from typer.core import TyperOption
-
-        flag = TyperOption(param_decls=["no_headers", "--no-headers"], is_flag=True,
-                           default=False, help=NO_HEADERS_HELP)
-        cmd.params.insert(cmd.params.index(fmt) + 1, flag)
-        cmd.callback = _with_no_headers(cmd.callback, fmt.name)
-    return root
-
-
-_METAVARS = {"IntParamType": "N", "IntRange": "N", "FloatParamType": "X", "FloatRange": "X"}
-
-#: a word ending in '.' that does not end a sentence (click's short help stops at the first)
-_ABBREVIATIONS = r"\b(?:Figs?|[Ee]qs?|Secs?|Refs?|Tab|vs|cf|e\.g|i\.e|No)\. (?=\S)"
-
-
-def _short_help(cmd):
-    """``cmd.get_short_help_str`` for a command listing that reads past an abbreviation: the
-    first sentence of 'The pre-images ... (u, omega): Fig. 3 of the paper.' is not '...: Fig.'.
-    """
-    whole = cmd.get_short_help_str
-
-    def short_help(limit: int = 45) -> str:
-        if cmd.short_help or not cmd.help:
-            return whole(limit)
-        import re
-
-        saved = cmd.help  # the abbreviation's blank, a non-blank for click, back after
-        cmd.help = re.sub(_ABBREVIATIONS, lambda m: m.group()[:-1] + "\0", saved)
-        try:
-            return whole(limit).replace("\0", " ")
-        finally:
-            cmd.help = saved
-
-    return short_help
-
-
-def _plain_help(text):
-    """A docstring for click's plain help: rich's escaped brackets unescaped, and an
-    ``Examples:`` paragraph (examples apart by ' ; ') set one example a line, unwrapped."""
-    if not text:
-        return text
-    import re
-
-    text = text.replace("\\[", "[")
-    paras = re.split(r"\n\s*\n", text)
-    out = []
-    k = 0
-    while k < len(paras):
-        para = paras[k]
-        body = " ".join(para.split())
-        k += 1
-        if not body.startswith("Examples:") or para.startswith("\b"):
-            out.append(para)
-            continue
-        examples = [e.strip() for e in re.split(r"\s;\s+", body[len("Examples:"):])]
-        while k < len(paras) and _is_example(paras[k]):  # one example a paragraph
-            examples.append(" ".join(paras[k].split()))
-            k += 1
-        out.append("\b\nExamples:\n" + "\n".join(_example_lines(e) for e in examples if e))
-    return "\n\n".join(out)
-
-
-def _is_example(para: str) -> bool:
-    """A paragraph that is a command line (an example after an ``Examples:`` line)."""
-    body = " ".join(para.split())
-    return body.startswith("coin ") or (" coin " in body and len(body.split("coin ")[0]) < 40
-                                        and any(c in body for c in "|$="))
-
-
-EXAMPLE_WIDTH = 74  #: an example line, indented 4 in an 80-column help screen
-
-
-def _example_lines(example: str) -> str:
-    """One example, indented; a long one continued on the next lines with a shell ``\\``."""
-    lines, cur = [], ""
-    for word in example.split():
-        if cur and len(cur) + 1 + len(word) > EXAMPLE_WIDTH - 2:
-            lines.append(cur + " \\")
-            cur = "  " + word
-        else:
-            cur = f"{cur} {word}" if cur else word
-    lines.append(cur)
-    return "\n".join(f"  {line}" for line in lines)
-
-
-def _with_no_headers(callback, fmt_name):
-    from coincli.io.table import usage_error
-
-    def run_command(*args, no_headers=False, **kwargs):
-        if no_headers:
-            fmt = str(kwargs.get(fmt_name) or "table").strip().lower()
-            if fmt not in ("csv", "tsv"):
-                raise usage_error(f"--no-headers goes with --format csv or tsv, not {fmt!r}")
-        return callback(*args, **kwargs)
-
-    return run_command
-
-
 COMPLETE_VAR = "_COIN_COMPLETE"
 SHELLS = ("bash", "zsh", "fish")
 
@@ -558,8 +432,8 @@ def _complete(instruction: str) -> int:
                             f"eval \"$({COMPLETE_VAR}=source_bash coin)\"")
     from typer.completion import shell_complete
 
-    return shell_complete(_prepare(typer.main.get_command(app)), {}, "coin", COMPLETE_VAR,
-                          instruction)
+    return shell_complete(_prepare(typer.main.get_command(app), complete=True), {}, "coin",
+                          COMPLETE_VAR, instruction)
 
 
 def _flush_stdout():

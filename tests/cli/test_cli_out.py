@@ -761,15 +761,22 @@ def test_a_command_missing_from_the_module_map_still_runs():
 
 @pytest.mark.parametrize("group", [[], ["plot"]], ids=["coin", "coin plot"])
 def test_command_listings_never_stop_at_an_abbreviation(coin, group):
-    """A command's one-line summary is its first sentence, cut with '...' to the width: never
-    'Fig.' or 'eq.' taken for a sentence's end (coin phase read '...(u, omega): Fig.')."""
+    """A command's summary is its whole first sentence, wrapped to the width, never cut: never
+    'Fig.' or 'eq.' taken for a sentence's end (coin phase read '...(u, omega): Fig.'), never
+    '...' at 80 columns."""
     text = _ok(coin(*group, "--help"))
-    lines = [ln for ln in text.split("Commands:")[1].splitlines() if ln.startswith("  ")]
-    assert len(lines) >= 4
-    for ln in lines:
-        last = ln.split()[-1]
-        assert not re.fullmatch(r"\(?(Figs?|[Ee]qs?|Sec|e\.g|i\.e|vs)\.", last), ln
-        assert "\0" not in ln
+    entries = []  # a command's summary: its first line and the deeper-indented lines after it
+    for ln in text.split("Commands:")[1].splitlines():
+        if ln.startswith("  ") and not ln.startswith("   "):
+            entries.append(ln)
+        elif ln.startswith("   ") and entries:
+            entries[-1] += " " + ln.strip()
+    assert len(entries) >= 4
+    for entry in entries:
+        last = entry.split()[-1]
+        assert not re.fullmatch(r"\(?(Figs?|[Ee]qs?|Sec|e\.g|i\.e|vs)\.", last), entry
+        assert "\0" not in entry and not entry.endswith("..."), entry
+        assert entry.endswith((".", ")")), entry
 
 
 @pytest.mark.skipif(not hasattr(os, "openpty"), reason="needs a pseudo-terminal")
