@@ -38,25 +38,25 @@ def _stats(errs):
 
 
 def k_and_f(m1s):
-    from coincli.core import rigid as R
+    from coincli.core._numerics import elliptic
 
     ek, ef = [], []
     for m1 in m1s:
         mp.mp.dps = _dps(m1)
         m = 1 - mp.mpf(m1)
-        K = R.ellip_k(float(m), m1)
+        K = elliptic.ellip_k(float(m), m1)
         ek.append(abs(K / float(mp.ellipk(m)) - 1))
         for phi in np.linspace(1e-3, math.pi / 2, 24):
             s, c = math.sin(phi), math.cos(phi)
             ref = mp.ellipf(mp.atan2(mp.mpf(s), mp.mpf(c)), m)
-            ef.append(abs(R.ellip_f(s, c, m1) / float(ref) - 1))
+            ef.append(abs(elliptic.ellip_f(s, c, m1) / float(ref) - 1))
     return ek, ef
 
 
 def jacobi(m1s, points=64):
     """Relative error of sn, cn, dn with u in [0, 4K) (the argument itself exact), split into
     values above and below 1e-3 (near a zero of sn or cn, or dn next to the separatrix)."""
-    from coincli.core import rigid as R
+    from coincli.core._numerics import elliptic
 
     big, small = [], []
     for m1 in m1s:
@@ -64,7 +64,7 @@ def jacobi(m1s, points=64):
         m = 1 - mp.mpf(m1)
         K = float(mp.ellipk(m))
         us = np.linspace(0, 4 * K, points, endpoint=False)[1:]
-        s, c, d, _, _ = R.ellip_j(us, np.float64(float(m)), np.float64(m1))
+        s, c, d, _, _ = elliptic.ellip_j(us, np.float64(float(m)), np.float64(m1))
         for u, vals in zip(us, zip(s, c, d, strict=True), strict=True):
             for name, got in zip(("sn", "cn", "dn"), vals, strict=True):
                 ref = float(mp.ellipfun(name, mp.mpf(float(u)), m=m))

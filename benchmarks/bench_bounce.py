@@ -29,6 +29,7 @@ sys.path.insert(0, os.path.dirname(__file__))
 from _report import fmt_rate, machine, median, table, write_section  # noqa: E402
 
 from coincli.core.bounce import engine as B  # noqa: E402
+from coincli.core.bounce import runs as R  # noqa: E402
 from coincli.core.toss import flight as T  # noqa: E402
 
 LAUNCH = T.HAND_TOSS
@@ -61,7 +62,7 @@ def main():
         B.calibrate(B.Coin(xi), B.SURFACES["wood"])  # once per run, not per toss
         walls, cpus, bwalls = [], [], []
         for _ in range(REPEATS):
-            r, wall, c = timed(lambda n=n, xi=xi, landing=landing: B.simulate(
+            r, wall, c = timed(lambda n=n, xi=xi, landing=landing: R.simulate(
                 n, 1, xi=xi, landing=landing, jobs=2, **LAUNCH))
             _, bwall, _ = timed(lambda n=n, xi=xi: T.simulate(n, 1, xi=xi, contact="thick",
                                                                 **LAUNCH))
@@ -104,11 +105,11 @@ def where_the_time_goes():
         coin = B.Coin(xi)
         eng = B.Engine(coin, B.SURFACES["wood"])
         dists = {"u": LAUNCH["u"], "omega": LAUNCH["omega"], "psi": LAUNCH["psi"],
-                 "height": B.as_dist(0.0, "height", 0, 1), "vx": B.as_dist(0.0, "vx", 0, 1),
-                 "z0": B.as_dist(B.default_z0(xi, coin.diameter, "thick"), "z0", 0, 1)}
+                 "height": T.as_dist(0.0, "height", 0, 1), "vx": T.as_dist(0.0, "vx", 0, 1),
+                 "z0": T.as_dist(T.default_z0(xi, coin.diameter, "thick"), "z0", 0, 1)}
         launches = []
-        for k in range(-(-n // B.BLOCK)):
-            launches += B._block_launches(2, k, min(B.BLOCK, n - k * B.BLOCK), dists, coin)
+        for k in range(-(-n // R.BLOCK)):
+            launches += R._block_launches(2, k, min(R.BLOCK, n - k * R.BLOCK), dists, coin)
         t_first = eng.first_contacts(launches)
         plain = {}  # CPU per toss without the profiler: the rolling rule on (default) and off
         for rolling in (True, False):

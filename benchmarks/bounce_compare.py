@@ -5,7 +5,7 @@ sensitivity to what a user cannot control.  Prints markdown; docs/bounce.md quot
     python benchmarks/bounce_compare.py sensitivity [N]  # one setting at a time from wood
 
 Each row simulates N tosses (default 300) at three aspect ratios (0.45, 0.7 and the row's
-xi), fits the probit of coincli.core.bounce.engine.fit_sides to them, and reports P(sides) at the
+xi), fits the probit of coincli.core.bounce.design.fit_sides to them, and reports P(sides) at the
 source's xi (or at 0.577) with its 95% Wilson interval and the fitted fair xi
 (P(sides) = 1/3) with its 95% interval.  Seed 1, every core.  The hand toss of ``coin
 simulate`` (coincli.core.toss.flight.HAND_TOSS) unless said: u ~ normal:2.4:0.3 m/s, omega ~ normal:38:4
@@ -18,7 +18,9 @@ import math
 import sys
 import time
 
+from coincli.core.bounce import design as D
 from coincli.core.bounce import engine as B
+from coincli.core.bounce import runs as R
 from coincli.core.toss.flight import HAND_TOSS, Dist
 
 DEG = math.pi / 180
@@ -32,11 +34,11 @@ def row(label, surf, launch, n, at=0.577, xis=XIS, **kw):
     pts, here = [], None
     grid = sorted(set(xis) | {at})
     for j, x in enumerate(grid):
-        r = B.simulate(n, 1, xi=x, surf=surf, stream=(j,), **launch, **kw)
+        r = R.simulate(n, 1, xi=x, surf=surf, stream=(j,), **launch, **kw)
         pts.append((x, r.settled, r.counts[1]))
         if x == at:
             here = r.frequencies[1]
-    fit = B.fit_sides(pts)
+    fit = D.fit_sides(pts)
     fair = fit.inverse(1 / 3)
     lo, hi = fit.interval(1 / 3)
     out = (f"| {label} | {surf.restitution:g} | {surf.friction:g} | {at:g} | "
@@ -72,7 +74,7 @@ def nickel(n):
                                 ("tumbling toss onto hard-floor", B.SURFACES["hard-floor"],
                                  TUMBLE),
                                 ("hand toss onto wood", B.SURFACES["wood"], HAND)):
-        r = B.simulate(n, 1, xi=1.95 / 21.21, diameter=0.02121, surf=surf, **launch)
+        r = R.simulate(n, 1, xi=1.95 / 21.21, diameter=0.02121, surf=surf, **launch)
         f = r.frequencies[1]
         print(f"| {label} | {r.settled} | {f.count} | {f.p:.2e} [{f.lo:.1e}, {f.hi:.1e}] | "
               f"{1 / f.p if f.p else math.inf:.0f} |", flush=True)

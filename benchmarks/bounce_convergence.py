@@ -14,7 +14,7 @@ from __future__ import annotations
 import resource
 import sys
 
-from coincli.core.bounce import engine as B
+from coincli.core.bounce import runs
 from coincli.core.toss.flight import HAND_TOSS, HAND_TOSS_TEXT
 
 LAUNCH = HAND_TOSS
@@ -39,7 +39,7 @@ def main():
     for xi in xis:
         for dt in dts:
             c0 = cpu_s()
-            r = B.simulate(n, 1, xi=xi, dt=dt, **LAUNCH)
+            r = runs.simulate(n, 1, xi=xi, dt=dt, **LAUNCH)
             cpu = cpu_s() - c0
             cells = [f"{f.p:.4f} [{f.lo:.4f}, {f.hi:.4f}]" for f in r.frequencies]
             print(f"| {xi:g} | {dt:g} | {' | '.join(cells)} | {r.counts[3]} | "

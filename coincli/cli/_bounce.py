@@ -204,7 +204,9 @@ def parse_physics(landing: str, *, surface=None, restitution=None, friction=None
     p.height = 0.0 if height is None else _dist(height, "--release-height", "mm", 1e-3, 1e5)
     p.vx = 0.0 if vx is None else _dist(vx, "--vx", "m/s", 1.0, 100.0)
     if jobs is None:
-        p.jobs = B.default_jobs()
+        from coincli.core.bounce.runs import default_jobs
+
+        p.jobs = default_jobs()
     else:
         j = jobs.strip()
         if not (j.isascii() and j.isdigit()) or not 1 <= int(j) <= 1024:
@@ -275,14 +277,15 @@ def simulate(p: Physics, *, count, seed, xi, u, omega, psi, diameter, g, labels,
              progress):
     """``coin simulate --landing bounce``: frequencies among settled tosses with Wilson
     intervals, what the catch would have said of the same tosses, the vigorous limit."""
+    from coincli.core.bounce import runs
+    from coincli.core.toss.flight import wilson_interval
     from coincli.io.table import emit
 
-    B = p.B
     if count > MAX_BOUNCE_TOSSES:
         raise usage_error(f"-n must be at most {MAX_BOUNCE_TOSSES} with --landing bounce (a "
                           f"simulated toss takes milliseconds), got {count}")
     with progress(count) as tick:
-        sim = _run(B.simulate, count, seed, xi=xi, u=u, omega=omega, psi=psi, surf=p.surface,
+        sim = _run(runs.simulate, count, seed, xi=xi, u=u, omega=omega, psi=psi, surf=p.surface,
                    landing="bounce", height=p.height, vx=p.vx, diameter=diameter, g=g,
                    dt=p.dt, t_max=p.t_max, jobs=p.jobs, progress=tick)
     rows = []
@@ -290,7 +293,7 @@ def simulate(p: Physics, *, count, seed, xi, u, omega, psi, diameter, g, labels,
     for i, f in enumerate(sim.frequencies):
         rows.append((f.outcome, f.count, f.p, f.lo, f.hi, sim.catch_counts[i] / n,
                      float(sim.vigorous[i])))
-    lo, hi = B.wilson_interval(sim.counts[3], n)
+    lo, hi = wilson_interval(sim.counts[3], n)
     rows.append(("unsettled", sim.counts[3], sim.counts[3] / n, lo, hi, None, None))
     common = ["bounce", p.surface.name, p.surface.restitution, p.surface.friction, sim.seed,
               sim.mean_bounces, sim.mean_t_settle, sim.agree / n]
@@ -329,6 +332,7 @@ def toss(p: Physics, *, xi, psi, u, omega, diameter, g, z0, trajectory, fmt, qui
          note_extra: str = "", seed: int | None = None):
     """``coin toss --landing bounce``: one toss onto the surface, its bounces, time to settle
     and final side; ``trajectory`` (a path) gets the time series as CSV, written atomically."""
+    from coincli.core.toss.flight import default_z0
     from coincli.io.table import emit
 
     B = p.B
@@ -338,7 +342,7 @@ def toss(p: Physics, *, xi, psi, u, omega, diameter, g, z0, trajectory, fmt, qui
         raise usage_error("coin toss takes one --release-height and one --vx (a number, not a "
                           "distribution)")
     coin = _run(B.Coin, xi, diameter)
-    z0v = B.default_z0(xi, diameter, "thick") if z0 is None else z0
+    z0v = default_z0(xi, diameter, "thick") if z0 is None else z0
     eng = _run(B.Engine, coin, p.surface, dt=p.dt, g=g, landing="bounce", t_max=p.t_max)
     launch = B.Launch(u, omega, psi, z0v, p.height, p.vx, 0.0)
     t_land = eng.first_contacts([launch])[0]
@@ -406,11 +410,11 @@ def write_csv_atomic(path: str, header, rows) -> None:
 
 def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, psi, diameter,
            g, labels, fmt, quiet, progress):
+    from coincli.core.bounce import design as bounce_design
     from coincli.io.table import emit
 
-    B = p.B
     with progress() as tick:
-        r = _run(B.design, targets, seed=seed, tol=tol, max_tosses=max_tosses,
+        r = _run(bounce_design.design, targets, seed=seed, tol=tol, max_tosses=max_tosses,
                  time_limit=time_limit, u=u, omega=omega, psi=psi, surf=p.surface,
                  landing="bounce", height=p.height, vx=p.vx, diameter=diameter, g=g, dt=p.dt,
                  t_max=p.t_max, jobs=p.jobs, progress=tick)
@@ -442,9 +446,9 @@ def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, 
                      "widened by the dispersion" if any(f.p_value < 0.01 for f in r.fits)
                      else "")
             + f"; 95% intervals by the delta method.  Stopped: {why[r.stopped_by]}"
-            + ("" if r.first >= B.DESIGN_FIRST else
+            + ("" if r.first >= bounce_design.DESIGN_FIRST else
                f" (--max-tosses {max_tosses} cut the first sweep to {r.first} tosses per aspect "
-               f"ratio, from {B.DESIGN_FIRST})")
+               f"ratio, from {bounce_design.DESIGN_FIRST})")
             + ("" if r.stopped_by == "tol" else
                f"; --max-tosses {r.tosses} reproduces this result") + ".  "
             "The catch model (no --landing) gives the paper's xi.  Toss a prototype and check "
@@ -520,19 +524,20 @@ PLOT_XI = (0.05, 100.0)
 def sides_points(p: Physics, *, seed, n, xis, u, omega, psi, diameter, g):
     """Simulated points (one per xi, 95% Wilson intervals) and the fitted curve, or None and
     why not when the points do not determine one."""
+    from coincli.core.bounce import design as bounce_design
+    from coincli.core.bounce import runs
     from coincli.render.figures import ExperimentPoint
 
-    B = p.B
     pts = []
     for j, x in enumerate(xis):
-        r = _run(B.simulate, n, seed, xi=x, u=u, omega=omega, psi=psi, surf=p.surface,
+        r = _run(runs.simulate, n, seed, xi=x, u=u, omega=omega, psi=psi, surf=p.surface,
                  landing="bounce", height=p.height, vx=p.vx, diameter=diameter, g=g, dt=p.dt,
                  t_max=p.t_max, jobs=p.jobs, stream=(0, j))
         f = r.frequencies[1]
         pts.append(ExperimentPoint(f"simulated bounce on {p.surface.name}", x, r.settled,
                                    f.count, f.p, f.lo, f.hi))
     try:
-        fit = B.fit_sides([(e.xi, e.n, e.sides) for e in pts])
+        fit = bounce_design.fit_sides([(e.xi, e.n, e.sides) for e in pts])
     except ValueError as exc:
         return pts, None, str(exc)
     return pts, FittedSpec(fit, p.surface.name), None

@@ -22,6 +22,9 @@ import pytest
 B = pytest.importorskip("coincli.core.bounce.engine")
 mujoco = pytest.importorskip("mujoco")
 
+from coincli.core._numerics.quaternion import _qconj, _qrot  # noqa: E402
+from coincli.core.bounce import design as D  # noqa: E402
+from coincli.core.bounce import runs as R  # noqa: E402
 from coincli.core.toss import flight as T  # noqa: E402
 from coincli.core.models import conditional, dynamic  # noqa: E402
 
@@ -108,7 +111,7 @@ def test_catch_reproduces_eq_12(xi):
     """P(sides) of 3000 caught hand tosses (psi = 90) within its 95% Wilson interval of
     (2/pi) atan(xi).  With the rim instead of the cylinder's corner, or the tilt read after the
     step that found the contact, xi = 1 and 1.5 fall outside."""
-    r = B.simulate(3000, 1, xi=xi, psi=math.pi / 2, landing="catch", jobs=1, **HAND)
+    r = R.simulate(3000, 1, xi=xi, psi=math.pi / 2, landing="catch", jobs=1, **HAND)
     assert r.counts[3] == 0
     assert inside(r.frequencies[1], dynamic(xi).sides), (r.frequencies[1], dynamic(xi).sides)
 
@@ -116,7 +119,7 @@ def test_catch_reproduces_eq_12(xi):
 @pytest.mark.parametrize("psi_deg", [60, 75])
 def test_catch_reproduces_table_1(psi_deg):
     xi = 0.577
-    r = B.simulate(3000, 1, xi=xi, psi=math.radians(psi_deg), landing="catch", jobs=1, **HAND)
+    r = R.simulate(3000, 1, xi=xi, psi=math.radians(psi_deg), landing="catch", jobs=1, **HAND)
     expected = conditional(xi, math.radians(psi_deg))
     for f, p in zip(r.frequencies, expected, strict=True):
         assert inside(f, p), (f, p)
@@ -194,7 +197,7 @@ def _on_side_rolling(eng, speed, spin):
     d.qpos[:3] = (0.0, 0.0, coin.a - 2e-5)  # 20 um into the surface: touching
     d.qpos[3:7] = q
     d.qvel[:3] = (speed, 0.0, 0.0)
-    d.qvel[3:6] = B._qrot(B._qconj(q), (0.0, spin, 0.0))  # body frame
+    d.qvel[3:6] = _qrot(_qconj(q), (0.0, spin, 0.0))  # body frame
     eng.mujoco.mj_forward(eng.m, d)
 
 
@@ -223,7 +226,7 @@ def test_rolling_rule_changes_no_outcome():
     dists = {**T.HAND_TOSS, "height": T.as_dist(0.0, "height", 0, 1),
              "vx": T.as_dist(0.0, "vx", 0, 1),
              "z0": T.as_dist(T.default_z0(0.577, contact="thick"), "z0", 0, 1)}
-    launches = B._block_launches(5, 0, 48, dists, coin)
+    launches = R._block_launches(5, 0, 48, dists, coin)
     fired = 0
     for launch in launches:
         eng.rolling_rest = True
@@ -239,16 +242,16 @@ def test_rolling_rule_changes_no_outcome():
 
 def test_determinism_across_workers():
     kw = dict(xi=0.577, psi=math.pi / 2, surf=B.SURFACES["wood"], **HAND)
-    one = B.simulate(300, 5, jobs=1, chunk=B.BLOCK, **kw)
+    one = R.simulate(300, 5, jobs=1, chunk=R.BLOCK, **kw)
     ticks = []
-    two = B.simulate(300, 5, jobs=2, chunk=7, progress=ticks.append, **kw)
+    two = R.simulate(300, 5, jobs=2, chunk=7, progress=ticks.append, **kw)
     assert one.counts == two.counts and one.steps == two.steps
     assert one.mean_bounces == two.mean_bounces and one.mean_t_settle == two.mean_t_settle
     # the bar advances chunk by chunk (37 + 7 chunks of at most 7 tosses), not block by block
     assert len(ticks) == 37 + 7 and ticks == sorted(set(ticks)) and ticks[-1] == 300
     assert all(0 < b - a <= 7 for a, b in zip([0, *ticks], ticks))
     with pytest.raises(ValueError, match="chunk must be from 1 to 256"):
-        B.simulate(10, 5, chunk=0, **kw)
+        R.simulate(10, 5, chunk=0, **kw)
 
 
 def test_trajectory_is_recorded():
@@ -284,8 +287,8 @@ def test_timestep_halving():
     """Halving dt (and so hardening the contact, omega_n dt = 0.3, recalibrated) moves no
     frequency beyond its 95% interval (the intervals of the two runs overlap)."""
     kw = dict(xi=0.577, psi=math.pi / 2, jobs=2, **HAND)
-    a = B.simulate(1000, 3, dt=B.DEFAULT_DT, **kw)
-    b = B.simulate(1000, 3, dt=B.DEFAULT_DT / 2, **kw)
+    a = R.simulate(1000, 3, dt=B.DEFAULT_DT, **kw)
+    b = R.simulate(1000, 3, dt=B.DEFAULT_DT / 2, **kw)
     for fa, fb in zip(a.frequencies, b.frequencies, strict=True):
         assert fa.lo <= fb.hi and fb.lo <= fa.hi, (fa, fb)
 
@@ -302,7 +305,7 @@ def test_fit_sides_recovers_an_exact_probit():
     deviance near 0 and the inverse of the curve."""
     n = 10**8
     pts = [(x, n, round(n * _probit(0.3, 1.7, x))) for x in (0.2, 0.35, 0.5, 0.8, 1.3)]
-    f = B.fit_sides(pts)
+    f = D.fit_sides(pts)
     assert f.alpha == pytest.approx(0.3, abs=1e-5) and f.beta == pytest.approx(1.7, abs=1e-5)
     assert f.deviance < 1e-3 and f.p_value > 0.99
     want = math.exp((-0.4307272992954576 - 0.3) / 1.7)  # Phi^-1(1/3) = -0.43072729929545756
@@ -317,22 +320,22 @@ def test_fit_sides_recovers_an_exact_probit():
 ])
 def test_fit_sides_refuses_separated_points_in_one_line(points):
     with pytest.raises(ValueError, match="do not determine a curve of P\\(sides\\)"):
-        B.fit_sides(points)
+        D.fit_sides(points)
 
 
 def test_fit_sides_fits_points_that_overlap():
-    f = B.fit_sides([(0.1, 10, 1), (0.2, 10, 5), (0.3, 10, 10)])
+    f = D.fit_sides([(0.1, 10, 1), (0.2, 10, 5), (0.3, 10, 10)])
     assert f.beta > 0 and 0.1 < f.inverse(0.5) < 0.3
 
 
 def test_fit_sides_widens_intervals_by_the_dispersion():
     """Points that scatter beyond binomial noise widen the interval by sqrt(deviance / df)."""
     pts = [(0.2, 400, 40), (0.3, 400, 150), (0.45, 400, 110), (0.7, 400, 260), (1.0, 400, 250)]
-    f = B.fit_sides(pts)
+    f = D.fit_sides(pts)
     phi = f.deviance / f.df
     assert phi > 5
     lo, hi = f.interval(1 / 3)
-    g = B.SidesFit(f.alpha, f.beta, tuple(tuple(c / phi for c in row) for row in f.cov),
+    g = D.SidesFit(f.alpha, f.beta, tuple(tuple(c / phi for c in row) for row in f.cov),
                    f.points, f.deviance, f.df, f.p_value)
     glo, ghi = g.interval(1 / 3)
     assert math.log(hi / lo) == pytest.approx(math.sqrt(phi) * math.log(ghi / glo), rel=1e-9)
@@ -362,13 +365,13 @@ def test_design_answers_from_the_points_near_the_target(monkeypatch, curve, targ
         k = int(np.random.default_rng([seed, *stream]).binomial(n, curve(xi)))
         return type("R", (), {"settled": n, "counts": (0, k, n - k, 0)})()
 
-    monkeypatch.setattr(B, "simulate", fake)
+    monkeypatch.setattr(D, "simulate", fake)
     truth = brentq(lambda x: curve(x) - target, 0.05, 3.0)
-    r = B.design([target], seed=4, tol=0.01, max_tosses=10**6)
+    r = D.design([target], seed=4, tol=0.01, max_tosses=10**6)
     assert r.met and r.stopped_by == "tol"
     assert abs(r.xi[0] - truth) < 0.01, (r.xi, truth)
     assert r.low[0] <= truth <= r.high[0]
-    assert B.fit_sides(r.fit.points).p_value < 1e-3  # the whole-sweep probit misses them
+    assert D.fit_sides(r.fit.points).p_value < 1e-3  # the whole-sweep probit misses them
 
 
 @pytest.mark.parametrize("cap", [180, 600, 1799, 1800, 2999, 3000, 5000])
@@ -384,14 +387,14 @@ def test_design_never_passes_max_tosses(monkeypatch, cap):
         k = int(np.random.default_rng([seed, *stream]).binomial(n, _floor(xi)))
         return type("R", (), {"settled": n, "counts": (0, k, n - k, 0)})()
 
-    monkeypatch.setattr(B, "simulate", fake)
-    r = B.design([1 / 3], seed=4, tol=1e-4, max_tosses=cap)
+    monkeypatch.setattr(D, "simulate", fake)
+    r = D.design([1 / 3], seed=4, tol=1e-4, max_tosses=cap)
     assert sum(sims) == r.tosses <= cap
     assert r.first == min(200, cap // 9) and r.stopped_by == "max_tosses" and not r.met
     if cap < 1800:
         assert r.rounds == 0 and r.tosses == 9 * (cap // 9)
     with pytest.raises(ValueError, match="--max-tosses must be at least 180"):
-        B.design([1 / 3], seed=4, max_tosses=179)
+        D.design([1 / 3], seed=4, max_tosses=179)
 
 
 def test_smallest_xi_is_what_mujoco_builds():

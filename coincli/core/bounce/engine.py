@@ -54,6 +54,10 @@ The surface
     ``condim = 6``: sliding, torsional and rolling friction (with the default ``condim = 3`` a
     coin rolling on its rim keeps its energy and circles for ever), on an elliptic friction cone.
 
+Many tosses with seeded random launches, across worker processes, are
+:mod:`coincli.core.bounce.runs` (:func:`~coincli.core.bounce.runs.simulate`); the aspect ratio
+that lands on a side with a given chance is :mod:`coincli.core.bounce.design`.
+
 Everything is SI; nothing here prints, parses text or exits.  Bad input raises ``ValueError``
 naming the argument; a missing MuJoCo raises :class:`PhysicsMissing`.
 """
@@ -61,25 +65,16 @@ naming the argument; a missing MuJoCo raises :class:`PhysicsMissing`.
 from __future__ import annotations
 
 import math
-import os
-from collections.abc import Callable
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 
 from coincli.errors import PhysicsMissing, install_hint
-from coincli.core.rigid import _qconj, _qmul
+from coincli.core._numerics.quaternion import _qaxis, _qconj, _qmul, _qrot
 from coincli.core.toss.flight import (
     DEFAULT_DIAMETER,
     NAMES,
-    SIDES,
     STANDARD_G,
-    U_MAX,
-    Frequency,
     _check,
-    as_dist,
     classify,
-    default_z0,
-    sample_conditions,
-    wilson_interval,
 )
 
 __all__ = [
@@ -95,14 +90,8 @@ __all__ = [
     "launch_state",
     "Engine",
     "TossResult",
-    "BounceSimulation",
-    "simulate",
     "calibrate",
     "drop_restitution",
-    "SidesFit",
-    "fit_sides",
-    "Design",
-    "design",
     "DEFAULT_DT",
     "DEFAULT_DENSITY",
     "DEFAULT_T_MAX",
@@ -142,8 +131,6 @@ SLIP_TOL = 2e-3  #: m/s: a contact point moving slower than this does not slip (
 #: rolling upright there is not shown to keep its side: it keeps the whole-energy rule.
 ROLLING_XI_MIN = 0.3
 _ZOOM = 32  #: cells a cell of the flight scan is cut into when it may hold a contact
-BLOCK = 256  #: tosses per random block: the seed of block k is (seed, k), whatever the workers
-CHUNK = 16  #: tosses a worker simulates between progress reports (a fraction of a second)
 
 
 
@@ -339,21 +326,6 @@ class Launch:
     height: float = 0.0  #: m, the surface below the launch plane
     vx: float = 0.0  #: m/s, horizontal speed
     azimuth: float = 0.0  #: rad, direction of the horizontal speed from the plane of L and n
-
-
-def _qrot(q, v):
-    """Rotate vector v by unit quaternion q."""
-    w, x, y, z = q
-    vx, vy, vz = v
-    # t = 2 q_vec x v; v' = v + w t + q_vec x t
-    tx, ty, tz = 2 * (y * vz - z * vy), 2 * (z * vx - x * vz), 2 * (x * vy - y * vx)
-    return (vx + w * tx + (y * tz - z * ty), vy + w * ty + (z * tx - x * tz),
-            vz + w * tz + (x * ty - y * tx))
-
-
-def _qaxis(axis, angle):
-    s = math.sin(0.5 * angle)
-    return (math.cos(0.5 * angle), axis[0] * s, axis[1] * s, axis[2] * s)
 
 
 @dataclass
@@ -915,436 +887,3 @@ class Engine:
         tilt = math.degrees(math.acos(max(-1.0, min(1.0, nz))))
         return (t, *map(float, p), *map(float, q), *map(float, v), *map(float, w), tilt,
                 float(energy), int(ncon), phase)
-
-
-# --------------------------------------------------------------------------- many tosses
-
-
-@dataclass
-class BounceSimulation:
-    """Result of :func:`simulate`."""
-
-    n: int
-    counts: tuple  #: heads, sides, tails, unsettled
-    frequencies: list  #: :class:`coincli.core.toss.flight.Frequency` of heads, sides, tails among settled
-    catch_counts: tuple  #: what the catch (first contact, eq. 7) would have said, same tosses
-    agree: int  #: tosses whose outcome is the catch's
-    mean_bounces: float
-    mean_t_settle: float  #: s, among settled tosses
-    steps: int
-    seed: int
-    landing: str
-    surface: Surface
-    damping: float
-    dt: float
-    level: float = 0.95
-    vigorous: object = None  #: the closed-form (catch) prediction for the psi distribution
-    extra: dict = field(default_factory=dict)
-
-    @property
-    def settled(self):
-        return self.n - self.counts[3]
-
-
-_DOMAINS = {"height": (0.0, 100.0), "vx": (0.0, 100.0), "z0": (0.0, 100.0)}
-
-
-def _block_launches(seed, block, count, dists, coin, stream=(), start=0):
-    """The launches ``start`` to ``count`` of block ``block`` of a run: its own generator,
-    seeded ``(seed, block)``, so a toss's conditions do not depend on how blocks are shared
-    among workers or cut into chunks.  Draws u, omega, psi (as
-    :func:`coincli.core.toss.flight.sample_conditions`), then height, horizontal speed, its azimuth, and z0,
-    always a full block."""
-    import numpy as np
-
-    rng = np.random.default_rng([seed, *stream, block])
-    c = sample_conditions(BLOCK, rng, u=dists["u"], omega=dists["omega"], psi=dists["psi"])
-    extra = {k: dists[k].sample(rng, BLOCK) for k in ("height", "vx", "z0")}
-    az = rng.uniform(0.0, 2 * math.pi, BLOCK)
-    out = []
-    for i in range(start, count):
-        def pick(v, i=i):
-            return float(v if isinstance(v, float) else v[i])
-        out.append(Launch(pick(c["u"]), pick(c["omega"]), pick(c["psi"]), pick(extra["z0"]),
-                          pick(extra["height"]), pick(extra["vx"]), float(az[i])))
-    return out
-
-
-_WORKER: dict = {}
-
-
-def _worker_init(args, quiet_sigint=False):
-    if quiet_sigint:  # a worker process: Ctrl-C is the parent's to handle (it ends the pool)
-        import signal
-
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
-    coin, surf, dt, g, landing, t_max, flight, damping = args
-    _WORKER["engine"] = Engine(coin, surf, dt=dt, g=g, landing=landing, t_max=t_max,
-                               flight=flight, damping=damping)
-
-
-def _run_block(job):
-    """Tosses ``start`` to ``stop`` of one block (a chunk): ``(k, rows)``, ``k`` the chunk's
-    index.  The first contacts are found for the whole block's launches, then sliced, so that a
-    toss's numbers do not depend on the chunking."""
-    k, (seed, block, start, stop, count, dists, stream) = job
-    eng = _WORKER["engine"]
-    rows = []
-    launches = _block_launches(seed, block, count, dists, eng.coin, stream)
-    t_first = eng.first_contacts(launches) if eng.flight == "exact" else [None] * count
-    for launch, t_f in zip(launches[start:stop], t_first[start:stop], strict=True):
-        r = eng.run(launch, t_contact=t_f)
-        rows.append((r.code, r.catch_code, r.bounces, r.t_settle, r.steps))
-    return k, rows
-
-
-def default_jobs():
-    """Every core this process may use."""
-    try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:  # pragma: no cover - not Linux
-        return os.cpu_count() or 1
-
-
-def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=0.0, vx=0.0,
-             z0=None, diameter=DEFAULT_DIAMETER, density=DEFAULT_DENSITY, g=STANDARD_G,
-             dt=DEFAULT_DT, t_max=DEFAULT_T_MAX, jobs=None, level=0.95, flight="exact",
-             progress: Callable[[int], None] | None = None, stream=(),
-             chunk=None) -> BounceSimulation:
-    """Toss ``n`` coins onto ``surf`` (a :class:`Surface`, default wood) with seeded random
-    launches and count the outcomes.
-
-    ``u``, ``omega``, ``psi`` are as :func:`coincli.core.toss.flight.sample_conditions` takes them (numbers,
-    spec strings or :class:`coincli.core.toss.flight.Dist`; SI, radians); ``height`` (surface below the
-    launch plane, m), ``vx`` (horizontal speed, m/s) and ``z0`` (centre above the launch plane,
-    m; default the paper's for a thick coin, ``(sqrt 3/2) a + h/2``) likewise.  ``jobs`` worker
-    processes (default: every core); block ``k`` of 256 tosses draws from the seed ``(seed, k)``,
-    so the counts are the same for any number of workers.  ``stream`` (a tuple of whole numbers)
-    names an independent stream of the same seed (:func:`design` uses one per simulated point).
-    Workers take chunks of ``chunk`` tosses (default :data:`CHUNK`) and ``progress(done)`` is
-    called as each completes; the results do not depend on ``chunk`` or ``jobs``.
-    """
-    import numpy as np
-
-    from coincli.core.toss.flight import _count, vigorous_limit
-
-    n = _count(n)
-    coin = Coin(float(xi), float(diameter), float(density))
-    surf = SURFACES["wood"] if surf is None else surf
-    if z0 is None:
-        z0 = default_z0(coin.xi, coin.diameter, "thick")
-    dists = {"u": as_dist(u, "u", 0.0, U_MAX), "omega": as_dist(omega, "omega", 0.0, 1e5),
-             "psi": as_dist(psi, "psi", 0.0, math.pi)}
-    for name, val in (("height", height), ("vx", vx), ("z0", z0)):
-        lo, hi = _DOMAINS[name]
-        dists[name] = as_dist(val, name, lo, hi)
-    jobs = default_jobs() if jobs is None else int(jobs)
-    if jobs < 1:
-        raise ValueError(f"jobs must be >= 1, got {jobs}")
-    damping = calibrate(coin, surf, dt, g)
-    args = (coin, surf, dt, g, landing, t_max, flight, damping)
-    chunk = CHUNK if chunk is None else int(chunk)
-    if not 1 <= chunk <= BLOCK:
-        raise ValueError(f"chunk must be from 1 to {BLOCK}, got {chunk}")
-    work = []
-    for b in range(-(-n // BLOCK)):
-        count = min(BLOCK, n - b * BLOCK)
-        for s in range(0, count, chunk):
-            work.append((len(work), (seed, b, s, min(s + chunk, count), count, dists,
-                                     tuple(stream))))
-    results = [None] * len(work)
-    done = 0
-    if jobs == 1 or len(work) == 1:
-        _worker_init(args)
-        for job in work:
-            k, results[k] = _run_block(job)
-            done += len(results[k])
-            if progress is not None:
-                progress(done)
-    else:
-        import multiprocessing as mp
-
-        ctx = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
-        pool = ctx.Pool(min(jobs, len(work)), initializer=_worker_init, initargs=(args, True))
-        try:
-            it = pool.imap_unordered(_run_block, work)
-            for _ in work:
-                while True:  # a timeout, so that Ctrl-C is seen at once on every platform
-                    try:
-                        k, rows = it.next(timeout=0.2)
-                        break
-                    except mp.TimeoutError:
-                        continue
-                results[k] = rows
-                done += len(rows)
-                if progress is not None:
-                    progress(done)
-        except BaseException:  # Ctrl-C or a failed toss: stop the workers now, not after
-            pool.terminate()
-            pool.join()
-            raise
-        pool.close()
-        pool.join()
-    rows = np.array([r for block in results for r in block], dtype=float)
-    code = rows[:, 0].astype(int)
-    catch = rows[:, 1].astype(int)
-    counts = tuple(int(np.sum(code == i)) for i in range(4))
-    catch_counts = tuple(int(np.sum(catch == i)) for i in range(3))
-    settled = code < 3
-    ns = int(settled.sum())
-    freqs = []
-    for i in range(3):
-        if ns:
-            lo, hi = wilson_interval(counts[i], ns, level)
-            freqs.append(Frequency(NAMES[i], counts[i], counts[i] / ns, lo, hi))
-        else:
-            freqs.append(Frequency(NAMES[i], 0, math.nan, 0.0, 1.0))
-    return BounceSimulation(
-        n=n, counts=counts, frequencies=freqs, catch_counts=catch_counts,
-        agree=int(np.sum(code == catch)), mean_bounces=float(rows[:, 2].mean()),
-        mean_t_settle=float(rows[settled, 3].mean()) if ns else math.nan,
-        steps=int(rows[:, 4].sum()), seed=seed, landing=landing, surface=surf, damping=damping,
-        dt=dt, level=level, vigorous=vigorous_limit(coin.xi, dists["psi"]))
-
-
-# --------------------------------------------------------------------------- design
-
-
-@dataclass
-class SidesFit:
-    """``P(sides) = Phi(alpha + beta ln xi)``, a probit in log xi fitted to simulated counts by
-    maximum likelihood (monotone increasing when ``beta > 0``), with the covariance of
-    ``(alpha, beta)`` (inverse Fisher information, times the dispersion ``deviance / df`` when
-    that is above 1: quasi-likelihood, so that a curve that misses its points has wider
-    intervals) and a goodness-of-fit test against the points (deviance, chi-square with
-    points - 2 degrees of freedom)."""
-
-    alpha: float
-    beta: float
-    cov: tuple  #: ((var alpha, cov), (cov, var beta))
-    points: list  #: (xi, tosses, sides) of the settled tosses at each simulated xi
-    deviance: float
-    df: int
-    p_value: float  #: of the goodness-of-fit test (nan when df = 0)
-
-    def p_sides(self, xi):
-        import numpy as np
-        from scipy.special import ndtr
-
-        return ndtr(self.alpha + self.beta * np.log(xi))
-
-    def inverse(self, p):
-        """The xi at which the fitted P(sides) is ``p`` (0 < p < 1)."""
-        from scipy.special import ndtri
-
-        return math.exp((float(ndtri(p)) - self.alpha) / self.beta)
-
-    def interval(self, p, level=0.95):
-        """A ``level`` confidence interval of :meth:`inverse` (delta method on ln xi)."""
-        from statistics import NormalDist
-
-        from scipy.special import ndtri
-
-        q = float(ndtri(p))
-        g = (q - self.alpha) / self.beta
-        da, db = -1.0 / self.beta, -(q - self.alpha) / self.beta**2
-        (vaa, vab), (_, vbb) = self.cov
-        sd = math.sqrt(max(da * da * vaa + 2 * da * db * vab + db * db * vbb, 0.0))
-        z = NormalDist().inv_cdf(0.5 + level / 2)
-        return math.exp(g - z * sd), math.exp(g + z * sd)
-
-
-def fit_sides(points) -> SidesFit:
-    """Fit :class:`SidesFit` to ``points``, ``(xi, n, sides)`` rows (at least two distinct xi
-    with some tosses), by iteratively reweighted least squares (Fisher scoring)."""
-    import numpy as np
-    from scipy.special import ndtr
-    from scipy.stats import chi2, norm
-
-    pts = [(float(x), int(n), int(k)) for x, n, k in points if n > 0]
-    if len({x for x, _, _ in pts}) < 2:
-        raise ValueError("fitting P(sides) needs simulated tosses at two aspect ratios or more")
-    x = np.log([p[0] for p in pts])
-    n = np.array([p[1] for p in pts], dtype=float)
-    k = np.array([p[2] for p in pts], dtype=float)
-    # A probit has a finite fit only when no threshold in xi separates the tosses that landed on
-    # a side from those that did not, even with one aspect ratio holding both (its slope then
-    # runs off to infinity): a side must lie below a face, and a face below a side.
-    xs, xf = x[k > 0], x[k < n]
-    if not (xs.size and xf.size and xs.min() < xf.max() and xf.min() < xs.max()):
-        raise ValueError("the simulated points do not determine a curve of P(sides) in xi (a "
-                         "threshold in xi separates the tosses on a side from the rest); "
-                         "simulate more tosses, or a range of xi where P(sides) is between 0 "
-                         "and 1")
-    design = np.column_stack([np.ones_like(x), x])
-    f = np.clip((k + 0.5) / (n + 1), 1e-6, 1 - 1e-6)
-    coef = np.linalg.lstsq(design, norm.ppf(f), rcond=None)[0]
-    for _ in range(100):
-        eta = design @ coef
-        mu = np.clip(ndtr(eta), 1e-12, 1 - 1e-12)
-        phi = np.maximum(norm.pdf(eta), 1e-300)
-        w = n * phi * phi / (mu * (1 - mu))
-        z = eta + (k / n - mu) / phi
-        info = design.T @ (w[:, None] * design)
-        try:
-            new = np.linalg.solve(info, design.T @ (w * z))
-        except np.linalg.LinAlgError:
-            new = np.full(2, np.nan)
-        if not np.all(np.isfinite(new)):
-            raise ValueError("the simulated points do not determine a curve of P(sides) in xi "
-                             "(the fit diverges); simulate more tosses")
-        done = np.max(np.abs(new - coef)) < 1e-12
-        coef = new
-        if done:
-            break
-    eta = design @ coef
-    mu = np.clip(ndtr(eta), 1e-12, 1 - 1e-12)
-    phi = norm.pdf(eta)
-    w = n * phi * phi / (mu * (1 - mu))
-    cov = np.linalg.inv(design.T @ (w[:, None] * design))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        dev = 2 * np.sum(np.where(k > 0, k * np.log(k / (n * mu)), 0.0)
-                         + np.where(n - k > 0, (n - k) * np.log((n - k) / (n * (1 - mu))), 0.0))
-    df = len(pts) - 2
-    if df > 0:  # points scattered beyond binomial noise (or a curve of the wrong shape):
-        cov = cov * max(1.0, float(dev) / df)  # quasi-likelihood, the dispersion widens it
-    return SidesFit(float(coef[0]), float(coef[1]), ((float(cov[0, 0]), float(cov[0, 1])),
-                    (float(cov[1, 0]), float(cov[1, 1]))), pts, float(dev), df,
-                    float(chi2.sf(dev, df)) if df > 0 else math.nan)
-
-
-@dataclass
-class Design:
-    """Result of :func:`design`: the fitted curve and, per target, the aspect ratio with its
-    confidence interval."""
-
-    targets: list
-    xi: list
-    low: list
-    high: list
-    fit: SidesFit  #: the curve over every simulated point
-    tosses: int
-    rounds: int
-    met: bool  #: every interval within tol
-    stopped_by: str  #: 'tol', 'max_tosses' or 'time_limit'
-    seed: int
-    unsettled: int
-    fits: list = field(default_factory=list)  #: per target, the local fit its answer is from
-    first: int = 200  #: tosses at each xi of the first sweep (below DESIGN_FIRST: max_tosses cut it)
-
-
-#: A target's answer comes from the probit fitted to the points within this factor of its
-#: estimate (the narrowest of these windows holding three aspect ratios): over the whole sweep
-#: (0.1 to 2.4) a probit in log xi can miss the points by far more than their noise.
-DESIGN_WINDOWS = (1.12, 1.3, 1.6, 2.2, 3.3)
-
-
-def _local_fit(points: dict, target, est):
-    """The probit fitted near ``est`` (see :data:`DESIGN_WINDOWS`), re-centred on its own answer
-    until that stays within its window; falls back to every point.  A window whose points do
-    not determine a probit (separated: P(sides) jumps from 0 to 1 inside it) gives way to the
-    next wider one."""
-    every = [(x, n, k) for x, (n, k) in sorted(points.items())]
-    fit = None
-    for _ in range(5):
-        for w in DESIGN_WINDOWS:
-            near = [(x, n, k) for x, n, k in every if est / w <= x <= est * w]
-            if len(near) >= 3:
-                try:
-                    local = fit_sides(near)
-                except ValueError:
-                    continue
-                break
-        else:
-            return fit_sides(every)
-        fit = local
-        if fit.beta <= 0:
-            return fit_sides(every)
-        new = fit.inverse(target)
-        if abs(math.log(new / est)) < 1e-3:
-            break
-        est = new
-    return fit
-
-
-DESIGN_GRID = (0.1, 0.15, 0.22, 0.33, 0.5, 0.75, 1.1, 1.6, 2.4)  #: first sweep of xi
-DESIGN_FIRST = 200  #: tosses at each xi of the first sweep (fewer when max_tosses is smaller)
-DESIGN_FIRST_MIN = 20  #: the fewest tosses at each xi of a first sweep cut by max_tosses
-DESIGN_ROUND = 400  #: tosses at each of the three xi added near each target per round
-
-
-def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, level=0.95,
-           progress: Callable[[int, int], None] | None = None, clock=None, **kw) -> Design:
-    """The aspect ratios at which tosses onto a surface land on a side with the chances
-    ``targets`` (each in (0, 1)), with ``level`` confidence intervals.
-
-    Simulates a first sweep of xi (:data:`DESIGN_GRID`, :data:`DESIGN_FIRST` tosses each), fits
-    :class:`SidesFit` to every point, then for each target again to the points near its answer
-    (:func:`_local_fit`; the answer and its interval come from that fit), then adds rounds of
-    :data:`DESIGN_ROUND` tosses at 0.93, 1 and 1.07 times each target's estimate until every
-    interval is within ``tol`` of its estimate (both ends), or ``max_tosses`` would be passed
-    (never: a ``max_tosses`` below the first sweep's cuts its tosses per xi, to at least
-    :data:`DESIGN_FIRST_MIN`, and stops there),
-    or ``time_limit`` seconds (of ``clock``, default
-    ``time.monotonic``) have gone by at the end of a round.  Every simulation is seeded
-    ``(seed, round, point)``: the result is a function of the seed and the number of rounds, so a
-    run stopped by the time limit is reproduced by ``max_tosses`` equal to its tosses.
-    ``kw`` is passed to :func:`simulate` (xi excluded).
-    """
-    import time
-
-    targets = [float(t) for t in targets]
-    for t in targets:
-        if not 0.0 < t < 1.0:
-            raise ValueError(f"a target P(sides) must be strictly between 0 and 1, got {t:g}")
-    clock = clock or time.monotonic
-    start = clock()
-    points: dict = {}
-    tosses = unsettled = 0
-    planned = len(DESIGN_GRID) * DESIGN_FIRST
-
-    def run(xs, n, rnd):
-        nonlocal tosses, unsettled
-        for j, x in enumerate(xs):
-            r = simulate(n, seed, xi=x, stream=(rnd, j), **kw)
-            old = points.get(x, (0, 0))
-            points[x] = (old[0] + r.settled, old[1] + r.counts[SIDES])
-            tosses += n
-            unsettled += r.counts[3]
-            if progress is not None:
-                progress(tosses, planned)
-
-    first = min(DESIGN_FIRST, int(max_tosses) // len(DESIGN_GRID))
-    if first < DESIGN_FIRST_MIN:
-        raise ValueError(f"--max-tosses must be at least {DESIGN_FIRST_MIN * len(DESIGN_GRID)} "
-                         f"with --landing bounce ({DESIGN_FIRST_MIN} tosses at each of the "
-                         f"{len(DESIGN_GRID)} aspect ratios of the first sweep), got "
-                         f"{max_tosses}")
-    planned = len(DESIGN_GRID) * first
-    run(DESIGN_GRID, first, 0)
-    rnd = 0
-    stopped = "tol"
-    while True:
-        fit = fit_sides([(x, n, k) for x, (n, k) in sorted(points.items())])
-        if fit.beta <= 0:
-            raise ValueError("the simulated P(sides) does not grow with xi; no design found")
-        fits = [_local_fit(points, t, fit.inverse(t)) for t in targets]
-        est = [f.inverse(t) for f, t in zip(fits, targets, strict=True)]
-        ivs = [f.interval(t, level) for f, t in zip(fits, targets, strict=True)]
-        met = all(hi - x <= tol and x - lo <= tol for x, (lo, hi) in zip(est, ivs, strict=True))
-        if met:
-            break
-        nxt = sorted({round(x * f, 6) for x in est for f in (0.93, 1.0, 1.07)})
-        nxt = [x for x in nxt if 1e-3 <= x <= 100.0]
-        if first < DESIGN_FIRST or tosses + len(nxt) * DESIGN_ROUND > max_tosses:
-            stopped = "max_tosses"  # a cut first sweep: the cap stopped it, whatever is left
-            break
-        if clock() - start > time_limit:
-            stopped = "time_limit"
-            break
-        rnd += 1
-        planned = tosses + len(nxt) * DESIGN_ROUND
-        run(nxt, DESIGN_ROUND, rnd)
-    return Design(targets, est, [lo for lo, _ in ivs], [hi for _, hi in ivs], fit, tosses,
-                  rnd, met, stopped, seed, unsettled, fits, first)
-

@@ -1,0 +1,258 @@
+"""The design for a bouncing coin: the aspect ratio that lands on a side with a given chance.
+
+:func:`design` simulates tosses onto a surface (:func:`coincli.core.bounce.runs.simulate`)
+at a sweep of aspect ratios, fits ``P(sides) = Phi(alpha + beta ln xi)`` to the counts
+(:func:`fit_sides`, a :class:`SidesFit`), and adds tosses near each target's answer until its
+confidence interval is narrow enough (:class:`Design`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from coincli.core.bounce.runs import simulate
+from coincli.core.toss.flight import SIDES
+
+__all__ = ["SidesFit", "fit_sides", "Design", "design"]
+
+
+@dataclass
+class SidesFit:
+    """``P(sides) = Phi(alpha + beta ln xi)``, a probit in log xi fitted to simulated counts by
+    maximum likelihood (monotone increasing when ``beta > 0``), with the covariance of
+    ``(alpha, beta)`` (inverse Fisher information, times the dispersion ``deviance / df`` when
+    that is above 1: quasi-likelihood, so that a curve that misses its points has wider
+    intervals) and a goodness-of-fit test against the points (deviance, chi-square with
+    points - 2 degrees of freedom)."""
+
+    alpha: float
+    beta: float
+    cov: tuple  #: ((var alpha, cov), (cov, var beta))
+    points: list  #: (xi, tosses, sides) of the settled tosses at each simulated xi
+    deviance: float
+    df: int
+    p_value: float  #: of the goodness-of-fit test (nan when df = 0)
+
+    def p_sides(self, xi):
+        import numpy as np
+        from scipy.special import ndtr
+
+        return ndtr(self.alpha + self.beta * np.log(xi))
+
+    def inverse(self, p):
+        """The xi at which the fitted P(sides) is ``p`` (0 < p < 1)."""
+        from scipy.special import ndtri
+
+        return math.exp((float(ndtri(p)) - self.alpha) / self.beta)
+
+    def interval(self, p, level=0.95):
+        """A ``level`` confidence interval of :meth:`inverse` (delta method on ln xi)."""
+        from statistics import NormalDist
+
+        from scipy.special import ndtri
+
+        q = float(ndtri(p))
+        g = (q - self.alpha) / self.beta
+        da, db = -1.0 / self.beta, -(q - self.alpha) / self.beta**2
+        (vaa, vab), (_, vbb) = self.cov
+        sd = math.sqrt(max(da * da * vaa + 2 * da * db * vab + db * db * vbb, 0.0))
+        z = NormalDist().inv_cdf(0.5 + level / 2)
+        return math.exp(g - z * sd), math.exp(g + z * sd)
+
+
+def fit_sides(points) -> SidesFit:
+    """Fit :class:`SidesFit` to ``points``, ``(xi, n, sides)`` rows (at least two distinct xi
+    with some tosses), by iteratively reweighted least squares (Fisher scoring)."""
+    import numpy as np
+    from scipy.special import ndtr
+    from scipy.stats import chi2, norm
+
+    pts = [(float(x), int(n), int(k)) for x, n, k in points if n > 0]
+    if len({x for x, _, _ in pts}) < 2:
+        raise ValueError("fitting P(sides) needs simulated tosses at two aspect ratios or more")
+    x = np.log([p[0] for p in pts])
+    n = np.array([p[1] for p in pts], dtype=float)
+    k = np.array([p[2] for p in pts], dtype=float)
+    # A probit has a finite fit only when no threshold in xi separates the tosses that landed on
+    # a side from those that did not, even with one aspect ratio holding both (its slope then
+    # runs off to infinity): a side must lie below a face, and a face below a side.
+    xs, xf = x[k > 0], x[k < n]
+    if not (xs.size and xf.size and xs.min() < xf.max() and xf.min() < xs.max()):
+        raise ValueError("the simulated points do not determine a curve of P(sides) in xi (a "
+                         "threshold in xi separates the tosses on a side from the rest); "
+                         "simulate more tosses, or a range of xi where P(sides) is between 0 "
+                         "and 1")
+    design = np.column_stack([np.ones_like(x), x])
+    f = np.clip((k + 0.5) / (n + 1), 1e-6, 1 - 1e-6)
+    coef = np.linalg.lstsq(design, norm.ppf(f), rcond=None)[0]
+    for _ in range(100):
+        eta = design @ coef
+        mu = np.clip(ndtr(eta), 1e-12, 1 - 1e-12)
+        phi = np.maximum(norm.pdf(eta), 1e-300)
+        w = n * phi * phi / (mu * (1 - mu))
+        z = eta + (k / n - mu) / phi
+        info = design.T @ (w[:, None] * design)
+        try:
+            new = np.linalg.solve(info, design.T @ (w * z))
+        except np.linalg.LinAlgError:
+            new = np.full(2, np.nan)
+        if not np.all(np.isfinite(new)):
+            raise ValueError("the simulated points do not determine a curve of P(sides) in xi "
+                             "(the fit diverges); simulate more tosses")
+        done = np.max(np.abs(new - coef)) < 1e-12
+        coef = new
+        if done:
+            break
+    eta = design @ coef
+    mu = np.clip(ndtr(eta), 1e-12, 1 - 1e-12)
+    phi = norm.pdf(eta)
+    w = n * phi * phi / (mu * (1 - mu))
+    cov = np.linalg.inv(design.T @ (w[:, None] * design))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        dev = 2 * np.sum(np.where(k > 0, k * np.log(k / (n * mu)), 0.0)
+                         + np.where(n - k > 0, (n - k) * np.log((n - k) / (n * (1 - mu))), 0.0))
+    df = len(pts) - 2
+    if df > 0:  # points scattered beyond binomial noise (or a curve of the wrong shape):
+        cov = cov * max(1.0, float(dev) / df)  # quasi-likelihood, the dispersion widens it
+    return SidesFit(float(coef[0]), float(coef[1]), ((float(cov[0, 0]), float(cov[0, 1])),
+                    (float(cov[1, 0]), float(cov[1, 1]))), pts, float(dev), df,
+                    float(chi2.sf(dev, df)) if df > 0 else math.nan)
+
+
+@dataclass
+class Design:
+    """Result of :func:`design`: the fitted curve and, per target, the aspect ratio with its
+    confidence interval."""
+
+    targets: list
+    xi: list
+    low: list
+    high: list
+    fit: SidesFit  #: the curve over every simulated point
+    tosses: int
+    rounds: int
+    met: bool  #: every interval within tol
+    stopped_by: str  #: 'tol', 'max_tosses' or 'time_limit'
+    seed: int
+    unsettled: int
+    fits: list = field(default_factory=list)  #: per target, the local fit its answer is from
+    first: int = 200  #: tosses at each xi of the first sweep (below DESIGN_FIRST: max_tosses cut it)
+
+
+#: A target's answer comes from the probit fitted to the points within this factor of its
+#: estimate (the narrowest of these windows holding three aspect ratios): over the whole sweep
+#: (0.1 to 2.4) a probit in log xi can miss the points by far more than their noise.
+DESIGN_WINDOWS = (1.12, 1.3, 1.6, 2.2, 3.3)
+
+
+def _local_fit(points: dict, target, est):
+    """The probit fitted near ``est`` (see :data:`DESIGN_WINDOWS`), re-centred on its own answer
+    until that stays within its window; falls back to every point.  A window whose points do
+    not determine a probit (separated: P(sides) jumps from 0 to 1 inside it) gives way to the
+    next wider one."""
+    every = [(x, n, k) for x, (n, k) in sorted(points.items())]
+    fit = None
+    for _ in range(5):
+        for w in DESIGN_WINDOWS:
+            near = [(x, n, k) for x, n, k in every if est / w <= x <= est * w]
+            if len(near) >= 3:
+                try:
+                    local = fit_sides(near)
+                except ValueError:
+                    continue
+                break
+        else:
+            return fit_sides(every)
+        fit = local
+        if fit.beta <= 0:
+            return fit_sides(every)
+        new = fit.inverse(target)
+        if abs(math.log(new / est)) < 1e-3:
+            break
+        est = new
+    return fit
+
+
+DESIGN_GRID = (0.1, 0.15, 0.22, 0.33, 0.5, 0.75, 1.1, 1.6, 2.4)  #: first sweep of xi
+DESIGN_FIRST = 200  #: tosses at each xi of the first sweep (fewer when max_tosses is smaller)
+DESIGN_FIRST_MIN = 20  #: the fewest tosses at each xi of a first sweep cut by max_tosses
+DESIGN_ROUND = 400  #: tosses at each of the three xi added near each target per round
+
+
+def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, level=0.95,
+           progress: Callable[[int, int], None] | None = None, clock=None, **kw) -> Design:
+    """The aspect ratios at which tosses onto a surface land on a side with the chances
+    ``targets`` (each in (0, 1)), with ``level`` confidence intervals.
+
+    Simulates a first sweep of xi (:data:`DESIGN_GRID`, :data:`DESIGN_FIRST` tosses each), fits
+    :class:`SidesFit` to every point, then for each target again to the points near its answer
+    (:func:`_local_fit`; the answer and its interval come from that fit), then adds rounds of
+    :data:`DESIGN_ROUND` tosses at 0.93, 1 and 1.07 times each target's estimate until every
+    interval is within ``tol`` of its estimate (both ends), or ``max_tosses`` would be passed
+    (never: a ``max_tosses`` below the first sweep's cuts its tosses per xi, to at least
+    :data:`DESIGN_FIRST_MIN`, and stops there),
+    or ``time_limit`` seconds (of ``clock``, default
+    ``time.monotonic``) have gone by at the end of a round.  Every simulation is seeded
+    ``(seed, round, point)``: the result is a function of the seed and the number of rounds, so a
+    run stopped by the time limit is reproduced by ``max_tosses`` equal to its tosses.
+    ``kw`` is passed to :func:`coincli.core.bounce.runs.simulate` (xi excluded).
+    """
+    import time
+
+    targets = [float(t) for t in targets]
+    for t in targets:
+        if not 0.0 < t < 1.0:
+            raise ValueError(f"a target P(sides) must be strictly between 0 and 1, got {t:g}")
+    clock = clock or time.monotonic
+    start = clock()
+    points: dict = {}
+    tosses = unsettled = 0
+    planned = len(DESIGN_GRID) * DESIGN_FIRST
+
+    def run(xs, n, rnd):
+        nonlocal tosses, unsettled
+        for j, x in enumerate(xs):
+            r = simulate(n, seed, xi=x, stream=(rnd, j), **kw)
+            old = points.get(x, (0, 0))
+            points[x] = (old[0] + r.settled, old[1] + r.counts[SIDES])
+            tosses += n
+            unsettled += r.counts[3]
+            if progress is not None:
+                progress(tosses, planned)
+
+    first = min(DESIGN_FIRST, int(max_tosses) // len(DESIGN_GRID))
+    if first < DESIGN_FIRST_MIN:
+        raise ValueError(f"--max-tosses must be at least {DESIGN_FIRST_MIN * len(DESIGN_GRID)} "
+                         f"with --landing bounce ({DESIGN_FIRST_MIN} tosses at each of the "
+                         f"{len(DESIGN_GRID)} aspect ratios of the first sweep), got "
+                         f"{max_tosses}")
+    planned = len(DESIGN_GRID) * first
+    run(DESIGN_GRID, first, 0)
+    rnd = 0
+    stopped = "tol"
+    while True:
+        fit = fit_sides([(x, n, k) for x, (n, k) in sorted(points.items())])
+        if fit.beta <= 0:
+            raise ValueError("the simulated P(sides) does not grow with xi; no design found")
+        fits = [_local_fit(points, t, fit.inverse(t)) for t in targets]
+        est = [f.inverse(t) for f, t in zip(fits, targets, strict=True)]
+        ivs = [f.interval(t, level) for f, t in zip(fits, targets, strict=True)]
+        met = all(hi - x <= tol and x - lo <= tol for x, (lo, hi) in zip(est, ivs, strict=True))
+        if met:
+            break
+        nxt = sorted({round(x * f, 6) for x in est for f in (0.93, 1.0, 1.07)})
+        nxt = [x for x in nxt if 1e-3 <= x <= 100.0]
+        if first < DESIGN_FIRST or tosses + len(nxt) * DESIGN_ROUND > max_tosses:
+            stopped = "max_tosses"  # a cut first sweep: the cap stopped it, whatever is left
+            break
+        if clock() - start > time_limit:
+            stopped = "time_limit"
+            break
+        rnd += 1
+        planned = tosses + len(nxt) * DESIGN_ROUND
+        run(nxt, DESIGN_ROUND, rnd)
+    return Design(targets, est, [lo for lo, _ in ivs], [hi for _, hi in ivs], fit, tosses,
+                  rnd, met, stopped, seed, unsettled, fits, first)
+

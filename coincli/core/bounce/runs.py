@@ -1,0 +1,232 @@
+"""Many tosses onto a surface: seeded random launches, run by worker processes, counted.
+
+:func:`simulate` draws the launches block by block (:data:`BLOCK` tosses, block ``k`` seeded
+``(seed, k)``), runs them through one :class:`coincli.core.bounce.engine.Engine` per worker
+process (:func:`_worker_init`, :func:`_run_block`; both module-level, so that a pool pickles them
+by name) and counts the outcomes into a :class:`BounceSimulation`.  The counts do not depend on
+the number of workers nor on how blocks are cut into chunks.  The physics of one toss is
+:mod:`coincli.core.bounce.engine`.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from coincli.core.bounce.engine import (
+    DEFAULT_DENSITY,
+    DEFAULT_DT,
+    DEFAULT_T_MAX,
+    SURFACES,
+    Coin,
+    Engine,
+    Launch,
+    Surface,
+    calibrate,
+)
+from coincli.core.toss.flight import (
+    DEFAULT_DIAMETER,
+    NAMES,
+    STANDARD_G,
+    U_MAX,
+    Frequency,
+    as_dist,
+    default_z0,
+    sample_conditions,
+    wilson_interval,
+)
+
+__all__ = ["BounceSimulation", "simulate", "default_jobs", "BLOCK", "CHUNK"]
+
+BLOCK = 256  #: tosses per random block: the seed of block k is (seed, k), whatever the workers
+CHUNK = 16  #: tosses a worker simulates between progress reports (a fraction of a second)
+
+
+@dataclass
+class BounceSimulation:
+    """Result of :func:`simulate`."""
+
+    n: int
+    counts: tuple  #: heads, sides, tails, unsettled
+    frequencies: list  #: :class:`coincli.core.toss.flight.Frequency` of heads, sides, tails among settled
+    catch_counts: tuple  #: what the catch (first contact, eq. 7) would have said, same tosses
+    agree: int  #: tosses whose outcome is the catch's
+    mean_bounces: float
+    mean_t_settle: float  #: s, among settled tosses
+    steps: int
+    seed: int
+    landing: str
+    surface: Surface
+    damping: float
+    dt: float
+    level: float = 0.95
+    vigorous: object = None  #: the closed-form (catch) prediction for the psi distribution
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def settled(self):
+        return self.n - self.counts[3]
+
+
+_DOMAINS = {"height": (0.0, 100.0), "vx": (0.0, 100.0), "z0": (0.0, 100.0)}
+
+
+def _block_launches(seed, block, count, dists, coin, stream=(), start=0):
+    """The launches ``start`` to ``count`` of block ``block`` of a run: its own generator,
+    seeded ``(seed, block)``, so a toss's conditions do not depend on how blocks are shared
+    among workers or cut into chunks.  Draws u, omega, psi (as
+    :func:`coincli.core.toss.flight.sample_conditions`), then height, horizontal speed, its azimuth, and z0,
+    always a full block."""
+    import numpy as np
+
+    rng = np.random.default_rng([seed, *stream, block])
+    c = sample_conditions(BLOCK, rng, u=dists["u"], omega=dists["omega"], psi=dists["psi"])
+    extra = {k: dists[k].sample(rng, BLOCK) for k in ("height", "vx", "z0")}
+    az = rng.uniform(0.0, 2 * math.pi, BLOCK)
+    out = []
+    for i in range(start, count):
+        def pick(v, i=i):
+            return float(v if isinstance(v, float) else v[i])
+        out.append(Launch(pick(c["u"]), pick(c["omega"]), pick(c["psi"]), pick(extra["z0"]),
+                          pick(extra["height"]), pick(extra["vx"]), float(az[i])))
+    return out
+
+
+_WORKER: dict = {}
+
+
+def _worker_init(args, quiet_sigint=False):
+    if quiet_sigint:  # a worker process: Ctrl-C is the parent's to handle (it ends the pool)
+        import signal
+
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+    coin, surf, dt, g, landing, t_max, flight, damping = args
+    _WORKER["engine"] = Engine(coin, surf, dt=dt, g=g, landing=landing, t_max=t_max,
+                               flight=flight, damping=damping)
+
+
+def _run_block(job):
+    """Tosses ``start`` to ``stop`` of one block (a chunk): ``(k, rows)``, ``k`` the chunk's
+    index.  The first contacts are found for the whole block's launches, then sliced, so that a
+    toss's numbers do not depend on the chunking."""
+    k, (seed, block, start, stop, count, dists, stream) = job
+    eng = _WORKER["engine"]
+    rows = []
+    launches = _block_launches(seed, block, count, dists, eng.coin, stream)
+    t_first = eng.first_contacts(launches) if eng.flight == "exact" else [None] * count
+    for launch, t_f in zip(launches[start:stop], t_first[start:stop], strict=True):
+        r = eng.run(launch, t_contact=t_f)
+        rows.append((r.code, r.catch_code, r.bounces, r.t_settle, r.steps))
+    return k, rows
+
+
+def default_jobs():
+    """Every core this process may use."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # pragma: no cover - not Linux
+        return os.cpu_count() or 1
+
+
+def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=0.0, vx=0.0,
+             z0=None, diameter=DEFAULT_DIAMETER, density=DEFAULT_DENSITY, g=STANDARD_G,
+             dt=DEFAULT_DT, t_max=DEFAULT_T_MAX, jobs=None, level=0.95, flight="exact",
+             progress: Callable[[int], None] | None = None, stream=(),
+             chunk=None) -> BounceSimulation:
+    """Toss ``n`` coins onto ``surf`` (a :class:`Surface`, default wood) with seeded random
+    launches and count the outcomes.
+
+    ``u``, ``omega``, ``psi`` are as :func:`coincli.core.toss.flight.sample_conditions` takes them (numbers,
+    spec strings or :class:`coincli.core.toss.flight.Dist`; SI, radians); ``height`` (surface below the
+    launch plane, m), ``vx`` (horizontal speed, m/s) and ``z0`` (centre above the launch plane,
+    m; default the paper's for a thick coin, ``(sqrt 3/2) a + h/2``) likewise.  ``jobs`` worker
+    processes (default: every core); block ``k`` of 256 tosses draws from the seed ``(seed, k)``,
+    so the counts are the same for any number of workers.  ``stream`` (a tuple of whole numbers)
+    names an independent stream of the same seed (:func:`coincli.core.bounce.design.design` uses one
+    per simulated point).
+    Workers take chunks of ``chunk`` tosses (default :data:`CHUNK`) and ``progress(done)`` is
+    called as each completes; the results do not depend on ``chunk`` or ``jobs``.
+    """
+    import numpy as np
+
+    from coincli.core.toss.flight import _count, vigorous_limit
+
+    n = _count(n)
+    coin = Coin(float(xi), float(diameter), float(density))
+    surf = SURFACES["wood"] if surf is None else surf
+    if z0 is None:
+        z0 = default_z0(coin.xi, coin.diameter, "thick")
+    dists = {"u": as_dist(u, "u", 0.0, U_MAX), "omega": as_dist(omega, "omega", 0.0, 1e5),
+             "psi": as_dist(psi, "psi", 0.0, math.pi)}
+    for name, val in (("height", height), ("vx", vx), ("z0", z0)):
+        lo, hi = _DOMAINS[name]
+        dists[name] = as_dist(val, name, lo, hi)
+    jobs = default_jobs() if jobs is None else int(jobs)
+    if jobs < 1:
+        raise ValueError(f"jobs must be >= 1, got {jobs}")
+    damping = calibrate(coin, surf, dt, g)
+    args = (coin, surf, dt, g, landing, t_max, flight, damping)
+    chunk = CHUNK if chunk is None else int(chunk)
+    if not 1 <= chunk <= BLOCK:
+        raise ValueError(f"chunk must be from 1 to {BLOCK}, got {chunk}")
+    work = []
+    for b in range(-(-n // BLOCK)):
+        count = min(BLOCK, n - b * BLOCK)
+        for s in range(0, count, chunk):
+            work.append((len(work), (seed, b, s, min(s + chunk, count), count, dists,
+                                     tuple(stream))))
+    results = [None] * len(work)
+    done = 0
+    if jobs == 1 or len(work) == 1:
+        _worker_init(args)
+        for job in work:
+            k, results[k] = _run_block(job)
+            done += len(results[k])
+            if progress is not None:
+                progress(done)
+    else:
+        import multiprocessing as mp
+
+        ctx = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
+        pool = ctx.Pool(min(jobs, len(work)), initializer=_worker_init, initargs=(args, True))
+        try:
+            it = pool.imap_unordered(_run_block, work)
+            for _ in work:
+                while True:  # a timeout, so that Ctrl-C is seen at once on every platform
+                    try:
+                        k, rows = it.next(timeout=0.2)
+                        break
+                    except mp.TimeoutError:
+                        continue
+                results[k] = rows
+                done += len(rows)
+                if progress is not None:
+                    progress(done)
+        except BaseException:  # Ctrl-C or a failed toss: stop the workers now, not after
+            pool.terminate()
+            pool.join()
+            raise
+        pool.close()
+        pool.join()
+    rows = np.array([r for block in results for r in block], dtype=float)
+    code = rows[:, 0].astype(int)
+    catch = rows[:, 1].astype(int)
+    counts = tuple(int(np.sum(code == i)) for i in range(4))
+    catch_counts = tuple(int(np.sum(catch == i)) for i in range(3))
+    settled = code < 3
+    ns = int(settled.sum())
+    freqs = []
+    for i in range(3):
+        if ns:
+            lo, hi = wilson_interval(counts[i], ns, level)
+            freqs.append(Frequency(NAMES[i], counts[i], counts[i] / ns, lo, hi))
+        else:
+            freqs.append(Frequency(NAMES[i], 0, math.nan, 0.0, 1.0))
+    return BounceSimulation(
+        n=n, counts=counts, frequencies=freqs, catch_counts=catch_counts,
+        agree=int(np.sum(code == catch)), mean_bounces=float(rows[:, 2].mean()),
+        mean_t_settle=float(rows[settled, 3].mean()) if ns else math.nan,
+        steps=int(rows[:, 4].sum()), seed=seed, landing=landing, surface=surf, damping=damping,
+        dt=dt, level=level, vigorous=vigorous_limit(coin.xi, dists["psi"]))
