@@ -1,1 +1,2 @@
-"""Numerical kernels shared by the core: the math/numpy backend, the Wilson interval."""
+"""Numerical kernels shared by the core: the math/numpy backend, the Wilson interval, the root
+finders, minimizer and bisection."""
