@@ -62,8 +62,8 @@ class _Likelihood:
 
     The counts' parts (log-factorials) are summed once; each call adds ``sum x ln p`` over the
     rows, so a fit that tries many chances pays one pass of numpy per try.  The formulas are
-    :func:`_log_likelihoods`' (multinomial with faces told apart, else binomial in sides with
-    the rarer category's chance)."""
+    :func:`coincli.core.stats.tests._log_likelihoods`' (multinomial with faces told apart, else
+    binomial in sides with the rarer category's chance)."""
 
     def __init__(self, cc: _CountColumns):
         import numpy as np
