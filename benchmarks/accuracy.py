@@ -222,7 +222,8 @@ def issue17_sections():
         "## Root-found inverses",
         "",
         "`conditional_inverse` (Table I at a fixed psi) and `marginal_inverse` (psi averaged "
-        "over a density) solve `P(sides) = p` for xi.  The solver (`coincli.core.averages._root`) "
+        "over a density) solve `P(sides) = p` for xi.  The solver "
+        "(`coincli.core._numerics.roots.positive_roots`) "
         "brackets the root from a start (Table I inverted in closed form for a fixed psi; the "
         "dynamic model's xi, or Table I at the mean of a narrow normal, for a density), then "
         "runs Chandrupatla's method (inverse quadratic interpolation safeguarded by bisection, "

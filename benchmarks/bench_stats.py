@@ -15,8 +15,8 @@ which a loaded machine stretches less than wall time), wall time beside them.
 
 Floors: ``check`` needs typer, numpy and scipy.special (binomial tails, beta quantiles,
 chi-square tails); ``fit`` the same plus a one-dimensional optimizer, written in Python in
-coincli.core.stats.tests (a run of ``import scipy.optimize`` is timed beside it to show what it would
-cost).  Aim: each command at most 1.2x its floor.
+coincli.core._numerics.roots (a run of ``import scipy.optimize`` is timed beside it to show what
+it would cost).  Aim: each command at most 1.2x its floor.
 
 Files: 10^5 experiments of 100 tosses each (4 rows in 5 with heads, sides and tails, 1 in 5
 with sides and n), drawn from psi ~ normal(90, 18) deg, once with 10 distinct coins and once
@@ -213,7 +213,8 @@ def main(argv=None) -> int:
         f"<= {AIM}: {verdict(chk[1] / f_c)}.  `coin fit tests/data/tosses.csv` takes "
         f"**{fit[1] / f_c:.2f}x** the same floor ({fit[0] / f_w:.2f}x wall): "
         f"{verdict(fit[1] / f_c)}; its optimizer (bounded Brent and Brent's root finder, a "
-        f"few dozen lines of Python in `coincli.core.stats.tests`) imports nothing, where `import "
+        f"few dozen lines of Python in `coincli.core._numerics.roots`) imports nothing, where "
+        "`import "
         f"scipy.optimize` would add {_report.fmt_time(opt[1] - f_c)} of CPU "
         f"({opt[1] / f_c:.2f}x the floor before any work).  Neither command imports "
         "scipy.stats, scipy.optimize, rich or matplotlib (`tests/test_stats_imports.py`).", "",

@@ -377,6 +377,7 @@ def check(
     --sides 9 --tails 31 --psi-dist normal:90:20 --format json
     """
     from coincli.core.stats import tests as stats
+    from coincli.core.stats.counts import make_counts
 
     fmt = check_format(fmt)
     a = _level(alpha, "--alpha")
@@ -385,7 +386,7 @@ def check(
     vals = {name: _whole(v, f"--{name}" if name != "n" else "-n")
             for name, v in (("heads", heads), ("sides", sides), ("tails", tails), ("n", tosses))}
     try:
-        counts = stats.make_counts(**vals)
+        counts = make_counts(**vals)
     except ValueError as exc:
         raise usage_error(str(exc)) from None
     _check_total(counts)
@@ -467,11 +468,11 @@ def _file_name(path: str) -> str:
 
 def _experiments(text: str, name: str, delimiter: str | None = None) -> list:
     """The experiments of ``text``; each count, and each row's total, at most 2**53."""
-    from coincli.core.stats import tests as stats
+    from coincli.io.experiments import parse_experiments
 
     name = _file_name(name)
     try:
-        exps = stats.parse_experiments(text, delimiter=delimiter)
+        exps = parse_experiments(text, delimiter=delimiter)
     except ValueError as exc:
         raise usage_error(f"{name} {exc}") from None
     for e in exps:
@@ -513,7 +514,8 @@ def fit(
     Examples: coin fit tosses.csv ;  coin fit tosses.csv --format csv ;
     coin fit - --psi-dist uniform,cosine < tosses.csv
     """
-    from coincli.core.stats import tests as stats
+    from coincli.core.stats import fit as stats
+    from coincli.io.experiments import delimiter_of
 
     fmt = check_format(fmt)
     a = _level(alpha, "--alpha")
@@ -522,7 +524,7 @@ def fit(
     if quiet and no_spread:
         raise usage_error("--quiet prints the fitted spread of psi; it cannot go with --no-spread")
     try:
-        sep = None if delimiter is None else stats.delimiter_of(delimiter)
+        sep = None if delimiter is None else delimiter_of(delimiter)
     except ValueError as exc:
         raise usage_error(f"--{exc}") from None
     text, name = _read_text(file)

@@ -263,7 +263,7 @@ def _compute(fn, *args, **kwargs):
 def _read_data(path: str):
     from coincli.io.files import FileKindError, read_capped, read_regular
     from coincli.io.table import stream_reader
-    from coincli.core.stats.tests import parse_experiments
+    from coincli.io.experiments import parse_experiments
 
     name = "stdin" if path == "-" else path
     try:

@@ -38,8 +38,9 @@ at its mean, the limit; one within 2^-600 of psi = 0 is averaged scaled up (``_p
 coin thinner than 2^-600 has P(sides) = C xi (``_THIN``).
 
 Inverses.  ``P(sides) = p`` is solved by bracketing and Chandrupatla's method down to adjacent
-doubles (``_root``), on the complement ``P(heads) + P(tails) = 1 - p`` for p > 1/2; Table I's
-inverse starts from its closed form (``_table_i_guess``).  docs/accuracy.md has the errors.
+doubles (:func:`coincli.core._numerics.roots.positive_roots`), on the complement
+``P(heads) + P(tails) = 1 - p`` for p > 1/2; Table I's inverse starts from its closed form
+(``_table_i_guess``).  docs/accuracy.md has the errors.
 """
 
 from __future__ import annotations
@@ -51,6 +52,7 @@ from functools import lru_cache
 import numpy as np
 
 from coincli.core import models
+from coincli.core._numerics.roots import POSITIVE_MAX, POSITIVE_MIN, positive_roots
 from coincli.core.densities import Cosine, Density, Normal, Table, Uniform
 from coincli.core.models import HALF_PI, Outcome
 
@@ -770,101 +772,7 @@ def _check_density(density):
 # answer's own rounding, whatever its size.  For p > 1/2 the equation solved is the complement,
 # P(heads) + P(tails) = 1 - p: 1 - p is exact there, and the forward functions give heads and
 # tails to full relative accuracy, while a double P(sides) near 1 moves in steps of 1.1e-16.
-
-_XI_MIN = 5e-324  #: the smallest positive double
-_XI_MAX = 1.7976931348623157e308  #: the largest double
-_GROW = 32.0  #: the bracketing step (in log xi) grows by this factor until the root is caught
-
-
-def _bit_mid(lo, hi):
-    """The double halfway between positive doubles ``lo < hi`` in the order of the doubles (their
-    bit patterns are ordered like their values): bisection that ends in at most 64 steps."""
-    a, b = lo.view(np.int64), hi.view(np.int64)
-    return (a + (b - a) // 2).view(np.float64)
-
-
-def _root(resid, x0, step):
-    """Doubles ``xi > 0`` where ``resid(xi, idx)`` (increasing in xi, numpy in and out; ``idx``
-    names the elements evaluated) changes sign, for each element of ``x0`` (the guesses).
-
-    Bracketing first: from ``x0``, steps of ``step`` (natural log of xi) that grow by
-    ``_GROW`` until the sign changes, within [5e-324, 1.8e308].  Then Chandrupatla's method on
-    the bracket (in log xi while its ends differ by more than 2x, then in xi), its smallest step
-    one ulp of xi, with a bisection of the doubles whenever two steps fail to halve the bracket.
-    It stops at two adjacent doubles (or an exact zero) and returns the one with the smaller
-    ``|resid|``.  A root above the largest double raises ``ValueError`` (the caller words it);
-    one below the smallest positive double gives 0 or 5e-324, whichever fits better.
-    """
-    m = x0.size
-    step = np.broadcast_to(np.asarray(step, dtype=float), (m,)).copy()
-    a = np.clip(np.where(np.isfinite(x0) & (x0 > 0), x0, 1.0), _XI_MIN, _XI_MAX)
-    fa = resid(a, np.arange(m))
-    b, fb = np.full(m, np.nan), np.full(m, np.nan)  # the other end of the bracket
-    c, fc = np.full(m, np.nan), np.full(m, np.nan)  # the previous point
-    out = np.where(fa == 0, a, np.nan)
-    hunt = fa != 0
-    with np.errstate(over="ignore", under="ignore"):
-        while hunt.any():  # -------------------------------------------------- bracketing
-            i = np.flatnonzero(hunt)
-            up = fa[i] < 0
-            at_end = np.where(up, a[i] == _XI_MAX, a[i] == _XI_MIN)
-            if at_end.any():
-                j = i[at_end]
-                if up[at_end].any():
-                    raise ValueError(int(j[up[at_end]][0]))
-                f0 = resid(np.zeros(j.size), j)  # the root lies in (0, 5e-324)
-                out[j] = np.where(np.abs(fa[j]) <= np.abs(f0), _XI_MIN, 0.0)
-                hunt[j] = False
-                i, up = i[~at_end], up[~at_end]
-                if not i.size:
-                    break
-            xt = np.clip(a[i] * np.exp(np.where(up, step[i], -step[i])), _XI_MIN, _XI_MAX)
-            ft = resid(xt, i)
-            caught = np.sign(ft) != np.sign(fa[i])
-            k, n = i[caught], i[~caught]
-            b[k], fb[k] = a[k], fa[k]  # the bracket [xt, a]; c keeps the point before a
-            c[n], fc[n] = a[n], fa[n]
-            a[i], fa[i] = xt, ft
-            step[n] *= _GROW
-            hunt[k] = False
-        zero = (fa == 0) & np.isnan(out)
-        out[zero] = a[zero]
-        live = np.isnan(out)
-        slow = np.zeros(m, dtype=np.int8)  # steps in a row that did not halve the bracket
-        while live.any():  # ---------------------------------------------- Chandrupatla
-            i = np.flatnonzero(live)
-            ai, bi, ci, fai, fbi, fci = a[i], b[i], c[i], fa[i], fb[i], fc[i]
-            lo, hi = np.minimum(ai, bi), np.maximum(ai, bi)
-            logv = hi > 2 * lo
-            ya, yb = np.where(logv, np.log(ai), ai), np.where(logv, np.log(bi), bi)
-            yc = np.where(logv, np.log(np.where(ci > 0, ci, 1.0)), ci)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                xi_ = (ya - yb) / (yc - yb)
-                phi = (fai - fbi) / (fci - fbi)
-                iqi = (phi * phi < xi_) & ((1 - phi) ** 2 < 1 - xi_)
-                t = np.where(iqi, fai / (fbi - fai) * fci / (fbi - fci)
-                             + (yc - ya) / (yb - ya) * fai / (fci - fai) * fbi / (fci - fbi),
-                             np.where(np.isnan(ci), fai / (fai - fbi), 0.5))
-                tl = np.where(logv, 2.0**-52, np.spacing(hi)) / np.abs(yb - ya)
-            t = np.clip(np.where(np.isfinite(t), t, 0.5), np.minimum(tl, 0.5),
-                        1 - np.minimum(tl, 0.5))
-            yt = ya + t * (yb - ya)
-            xt = np.where(logv, np.exp(yt), yt)
-            bisect = ~((xt > lo) & (xt < hi)) | (slow[i] >= 2)
-            xt = np.where(bisect, _bit_mid(lo, hi), xt)
-            ft = resid(xt, i)
-            same = np.sign(ft) == np.sign(fai)
-            c[i], fc[i] = np.where(same, ai, bi), np.where(same, fai, fbi)
-            b[i], fb[i] = np.where(same, bi, ai), np.where(same, fbi, fai)
-            a[i], fa[i] = xt, ft
-            width = hi.view(np.int64) - lo.view(np.int64)
-            new = np.abs(b[i].view(np.int64) - xt.view(np.int64))
-            slow[i] = np.where(2 * new > width, slow[i] + 1, 0)
-            done = (ft == 0) | (new <= 1)
-            out[i[done]] = np.where((ft[done] == 0) | (np.abs(ft[done]) <= np.abs(fb[i[done]])),
-                                    xt[done], b[i[done]])
-            live[i[done]] = False
-    return out
+# The solver is coincli.core._numerics.roots.positive_roots.
 
 
 def _sides_equation(forward, p):
@@ -913,9 +821,9 @@ def _rows(scalar_fn, array_fn):
 def marginal_inverse(p_sides, density: Density | None = None, *, order: int = DEFAULT_ORDER):
     """The aspect ratio whose psi-averaged chance of a side is ``p_sides`` (a float or an array).
 
-    Root finding (:func:`_root`) down to adjacent doubles, on ``P(sides) = p`` for p <= 1/2 and
-    on ``P(heads) + P(tails) = 1 - p`` above; an array is solved in one vectorized pass.
-    ``p = 0`` gives 0 and ``p = 1`` gives ``inf`` (the chance tends to 1 only as ``xi`` grows
+    Root finding (:func:`positive_roots`) down to adjacent doubles, on ``P(sides) = p`` for
+    p <= 1/2 and on ``P(heads) + P(tails) = 1 - p`` above; an array is solved in one vectorized
+    pass.  ``p = 0`` gives 0 and ``p = 1`` gives ``inf`` (the chance tends to 1 only as ``xi`` grows
     without bound).  A normal too narrow for any quadrature is Table I at its mean, and so is
     its inverse (:func:`conditional_inverse`, or :func:`coincli.core.models.dynamic_inverse` at a mean
     of exactly ``HALF_PI``).  Accuracy: docs/accuracy.md.
@@ -936,7 +844,7 @@ def marginal_inverse(p_sides, density: Density | None = None, *, order: int = DE
         guess, step = models.dynamic_inverse(p), 0.25
         if isinstance(density, Normal) and density.sd < 0.1 and 0 < density.mean < math.pi:
             guess, step = _table_i_guess(p, min(density.mean, math.pi - density.mean)), 0.01
-        return _root(_sides_equation(forward, p), guess, step)
+        return positive_roots(_sides_equation(forward, p), guess, step)
 
     return _solve_p(p_sides, solve)
 
@@ -948,8 +856,8 @@ def conditional_inverse(p_sides, psi):
     At ``psi = 0`` or ``pi`` the coin never precesses and always lands heads: only
     ``p_sides = 0`` is reachable there.  Otherwise every ``p`` in [0, 1] is (``p = 1`` at
     ``xi = inf``).  Table I inverted in closed form (:func:`_table_i_guess`) gives the start;
-    root finding on the forward function (:func:`_root`, on the complement for p > 1/2) then
-    takes the answer to adjacent doubles.  Accuracy: docs/accuracy.md.
+    root finding on the forward function (:func:`positive_roots`, on the complement for
+    p > 1/2) then takes the answer to adjacent doubles.  Accuracy: docs/accuracy.md.
     """
     psi = models.check_psi(psi)
     if not isinstance(psi, float):
@@ -962,7 +870,7 @@ def conditional_inverse(p_sides, psi):
                 "at psi = 0 or 180 degrees the coin never precesses and always lands heads; "
                 "only p_sides = 0 is reachable"
             )
-        return _root(_sides_equation(forward, p), _table_i_guess(p, psi), 2.0**-40)
+        return positive_roots(_sides_equation(forward, p), _table_i_guess(p, psi), 2.0**-40)
 
     return _solve_p(p_sides, solve)
 
@@ -1004,4 +912,4 @@ def _table_i_guess(p, psi):
         omc = np.where(three, omc_c, omc_b)
         rt = np.where(three, np.sqrt(omc_c), rt_b)
         xi = c / (rt * np.sqrt(2 - omc))
-    return np.clip(np.where(np.isnan(xi), 1.0, xi), _XI_MIN, _XI_MAX)
+    return np.clip(np.where(np.isnan(xi), 1.0, xi), POSITIVE_MIN, POSITIVE_MAX)

@@ -36,6 +36,7 @@ import numpy as np
 
 from coincli.core import averages as _mg
 from coincli.core import models
+from coincli.core._numerics.roots import bisect
 from coincli.core._numerics.wilson import _z, wilson_interval
 from coincli.core.densities import Cosine, Density, Normal, Table, Uniform
 from coincli.core.models import HALF_PI, Outcome
@@ -375,7 +376,7 @@ def _counts(ca, cs):
 
 def _wilson(k, n):
     """95% Wilson score interval for k successes in n trials (arrays): the one implementation,
-    :func:`coincli.core.stats.tests.wilson_interval`."""
+    :func:`coincli.core._numerics.wilson.wilson_interval`."""
     return wilson_interval(k, n, 0.95)
 
 
@@ -514,13 +515,9 @@ def mc_smallest_tol(spreads, budget: int) -> float:
 
     if not fits(_MAX_TOL):
         return _MAX_TOL
-    lo, hi = math.log(_MIN_TOL), math.log(_MAX_TOL)  # fits(exp(hi)) holds
-    for _ in range(60):
-        mid = (lo + hi) / 2
-        if fits(math.exp(mid)):
-            hi = mid
-        else:
-            lo = mid
+    # in log tol: fits(exp(hi)) holds throughout
+    _, hi = bisect(lambda v: not fits(math.exp(v)), math.log(_MIN_TOL), math.log(_MAX_TOL),
+                   maxiter=60)
     t = math.exp(hi)
     unit = 10.0 ** (math.floor(math.log10(t)) - 1)
     shown = float(f"{math.ceil(t / unit) * unit:.2g}")

@@ -383,11 +383,11 @@ def tosses_label(points) -> str:
 
 
 def experiment_points(experiments, confidence: float = 0.95) -> list[ExperimentPoint]:
-    """Frequencies of sides of :class:`coincli.core.stats.tests.Experiment` rows, with Wilson intervals
-    (all rows in one call of :func:`coincli.core.stats.tests.wilson_interval`)."""
+    """Frequencies of sides of :class:`coincli.core.stats.counts.Experiment` rows, with Wilson
+    intervals (all rows in one call of :func:`coincli.core._numerics.wilson.wilson_interval`)."""
     import numpy as np
 
-    from coincli.core.stats.tests import wilson_interval
+    from coincli.core._numerics.wilson import wilson_interval
 
     if not experiments:
         return []

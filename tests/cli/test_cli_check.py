@@ -14,7 +14,11 @@ from pathlib import Path
 import pytest
 
 from coincli.core import coins
+from coincli.core.stats import counts as stats_counts
+from coincli.core.stats import fit as stats_fit
+from coincli.core.stats import intervals as stats_intervals
 from coincli.core.stats import tests as stats
+from coincli.io import experiments
 from coincli.cli import run
 from coincli.core.models import dynamic, geometric
 
@@ -46,7 +50,7 @@ def test_check_csv_is_the_core(capsys):
                            "--tails", "32", "--format", "csv"], capsys)
     assert code == 0 and err == ""
     rows = _csv(out)
-    ref = stats.check(stats.make_counts(35, 33, 32), 0.583)
+    ref = stats.check(stats_counts.make_counts(35, 33, 32), 0.583)
     assert [r["model"] for r in rows] == ["geometric", "dynamic"]
     for r, t in zip(rows, ref.tests, strict=True):
         assert r["scope"] == "experiment" and r["line"] == "" and int(r["n"]) == 100
@@ -101,7 +105,7 @@ def test_check_psi_dist_and_json(capsys):
 def test_check_quiet_prints_p_values(capsys):
     code, out, _ = _run(["check", "--xi", "0.583", "--heads", "35", "--sides", "33", "--tails",
                          "32", "-q"], capsys)
-    ref = stats.check(stats.make_counts(35, 33, 32), 0.583)
+    ref = stats.check(stats_counts.make_counts(35, 33, 32), 0.583)
     assert code == 0 and [float(v) for v in out.split()] == [t.p_value for t in ref.tests]
 
 
@@ -119,7 +123,7 @@ def test_check_levels(capsys):
                          "32", "--alpha", "0.001", "--confidence", "99%", "-f", "csv"], capsys)
     rows = _csv(out)
     assert rows[0]["verdict"] == "consistent at the 0.1% level (p = 0.0017)"
-    assert float(rows[0]["sides_cp_low"]) == stats.proportion(33, 100, confidence=0.99
+    assert float(rows[0]["sides_cp_low"]) == stats_intervals.proportion(33, 100, confidence=0.99
                                                               ).clopper_pearson.low
 
 
@@ -184,8 +188,8 @@ def test_fit_csv_is_the_core(capsys):
     code, out, err = _run(["fit", str(TOSSES), "--format", "csv"], capsys)
     assert code == 0 and err == ""
     rows = _csv(out)
-    exps = stats.parse_experiments(TOSSES.read_text())
-    ref = stats.fit(exps)
+    exps = experiments.parse_experiments(TOSSES.read_text())
+    ref = stats_fit.fit(exps)
     per_row = [r for r in rows if r["scope"] == "experiment"]
     models = [r for r in rows if r["scope"] == "model"]
     assert len(per_row) == 3 * len(exps)
@@ -208,7 +212,7 @@ def test_fit_human_tables_and_quiet(capsys):
     assert "model comparison, all experiments" in out
     assert "profile-likelihood interval" in out and "SSE" in out
     code, out, _ = _run(["fit", str(TOSSES), "-q"], capsys)
-    ref = stats.fit(stats.parse_experiments(TOSSES.read_text()))
+    ref = stats_fit.fit(experiments.parse_experiments(TOSSES.read_text()))
     assert float(out) == math.degrees(ref.spread.sigma)
 
 
@@ -257,7 +261,9 @@ def test_fit_file_errors(capsys, tmp_path):
 
 def test_importing_the_commands_loads_no_numpy_scipy_rich():
     probe = (
-        "import sys\nimport coincli.cli.check\nimport coincli.core.stats.tests\nfrom coincli.cli import run\n"
+        "import sys\nimport coincli.cli.check\nimport coincli.core.stats.tests\n"
+        "import coincli.core.stats.fit\nimport coincli.io.experiments\n"
+        "from coincli.cli import run\n"
         "assert run(['check', '--sides', '3', '-n', '9']) == 2\n"
         "assert run(['fit', 'no-such-file.csv']) == 2\n"
         "print('LOADED', sorted(m for m in ('numpy','scipy','rich') if m in sys.modules))\n"

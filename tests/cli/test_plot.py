@@ -254,7 +254,8 @@ def test_sides_design_marks(plotmod):
 
 
 def test_sides_experiments_with_wilson_bars(plotmod, tmp_path):
-    from coincli.core.stats.tests import parse_experiments, proportion
+    from coincli.core.stats.intervals import proportion
+    from coincli.io.experiments import parse_experiments
 
     exps = parse_experiments(TOSSES)
     data = plotmod.sides_data(experiments=plotmod.experiment_points(exps), points=51)
@@ -604,7 +605,7 @@ def test_marks_beyond_the_axis_limits_are_notes(capsys, tmp_path, plotmod):
 
 
 def test_tosses_off_the_axis_are_a_note(plotmod):
-    from coincli.core.stats.tests import parse_experiments
+    from coincli.io.experiments import parse_experiments
 
     pts = plotmod.experiment_points(parse_experiments(TOSSES))
     d = plotmod.sides_data(experiments=pts, xi_range=(0.0, 1.0), points=11)

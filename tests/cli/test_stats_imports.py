@@ -1,10 +1,11 @@
 """The import budget of ``coin check`` and ``coin fit``, in a real process (no timing).
 
 Their answers need numpy and scipy.special (binomial tails, beta quantiles, chi-square tails)
-and, for ``fit``, a one-dimensional optimizer (pure Python in coincli.core.stats.tests).  scipy.stats costs
-0.6 s of import, scipy.optimize 0.1-0.2 s; rich draws nothing in a pipe; matplotlib draws nothing
-here at all.  Style of tests/test_cli_subprocess.py: one process runs the commands one after
-another through coincli.cli.run with stdout a pipe, then reports which modules were loaded.
+and, for ``fit``, a one-dimensional optimizer (pure Python in coincli.core._numerics.roots).
+scipy.stats costs 0.6 s of import, scipy.optimize 0.1-0.2 s; rich draws nothing in a pipe;
+matplotlib draws nothing here at all.  Style of tests/test_cli_subprocess.py: one process runs
+the commands one after another through coincli.cli.run with stdout a pipe, then reports which
+modules were loaded.
 """
 
 from __future__ import annotations

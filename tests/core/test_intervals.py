@@ -17,7 +17,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from coincli.core.stats import tests as stats
+from coincli.core._numerics import wilson
+from coincli.core.stats import intervals as stats_intervals
 
 CP_TOL = 8e-15
 WILSON_TOL = 1e-15
@@ -30,11 +31,11 @@ def _ks(n: int) -> list[int]:
 
 
 def _check(k: int, n: int, conf: float) -> None:
-    lo, hi = (float(v) for v in stats.clopper_pearson_interval(k, n, conf))
+    lo, hi = (float(v) for v in stats_intervals.clopper_pearson_interval(k, n, conf))
     want_lo, want_hi = ref.clopper_pearson(k, n, conf, (lo, hi))
     assert ref.relative_error(lo, want_lo) <= CP_TOL, ("low", k, n, conf, lo, want_lo)
     assert ref.relative_error(hi, want_hi) <= CP_TOL, ("high", k, n, conf, hi, want_hi)
-    wl, wh = (float(v) for v in stats.wilson_interval(k, n, conf))
+    wl, wh = (float(v) for v in wilson.wilson_interval(k, n, conf))
     want_wl, want_wh = ref.wilson(k, n, conf)
     assert ref.relative_error(wl, want_wl) <= WILSON_TOL, ("wilson low", k, n, conf, wl)
     assert ref.relative_error(wh, want_wh) <= WILSON_TOL, ("wilson high", k, n, conf, wh)
@@ -68,7 +69,7 @@ def test_every_accepted_confidence_gives_a_finite_interval(n, frac, conf):
     k = min(n, int(frac * n))
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # no RuntimeWarning from numpy or scipy either
-        p = stats.proportion(k, n, confidence=conf)
+        p = stats_intervals.proportion(k, n, confidence=conf)
     for iv in (p.wilson, p.clopper_pearson):
         assert math.isfinite(iv.low) and math.isfinite(iv.high)
         assert 0.0 <= iv.low <= iv.high <= 1.0
@@ -77,7 +78,7 @@ def test_every_accepted_confidence_gives_a_finite_interval(n, frac, conf):
 
 def test_arrays_and_scalars_agree():
     k = np.array([0, 1, 5, 99, 100])
-    lo, hi = stats.clopper_pearson_interval(k, 100, 0.95)
+    lo, hi = stats_intervals.clopper_pearson_interval(k, 100, 0.95)
     for i, kk in enumerate(k.tolist()):
-        r = stats.proportion(kk, 100)
+        r = stats_intervals.proportion(kk, 100)
         assert (r.clopper_pearson.low, r.clopper_pearson.high) == (lo[i], hi[i])

@@ -1,5 +1,6 @@
-"""Tests of coincli.core.stats.tests: counts, intervals, the exact test against brute force, extremes,
-the G-test, verdicts, the psi-spread fit (a calibration study) and the experiments CSV parser."""
+"""Tests of coincli.core.stats (counts, intervals, tests, fit) and coincli.io.experiments: counts,
+intervals, the exact test against brute force, extremes, the G-test, verdicts, the psi-spread fit
+(a calibration study) and the experiments CSV parser."""
 
 from __future__ import annotations
 
@@ -14,8 +15,12 @@ from hypothesis import strategies as st
 from scipy.stats import binom, binomtest, multinomial, power_divergence
 
 from coincli.core import models
+from coincli.core.stats import counts as stats_counts
+from coincli.core.stats import fit as stats_fit
+from coincli.core.stats import intervals as stats_intervals
 from coincli.core.stats import tests as stats
-from coincli.core.stats.tests import Counts, CountsError, make_counts
+from coincli.core.stats.counts import Counts, CountsError, make_counts
+from coincli.io import experiments
 
 # --------------------------------------------------------------------------- helpers
 
@@ -90,7 +95,7 @@ def test_intervals_agree_with_scipys_and_are_sane(k, n):
     # Wilson: scipy's formula to rounding.  Clopper-Pearson: scipy finds the ends by brentq on
     # binom.sf (about 1e-9 relative at k = 1 of 10^6); ours are the exact beta quantiles
     # (tests/test_intervals.py checks them against mpmath), so they agree to scipy's tolerance.
-    r = stats.proportion(k, n)
+    r = stats_intervals.proportion(k, n)
     ref = binomtest(k, n)
     w = ref.proportion_ci(0.95, method="wilson")
     cp = ref.proportion_ci(0.95, method="exact")
@@ -116,13 +121,15 @@ def test_clopper_pearson_closed_forms_at_the_ends():
             root = lambda lv, n=n: mp.exp(lv / n)  # noqa: E731
             one_minus_root = lambda lv, n=n: -mp.expm1(lv / n)  # noqa: E731
             la, l1a = mp.log(a), mp.log1p(-a)
-            checks = [(stats.proportion(0, n, confidence=conf).clopper_pearson.high,
+            checks = [(stats_intervals.proportion(0, n, confidence=conf).clopper_pearson.high,
                        one_minus_root(la)),
-                      (stats.proportion(n, n, confidence=conf).clopper_pearson.low, root(la))]
+                      (stats_intervals.proportion(n, n, confidence=conf).clopper_pearson.low,
+                       root(la))]
             if n > 1:
-                checks += [(stats.proportion(1, n, confidence=conf).clopper_pearson.low,
+                checks += [(stats_intervals.proportion(1, n, confidence=conf).clopper_pearson.low,
                             one_minus_root(l1a)),
-                           (stats.proportion(n - 1, n, confidence=conf).clopper_pearson.high,
+                           (stats_intervals.proportion(n - 1, n,
+                                                       confidence=conf).clopper_pearson.high,
                             root(l1a))]
             for got, want in checks:
                 # 2 ulp for the expm1/log1p forms; a^(1/n) = exp(log(a)/n) carries the rounding
@@ -134,17 +141,17 @@ def test_clopper_pearson_closed_forms_at_the_ends():
 def test_the_issue_17_example_is_exact():
     # coin check --xi 0.583 --heads 1 --sides 20 --tails 20 --confidence 0.99: the heads interval
     # starts at 1 - 0.995^(1/41) = 1.2224964455056342e-4 (scipy: ...4452608593e-4)
-    r = stats.proportion(1, 41, "heads", 0.99)
+    r = stats_intervals.proportion(1, 41, "heads", 0.99)
     assert r.clopper_pearson.low == pytest.approx(1.2224964455056342e-4, rel=2e-16)
 
 
 def test_interval_arguments():
     with pytest.raises(ValueError, match="count must be <= n"):
-        stats.proportion(11, 10)
+        stats_intervals.proportion(11, 10)
     with pytest.raises(ValueError, match="confidence must be in"):
-        stats.proportion(1, 10, confidence=1.0)
-    assert [p.outcome for p in stats.proportions(make_counts(1, 2, 3))] == ["heads", "sides",
-                                                                             "tails"]
+        stats_intervals.proportion(1, 10, confidence=1.0)
+    assert [p.outcome for p in stats_intervals.proportions(make_counts(1, 2, 3))] == [
+        "heads", "sides", "tails"]
 
 
 # --------------------------------------------------------------------------- the exact test
@@ -379,10 +386,10 @@ def test_model_chances_with_a_density():
 
 def test_sse_and_aic():
     c = [make_counts(sides=10, n=100), make_counts(sides=30, n=100)]
-    assert stats.sse_sides(c, [0.1, 0.4]) == pytest.approx(0.01)
-    assert stats.aic(-10.0, 0) == 20.0 and stats.aic(-10.0, 1) == 22.0
+    assert stats_fit.sse_sides(c, [0.1, 0.4]) == pytest.approx(0.01)
+    assert stats_fit.aic(-10.0, 0) == 20.0 and stats_fit.aic(-10.0, 1) == 22.0
     with pytest.raises(ValueError, match="one entry each"):
-        stats.sse_sides(c, [0.1])
+        stats_fit.sse_sides(c, [0.1])
 
 
 # --------------------------------------------------------------------------- the spread of psi
@@ -419,14 +426,14 @@ def test_spread_interval_is_calibrated(sigma, faces, reps):
     93-99% over 200 repetitions in each of six settings, docs/check.md)."""
     hits = 0
     for seed in range(reps):
-        fit = stats.fit_spread(QUARTER_STACKS, _simulate(sigma, seed, faces=faces))
+        fit = stats_fit.fit_spread(QUARTER_STACKS, _simulate(sigma, seed, faces=faces))
         assert fit.low <= fit.sigma <= fit.high
         hits += _covers(fit, sigma)
     assert hits / reps >= 0.90
 
 
 def test_spread_fit_recovers_a_large_sample():
-    fit = stats.fit_spread(QUARTER_STACKS, _simulate(0.5, 1, n=20_000))
+    fit = stats_fit.fit_spread(QUARTER_STACKS, _simulate(0.5, 1, n=20_000))
     assert fit.low < 0.5 < fit.high and fit.high - fit.low < 0.1
     assert fit.sigma == pytest.approx(0.5, abs=0.03)
     assert fit.aic == pytest.approx(2 - 2 * fit.log_likelihood)
@@ -442,7 +449,7 @@ def test_spread_fit_at_the_keller_flip_boundary():
         s = round(1000 * d.sides)
         h = (1000 - s) // 2
         counts.append(make_counts(h, s, 1000 - s - h))
-    fit = stats.fit_spread(QUARTER_STACKS, counts)
+    fit = stats_fit.fit_spread(QUARTER_STACKS, counts)
     assert fit.sigma == 0.0 and fit.low == 0.0 and 0 < fit.high < 0.5
     assert "Keller flip" in fit.note
     assert fit.log_likelihood == pytest.approx(
@@ -452,7 +459,7 @@ def test_spread_fit_at_the_keller_flip_boundary():
 
 def test_spread_fit_sides_only_can_be_two_pieces():
     # side frequencies above the dynamic curve fit a narrow and a wide spread alike
-    fit = stats.fit_spread(QUARTER_STACKS, _simulate(0.7, 1, faces=False))
+    fit = stats_fit.fit_spread(QUARTER_STACKS, _simulate(0.7, 1, faces=False))
     assert len(fit.pieces) == 2 and "not one interval" in fit.note
     assert fit.pieces[0][0] == fit.low and fit.pieces[-1][1] == fit.high
 
@@ -460,24 +467,24 @@ def test_spread_fit_sides_only_can_be_two_pieces():
 def test_spread_fit_arguments():
     c = [make_counts(1, 1, 1)]
     with pytest.raises(ValueError, match="one length"):
-        stats.fit_spread([0.5, 0.6], c)
+        stats_fit.fit_spread([0.5, 0.6], c)
     with pytest.raises(ValueError, match="finite and > 0"):
-        stats.fit_spread([0.0], c)
+        stats_fit.fit_spread([0.0], c)
     with pytest.raises(ValueError, match="confidence"):
-        stats.fit_spread([0.5], c, confidence=95)
+        stats_fit.fit_spread([0.5], c, confidence=95)
 
 
 # --------------------------------------------------------------------------- fit
 
 
 def _experiments(counts, xi=QUARTER_STACKS):
-    return [stats.Experiment(k + 2, float(x), c, f"row{k}")
+    return [stats_counts.Experiment(k + 2, float(x), c, f"row{k}")
             for k, (x, c) in enumerate(zip(xi, counts, strict=True))]
 
 
 def test_fit_compares_models():
     exps = _experiments(_simulate(math.sqrt(0.1), 3))
-    r = stats.fit(exps)
+    r = stats_fit.fit(exps)
     names = [m.model for m in r.models]
     assert names == ["geometric", "dynamic", "psi-spread"]
     by = {m.model: m for m in r.models}
@@ -496,11 +503,11 @@ def test_fit_compares_models():
 def test_fit_with_a_density_and_without_spread():
     from coincli.core.densities import Cosine
 
-    r = stats.fit(_experiments(_simulate(0.3, 4)), {"cosine": Cosine()}, spread=False)
+    r = stats_fit.fit(_experiments(_simulate(0.3, 4)), {"cosine": Cosine()}, spread=False)
     assert r.spread is None
     assert [m.model for m in r.models] == ["geometric", "dynamic", "cosine"]
     with pytest.raises(ValueError, match="empty"):
-        stats.fit([])
+        stats_fit.fit([])
 
 
 # --------------------------------------------------------------------------- the CSV parser
@@ -516,7 +523,7 @@ disc, , 2, , 2.4cm, 1.75mm, 40, 21, 39,
 
 
 def test_parse_experiments():
-    rows = stats.parse_experiments(GOOD)
+    rows = experiments.parse_experiments(GOOD)
     assert [r.line for r in rows] == [3, 4, 6, 7]
     assert [r.label for r in rows] == ["q1", "q3", "fair", "disc"]
     assert rows[0].xi == pytest.approx(1.75 / 24) and rows[0].counts == Counts(100, 3, 96, 1)
@@ -526,9 +533,10 @@ def test_parse_experiments():
 
 
 def test_parse_default_labels_and_aliases():
-    rows = stats.parse_experiments("xi,heads,sides,tails\n0.5,1,2,3\n")
+    rows = experiments.parse_experiments("xi,heads,sides,tails\n0.5,1,2,3\n")
     assert rows[0].label == "xi=0.5"
-    rows = stats.parse_experiments("coin,count,sides,tosses\nnickel,3,20,100\nnickel,,5,100\n")
+    rows = experiments.parse_experiments(
+        "coin,count,sides,tosses\nnickel,3,20,100\nnickel,,5,100\n")
     assert [r.label for r in rows] == ["nickel x3", "nickel"]
     assert rows[0].counts == Counts(100, 20)
 
@@ -565,15 +573,15 @@ def test_parse_default_labels_and_aliases():
     ],
 )
 def test_parse_errors_name_line_and_column(text, expected):
-    with pytest.raises(stats.CSVError) as info:
-        stats.parse_experiments(text)
+    with pytest.raises(experiments.CSVError) as info:
+        experiments.parse_experiments(text)
     msg = str(info.value)
     assert msg.startswith(expected), msg
     assert "\n" not in msg
 
 
 def test_parse_trailing_empty_fields_are_fine():
-    rows = stats.parse_experiments("xi,sides,n\n0.5,1,10,,\n")
+    rows = experiments.parse_experiments("xi,sides,n\n0.5,1,10,,\n")
     assert rows[0].counts == Counts(10, 1)
 
 
@@ -584,15 +592,15 @@ def test_parse_trailing_empty_fields_are_fine():
 ])
 def test_counts_past_2_53_are_refused_not_computed(kwargs, words):
     """Beyond 2**53 a count is not exact in a double, and the exact tests would run for hours."""
-    with pytest.raises(stats.CountsError, match=re.escape(words)):
-        stats.make_counts(**kwargs)
+    with pytest.raises(stats_counts.CountsError, match=re.escape(words)):
+        stats_counts.make_counts(**kwargs)
 
 
 def test_csv_counts_past_2_53_name_their_line_and_column():
     with pytest.raises(ValueError, match=r"line 2.*'heads'.*from 0 to 9007199254740992"):
-        stats.parse_experiments("xi,heads,sides,tails\n0.5,9007199254740993,1,1\n")
+        experiments.parse_experiments("xi,heads,sides,tails\n0.5,9007199254740993,1,1\n")
     with pytest.raises(ValueError, match=r"got '9{37}\.\.\.'"):
-        stats.parse_experiments("xi,heads,sides,tails\n0.5," + "9" * 5000 + ",1,1\n")
+        experiments.parse_experiments("xi,heads,sides,tails\n0.5," + "9" * 5000 + ",1,1\n")
 
 
 def _percent_by_decimal(level: float) -> str:
@@ -615,22 +623,22 @@ def test_percent_is_the_exact_decimal_product(level):
 
 def test_a_semicolon_file_reads_decimal_commas():
     """README: semicolons 'as spreadsheets write csv where the decimal mark is a comma'."""
-    a = stats.parse_experiments("xi;heads;sides;tails\n0,5;40;20;40\n")
-    b = stats.parse_experiments("diameter;thickness;heads;sides;tails\n24,26;1,75mm;4;2;4\n")
+    a = experiments.parse_experiments("xi;heads;sides;tails\n0,5;40;20;40\n")
+    b = experiments.parse_experiments("diameter;thickness;heads;sides;tails\n24,26;1,75mm;4;2;4\n")
     assert a[0].xi == 0.5 and a[0].counts.sides == 20
     assert b[0].xi == 1.75 / 24.26
-    with pytest.raises(stats.CSVError, match="xi must be a number"):  # a comma file: no
-        stats.parse_experiments("xi,heads,sides,tails\n\"0,5\",40,20,40\n")
+    with pytest.raises(experiments.CSVError, match="xi must be a number"):  # a comma file: no
+        experiments.parse_experiments("xi,heads,sides,tails\n\"0,5\",40,20,40\n")
 
 
 def test_the_xi_column_reads_xi_as_the_option_does():
-    assert stats.parse_experiments("xi,heads,sides,tails\n17/30,4,2,4\n")[0].xi == 17 / 30
-    with pytest.raises(stats.CSVError, match="at xi = 0 no model lands on a side"):
-        stats.parse_experiments("xi,heads,sides,tails\n0,4,2,4\n")
+    assert experiments.parse_experiments("xi,heads,sides,tails\n17/30,4,2,4\n")[0].xi == 17 / 30
+    with pytest.raises(experiments.CSVError, match="at xi = 0 no model lands on a side"):
+        experiments.parse_experiments("xi,heads,sides,tails\n0,4,2,4\n")
 
 
 def test_trailing_empty_header_cells_are_ignored_and_a_nameless_column_is_named():
-    rows = stats.parse_experiments("xi,heads,sides,tails,,\n0.5,40,20,40,,\n")
+    rows = experiments.parse_experiments("xi,heads,sides,tails,,\n0.5,40,20,40,,\n")
     assert rows[0].counts.n == 100
-    with pytest.raises(stats.CSVError, match="the header's column 2 has no name"):
-        stats.parse_experiments("xi,,heads,sides,tails\n0.5,,40,20,40\n")
+    with pytest.raises(experiments.CSVError, match="the header's column 2 has no name"):
+        experiments.parse_experiments("xi,,heads,sides,tails\n0.5,,40,20,40\n")

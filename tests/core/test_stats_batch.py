@@ -15,12 +15,14 @@ import numpy as np
 import pytest
 import stats_reference as old
 
+from coincli.core.stats import counts as stats_counts
+from coincli.core.stats import fit as stats_fit
 from coincli.core.stats import tests as stats
 from coincli.core.densities import Cosine, Normal
 from coincli.core.models import dynamic, geometric
 
 
-def _random_experiments(seed: int, rows: int) -> list[stats.Experiment]:
+def _random_experiments(seed: int, rows: int) -> list[stats_counts.Experiment]:
     """Rows of a few shared coins and some coins of their own; 1 to 3000 tosses, drawn from a
     psi spread of 18 deg, some rows with sides only, some counts at the extremes."""
     from coincli.core.averages import marginal
@@ -39,10 +41,10 @@ def _random_experiments(seed: int, rows: int) -> list[stats.Experiment]:
         elif kind < 0.1:
             h, s, t = 0, n, 0  # all sides
         if rng.random() < 0.25:
-            counts = stats.make_counts(sides=s, n=n)
+            counts = stats_counts.make_counts(sides=s, n=n)
         else:
-            counts = stats.make_counts(h, s, t)
-        out.append(stats.Experiment(i + 2, xi, counts, f"row{i}"))
+            counts = stats_counts.make_counts(h, s, t)
+        out.append(stats_counts.Experiment(i + 2, xi, counts, f"row{i}"))
     return out
 
 
@@ -56,7 +58,7 @@ def _close(a, b, rel, abs_=0.0):
 def test_rows_match_the_one_at_a_time_engine(seed):
     exps = _random_experiments(seed, 40)
     dens = {"cosine": Cosine()}
-    res = stats.fit(exps, dens, spread=False)
+    res = stats_fit.fit(exps, dens, spread=False)
     assert len(res.rows) == len(exps)
     for e, row in zip(exps, res.rows, strict=True):
         chances = {"geometric": geometric(e.xi), "dynamic": dynamic(e.xi)}
@@ -94,7 +96,7 @@ def test_spread_fit_matches_the_scipy_optimize_one(seed):
     exps = _random_experiments(seed, 30)
     xi = [e.xi for e in exps]
     counts = [e.counts for e in exps]
-    got = stats.fit_spread(xi, counts)
+    got = stats_fit.fit_spread(xi, counts)
     want = old.fit_spread(xi, counts)
     # u = sigma / (1 + sigma): bounded Brent stops within 2 (1.5e-8 u + 1e-9 / 3) of the
     # maximum, Brent's root finder within 1e-10 of each end
@@ -118,7 +120,7 @@ def test_a_file_of_repeated_rows_is_tested_once_per_distinct_row(monkeypatch):
         return real(x, p)
 
     monkeypatch.setattr(stats, "_trinomial_logp", spy)
-    res = stats.fit(exps, spread=False)
+    res = stats_fit.fit(exps, spread=False)
     assert sum(calls) <= 2 * 40
     first = [t.p_value for t in res.rows[0].tests]
     assert [t.p_value for t in res.rows[40].tests] == first

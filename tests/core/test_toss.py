@@ -718,15 +718,15 @@ def test_wilson_interval():
 
 @pytest.mark.parametrize("level", [0.5, 0.9, 0.95, 0.99, 1 - 1e-12])
 def test_wilson_interval_is_the_one_of_stats(level):
-    """One Wilson implementation: coincli.core.stats.tests', whose z at the common levels is a constant
-    equal to scipy's ndtri bit for bit (so that simulate needs no scipy)."""
+    """One Wilson implementation: coincli.core._numerics.wilson's, whose z at the common levels is
+    a constant equal to scipy's ndtri bit for bit (so that simulate needs no scipy)."""
     from scipy.special import ndtri
 
-    from coincli.core.stats import tests as stats
+    from coincli.core._numerics import wilson
 
-    assert stats._z(level) == -float(ndtri((1.0 - level) / 2))
+    assert wilson._z(level) == -float(ndtri((1.0 - level) / 2))
     for k, n in ((0, 7), (1, 7), (3, 7), (7, 7), (1, 10**9), (333_333, 10**6)):
-        lo, hi = stats.wilson_interval(k, n, level)
+        lo, hi = wilson.wilson_interval(k, n, level)
         assert T.wilson_interval(k, n, level) == (float(lo), float(hi))
     with pytest.raises(ValueError, match="n must be >= 1"):
         T.wilson_interval(0, 0)

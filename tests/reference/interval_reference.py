@@ -1,5 +1,5 @@
 r"""Reference confidence intervals for a binomial proportion, in mpmath, written from the
-definitions (independently of ``coincli.core.stats.tests``):
+definitions (independently of ``coincli.core.stats.intervals``):
 
 - Clopper-Pearson: with ``a = (1 - confidence) / 2``, ``low`` solves ``P(X >= k | low) = a`` and
   ``high`` solves ``P(X <= k | high) = a`` for ``X ~ Binomial(n, p)``; equivalently ``low`` is

@@ -14,22 +14,12 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
+from coincli.core._numerics.wilson import CONFIDENCE, _check_level
 from coincli.core.models import Outcome
-from coincli.core.stats.tests import (
-    _LOG_TINY,
-    TIE_RTOL,
-    CONFIDENCE,
-    Counts,
-    Interval,
-    Proportion,
-    SpreadFit,
-    _check_level,
-    _check_probs,
-    _sigma_of,
-    _spread_chances,
-    _whole,
-    aic,
-)
+from coincli.core.stats.counts import Counts, _check_probs, _whole
+from coincli.core.stats.fit import SpreadFit, _sigma_of, _spread_chances, aic
+from coincli.core.stats.intervals import Interval, Proportion
+from coincli.core.stats.tests import _LOG_TINY, TIE_RTOL
 
 
 def proportion(count: int, n: int, outcome: str = "sides", confidence: float = CONFIDENCE

@@ -1,2 +1,2 @@
-"""Numerical kernels shared by the core: the math/numpy backend, the Wilson interval, elliptic
-integrals and Jacobi functions, quaternions."""
+"""Numerical kernels shared by the core: the math/numpy backend, the Wilson interval, the root
+finders, minimizer and bisection, elliptic integrals and Jacobi functions, quaternions."""

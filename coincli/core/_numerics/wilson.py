@@ -1,9 +1,9 @@
 """The Wilson score interval and the confidence level it takes: the one implementation, which
-:mod:`coincli.core.stats.tests` re-exports.
+:mod:`coincli.core.stats.intervals` and the Monte Carlo estimates import.
 
 It lives in this small module so that ``coin simulate``, which prints a 95% Wilson interval for
-each outcome, imports neither scipy nor the rest of :mod:`coincli.core.stats.tests` (about 2 ms of its
-start-up; docs/performance.md).
+each outcome, imports neither scipy nor the statistics of :mod:`coincli.core.stats` (about 2 ms
+of its start-up; docs/performance.md).
 """
 
 from __future__ import annotations

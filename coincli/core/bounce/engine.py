@@ -69,6 +69,7 @@ from dataclasses import dataclass, replace
 
 from coincli.errors import PhysicsMissing, install_hint
 from coincli.core._numerics.quaternion import _qaxis, _qconj, _qmul, _qrot
+from coincli.core._numerics.roots import bisect
 from coincli.core.toss.flight import (
     DEFAULT_DIAMETER,
     NAMES,
@@ -280,26 +281,13 @@ def smallest_xi(diameter: float, density: float = DEFAULT_DENSITY) -> float:
         return math.inf
     if not light(1e-300):
         return 1e-300
-    return _log_bisect(light, 1e-300, 100.0)
+    return bisect(light, 1e-300, 100.0, log=True, rtol=1e-12)[1]
 
 
 def smallest_diameter(density: float = DEFAULT_DENSITY) -> float:
     """The smallest diameter (m) MuJoCo can simulate at some xi up to 100 (at xi = 100)."""
-    return _log_bisect(lambda d: smallest_xi(d, density) > 100.0, 1e-4, 10.0)
-
-
-def _log_bisect(below, lo: float, hi: float) -> float:
-    """The boundary in ``[lo, hi]`` (both > 0) where ``below`` turns false, by bisection in log
-    to a relative 1e-12: the smallest point found where it is false."""
-    for _ in range(200):
-        mid = math.sqrt(lo * hi)
-        if below(mid):
-            lo = mid
-        else:
-            hi = mid
-        if hi / lo < 1 + 1e-12:
-            break
-    return hi
+    return bisect(lambda d: smallest_xi(d, density) > 100.0, 1e-4, 10.0, log=True,
+                  rtol=1e-12)[1]
 
 
 def round_up(v: float, digits: int = 3) -> float:

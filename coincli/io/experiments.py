@@ -1,0 +1,274 @@
+"""The experiments file of ``coin fit`` and ``coin plot``: comma-, semicolon- or tab-separated
+rows of a coin (``xi``, a catalog ``coin``, or ``diameter`` and ``thickness``) and its tosses.
+
+:func:`parse_experiments` reads the text into :class:`coincli.core.stats.counts.Experiment`
+rows (each with validated :class:`~coincli.core.stats.counts.Counts`), or raises
+:class:`CSVError` naming the line and the column; :func:`delimiter_of` names the separators a
+user may ask for.  The coin columns are read with the grammar of the command line
+(:mod:`coincli.io.grammar`).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+from coincli.core.stats.counts import MAX_COUNT, Counts, CountsError, Experiment, make_counts
+
+__all__ = [
+    "CSV_COLUMNS",
+    "DELIMITERS",
+    "CSVError",
+    "delimiter_of",
+    "parse_experiments",
+]
+
+
+CSV_COLUMNS = ("label", "xi", "coin", "count", "diameter", "thickness", "heads", "sides", "tails",
+               "n")
+_CSV_ALIASES = {"name": "label", "tosses": "n", "diameter_mm": "diameter",
+                "thickness_mm": "thickness"}
+#: A number written with a decimal comma (``0,5``, ``2,4cm``): read so in semicolon files
+_DECIMAL_COMMA = re.compile(r"^[+-]?\d+,\d+([eE][+-]?\d+)?[a-zA-Z\"]*$", re.ASCII)
+
+
+class CSVError(ValueError):
+    """A malformed experiments file; the message names the line and column."""
+
+    def __init__(self, message: str, line: int, column: str | None = None):
+        super().__init__(message)
+        self.line = line
+        self.column = column
+
+
+def _err(line: int, column: str | None, msg: str) -> CSVError:
+    where = f"line {line}" + (f", column {column!r}" if column else "")
+    return CSVError(f"{where}: {msg}", line, column)
+
+
+_WHOLE = re.compile(r"^\+?\d+(\.0*)?$", re.ASCII)
+
+
+def _csv_count(text: str, name: str) -> int:
+    s = text.strip()
+    digits = s.split(".")[0].lstrip("+").lstrip("0")
+    if not _WHOLE.match(s) or len(digits) > 16 or int(digits or "0") > MAX_COUNT:
+        shown = text if len(text) <= 40 else text[:37] + "..."
+        raise ValueError(f"{name} must be a whole number from 0 to {MAX_COUNT} (2**53), "
+                         f"got {shown!r}")
+    return int(digits or "0")
+
+
+#: the separators a file may use, by what a user may call them
+DELIMITERS = {",": ",", "comma": ",", ";": ";", "semicolon": ";", "\t": "\t", "tab": "\t",
+              "\\t": "\t"}
+_DELIMITER_NAMES = {",": "comma", ";": "semicolon", "\t": "tab"}
+
+
+def delimiter_of(name: str) -> str:
+    """The separator ``name`` means (``,``/``comma``, ``;``/``semicolon``, tab/``\t``/``tab``)."""
+    try:
+        return DELIMITERS[name if name == "\t" else name.strip().lower()]
+    except (KeyError, AttributeError):
+        raise ValueError(f"delimiter must be comma (,), semicolon (;) or tab, got {name!r}") \
+            from None
+
+
+def _sniff(header_line: str) -> str:
+    """The separator of a header line: the most frequent of comma, semicolon and tab (comma
+    when there is none, or on a tie)."""
+    counts = {d: header_line.count(d) for d in (",", ";", "\t")}
+    best = max(counts.values())
+    return next(d for d in (",", ";", "\t") if counts[d] == best) if best else ","
+
+
+def parse_experiments(text: str, *, max_rows: int = 100_000, delimiter: str | None = None
+                      ) -> list[Experiment]:
+    """Parse an experiments file; raise :class:`CSVError` naming the line and column.
+
+    Comma-, semicolon- or tab-separated: ``delimiter`` (``,``, ``;`` or a tab), or, when None,
+    the most frequent of the three in the header line.  The first non-blank, non-``#`` line is
+    the header (case-insensitive, any order).  Columns:
+
+    - the coin, one of: ``xi``; ``coin`` (a catalog name, :func:`coincli.core.coins.get_coin`) with
+      an optional ``count`` of stacked coins (default 1); ``diameter`` and ``thickness`` (mm, or
+      with a unit: ``24.26mm``, ``2.4cm``, ``0.955in``) with an optional ``count``;
+    - the tosses: ``heads``, ``sides``, ``tails`` (``n`` optional, must match), or ``sides``
+      and ``n`` when the faces were not told apart;
+    - optionally ``label``.
+
+    Rows may use different kinds (an empty cell is absent).  Aliases: ``name`` for ``label``,
+    ``tosses`` for ``n``.  Blank lines and lines starting with ``#`` are skipped.  A header
+    that does not parse says which separator it was read with.
+    """
+    import csv
+    import io
+
+    from coincli.core import coins
+    from coincli.io.grammar import parse_length_mm, parse_number
+
+    if text.startswith("\ufeff"):
+        text = text[1:]
+    sep = delimiter_of(delimiter) if delimiter is not None else None
+    if sep is None:
+        for raw_line in text.splitlines():
+            if raw_line.strip() and not raw_line.lstrip().startswith("#"):
+                sep = _sniff(raw_line)
+                break
+        else:
+            sep = ","
+    read_as = (f"read as {_DELIMITER_NAMES[sep]}-separated"
+               + ("" if delimiter is not None else ", the separator sniffed from the header"))
+    reader = csv.reader(io.StringIO(text), delimiter=sep, skipinitialspace=True, strict=True)
+    header: list[str] | None = None
+    header_line = 0
+    out: list[Experiment] = []
+    try:
+        for cells in reader:
+            line = reader.line_num
+            if not cells or all(not c.strip() for c in cells) or cells[0].lstrip().startswith("#"):
+                continue
+            if header is None:
+                header, header_line = [], line
+                while cells and not cells[-1].strip():  # a spreadsheet's trailing separators
+                    cells = cells[:-1]
+                for k, raw in enumerate(cells, start=1):
+                    name = raw.strip().lower()
+                    name = _CSV_ALIASES.get(name, name)
+                    if not name:
+                        raise _err(line, f"#{k}", f"the header's column {k} has no name; expected "
+                                   f"some of {', '.join(CSV_COLUMNS)} ({read_as})")
+                    if name not in CSV_COLUMNS:
+                        raise _err(line, raw.strip() or f"#{k}",
+                                   f"unknown column; expected some of {', '.join(CSV_COLUMNS)} "
+                                   f"({read_as})")
+                    if name in header:
+                        raise _err(line, raw.strip(), "appears twice in the header")
+                    header.append(name)
+                if "sides" not in header:
+                    raise _err(line, None, f"the header has no 'sides' column ({read_as})")
+                if not ({"xi", "coin", "diameter"} & set(header)):
+                    raise _err(line, None,
+                               "the header needs xi, coin (and count), or diameter and thickness "
+                               f"({read_as})")
+                width = len(header)
+                continue
+            if len(cells) > width:
+                extra = cells[width:]
+                if any(c.strip() for c in extra):
+                    raise _err(line, f"#{width + 1}",
+                               f"{len(cells)} fields but the header (line {header_line}) has "
+                               f"{width} columns ({read_as})")
+                cells = cells[:width]
+            elif len(cells) < width:
+                cells = cells + [""] * (width - len(cells))
+            row = dict(zip(header, (c.strip() for c in cells), strict=True))
+            if sep == ";":  # a decimal comma, as such spreadsheets write it: 0,5 is 0.5
+                for key in ("xi", "diameter", "thickness"):
+                    v = row.get(key)
+                    if v and _DECIMAL_COMMA.match(v):
+                        row[key] = v.replace(",", ".")
+            out.append(_experiment(line, row, parse_number, parse_length_mm, coins))
+            if len(out) > max_rows:
+                raise _err(line, None, f"more than {max_rows} experiments")
+    except csv.Error as exc:
+        raise _err(reader.line_num, None, f"not valid CSV: {exc}") from None
+    if header is None:
+        raise _err(1, None, "the file is empty (expected a header such as xi,heads,sides,tails)")
+    if not out:
+        raise _err(header_line, None, "no experiments after the header")
+    return out
+
+
+def _fast_count(text: str, name: str) -> int:
+    """A count cell: plain ASCII digits take the fast path; anything else :func:`_csv_count`."""
+    if text.isdigit() and text.isascii() and len(text) <= 15:
+        return int(text)
+    return _csv_count(text, name)
+
+
+def _counts_of(h, s, t, m) -> Counts:
+    """:func:`make_counts` for whole numbers already read: the two usual shapes directly."""
+    if s is not None and h is not None and t is not None and m is None:
+        total = h + s + t
+        if 0 < total <= MAX_COUNT:
+            return Counts(total, s, h, t)
+    elif s is not None and h is None and t is None and m is not None and 0 < m and s <= m:
+        return Counts(m, s)
+    return make_counts(h, s, t, m)
+
+
+def _experiment(line: int, row: dict, parse_number, parse_length_mm, coins) -> Experiment:
+    has = {k for k, v in row.items() if v}
+    geo = has & {"xi", "coin", "diameter", "thickness"}
+    count = None
+    if "count" in has:
+        if geo == {"xi"}:
+            raise _err(line, "count", "count goes with coin or diameter/thickness, not with xi")
+        try:
+            from coincli.io.grammar import parse_count
+
+            count = parse_count(row["count"], "count")
+        except ValueError as exc:
+            raise _err(line, "count", str(exc)) from None
+    if "xi" in geo:
+        if len(geo) > 1:
+            other = sorted(geo - {"xi"})[0]
+            raise _err(line, other, "give xi, or coin, or diameter and thickness; not several")
+        try:
+            from coincli.io.grammar import parse_ratio
+
+            xi = parse_ratio(row["xi"], "xi")  # as --xi takes it: 0.5, 1/2, 17/30
+        except ValueError as exc:
+            raise _err(line, "xi", str(exc)) from None
+        if not (math.isfinite(xi) and xi > 0):
+            raise _err(line, "xi", f"xi must be a finite number > 0 in a file of tosses (at "
+                       f"xi = 0 no model lands on a side: coin check --xi 0 tests such a coin), "
+                       f"got {row['xi']!r}")
+        desc = f"xi={row['xi']}"
+    elif "coin" in geo:
+        if len(geo) > 1:
+            other = sorted(geo - {"coin"})[0]
+            raise _err(line, other, "give coin, or diameter and thickness; not both")
+        try:
+            coin = coins.get_coin(row["coin"])
+        except ValueError as exc:
+            raise _err(line, "coin", str(exc)) from None
+        k = count or 1
+        xi = coins.stack_xi(coin, k)
+        desc = coin.name if k == 1 else f"{coin.name} x{k}"
+    elif geo:
+        for name in ("diameter", "thickness"):
+            if name not in has:
+                raise _err(line, name, "diameter and thickness must be given together")
+        try:
+            d = parse_length_mm(row["diameter"], "diameter")
+        except ValueError as exc:
+            raise _err(line, "diameter", str(exc)) from None
+        try:
+            h = parse_length_mm(row["thickness"], "thickness")
+        except ValueError as exc:
+            raise _err(line, "thickness", str(exc)) from None
+        k = count or 1
+        try:
+            xi = coins.stack_xi(coins.custom_coin(d, h), k)
+        except ValueError as exc:
+            raise _err(line, "thickness", str(exc)) from None
+        if not (math.isfinite(xi) and xi > 0):
+            raise _err(line, "thickness", f"thickness / diameter = {xi!r} is not a usable ratio")
+        desc = f"{row['diameter']}x{row['thickness']}" + (f" x{k}" if k > 1 else "")
+    else:
+        raise _err(line, "xi", "no coin on this row: give xi, coin, or diameter and thickness")
+    vals = {}
+    for name in ("heads", "sides", "tails", "n"):
+        if name in has:
+            try:
+                vals[name] = _fast_count(row[name], name)
+            except ValueError as exc:
+                raise _err(line, name, str(exc)) from None
+    try:
+        counts = _counts_of(vals.get("heads"), vals.get("sides"), vals.get("tails"),
+                            vals.get("n"))
+    except CountsError as exc:
+        raise _err(line, exc.argument, str(exc)) from None
+    return Experiment(line, float(xi), counts, row.get("label") or desc)
