@@ -34,9 +34,8 @@ from coincli.io.table import (
     values_option,
     write_figure,
 )
-from coincli.cli._options import (
-    SeedOpt,
-    TossesOpt,
+from coincli.cli._options import SeedOpt, TossesOpt
+from coincli.io.options import (
     range_unit,
     report_seed,
     seed_value,
