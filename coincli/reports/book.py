@@ -216,7 +216,7 @@ def _fmt(v: float) -> str:
     return short if float(short) == v else repr(float(v))
 
 
-# --------------------------------------------------------------------------- output files
+# --------------------------------------------------------------------------- --out: checked, figures
 
 
 def _is_figure(path: str | None) -> bool:
@@ -261,9 +261,6 @@ def _figure(path: str, build) -> None:
             write_figure(fig, path)
         except ValueError as exc:  # the figure itself: nothing was written
             raise compute_error(f"cannot draw {path!r}: {exc}") from None
-
-
-# --------------------------------------------------------------------------- the command
 
 
 # --------------------------------------------------------------------------- the report
