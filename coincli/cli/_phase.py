@@ -16,6 +16,7 @@ from typing import Annotated, NamedTuple
 import typer
 
 from coincli.io import grammar as parse
+from coincli.io import options
 from coincli.cli import _options
 from coincli.io.table import usage_error
 
@@ -182,7 +183,7 @@ def resolve(*, xi, coin, count, quarters, diameter, thickness, psi, u, omega, co
             raise usage_error("--resolution N is the old spelling of --cols N --rows N; give "
                               "one")
         cols = rows = old_resolution
-    coins = _options.resolve_coin(xi, coin, count, quarters, diameter, thickness,
+    coins = options.resolve_coin(xi, coin, count, quarters, diameter, thickness,
                                   required=False, xi_rule="finite")
     x = FAIR_XI if coins is None else float(coins.xis[0])
     ct = contact_value(contact)

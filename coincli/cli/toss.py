@@ -18,6 +18,7 @@ from typing import Annotated
 import typer
 
 from coincli.io import grammar as parse
+from coincli.io import options
 from coincli.cli import _bounce as BO
 from coincli.cli import _options, _phase, app
 from coincli.io.table import (
@@ -189,12 +190,12 @@ def _values(text: str, what: str, kind: str):
     units = _units_of(kind)
     if t.count(":") == 2:
         example = "1:3:0.5m/s" if kind == "u" else "38:40:1rev/s"
-        head, unit = _options.range_unit(t, units, what, example)
+        head, unit = options.range_unit(t, units, what, example)
         if unit is not None:
             try:
                 parse.parse_range(head, what)
             except ValueError as exc:
-                raise _options.typed_range_error(exc, head, t) from None
+                raise options.typed_range_error(exc, head, t) from None
             return values_option(head, what, lambda s, w: _one_value(s + unit, w, kind))
     bounds = (0.0, U_MAX) if kind == "u" else (0.0, sys.float_info.max)
     return values_option(t, what, lambda s, w: _one_value(s, w, kind), bounds=bounds)
@@ -229,7 +230,7 @@ def _spec(text: str, what: str, kind: str):
                               f"{example}), got {text!r}")
         if name == "normal" and nums[1].startswith("-"):
             raise usage_error(f"{what}: normal:MEAN:SD needs SD >= 0, got {text!r}")
-    nums = _options.unit_at_end(nums, _units_of(kind), what, example, text)
+    nums = options.unit_at_end(nums, _units_of(kind), what, example, text)
     one = parse.parse_speed_ms if kind == "u" else parse.parse_spin_rads
     try:
         if name == "normal":  # the mean of a normal may be negative: it is truncated at 0
@@ -334,7 +335,7 @@ def toss_cmd(
     if physics is not None and contact.strip().lower() != "rim":
         raise usage_error("--contact goes with --landing bounce only as rim (a bounce is the "
                           "whole cylinder on the surface)")
-    coins = _options.resolve_coin(xi, coin, count, quarters, diameter, thickness, many=True,
+    coins = options.resolve_coin(xi, coin, count, quarters, diameter, thickness, many=True,
                                   xi_rule="finite", command="coin toss")
     ct = _phase.contact_value(contact)
     dia = _phase.diameter_m(coins, diameter)
@@ -364,7 +365,7 @@ def toss_cmd(
 
     from coincli.core.toss import flight as T
 
-    seed_v = _options.seed_value(seed) if drawn else None
+    seed_v = options.seed_value(seed) if drawn else None
     if drawn:
         from coincli.core._numerics.backend import numpy_random
 
@@ -408,7 +409,7 @@ def toss_cmd(
             extra = (f"  Drawn from a hand toss ({DHM}): {what}; seed {seed_v} (--seed {seed_v} "
                      "repeats it).")
             if quiet:
-                _options.report_seed(seed_v, seed is not None)
+                options.report_seed(seed_v, seed is not None)
         BO.toss(physics, xi=xf, psi=float(psi_rad[0]), u=uf, omega=wf, diameter=dia, g=gv,
                 z0=z0_m, trajectory=trajectory, fmt=fmt, quiet=quiet, note_extra=extra,
                 seed=seed_v if drawn else None)
@@ -444,7 +445,7 @@ def toss_cmd(
         note += (f"  Drawn from a hand toss ({DHM}): {what}; seed {seed_v} (--seed {seed_v} "
                  "repeats it).")
         if quiet:
-            _options.report_seed(seed_v, seed is not None)
+            options.report_seed(seed_v, seed is not None)
     emit(Result("coin toss", columns, [], note, quiet=outcome if n > 1 else outcome[0],
                 vertical=True, data=data), fmt, quiet)
 
@@ -461,7 +462,7 @@ def _psi_dist(text: str):
     try:
         v = parse.parse_number(s, "--psi-dist")
     except ValueError:
-        return T.Dist.from_density(_options.psi_density(s))
+        return T.Dist.from_density(options.psi_density(s))
     if not 0.0 <= v <= 180.0:
         raise usage_error(f"--psi-dist: a fixed angle must be from 0 to 180 degrees, got {s!r}")
     return _options.radians(v)
@@ -536,7 +537,7 @@ def simulate_cmd(
     if physics is not None and contact.strip().lower() != "rim":
         raise usage_error("--contact goes with --landing catch (a bounce is the whole cylinder "
                           "on the surface)")
-    coins = _options.resolve_coin(xi, coin, count, quarters, diameter, thickness,
+    coins = options.resolve_coin(xi, coin, count, quarters, diameter, thickness,
                                   xi_rule="finite", command="coin simulate")
     ct = _phase.contact_value(contact)
     dia = _phase.diameter_m(coins, diameter)
@@ -547,7 +548,7 @@ def simulate_cmd(
     from coincli.core.toss import flight as T
 
     u_spec, w_spec, psi_spec, labels = launch(psi, psi_dist, u, omega)
-    seed_v = _options.seed_value(seed)
+    seed_v = options.seed_value(seed)
     kw = {"xi": xv, "u": u_spec, "omega": w_spec, "psi": psi_spec, "diameter": dia, "g": gv,
           "contact": ct}
     # Every toss must be one the core can follow, checked at the top of the distributions (the
@@ -564,13 +565,13 @@ def simulate_cmd(
                       thickness_text=thickness)
         BO.check_speed(physics, u_hi, gv, u or HAND["u"])
         if quiet:
-            _options.report_seed(seed_v, seed is not None)
+            options.report_seed(seed_v, seed is not None)
         BO.simulate(physics, count=count_n, seed=seed_v, xi=xv, u=u_spec, omega=w_spec,
                     psi=psi_spec, diameter=dia, g=gv, labels=labels, fmt=fmt, quiet=quiet,
                     progress=lambda total: _progress(total, 200))
         return
     if stream:
-        _options.report_seed(seed_v, seed is not None)
+        options.report_seed(seed_v, seed is not None)
         _stream(T, count_n, seed_v, kw)
         return
     with _progress(count_n) as tick:
@@ -592,7 +593,7 @@ def simulate_cmd(
             "table).  95% Wilson intervals.  The vigorous limit is Table I averaged over "
             "psi; it holds when u*omega/g >> 1 and omega*a/u << 1.")
     if quiet:
-        _options.report_seed(seed_v, seed is not None)
+        options.report_seed(seed_v, seed is not None)
     emit(Result("coin simulate", columns, rows, note, quiet=[r[2] for r in rows]), fmt, quiet)
 
 
@@ -604,7 +605,7 @@ def _tosses(text: str) -> int:
         raise usage_error(f"-n {shown} is more than the {MAX_TOSSES} (10^8) tosses of one run "
                           "(about 20 seconds); for more, run several times with "
                           "different --seed values and add the counts")
-    return _options.tosses_value(text, high=MAX_TOSSES)
+    return options.tosses_value(text, high=MAX_TOSSES)
 
 
 def _reach(dist, hi: float) -> float:
@@ -747,7 +748,7 @@ def bounce_design(physics, *, p_sides, psi, psi_dist, u, omega, diameter, coin, 
     u_spec, w_spec, psi_spec, labels = bounce_launch(psi, psi_dist, u, omega)
     BO.check_coin(physics, None, dia, diameter_text=diameter)
     BO.check_speed(physics, _reach(u_spec, U_MAX), T_G, u or HAND["u"])
-    from coincli.cli._options import seed_value
+    from coincli.io.options import seed_value
 
     BO.design(physics, targets=targets, seed=seed_value(seed), tol=tol_v, max_tosses=mt,
               time_limit=tl, u=u_spec, omega=w_spec, psi=psi_spec, diameter=dia, g=T_G,

@@ -1,8 +1,9 @@
 """Files that ``coin`` reads and writes: a file is written whole or not at all, and only regular
 files are read or replaced.
 
-Every file ``coin`` writes goes through :func:`write_atomic` (figures of ``coin plot`` and
-``coin phase``, and any output file a command adds later):
+Every file ``coin`` writes goes through :func:`write_atomic` (figures of ``coin plot``,
+``coin phase`` and ``coin book``; the tables ``coin book --out`` writes, by
+:func:`write_text_atomic`; any output file a command adds later):
 
 1. :func:`check_output_path` first, before any computing: a FIFO, a device, a directory or a
    socket is refused with one line (a FIFO is never opened, so nothing blocks), as is a missing
@@ -39,6 +40,7 @@ __all__ = [
     "FileKindError",
     "check_output_path",
     "write_atomic",
+    "write_text_atomic",
     "read_regular",
     "read_capped",
     "file_kind",
@@ -144,6 +146,21 @@ def write_atomic(path, write: Callable | bytes) -> int:
         raise
     _fsync_dir(parent)
     return size
+
+
+def write_text_atomic(path, write: Callable) -> int:
+    """:func:`write_atomic` for text: ``write`` is called with a UTF-8 text file (no newline
+    translation: the lines end as written) whose text is streamed into the temporary file, so
+    a long output never sits in memory.  Returns the number of bytes written."""
+    import io
+
+    def write_bytes(fh):
+        text = io.TextIOWrapper(fh, encoding="utf-8", newline="", write_through=False)
+        write(text)
+        text.flush()
+        text.detach()
+
+    return write_atomic(path, write_bytes)
 
 
 def _fsync_dir(path: str) -> None:

@@ -355,8 +355,12 @@ def emit(result: Result, fmt: str = "table", quiet: bool = False, out=None,
 
 def emit_all(results, fmt: str = "table", quiet: bool = False, out=None) -> None:
     """Write a report's output: one :class:`Result` or several, in order, through :func:`emit`
-    (what a command of :mod:`coincli.cli` does with what :mod:`coincli.reports` returns)."""
-    for result in [results] if isinstance(results, Result) else results:
+    (what a command of :mod:`coincli.cli` does with what :mod:`coincli.reports` returns).
+    Human tables (``table``, not ``quiet``) are separated by a blank line."""
+    results = [results] if isinstance(results, Result) else results
+    for k, result in enumerate(results):
+        if k and not quiet and check_format(fmt) == "table":
+            (out if out is not None else sys.stdout).write("\n")
         emit(result, fmt, quiet, out)
 
 

@@ -493,7 +493,7 @@ def test_times_take_units_in_ranges_as_in_lists(coin):
 def test_a_range_of_times_is_the_shared_grammar_s_values(spec, unit):
     # the vectorized range gives exactly what coincli.io.grammar.parse_values gives item by item
     from coincli.io import grammar as parse
-    from coincli.cli import book as B
+    from coincli.reports import book as B
 
     factor = B._TIME_UNITS[unit or "s"]
     ref = parse.parse_values(spec, "--times", lambda s, w: float(s) * factor if "/" not in s
@@ -577,7 +577,7 @@ def test_the_faces_figure_ticks_do_not_overlap(moments):
     # side overlapped in the 7-inch figure until the size went on lines of its own
     pytest.importorskip("matplotlib")
     from coincli.render import book_figures as bookplot
-    from coincli.cli.book import _face_size
+    from coincli.reports.book import _face_size
 
     from types import SimpleNamespace
 

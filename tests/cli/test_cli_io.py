@@ -179,7 +179,7 @@ def test_the_value_limit_holds_on_both_paths(coin, monkeypatch):
 
 
 def test_fit_file_cap_names_the_limit(coin, tmp_path, monkeypatch):
-    from coincli.cli import check
+    from coincli.reports import check
 
     monkeypatch.setattr(check, "MAX_FILE_BYTES", 1000)
     path = tmp_path / "big.csv"

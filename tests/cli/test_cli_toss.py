@@ -499,7 +499,7 @@ def test_ctrl_c_in_simulate_says_interrupted(coin, monkeypatch, stream):
         raise KeyboardInterrupt
 
     monkeypatch.setattr(T, "simulate_chunks", interrupted)
-    from coincli.cli import _options
+    from coincli.io import options as _options
 
     # a seed drawn by an earlier run in this process is not this run's (it was reported)
     monkeypatch.setattr(_options, "DRAWN_SEED", 12345)

@@ -380,7 +380,7 @@ def test_small_labels(coin):
 
 
 def test_seed_option_is_shared():
-    from coincli.cli import _options
+    from coincli.io import options as _options
 
     assert _options.seed_value("12") == 12
     drawn = {_options.seed_value(None) for _ in range(4)}

@@ -1,0 +1,533 @@
+"""What ``coin check`` and ``coin fit`` print: real tosses against the models.
+
+:func:`check` (one experiment typed as options) and :func:`fit` (a file of experiments) parse
+their options' text, call :mod:`coincli.core.stats.tests` and return
+:class:`coincli.io.table.Result` tables.  The human output (``--format table``) is a few short
+tables; every machine format (csv, tsv, json, jsonl) gets one long table instead, one row per
+experiment and model (and, for ``fit``, one per model across experiments), with stable column
+names (:data:`MACHINE_COLUMNS`, :data:`FIT_COLUMNS`).  A file of 10^5 experiments is streamed
+(:func:`_machine_chunks`).  numpy and scipy load when a report runs, never at import.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+
+from coincli.io import grammar as parse
+from coincli.io import options
+from coincli.io.files import FileKindError, read_regular
+from coincli.io.table import (
+    CHUNK_ROWS,
+    Column,
+    Result,
+    check_format,
+    compute_error,
+    read_capped,
+    shown,
+    stream_reader,
+    usage_error,
+)
+
+__all__ = ["check", "fit", "MACHINE_COLUMNS", "FIT_COLUMNS", "MAX_FILE_BYTES"]
+
+_OUTCOMES = ("heads", "sides", "tails")
+
+# --------------------------------------------------------------------------- option text
+
+
+def _level(text: str, what: str) -> float:
+    try:
+        v = parse.parse_probability(text, what)
+    except ValueError as exc:
+        if "must be in [0, 1]" not in str(exc):
+            raise usage_error(str(exc)) from None
+        v = math.nan  # out of [0, 1]: the message below states what a level may be
+    if not 0.0 < v < 1.0:
+        like = "0.05, 1/20 or 5%" if what == "--alpha" else "0.95 or 95%"
+        raise usage_error(f"{what} must be strictly between 0 and 1 ({like}), got {text!r}")
+    return v
+
+
+def _densities(specs: str | None) -> dict:
+    """--psi-dist, parsed as every command parses it, by machine name."""
+    if specs is None:
+        return {}
+    return {d.spec: d for d in options.psi_densities(specs)}
+
+
+def _whole(text: str | None, what: str) -> int | None:
+    """A count of tosses: a whole number from 0 to :data:`parse.MAX_COUNT` (2**53)."""
+    if text is None:
+        return None
+    digits = text.strip().removeprefix("+")
+    if not (digits.isascii() and digits.isdigit()):
+        raise usage_error(f"{what} must be a whole number >= 0, got {shown(text)}")
+    digits = digits.lstrip("0") or "0"
+    if len(digits) > 16 or int(digits) > parse.MAX_COUNT:  # and no int() of 5000 digits
+        raise usage_error(f"{what} must be a whole number from 0 to {parse.MAX_COUNT} (2**53), "
+                          f"got {shown(text)}")
+    return int(digits)
+
+
+def _check_total(counts, where: str = "") -> None:
+    """Every count below 2**53 can still add up to more: the total is held to it too."""
+    if counts.n > parse.MAX_COUNT:
+        raise usage_error(f"{where}heads + sides + tails = {counts.n}; at most {parse.MAX_COUNT} "
+                          "(2**53) tosses are allowed")
+
+
+def _deg(v: float | None) -> float | None:
+    return None if v is None else math.degrees(v)
+
+
+# --------------------------------------------------------------------------- rows
+
+
+def _observed_columns() -> list[Column]:
+    cols = []
+    for name in _OUTCOMES:
+        cols += [Column(f"freq_{name}", f"{name} frequency"),
+                 Column(f"{name}_wilson_low", f"{name} Wilson low"),
+                 Column(f"{name}_wilson_high", f"{name} Wilson high"),
+                 Column(f"{name}_cp_low", f"{name} Clopper-Pearson low"),
+                 Column(f"{name}_cp_high", f"{name} Clopper-Pearson high")]
+    return cols
+
+
+MACHINE_COLUMNS = [
+    Column("scope", "scope", "text"),
+    Column("line", "line", "int"),
+    Column("label", "label", "text"),
+    Column("xi", "xi = h/D"),
+    Column("n", "tosses", "int"),
+    Column("heads", "heads", "int"),
+    Column("sides", "sides", "int"),
+    Column("tails", "tails", "int"),
+    Column("model", "model", "text"),
+    Column("p_heads", "P(heads)"),
+    Column("p_sides", "P(sides)"),
+    Column("p_tails", "P(tails)"),
+    Column("expected_heads", "expected heads"),
+    Column("expected_sides", "expected sides"),
+    Column("expected_tails", "expected tails"),
+    Column("test", "test", "text"),
+    Column("exact", "exact", "text"),
+    Column("p_value", "p-value"),
+    Column("g_statistic", "G"),
+    Column("df", "df", "int"),
+    Column("log_likelihood", "log-likelihood"),
+    Column("verdict", "verdict", "text"),
+    *_observed_columns(),
+]
+FIT_COLUMNS = MACHINE_COLUMNS + [
+    Column("n_params", "fitted parameters", "int"),
+    Column("aic", "AIC"),
+    Column("delta_aic", "delta AIC"),
+    Column("sse_sides", "SSE of side frequencies"),
+    Column("sigma_deg", "psi sd (deg)"),
+    Column("sigma_low_deg", "psi sd low (deg)"),
+    Column("sigma_high_deg", "psi sd high (deg)"),
+]
+
+
+def _values(arr) -> list:
+    """numpy values as Python ones, NaN as None (an empty cell)."""
+    return [None if v != v else v for v in arr.tolist()]
+
+
+def _machine_chunks(ch, lines, extra=None, tail_rows=()):
+    """The machine table a chunk at a time (lists of columns, at most CHUNK_ROWS rows): one
+    row per experiment and model (experiment-major), then ``tail_rows`` (tuples).
+    ``extra(k)`` gives the fit's extra cells of model ``k``.  A file of 10^5 experiments is
+    written without ever holding its 10^5 x models x 45 cells."""
+    import numpy as np
+
+    M = len(ch.tests)
+    T = len(ch)
+    cc = ch.cc
+    faces = cc.faces
+
+    def per_exp(arr):
+        return lambda a, b: [v for v in _values(arr[a:b]) for _ in range(M)]
+
+    def per_exp_list(seq):
+        return lambda a, b: [v for v in seq[a:b] for _ in range(M)]
+
+    def per_test(stack):
+        return lambda a, b: _values(stack[a:b].ravel())
+
+    def per_test_list(lists):
+        return lambda a, b: [lst[i] for i in range(a, b) for lst in lists]
+
+    def const(v):
+        return lambda a, b: [v] * ((b - a) * M)
+
+    tests = ch.tests
+    nan = np.nan
+    raw = [np.stack([t.raw[j] for t in tests], axis=1) for j in range(3)]
+    exp_cols = []
+    for j in range(3):
+        e = np.stack([t.expected[j] if j != 1 else
+                      np.where(faces, t.expected[1], t.expected[0]) for t in tests], axis=1)
+        if j != 1:
+            e = np.where(faces[:, None], e, nan)
+        exp_cols.append(e)
+    makers = [
+        const("experiment"),
+        per_exp_list(lines) if lines is not None else const(None),
+        per_exp_list(ch.labels),
+        per_exp(np.asarray(ch.xi, dtype=float)),
+        per_exp(cc.n),
+        per_exp(np.where(faces, cc.heads, nan) if not faces.all() else cc.heads),
+        per_exp(cc.sides),
+        per_exp(np.where(faces, cc.tails, nan) if not faces.all() else cc.tails),
+        lambda a, b: [t.model for _ in range(a, b) for t in tests],
+        per_test(raw[0]), per_test(raw[1]), per_test(raw[2]),
+        per_test(exp_cols[0]), per_test(exp_cols[1]), per_test(exp_cols[2]),
+        per_test_list([t.method for t in tests]),
+        per_test(np.stack([t.exact for t in tests], axis=1)),
+        per_test(np.stack([t.p_value for t in tests], axis=1)),
+        per_test(np.stack([t.g for t in tests], axis=1)),
+        per_test(np.stack([t.df for t in tests], axis=1)),
+        per_test(np.stack([t.log_likelihood for t in tests], axis=1)),
+        per_test_list([t.verdict for t in tests]),
+    ]
+    for name in _OUTCOMES:
+        makers += [per_exp(v) for v in ch.intervals[name]]
+    if extra is not None:
+        for c in range(len(extra(0))):
+            cells = [extra(k)[c] for k in range(M)]
+            makers.append(lambda a, b, cells=cells: cells * (b - a))
+    # heads and tails: int columns with None where faces were not told apart
+    makers[5], makers[7] = _ints(makers[5]), _ints(makers[7])
+    step = max(1, min(CHUNK_ROWS, 8192) // M)  # 45 columns: 8192 rows of cells at a time
+    for a in range(0, T, step):
+        yield [make(a, min(a + step, T)) for make in makers]
+    if tail_rows:
+        yield [list(col) for col in zip(*tail_rows, strict=True)]
+
+
+def _ints(make):
+    """Counts read back from a float array (NaN for absent) as ints."""
+    return lambda a, b: [None if v is None else int(v) for v in make(a, b)]
+
+
+def _count_text(v: float) -> str:
+    """An expected count for people: 33.3333, 495000, 12345679 (never 4.95e+05)."""
+    return f"{v:.6g}" if abs(v) < 1e6 else f"{v:.0f}"
+
+
+def _plural(n: int, one: str, many: str) -> str:
+    """``1 toss``, ``2 tosses``, ``0 experiments``."""
+    return f"{n} {one if n == 1 else many}"
+
+
+def _interval_text(lo: float, hi: float) -> str:
+    return f"{lo:.4g} to {hi:.4g}"
+
+
+def _observed_result(title: str, ch, lines, confidence: float) -> Result:
+    """Frequencies with their intervals, one row per experiment and counted outcome."""
+    from coincli.core.stats.tests import percent
+
+    pct = percent(confidence)
+    with_line = lines is not None
+    cols = ([Column("line", "line", "int"), Column("label", "label", "text"),
+             Column("xi", "xi")] if with_line else [])
+    cols += [Column("outcome", "outcome", "text"), Column("count", "count", "int"),
+             Column("frequency", "frequency"),
+             Column("wilson", f"{pct} Wilson", "text"),
+             Column("cp", f"{pct} Clopper-Pearson", "text")]
+    cc = ch.cc
+
+    def rows(a: int, b: int) -> list[tuple]:
+        per = {name: [v[a:b].tolist() for v in ch.intervals[name]] for name in _OUTCOMES}
+        counts = {"heads": cc.heads[a:b].tolist(), "sides": cc.sides[a:b].tolist(),
+                  "tails": cc.tails[a:b].tolist()}
+        xi = ch.xi[a:b].tolist()
+        body = []
+        for j, f in enumerate(cc.faces[a:b].tolist()):
+            lead = [lines[a + j], ch.labels[a + j], xi[j]] if with_line else []
+            for name in (_OUTCOMES if f else ("sides",)):
+                est, wl, wh, cl, chh = (col[j] for col in per[name])
+                body.append((*lead, name, counts[name][j], est, _interval_text(wl, wh),
+                             _interval_text(cl, chh)))
+        return body
+
+    return _chunked(title, cols, rows, len(ch), 3)
+
+
+def _chunked(title: str, cols, rows, n: int, per: int, note: str = "") -> Result:
+    """A human table of ``n`` experiments: one chunk when small, else streamed by chunks of
+    experiments (``rows(a, b)`` gives their rows, at most ``per`` each), so that a file of 10^5
+    experiments is never held as text at once."""
+    step = max(1, min(CHUNK_ROWS, 8192) // per)
+    if n <= step:
+        return Result(title, cols, rows(0, n), note=note)
+
+    def chunks():
+        for a in range(0, n, step):
+            body = rows(a, min(a + step, n))
+            yield [list(c) for c in zip(*body, strict=True)]
+
+    return Result(title, cols, [], note=note, chunks=chunks())
+
+
+def _tests_result(title: str, ch, lines, note: str) -> Result:
+    with_line = lines is not None
+    cols = ([Column("line", "line", "int"), Column("label", "label", "text")]
+            if with_line else [])
+    cols += [Column("model", "model", "text"), Column("p_heads", "P(heads)"),
+             Column("p_sides", "P(sides)"), Column("p_tails", "P(tails)"),
+             Column("expected", "expected H / S / T", "text"), Column("p_value", "p-value"),
+             Column("log_likelihood", "log-likelihood"), Column("verdict", "verdict", "text")]
+    def rows(a: int, b: int) -> list[tuple]:
+        tests = [(t.model, t.raw[:, a:b].T.tolist(), t.expected[:, a:b].T.tolist(),
+                  t.p_value[a:b].tolist(), t.log_likelihood[a:b].tolist(), t.verdict[a:b])
+                 for t in ch.tests]
+        body = []
+        for j, f in enumerate(ch.cc.faces[a:b].tolist()):
+            lead = [lines[a + j], ch.labels[a + j]] if with_line else []
+            for model, raw, exp, pv, ll, ver in tests:
+                e = exp[j]
+                shown = e if f else (None, e[0], None)
+                body.append((*lead, model, *raw[j],
+                             " / ".join("-" if v is None else _count_text(v) for v in shown),
+                             pv[j], ll[j], ver[j]))
+        return body
+
+    return _chunked(title, cols, rows, len(ch), len(ch.tests), note)
+
+
+def _test_note(ch) -> str:
+    tests = sorted({m for t in ch.tests for m in set(t.method)})
+    return (
+        f"test: {', '.join(tests)}; p = the chance, under the model, of counts no more likely "
+        "than those observed.  'consistent' means the tosses do not contradict the model, not "
+        "that they confirm it."
+    )
+
+
+# --------------------------------------------------------------------------- check
+
+
+def _xi_from_options(xi, quarters, coin, count, diameter, thickness) -> tuple[float, str]:
+    """The coin tossed (the shared coin group) and its label."""
+    c = options.resolve_coin(xi, coin, count, quarters, diameter, thickness,
+                             xi_rule="finite", command="coin check")
+    return c.xi, c.label()
+
+
+def check(*, xi: str | None = None, quarters: str | None = None, coin: str | None = None,
+          count: str | None = None, diameter: str | None = None, thickness: str | None = None,
+          heads: str | None = None, sides: str | None = None, tails: str | None = None,
+          tosses: str | None = None, psi_dist: str | None = None, alpha: str = "0.05",
+          confidence: str = "0.95", fmt: str = "table", quiet: bool = False):
+    """What ``coin check`` prints: the observed frequencies with their intervals, and for each
+    model the expected counts, the exact test's p-value, the log-likelihood and a verdict.
+
+    The options' text as ``coin check`` takes it (the coin group, ``--heads``, ``--sides``,
+    ``--tails``, ``-n/--tosses``, ``--psi-dist``, ``--alpha``, ``--confidence``).  Returns two
+    human tables (a list) for ``fmt="table"``, else the one machine :class:`Result` (its
+    ``quiet`` the p-values, one per model).  Raises InputError for a wrong input,
+    NotComputable when the models cannot be evaluated.
+    """
+    from coincli.core.stats import tests as stats
+    from coincli.core.stats.counts import make_counts
+
+    fmt = check_format(fmt)
+    a = _level(alpha, "--alpha")
+    conf = _level(confidence, "--confidence")
+    x, label = _xi_from_options(xi, quarters, coin, count, diameter, thickness)
+    vals = {name: _whole(v, f"--{name}" if name != "n" else "-n")
+            for name, v in (("heads", heads), ("sides", sides), ("tails", tails), ("n", tosses))}
+    try:
+        counts = make_counts(**vals)
+    except ValueError as exc:
+        raise usage_error(str(exc)) from None
+    _check_total(counts)
+    dens = _densities(psi_dist)
+    try:
+        chances = stats.model_chances(x, dens)
+        ch = stats.check_many([counts], x, chances, confidence=conf, alpha=a, labels=[label])
+    except ValueError as exc:
+        raise compute_error(str(exc)) from None
+    if quiet or fmt != "table":
+        return Result("coin check", MACHINE_COLUMNS, [],
+                      data=next(_machine_chunks(ch, None)),
+                      quiet=[float(t.p_value[0]) for t in ch.tests])
+    coin_text = f"xi = {x:.6g}" if xi is not None else f"{label} (xi = {x:.6g})"
+    title = f"coin check: {coin_text}, {_plural(counts.n, 'toss', 'tosses')}"
+    return [
+        _observed_result(title, ch, None, conf),
+        _tests_result("models", ch, None, _test_note(ch) + _models_note(dens)),
+    ]
+
+def _models_note(dens) -> str:
+    base = "  geometric = eq. 11, dynamic = eq. 12 (Keller flip, psi = 90 deg)"
+    return base + "".join(f"; {name} = psi-averaged (eq. 15)" for name in dens) + "."
+
+
+# --------------------------------------------------------------------------- fit
+
+
+MAX_FILE_BYTES = 50_000_000  #: the largest experiments file (coin fit FILE or -)
+
+
+def _read_text(path: str) -> tuple[str, str]:
+    """The text of an experiments file, or of stdin for '-', and the name to call it by.
+
+    At most :data:`MAX_FILE_BYTES` are read, in chunks, whatever the file claims to be
+    (/dev/zero and pipes have no size); reading stops at a NUL byte.  A named file must be a
+    regular file (:func:`coincli.io.files.read_regular`).
+    """
+    if path.strip() == "-":
+        if sys.stdin is None:
+            raise usage_error("FILE '-' reads the experiments from standard input, but there "
+                              "is none")
+        name = "stdin"
+        data, why = read_capped(stream_reader(sys.stdin), MAX_FILE_BYTES)
+    else:
+        name = path
+        try:
+            data, why = read_regular(path, MAX_FILE_BYTES)  # a FIFO or device: refused
+        except FileKindError as exc:
+            raise usage_error(f"cannot read {_clipped(path)}: it is {exc.kind}, not a regular "
+                              "file; give an experiments file, or '-' to read a pipe") from None
+        except OSError as exc:
+            raise usage_error(f"cannot read {_clipped(path)}: {exc.strerror or exc}") from None
+    if why == "size":
+        raise usage_error(f"{_file_name(name)}: larger than {MAX_FILE_BYTES // 10**6} MB; is this "
+                          f"an experiments file? (at most {MAX_FILE_BYTES} bytes)")
+    if why == "nul":
+        raise usage_error(f"{_file_name(name)}: contains a NUL byte; expected a CSV text file")
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError:
+        raise usage_error(f"{_file_name(name)}: not UTF-8 text") from None
+    return text, name
+
+
+def _clipped(text: str, limit: int = 60) -> str:
+    """User text (a path, a number) for an error message: unquoted unless it holds control
+    characters (then as repr writes it: one line), cut to about ``limit`` characters."""
+    if not text.isprintable():
+        return shown(text, limit)
+    return text if len(text) <= limit + 2 else text[:limit - 3] + "..."
+
+
+def _file_name(path: str) -> str:
+    """A file that opened: its whole name (at most PATH_MAX), on one line."""
+    return _clipped(path, 4096)
+
+
+def _experiments(text: str, name: str, delimiter: str | None = None) -> list:
+    """The experiments of ``text``; each count, and each row's total, at most 2**53."""
+    from coincli.io.experiments import parse_experiments
+
+    name = _file_name(name)
+    try:
+        exps = parse_experiments(text, delimiter=delimiter)
+    except ValueError as exc:
+        raise usage_error(f"{name} {exc}") from None
+    for e in exps:
+        c = e.counts
+        for column in ("heads", "sides", "tails", "n"):
+            v = getattr(c, column)
+            if v is not None and v > parse.MAX_COUNT and (column != "n" or c.heads is None):
+                raise usage_error(f"{name} line {e.line}, column {column!r}: {column} must be a "
+                                  f"whole number from 0 to {parse.MAX_COUNT} (2**53), got "
+                                  f"{_clipped(str(v))}")
+        _check_total(c, f"{name} line {e.line}: ")
+    return exps
+
+
+def fit(file: str, *, psi_dist: str | None = None, no_spread: bool = False,
+        delimiter: str | None = None, alpha: str = "0.05", confidence: str = "0.95",
+        fmt: str = "table", quiet: bool = False):
+    """What ``coin fit FILE`` prints: every experiment of ``file`` checked as :func:`check`
+    does, then the models compared across experiments (log-likelihood, AIC, the paper's sum of
+    squared errors of the side frequencies) and the maximum-likelihood spread of psi with its
+    profile-likelihood interval.
+
+    ``file`` is a path, or ``-`` for standard input.  Returns three human tables (a list) for
+    ``fmt="table"``, else the one machine :class:`Result`, streamed by chunks (under ``quiet``:
+    the fitted spread in degrees).  Raises InputError for a wrong input or file, NotComputable
+    when the fit cannot be computed.
+    """
+    from coincli.core.stats import fit as stats
+    from coincli.io.experiments import delimiter_of
+
+    fmt = check_format(fmt)
+    a = _level(alpha, "--alpha")
+    conf = _level(confidence, "--confidence")
+    dens = _densities(psi_dist)
+    if quiet and no_spread:
+        raise usage_error("--quiet prints the fitted spread of psi; it cannot go with --no-spread")
+    try:
+        sep = None if delimiter is None else delimiter_of(delimiter)
+    except ValueError as exc:
+        raise usage_error(f"--{exc}") from None
+    text, name = _read_text(file)
+    exps = _experiments(text, name, sep)
+    del text
+    try:
+        res = stats.fit(exps, dens, confidence=conf, alpha=a, spread=not no_spread)
+    except ValueError as exc:
+        raise compute_error(str(exc)) from None
+    sp = res.spread
+    if quiet:
+        return Result("coin fit", FIT_COLUMNS, [], quiet=_deg(sp.sigma))
+    lines = [e.line for e in exps]
+    n_total = sum(e.counts.n for e in exps)
+    if fmt == "table":
+        return [
+            _observed_result(f"coin fit: {name}, "
+                             f"{_plural(len(exps), 'experiment', 'experiments')}, "
+                             f"{_plural(n_total, 'toss', 'tosses')}", res.rows, lines, conf),
+            _tests_result("models, each experiment", res.rows, lines, _test_note(res.rows)),
+            _comparison_result(res, conf),
+        ]
+    spread_cells = ([_deg(sp.sigma), _deg(sp.low), _deg(sp.high)] if sp is not None
+                    else [None] * 3)
+    models = [t.model for t in res.rows.tests]
+
+    def extra(k):
+        return [None] * 4 + (spread_cells if models[k] == stats.SPREAD_MODEL else [None] * 3)
+
+    blank = [None] * len(_observed_columns())
+    tail = []
+    for m in res.models:
+        cells = ["model", None, "all", None, n_total, None, None, None, m.model,
+                 None, None, None, None, None, None, None, None, None, None, None,
+                 m.log_likelihood, None, *blank, m.n_params, m.aic,
+                 None if math.isnan(m.delta_aic) else m.delta_aic, m.sse_sides]
+        cells += spread_cells if m.model == stats.SPREAD_MODEL else [None] * 3
+        tail.append(tuple(cells))
+    return Result("coin fit", FIT_COLUMNS, [],
+                  chunks=_machine_chunks(res.rows, lines, extra, tail))
+
+def _comparison_result(res, conf: float) -> Result:
+    cols = [Column("model", "model", "text"), Column("n_params", "fitted parameters", "int"),
+            Column("log_likelihood", "log-likelihood"), Column("aic", "AIC"),
+            Column("delta_aic", "delta AIC"), Column("sse_sides", "SSE of side frequencies")]
+    body = [(m.model, m.n_params, m.log_likelihood, m.aic, m.delta_aic, m.sse_sides)
+            for m in res.models]
+    sp = res.spread
+    notes = ["AIC = 2k - 2 log L (lower is better; a difference below 2 is no real preference); "
+             "SSE = sum over experiments of (observed - predicted side frequency)^2, as in "
+             "Sec. IV of the paper."]
+    if sp is not None:
+        pieces = ", ".join(f"{_fmt_deg(lo)} to {_fmt_deg(hi)}" for lo, hi in sp.pieces)
+        notes.append(
+            f"psi-spread: psi ~ normal about 90 deg truncated to [0, 180]; maximum-likelihood sd "
+            f"{_fmt_deg(sp.sigma)} deg, {100 * conf:g}% profile-likelihood interval {pieces} deg"
+            + (f" ({sp.note})" if sp.note else "") + "."
+        )
+    return Result("model comparison, all experiments", cols, body, note="\n".join(notes))
+
+
+def _fmt_deg(v: float) -> str:
+    return "inf (uniform psi)" if math.isinf(v) else f"{math.degrees(v):.3g}"
+
