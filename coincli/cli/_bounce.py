@@ -149,7 +149,7 @@ def _length_m(text: str, what: str, hi_mm: float) -> float:
 
 def _dist(text: str, what: str, unit: str, scale: float, hi: float):
     """A fixed value (a length with a unit for mm) or normal:MEAN:SD / uniform:LOW:HIGH."""
-    from coincli.core.toss import flight as T
+    from coincli.core.toss import launch as T
 
     t = text.strip()
     if ":" not in t:

@@ -257,7 +257,7 @@ def data(ph: Phase, nu: int, nw: int, *, figure: bool = False):
         return d
     import types
 
-    from coincli.core.toss import flight as T
+    from coincli.core.toss import phase as T
     from coincli.core.models import conditional
 
     psi = _options.radians(ph.psi_deg)

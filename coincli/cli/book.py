@@ -103,7 +103,7 @@ def _dist(text: str, what: str, number, default: str, lo: float, units, example:
     numbers may carry units: one after every number, or once at the end for all of them
     (``normal:6:1rev/s``, as ``coin simulate --omega`` reads it); returned as a
     :class:`coincli.core.toss.flight.Dist` in the default unit."""
-    from coincli.core.toss import flight as T
+    from coincli.core.toss import launch as T
 
     parts = [p.strip() for p in text.split(":")]
     head = parts[0].lower()
@@ -639,7 +639,7 @@ def _toss(box, spin, n, seed, flight, start, rule, out, figure, fmt, quiet):
 
     from coincli.core import rigid as R
     from coincli.cli.toss import _progress
-    from coincli.core.toss.flight import wilson_interval
+    from coincli.core.toss.simulate import wilson_interval
 
     counts = np.zeros(6, dtype=np.int64)
     with _progress(count) as tick:

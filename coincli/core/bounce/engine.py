@@ -23,7 +23,7 @@ Free flight is exact, not simulated
     Between contacts the coin is a torque-free symmetric top under gravity: the normal precesses
     about the fixed angular momentum ``L`` at ``Omega = |L| / I1`` and the body spins about its
     axis at ``lambda = (L.n)(1/I3 - 1/I1)``; the centre follows a parabola.  The first contact is
-    the certified root of :func:`coincli.core.toss.flight.toss_many` (``contact="thick"``: the cylinder's
+    the certified root of :func:`coincli.core.toss.batch.toss_many` (``contact="thick"``: the cylinder's
     lowest corner); later flights use the same certified scan, generalised to any tilt
     (:func:`_first_touch`).  MuJoCo starts :data:`LEAD_STEPS` steps before a contact and stops
     when the coin is airborne again.  (A precessing flight integrated by MuJoCo needs RK4 to keep
@@ -73,14 +73,12 @@ from coincli.core.toss.flight import (
     SIDES,
     STANDARD_G,
     U_MAX,
-    Frequency,
     _check,
-    as_dist,
     classify,
     default_z0,
-    sample_conditions,
-    wilson_interval,
 )
+from coincli.core.toss.launch import as_dist, sample_conditions
+from coincli.core.toss.simulate import Frequency, wilson_interval
 
 __all__ = [
     "PhysicsMissing",
@@ -753,10 +751,10 @@ class Engine:
 
     def first_contacts(self, launches):
         """The exact times of first contact of many launches (one vectorized call of
-        :func:`coincli.core.toss.flight.toss_many` with the cylinder's corner as the contact)."""
+        :func:`coincli.core.toss.batch.toss_many` with the cylinder's corner as the contact)."""
         import numpy as np
 
-        from coincli.core.toss.flight import toss_many
+        from coincli.core.toss.batch import toss_many
 
         arr = {k: np.array([getattr(x, k) for x in launches]) for k in
                ("u", "omega", "psi", "z0", "height")}
@@ -926,7 +924,7 @@ class BounceSimulation:
 
     n: int
     counts: tuple  #: heads, sides, tails, unsettled
-    frequencies: list  #: :class:`coincli.core.toss.flight.Frequency` of heads, sides, tails among settled
+    frequencies: list  #: :class:`coincli.core.toss.simulate.Frequency` of heads, sides, tails among settled
     catch_counts: tuple  #: what the catch (first contact, eq. 7) would have said, same tosses
     agree: int  #: tosses whose outcome is the catch's
     mean_bounces: float
@@ -953,7 +951,7 @@ def _block_launches(seed, block, count, dists, coin, stream=(), start=0):
     """The launches ``start`` to ``count`` of block ``block`` of a run: its own generator,
     seeded ``(seed, block)``, so a toss's conditions do not depend on how blocks are shared
     among workers or cut into chunks.  Draws u, omega, psi (as
-    :func:`coincli.core.toss.flight.sample_conditions`), then height, horizontal speed, its azimuth, and z0,
+    :func:`coincli.core.toss.launch.sample_conditions`), then height, horizontal speed, its azimuth, and z0,
     always a full block."""
     import numpy as np
 
@@ -1014,8 +1012,8 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
     """Toss ``n`` coins onto ``surf`` (a :class:`Surface`, default wood) with seeded random
     launches and count the outcomes.
 
-    ``u``, ``omega``, ``psi`` are as :func:`coincli.core.toss.flight.sample_conditions` takes them (numbers,
-    spec strings or :class:`coincli.core.toss.flight.Dist`; SI, radians); ``height`` (surface below the
+    ``u``, ``omega``, ``psi`` are as :func:`coincli.core.toss.launch.sample_conditions` takes them (numbers,
+    spec strings or :class:`coincli.core.toss.launch.Dist`; SI, radians); ``height`` (surface below the
     launch plane, m), ``vx`` (horizontal speed, m/s) and ``z0`` (centre above the launch plane,
     m; default the paper's for a thick coin, ``(sqrt 3/2) a + h/2``) likewise.  ``jobs`` worker
     processes (default: every core); block ``k`` of 256 tosses draws from the seed ``(seed, k)``,
@@ -1026,7 +1024,8 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
     """
     import numpy as np
 
-    from coincli.core.toss.flight import _count, vigorous_limit
+    from coincli.core.toss.flight import _count
+    from coincli.core.toss.simulate import vigorous_limit
 
     n = _count(n)
     coin = Coin(float(xi), float(diameter), float(density))
