@@ -3,10 +3,10 @@
 Goals of issue 16, on the project's 2-core machine with a quarter-sized coin (D = 24.26 mm):
 at least 500 bounce tosses/s and 5000 catch tosses/s with every core (``jobs=2``).  Measured for
 a real quarter (xi = 0.0725) and the paper's fair coin (xi = 0.577), the hand toss that ``coin
-simulate`` draws (coincli.core.toss.flight.HAND_TOSS: u ~ normal:2.4:0.3 m/s, omega ~ normal:38:4 rev/s,
+simulate`` draws (coincli.core.toss.launch.HAND_TOSS: u ~ normal:2.4:0.3 m/s, omega ~ normal:38:4 rev/s,
 psi ~ normal(90, 10) deg) onto wood.
 Wall-clock rates and CPU time per toss (the workers' and the parent's); the baseline is the
-exact catch model without MuJoCo (``coincli.core.toss.flight.simulate``, the default ``coin simulate``),
+exact catch model without MuJoCo (``coincli.core.toss.simulate.simulate``, the default ``coin simulate``),
 timed in the same run.  Then a profile of bounce tosses run in one process: the share of the
 time in MuJoCo's steps, the exact flight solver, the energy checks and the rest, and how the
 steps are spread over the tosses.
@@ -31,8 +31,9 @@ from _report import fmt_rate, machine, median, table, write_section  # noqa: E40
 from coincli.core.bounce import engine as B  # noqa: E402
 from coincli.core.bounce import runs as R  # noqa: E402
 from coincli.core.toss import flight as T  # noqa: E402
+from coincli.core.toss import launch as TL, simulate as TS  # noqa: E402
 
-LAUNCH = T.HAND_TOSS
+LAUNCH = TL.HAND_TOSS
 CASES = [  # landing, xi, tosses
     ("catch", 0.0725, 20000), ("catch", 0.577, 20000),
     ("bounce", 0.0725, 2000), ("bounce", 0.577, 600),
@@ -64,8 +65,8 @@ def main():
         for _ in range(REPEATS):
             r, wall, c = timed(lambda n=n, xi=xi, landing=landing: R.simulate(
                 n, 1, xi=xi, landing=landing, jobs=2, **LAUNCH))
-            _, bwall, _ = timed(lambda n=n, xi=xi: T.simulate(n, 1, xi=xi, contact="thick",
-                                                                **LAUNCH))
+            _, bwall, _ = timed(lambda n=n, xi=xi: TS.simulate(n, 1, xi=xi, contact="thick",
+                                                                 **LAUNCH))
             walls.append(wall)
             cpus.append(c)
             bwalls.append(bwall)
@@ -105,8 +106,8 @@ def where_the_time_goes():
         coin = B.Coin(xi)
         eng = B.Engine(coin, B.SURFACES["wood"])
         dists = {"u": LAUNCH["u"], "omega": LAUNCH["omega"], "psi": LAUNCH["psi"],
-                 "height": T.as_dist(0.0, "height", 0, 1), "vx": T.as_dist(0.0, "vx", 0, 1),
-                 "z0": T.as_dist(T.default_z0(xi, coin.diameter, "thick"), "z0", 0, 1)}
+                 "height": TL.as_dist(0.0, "height", 0, 1), "vx": TL.as_dist(0.0, "vx", 0, 1),
+                 "z0": TL.as_dist(T.default_z0(xi, coin.diameter, "thick"), "z0", 0, 1)}
         launches = []
         for k in range(-(-n // R.BLOCK)):
             launches += R._block_launches(2, k, min(R.BLOCK, n - k * R.BLOCK), dists, coin)

@@ -8,7 +8,7 @@ Each row simulates N tosses (default 300) at three aspect ratios (0.45, 0.7 and 
 xi), fits the probit of coincli.core.bounce.design.fit_sides to them, and reports P(sides) at the
 source's xi (or at 0.577) with its 95% Wilson interval and the fitted fair xi
 (P(sides) = 1/3) with its 95% interval.  Seed 1, every core.  The hand toss of ``coin
-simulate`` (coincli.core.toss.flight.HAND_TOSS) unless said: u ~ normal:2.4:0.3 m/s, omega ~ normal:38:4
+simulate`` (coincli.core.toss.launch.HAND_TOSS) unless said: u ~ normal:2.4:0.3 m/s, omega ~ normal:38:4
 rev/s, psi ~ normal(90, 10) deg.
 """
 
@@ -21,7 +21,7 @@ import time
 from coincli.core.bounce import design as D
 from coincli.core.bounce import engine as B
 from coincli.core.bounce import runs as R
-from coincli.core.toss.flight import HAND_TOSS, Dist
+from coincli.core.toss.launch import HAND_TOSS, Dist
 
 DEG = math.pi / 180
 HAND = dict(HAND_TOSS)

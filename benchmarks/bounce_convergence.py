@@ -1,6 +1,6 @@
 """Timestep convergence of the bounce engine (issue 16): P(heads, sides, tails) against dt.
 
-For each aspect ratio, the same seeded tosses (the hand toss of coincli.core.toss.flight.HAND_TOSS onto
+For each aspect ratio, the same seeded tosses (the hand toss of coincli.core.toss.launch.HAND_TOSS onto
 wood, `coin simulate --landing bounce`'s defaults) at dt = 2e-4, 1e-4 and 5e-5 s (or those
 given); the contact stiffness follows dt (omega_n dt = 0.3) and the restitution is
 recalibrated at each dt, so a smaller dt is also a harder contact.  Prints a markdown table
@@ -15,7 +15,7 @@ import resource
 import sys
 
 from coincli.core.bounce import runs
-from coincli.core.toss.flight import HAND_TOSS, HAND_TOSS_TEXT
+from coincli.core.toss.launch import HAND_TOSS, HAND_TOSS_TEXT
 
 LAUNCH = HAND_TOSS
 

@@ -11,11 +11,11 @@ Run from the repository root, in the environment where ``coin``'s dependencies a
    runs as ``python -c "from coincli._entry import main; main()" ARGS`` against ``python -c
    "import typer, numpy"``, the floor of anything that tosses (the aim: at most 1.2x),
    interleaved so that both see the same machine.  Output goes to a pipe.
-2. Tosses per second of ``coin simulate`` (``coincli.core.toss.flight.simulate``: draws, tosses, counts)
+2. Tosses per second of ``coin simulate`` (``coincli.core.toss.simulate.simulate``: draws, tosses, counts)
    against drawing its random numbers alone (``sample_conditions`` in the same chunks of
    65536, the same distributions), interleaved; the aim: at most 3x.  Two tosses: the issue's
    ordinary one (u ~ N(2.4, 0.3) m/s, omega ~ N(38, 4) rad/s, psi ~ N(90, 10) deg) and the
-   hand toss of ``coincli.core.toss.flight.HAND_TOSS`` (38 rev/s: more turns, so more cells before
+   hand toss of ``coincli.core.toss.launch.HAND_TOSS`` (38 rev/s: more turns, so more cells before
    contact).  Raw ``numpy`` normals (three a toss) are shown for scale.
 3. The engine on other inputs: toss_many on the stress mix (xi in {0, 1e6} or [0, 3], u in
    1e-6..30 m/s, omega in 1e-3..1e6 rad/s, log-uniform), one toss at a time, phase_map.
@@ -111,19 +111,19 @@ def startup(repeat: int):
 THROUGHPUT_CHILD = r"""
 import math, sys, time
 import numpy as np
-from coincli.core.toss import flight as T
+from coincli.core.toss import flight as T, launch as TL, simulate as TS
 kind, cfg, n = sys.argv[1], sys.argv[2], int(sys.argv[3])
-kw = dict(T.HAND_TOSS) if cfg == "hand" else {
-    "u": T.Dist("normal", 2.4, 0.3, 0.0, T.U_MAX),
-    "omega": T.Dist("normal", 38.0, 4.0, 0.0, math.inf),
-    "psi": T.Dist("normal", math.pi / 2, math.radians(10), 0.0, math.pi)}
+kw = dict(TL.HAND_TOSS) if cfg == "hand" else {
+    "u": TL.Dist("normal", 2.4, 0.3, 0.0, T.U_MAX),
+    "omega": TL.Dist("normal", 38.0, 4.0, 0.0, math.inf),
+    "psi": TL.Dist("normal", math.pi / 2, math.radians(10), 0.0, math.pi)}
 c0, t0 = time.process_time(), time.perf_counter()
 if kind == "sim":
-    T.simulate(n, 7, xi=0.577, **kw)
+    TS.simulate(n, 7, xi=0.577, **kw)
 else:
     rng = np.random.default_rng(7)
-    for _ in range(n // T._CHUNK):
-        T.sample_conditions(T._CHUNK, rng, **kw)
+    for _ in range(n // TS._CHUNK):
+        TL.sample_conditions(TS._CHUNK, rng, **kw)
 print(time.perf_counter() - t0, time.process_time() - c0)
 """
 
@@ -133,14 +133,14 @@ def throughput(n: int, repeat: int):
     user gets it: ``coin simulate`` is one run), interleaved, and in this process once warm."""
     import numpy as np
 
-    from coincli.core.toss import flight as T
+    from coincli.core.toss import flight as T, launch as TL, simulate as TS
 
-    psi = T.Dist("normal", math.pi / 2, math.radians(10), 0.0, math.pi)
+    psi = TL.Dist("normal", math.pi / 2, math.radians(10), 0.0, math.pi)
     configs = {
         "ordinary (u N(2.4, 0.3) m/s, omega N(38, 4) rad/s, psi N(90, 10) deg)":
-            ("ordinary", {"u": T.Dist("normal", 2.4, 0.3, 0.0, T.U_MAX),
-                          "omega": T.Dist("normal", 38.0, 4.0, 0.0, math.inf), "psi": psi}),
-        "hand toss (omega N(38, 4) rev/s, the default)": ("hand", dict(T.HAND_TOSS)),
+            ("ordinary", {"u": TL.Dist("normal", 2.4, 0.3, 0.0, T.U_MAX),
+                          "omega": TL.Dist("normal", 38.0, 4.0, 0.0, math.inf), "psi": psi}),
+        "hand toss (omega N(38, 4) rev/s, the default)": ("hand", dict(TL.HAND_TOSS)),
     }
     env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
     rows, ratios, split = [], {}, []
@@ -159,16 +159,16 @@ def throughput(n: int, repeat: int):
 
         def draw(kw=kw):
             rng = np.random.default_rng(7)
-            for _ in range(n // T._CHUNK):
-                T.sample_conditions(T._CHUNK, rng, **kw)
+            for _ in range(n // TS._CHUNK):
+                TL.sample_conditions(TS._CHUNK, rng, **kw)
 
         def raw():
             rng = np.random.default_rng(7)
-            for _ in range(n // T._CHUNK):
-                rng.standard_normal(3 * T._CHUNK)
+            for _ in range(n // TS._CHUNK):
+                rng.standard_normal(3 * TS._CHUNK)
 
         def sim(kw=kw):
-            return T.simulate(n, 7, xi=0.577, **kw)
+            return TS.simulate(n, 7, xi=0.577, **kw)
 
         t = {"draw": [], "raw": [], "sim": []}
         c = {"draw": [], "raw": [], "sim": []}
@@ -196,14 +196,16 @@ def throughput(n: int, repeat: int):
     return rows, ratios, split
 
 
-def _descent_constants(T, xi):
+def _descent_constants(xi):
     """The rim coin's radius, launch height, band sines and descent limits, as ``_outcomes``
     sets them up for a quarter-sized coin of aspect ratio ``xi`` under standard gravity."""
+    from coincli.core.toss import batch as TB, flight as T
+
     a = T.DEFAULT_DIAMETER / 2
     z0 = math.sqrt(3.0) / 2 * a
     t0 = math.atan2(1.0, xi)
     sb, cb = math.sin(t0 / 2), math.cos(t0 / 2)
-    return a, z0, sb, cb, T._descent_limits(a, z0, T.STANDARD_G, 2 * a * sb * cb, sb, cb)
+    return a, z0, sb, cb, TB._descent_limits(a, z0, T.STANDARD_G, 2 * a * sb * cb, sb, cb)
 
 
 def stages(kw, n, repeat, xi=0.577):
@@ -214,31 +216,31 @@ def stages(kw, n, repeat, xi=0.577):
     medians are noise at a few nanoseconds)."""
     import numpy as np
 
-    from coincli.core.toss import flight as T
+    from coincli.core.toss import batch as TB, flight as T, launch as TL, simulate as TS
 
     rng = np.random.default_rng(7)
-    chunks = [T.sample_conditions(T._CHUNK, rng, **kw) for _ in range(n // T._CHUNK)]
-    a, z0, sb, cb, lim = _descent_constants(T, xi)
-    m = T._CHUNK
+    chunks = [TL.sample_conditions(TS._CHUNK, rng, **kw) for _ in range(n // TS._CHUNK)]
+    a, z0, sb, cb, lim = _descent_constants(xi)
+    m = TS._CHUNK
     code = np.empty(m, dtype=np.int8)
 
     def bounds():
-        work, flags = T._descent_scratch(np)
+        work, flags = TB._descent_scratch(np)
         for c in chunks:
-            for lo in range(0, m, T._DBATCH):
-                sl = slice(lo, lo + T._DBATCH)
+            for lo in range(0, m, TB._DBATCH):
+                sl = slice(lo, lo + TB._DBATCH)
                 k = sl.stop - sl.start
-                T._descent_batch(np, c["psi"][sl], c["u"][sl], c["omega"][sl], a, z0,
-                                 T.STANDARD_G, lim, work[:, :k], flags[:, :k], code[sl])
+                TB._descent_batch(np, c["psi"][sl], c["u"][sl], c["omega"][sl], a, z0,
+                                  T.STANDARD_G, lim, work[:, :k], flags[:, :k], code[sl])
 
     def descent():
         for c in chunks:
-            T._descent_outcomes(np, c["psi"], c["u"], c["omega"], xi, T.DEFAULT_DIAMETER,
-                                T.STANDARD_G, (sb, cb), m)
+            TB._descent_outcomes(np, c["psi"], c["u"], c["omega"], xi, T.DEFAULT_DIAMETER,
+                                 T.STANDARD_G, (sb, cb), m)
 
     def outcomes():
         for c in chunks:
-            T._outcomes(xi, c["psi"], c["u"], c["omega"])
+            TB._outcomes(xi, c["psi"], c["u"], c["omega"])
 
     ts = {bounds: [], descent: [], outcomes: []}
     with np.errstate(all="ignore"):
@@ -256,20 +258,20 @@ def path_shares(kw, xi=0.577, chunks=4):
     the sampled passes settle, and the scan must settle (simulate's rim path)."""
     import numpy as np
 
-    from coincli.core.toss import flight as T
+    from coincli.core.toss import batch as TB, flight as T, launch as TL, simulate as TS
 
     rng = np.random.default_rng(7)
-    a, z0, sb, cb, lim = _descent_constants(T, xi)
-    m = T._CHUNK
+    a, z0, sb, cb, lim = _descent_constants(xi)
+    m = TS._CHUNK
     first = left = 0
     for _ in range(chunks):
-        c = T.sample_conditions(m, rng, **kw)
+        c = TL.sample_conditions(m, rng, **kw)
         code = np.empty(m, dtype=np.int8)
         with np.errstate(all="ignore"):
-            T._descent_batch(np, c["psi"], c["u"], c["omega"], a, z0, T.STANDARD_G, lim,
-                             np.empty((9, m)), np.empty((4, m), dtype=bool), code)
-            full = T._descent_outcomes(np, c["psi"], c["u"], c["omega"], xi,
-                                       T.DEFAULT_DIAMETER, T.STANDARD_G, (sb, cb), m)
+            TB._descent_batch(np, c["psi"], c["u"], c["omega"], a, z0, T.STANDARD_G, lim,
+                              np.empty((9, m)), np.empty((4, m), dtype=bool), code)
+            full = TB._descent_outcomes(np, c["psi"], c["u"], c["omega"], xi,
+                                        T.DEFAULT_DIAMETER, T.STANDARD_G, (sb, cb), m)
         first += int(np.count_nonzero(code >= 0))
         left += int(np.count_nonzero(full < 0))
     total = chunks * m
@@ -279,7 +281,7 @@ def path_shares(kw, xi=0.577, chunks=4):
 def engine(n: int, repeat: int):
     import numpy as np
 
-    from coincli.core.toss import flight as T
+    from coincli.core.toss import batch as TB, flight as T, phase as TP
 
     rng = np.random.default_rng(7)
     rows = []
@@ -298,7 +300,7 @@ def engine(n: int, repeat: int):
     u = 10 ** rng.uniform(-6, 1.5, m)
     om = 10 ** rng.uniform(-3, 6, m)
     for contact in T.CONTACTS:
-        s = timed(lambda contact=contact: T.toss_many(xi, psi, u, om, contact=contact))
+        s = timed(lambda contact=contact: TB.toss_many(xi, psi, u, om, contact=contact))
         rows.append([f"toss_many, stress mix, {contact}", f"{m:,}", f"{_report.fmt_rate(m / s)}/s"])
     k = 2000
     for label, a in (("ordinary", (0.577, math.pi / 2, 2.0, 40.0)),
@@ -307,7 +309,7 @@ def engine(n: int, repeat: int):
         s = timed(lambda a=a: [T.flight_time(*a) for _ in range(k)])
         rows.append([f"flight_time one at a time, {label}", f"{k:,}",
                      f"{_report.fmt_rate(k / s)}/s"])
-    s = timed(lambda: T.phase_map(0.577, math.pi / 2, (0, 3), (0, 60), (200, 200)))
+    s = timed(lambda: TP.phase_map(0.577, math.pi / 2, (0, 3), (0, 60), (200, 200)))
     rows.append(["phase_map 200 x 200 (Fig. 3)", "40,000", f"{_report.fmt_rate(4e4 / s)}/s"])
     return rows
 
@@ -351,7 +353,7 @@ def main(argv=None) -> int:
         "the `secrets` module that numpy's `bit_generator` loads for unseeded entropy (with it "
         "come `hashlib` and OpenSSL, `hmac`, `base64` and `random`: some 7 ms; "
         "`coincli.core._numerics.backend.numpy_random` lets a stand-in holding only `randbits`, the same "
-        "`os.urandom` entropy, serve that one import and removes it at once); `coincli.core.toss.flight`; "
+        "`os.urandom` entropy, serve that one import and removes it at once); the modules of `coincli.core.toss`; "
         "for simulate's vigorous limit `coincli.core.averages` with its own Gauss-Legendre rule "
         "(`numpy.polynomial` was 2 ms) and the Wilson interval's small module (all of "
         "`coincli.core.stats.tests` was 2 ms); the top of the distributions is checked by "
@@ -363,7 +365,7 @@ def main(argv=None) -> int:
         f"### Tosses per second of `coin simulate` ({n:,} tosses, {reps} runs each, "
         "interleaved)",
         "",
-        "`coincli.core.toss.flight.simulate` (draws, tosses, counts) against drawing its random numbers "
+        "`coincli.core.toss.simulate.simulate` (draws, tosses, counts) against drawing its random numbers "
         "alone (`sample_conditions`, the same chunks and distributions): aim <= "
         f"{AIM_SIMULATE}x.  {verdict2(t_ratios, AIM_SIMULATE)}.  Both are single-threaded; "
         "on a shared machine CPU seconds are the steadier measure (the wall clock also counts "
@@ -388,7 +390,7 @@ def main(argv=None) -> int:
         _report.table(["tosses", "bounds pass", "sampled passes", "validation and the scan",
                        "`_outcomes`", "draws", "simulate"], t_split),
         "`simulate` wants outcomes, not times of flight, and reads each one off the first "
-        "proof that settles it (`coincli.core.toss.flight._outcomes`; the same codes as `toss_many`, "
+        "proof that settles it (`coincli.core.toss.batch._outcomes`; the same codes as `toss_many`, "
         "compared toss by toss in tests/test_toss.py: seeded hand and ordinary tosses at six "
         "thicknesses, contacts tuned to the side boundary, other coins, planets and tilts, and "
         "simulate's counts end to end).  A rim touching at `t_f` has `a sin(alpha_f) = "

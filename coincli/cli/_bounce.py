@@ -149,7 +149,7 @@ def _length_m(text: str, what: str, hi_mm: float) -> float:
 
 def _dist(text: str, what: str, unit: str, scale: float, hi: float):
     """A fixed value (a length with a unit for mm) or normal:MEAN:SD / uniform:LOW:HIGH."""
-    from coincli.core.toss import flight as T
+    from coincli.core.toss import launch as T
 
     t = text.strip()
     if ":" not in t:
@@ -278,7 +278,7 @@ def simulate(p: Physics, *, count, seed, xi, u, omega, psi, diameter, g, labels,
     """``coin simulate --landing bounce``: frequencies among settled tosses with Wilson
     intervals, what the catch would have said of the same tosses, the vigorous limit."""
     from coincli.core.bounce import runs
-    from coincli.core.toss.flight import wilson_interval
+    from coincli.core.toss.simulate import wilson_interval
     from coincli.io.table import emit
 
     if count > MAX_BOUNCE_TOSSES:

@@ -241,7 +241,7 @@ def check_followable(ph: Phase) -> None:
 
 def data(ph: Phase, nu: int, nw: int, *, figure: bool = False):
     """The picture's data on an ``nu`` by ``nw`` grid: :class:`coincli.render.figures.PhaseData` for a
-    figure; for text and csv the same fields from :func:`coincli.core.toss.flight.phase_map` directly (so
+    figure; for text and csv the same fields from :func:`coincli.core.toss.phase.phase_map` directly (so
     that they load no plotting module)."""
     check_followable(ph)
     if figure:
@@ -258,7 +258,7 @@ def data(ph: Phase, nu: int, nw: int, *, figure: bool = False):
         return d
     import types
 
-    from coincli.core.toss import flight as T
+    from coincli.core.toss import phase as T
     from coincli.core.models import conditional
 
     psi = _options.radians(ph.psi_deg)

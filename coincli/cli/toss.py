@@ -4,7 +4,7 @@ Thin: parse the options (the shared coin group and seed of :mod:`coincli.cli._op
 in degrees; speeds and spins with units, :func:`coincli.io.grammar.parse_speed_ms` and
 :func:`coincli.io.grammar.parse_spin_rads`), convert to SI radians, call :mod:`coincli.core.toss.flight`, build a
 :class:`Result` or a picture, print.  Whatever is not given is drawn from a natural hand toss
-(:data:`coincli.core.toss.flight.HAND_TOSS`) with a seed that is reported.  A ValueError from the core is
+(:data:`coincli.core.toss.launch.HAND_TOSS`) with a seed that is reported.  A ValueError from the core is
 bad input: one line, exit 2.  numpy loads only inside the commands, rich only to draw on a
 terminal, scipy never.
 """
@@ -55,7 +55,7 @@ XI_THICK_MAX = 1e100  # h/D with --contact thick (an infinite thickness has no l
 LENGTH_MM_MIN = 1e-300  # mm; smaller would underflow on the way to metres
 NORMAL_REACH = 10  # simulate checks a normal up to MEAN + 10 SD (never drawn: P < 1e-23)
 DHM = "Diaconis, Holmes & Montgomery 2007"
-#: the hand toss of coincli.core.toss.flight.HAND_TOSS, as typed (for help and notes)
+#: the hand toss of coincli.core.toss.launch.HAND_TOSS, as typed (for help and notes)
 HAND = {"u": "normal:2.4:0.3", "omega": "normal:38:4rev/s", "psi": "normal:90:10"}
 
 GOpt = _phase.GOpt
@@ -207,10 +207,10 @@ _KINDS = {"normal": "normal", "norm": "normal", "gauss": "normal", "uniform": "u
 
 
 def _spec(text: str, what: str, kind: str):
-    """A distribution of u (m/s) or omega (rad/s) for simulate, as a coincli.core.toss.flight.Dist in SI:
+    """A distribution of u (m/s) or omega (rad/s) for simulate, as a coincli.core.toss.launch.Dist in SI:
     a value, ``normal:MEAN:SD`` or ``uniform:LOW:HIGH``; a unit once at the end applies to
     every number (``normal:38:4rev/s``), or one after every number."""
-    from coincli.core.toss import flight as T
+    from coincli.core.toss import launch as T
 
     lo, hi = (0.0, U_MAX) if kind == "u" else (0.0, math.inf)
     unit_name = "m/s" if kind == "u" else "rad/s"
@@ -363,16 +363,16 @@ def toss_cmd(
     z0_m = _z0_m(z0, xi_max, dia, ct == "thick")
     import numpy as np
 
-    from coincli.core.toss import flight as T
+    from coincli.core.toss import batch as TB, flight as T, launch as TL
 
     seed_v = options.seed_value(seed) if drawn else None
     if drawn:
         from coincli.core._numerics.backend import numpy_random
 
         rng = numpy_random().default_rng(seed_v)
-        spec = {k: (T.HAND_TOSS[k] if k in drawn else T.Dist("fixed", 0.0)) for k in
+        spec = {k: (TL.HAND_TOSS[k] if k in drawn else TL.Dist("fixed", 0.0)) for k in
                 ("u", "omega", "psi")}
-        got = T.sample_conditions(n, rng, **spec)
+        got = TL.sample_conditions(n, rng, **spec)
         for k in drawn:
             v = np.broadcast_to(got[k], (n,))
             cols[k] = np.degrees(v) if k == "psi" else v
@@ -405,7 +405,7 @@ def toss_cmd(
         BO.check_speed(physics, uf, gv, u if u is not None else f"{_num(uf)} m/s")
         extra = ""
         if drawn:
-            what = ", ".join(f"{k} ~ {T.HAND_TOSS_TEXT[k]}" for k in drawn)
+            what = ", ".join(f"{k} ~ {TL.HAND_TOSS_TEXT[k]}" for k in drawn)
             extra = (f"  Drawn from a hand toss ({DHM}): {what}; seed {seed_v} (--seed {seed_v} "
                      "repeats it).")
             if quiet:
@@ -414,7 +414,7 @@ def toss_cmd(
                 z0=z0_m, trajectory=trajectory, fmt=fmt, quiet=quiet, note_extra=extra,
                 seed=seed_v if drawn else None)
         return
-    res = _usage(T.toss_many, x, psi_rad, uu, w, diameter=dia, g=gv, contact=ct, z0=z0_m)
+    res = _usage(TB.toss_many, x, psi_rad, uu, w, diameter=dia, g=gv, contact=ct, z0=z0_m)
     z0_mm = (np.full(n, z0_m * 1000) if z0_m is not None else
              (math.sqrt(3) / 2 * dia / 2 + (x * dia / 2 if ct == "thick" else 0.0)) * 1000)
     outcome = [T.NAMES[c] for c in res.code.tolist()]
@@ -441,7 +441,7 @@ def toss_cmd(
     if typed:
         note += f"  Typed {', '.join(typed)}; shown in m/s and rad/s."
     if drawn:
-        what = ", ".join(f"{k} ~ {T.HAND_TOSS_TEXT[k]}" for k in drawn)
+        what = ", ".join(f"{k} ~ {TL.HAND_TOSS_TEXT[k]}" for k in drawn)
         note += (f"  Drawn from a hand toss ({DHM}): {what}; seed {seed_v} (--seed {seed_v} "
                  "repeats it).")
         if quiet:
@@ -456,7 +456,7 @@ def toss_cmd(
 def _psi_dist(text: str):
     """--psi-dist: the shared psi grammar (uniform[:LOW:HIGH], cosine, normal[:MEAN:SD],
     table:FILE), or a fixed angle in degrees."""
-    from coincli.core.toss import flight as T
+    from coincli.core.toss import launch as T
 
     s = text.strip()
     try:
@@ -545,7 +545,7 @@ def simulate_cmd(
     count_n = _tosses(tosses) if tosses is not None else 10_000
     xv = coins.xi
     _xi_for_contact(xv, ct == "thick")
-    from coincli.core.toss import flight as T
+    from coincli.core.toss import flight as T, simulate as TS
 
     u_spec, w_spec, psi_spec, labels = launch(psi, psi_dist, u, omega)
     seed_v = options.seed_value(seed)
@@ -575,7 +575,7 @@ def simulate_cmd(
         _stream(T, count_n, seed_v, kw)
         return
     with _progress(count_n) as tick:
-        sim = _usage(T.simulate, count_n, seed_v, progress=tick, **kw)
+        sim = _usage(TS.simulate, count_n, seed_v, progress=tick, **kw)
     machine = fmt != "table"
     rows = []
     for f, p in zip(sim.frequencies, sim.vigorous, strict=True):
@@ -635,8 +635,10 @@ def _stream(T, count, seed_v, kw):
     so bad input still fails cleanly with nothing printed."""
     import numpy as np
 
+    from coincli.core.toss.simulate import simulate_chunks
+
     table = np.array([ord(c) for c in T.LETTERS], dtype=np.uint8)
-    chunks = T.simulate_chunks(count, seed_v, **kw)
+    chunks = simulate_chunks(count, seed_v, **kw)
     codes = _usage(next, chunks)
     out = sys.stdout
     while codes is not None:
@@ -685,9 +687,9 @@ class _progress:
 def launch(psi, psi_dist, u, omega):
     """The launch distributions of a run of many tosses (``coin simulate``, and ``coin design``
     and ``coin plot sides`` with --landing bounce): --u, --omega, --psi (fixed) or --psi-dist;
-    what is not given is the hand toss (:data:`coincli.core.toss.flight.HAND_TOSS`).  Returns the three
+    what is not given is the hand toss (:data:`coincli.core.toss.launch.HAND_TOSS`).  Returns the three
     specs and their description (``u ~ ..., omega ~ ..., psi ...``, units named)."""
-    from coincli.core.toss import flight as T
+    from coincli.core.toss import launch as T
 
     _options.refuse_psi_and_dist(psi, psi_dist)
     if psi is not None:

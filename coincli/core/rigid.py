@@ -937,7 +937,7 @@ def toss_chunks(n: int, seed: int, *, moments, sides, spin, flight, start="+3",
 
     ``spin``: three distributions of omega_1, omega_2, omega_3 (rad/s, body axes), ``flight``
     one of the flight time (s), each an object with ``sample(rng, k)`` (a float for a fixed
-    value, else an array), like :class:`coincli.core.toss.flight.Dist`.  ``start``: a face of
+    value, else an array), like :class:`coincli.core.toss.launch.Dist`.  ``start``: a face of
     :data:`FACES` up at launch, or 'random' (a uniformly random attitude: Haar measure, from
     four normals).  Each batch draws a full :data:`_CHUNK` of every quantity in a fixed order
     (omega_1, omega_2, omega_3, flight time, then the start attitude), so a seed gives the same

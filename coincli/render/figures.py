@@ -3,7 +3,7 @@ r"""The paper's figures, with the user's design and data on them (``coin plot``)
 Two layers:
 
 - *data* functions (:func:`sides_data`, :func:`psi_data`, :func:`map_data`, :func:`phase_data`)
-  evaluate the core (:mod:`coincli.core.models`, :mod:`coincli.core.averages`, :mod:`coincli.core.toss.flight`) on a
+  evaluate the core (:mod:`coincli.core.models`, :mod:`coincli.core.averages`, :mod:`coincli.core.toss`) on a
   grid and return plain dataclasses of numpy arrays.  They know nothing of drawing, so the
   matplotlib figures and the text plots of :mod:`coincli.render.text` show the same numbers;
 - *figure* builders (:func:`sides_figure`, :func:`psi_figure`, :func:`map_figure`,
@@ -981,8 +981,8 @@ class PhaseData:
     psi_deg: float
     u: object  #: cell centres along the launch speed, m/s (ndarray, nu)
     omega: object  #: cell centres along the spin, rad/s (ndarray, nw)
-    outcome: object  #: (nw, nu) codes of :func:`coincli.core.toss.flight.toss_many`: 0 heads, 1 sides, 2 tails
-    curves: list = field(default_factory=list)  #: :class:`coincli.core.toss.flight.Boundary` over ``u``
+    outcome: object  #: (nw, nu) codes of :func:`coincli.core.toss.batch.toss_many`: 0 heads, 1 sides, 2 tails
+    curves: list = field(default_factory=list)  #: :class:`coincli.core.toss.phase.Boundary` over ``u``
     fractions: object = None  #: Outcome: the share of the grid's cells of each outcome
     vigorous: object = None  #: Outcome: the vigorous limit (Table I at this xi and psi)
     marks: list = field(default_factory=list)  #: [(u, omega)] the user's tosses
@@ -1001,12 +1001,12 @@ DEFAULT_OMEGA_RANGE = (0.0, 60.0)  #: rad/s
 def phase_data(xi: float = models.FAIR_XI_DYNAMIC, psi_deg: float = 90.0, *,
                u_range=DEFAULT_U_RANGE, omega_range=DEFAULT_OMEGA_RANGE, nu: int = 400,
                nw: int = 400, marks=(), exact_curves: bool = False, **toss_options) -> PhaseData:
-    """Fig. 3: the outcome of each (u, omega) cell by :func:`coincli.core.toss.flight.phase_map`.
+    """Fig. 3: the outcome of each (u, omega) cell by :func:`coincli.core.toss.phase.phase_map`.
 
     ``toss_options`` go to it (``diameter`` in m, ``g``, ``contact``, ``z0``).  The boundary
     curves are eq. (10) (or the exact contact-time curves with ``exact_curves``).
     """
-    from coincli.core.toss import flight as toss
+    from coincli.core.toss import phase as toss
 
     psi_deg = float(psi_deg)
     if not 0.0 <= psi_deg <= 180.0:

@@ -99,8 +99,8 @@ def _dist(text: str, what: str, number, default: str, lo: float, units, example:
     """A value or a distribution ``normal:MEAN:SD`` / ``uniform:LOW:HIGH`` (``fixed:V``) whose
     numbers may carry units: one after every number, or once at the end for all of them
     (``normal:6:1rev/s``, as ``coin simulate --omega`` reads it); returned as a
-    :class:`coincli.core.toss.flight.Dist` in the default unit."""
-    from coincli.core.toss import flight as T
+    :class:`coincli.core.toss.launch.Dist` in the default unit."""
+    from coincli.core.toss import launch as T
 
     parts = [p.strip() for p in text.split(":")]
     head = parts[0].lower()
@@ -572,7 +572,7 @@ def _toss(box, spin, n, seed, flight, start, rule, figure: str | None, progress)
     import numpy as np
 
     from coincli.core import rigid as R
-    from coincli.core.toss.flight import wilson_interval
+    from coincli.core.toss.simulate import wilson_interval
 
     counts = np.zeros(6, dtype=np.int64)
     bar = progress(count) if progress is not None else contextlib.nullcontext(_no_tick)

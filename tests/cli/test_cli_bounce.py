@@ -137,8 +137,8 @@ def test_plot_sides_bounce_without_a_curve_draws_the_points(coin):
 
 def test_bounce_launch_defaults_are_the_hand_toss():
     """design and plot sides --landing bounce launch as simulate and toss do: the one hand toss
-    of coincli.core.toss.flight, not a copy of it."""
-    from coincli.core.toss import flight as T
+    of coincli.core.toss.launch, not a copy of it."""
+    from coincli.core.toss import launch as T
     from coincli.cli.toss import bounce_launch
 
     u, w, psi, text = bounce_launch(None, None, None, None)

@@ -1,6 +1,6 @@
 """``coin toss``, ``coin simulate``, ``coin phase`` run in-process through :func:`coincli.cli.run`.
 
-Every printed number is read back and compared, as a double, with :mod:`coincli.core.toss.flight`; bad
+Every printed number is read back and compared, as a double, with :mod:`coincli.core.toss`; bad
 input is one line on stderr with exit 2 and nothing on stdout.  No timing here.
 """
 
@@ -19,7 +19,7 @@ import pytest
 from cli_helpers import error as _error
 from cli_helpers import ok as _ok
 
-from coincli.core.toss import flight as T
+from coincli.core.toss import batch as TB, flight as T, launch as TL, phase as TP, simulate as TS
 
 FAIR = 0.577
 
@@ -67,7 +67,7 @@ def test_toss_lists_pair_up_and_match_toss_many(coin):
     rows = list(csv.DictReader(io.StringIO(out)))
     assert len(rows) == 41
     w = np.array([float(r["omega"]) for r in rows])
-    v = T.toss_many(0.577, math.pi / 2, 2.0, w)
+    v = TB.toss_many(0.577, math.pi / 2, 2.0, w)
     assert [float(r["t_f"]) for r in rows] == v.t_f.tolist()
     assert [r["outcome"] for r in rows] == [T.NAMES[c] for c in v.code]
     for r in rows[::10]:
@@ -115,7 +115,7 @@ def test_toss_draws_what_is_missing_from_a_hand_toss_and_reports_the_seed(coin):
     row = next(csv.DictReader(io.StringIO(out)))
     assert row["seed"] == "4" and row["psi_deg"] == "90.0" and row["u"] == "2.0"
     rng = np.random.default_rng(4)
-    w = T.HAND_TOSS["omega"].sample(rng, 1)
+    w = TL.HAND_TOSS["omega"].sample(rng, 1)
     assert float(row["omega"]) == float(w[0])
     assert _ok(coin("toss", "--xi", "0.5", "--psi", "90", "--u", "2", "--seed", "4", "-f",
                     "csv")) == out  # the same seed, the same bytes
@@ -140,8 +140,8 @@ def test_simulate_csv_is_the_core(coin):
     rows = list(csv.DictReader(io.StringIO(out)))
     from coincli.core.densities import parse_density
 
-    psi = T.Dist.from_density(parse_density("normal:90:10"))  # the grammar of coin design
-    sim = T.simulate(20000, 7, xi=0.577, u="normal:2.4:0.3", omega="normal:38:4", psi=psi)
+    psi = TL.Dist.from_density(parse_density("normal:90:10"))  # the grammar of coin design
+    sim = TS.simulate(20000, 7, xi=0.577, u="normal:2.4:0.3", omega="normal:38:4", psi=psi)
     assert [r["outcome"] for r in rows] == ["heads", "sides", "tails"]
     assert tuple(int(r["count"]) for r in rows) == sim.counts
     for r, f, p in zip(rows, sim.frequencies, sim.vigorous, strict=True):
@@ -164,8 +164,8 @@ def test_simulate_stream_letters_prefix_and_counts(coin):
     assert len(lines) == 100 and set(lines) <= {"H", "S", "T"}
     short = _ok(coin(*SIM, "--psi", "90", "-n", "10", "--seed", "3", "--stream")).splitlines()
     assert short == lines[:10]
-    codes = np.concatenate(list(T.simulate_chunks(100, 3, xi=0.577, u="normal:2.4:0.3",
-                                                  omega="normal:38:4", psi=math.pi / 2)))
+    codes = np.concatenate(list(TS.simulate_chunks(100, 3, xi=0.577, u="normal:2.4:0.3",
+                                                   omega="normal:38:4", psi=math.pi / 2)))
     assert lines == [T.LETTERS[c] for c in codes]
 
 
@@ -256,7 +256,7 @@ def test_phase_csv_is_phase_map(coin):
     out = _ok(coin("phase", "--xi", "0.577", "--psi", "90", "--u", "0:3", "--omega", "0:60",
                    "--cols", "12", "--rows", "8", "--format", "csv"))
     rows = list(csv.DictReader(io.StringIO(out)))
-    pm = T.phase_map(0.577, math.pi / 2, (0, 3), (0, 60), (12, 8))
+    pm = TP.phase_map(0.577, math.pi / 2, (0, 3), (0, 60), (12, 8))
     assert len(rows) == 96
     assert [int(r["code"]) for r in rows] == pm.codes.ravel().tolist()
     assert [float(r["u"]) for r in rows[:12]] == pm.u.tolist()
@@ -280,7 +280,7 @@ def test_phase_text_in_a_pipe_is_letters_with_legend(coin):
     plain = _ok(coin("phase", "--cols", "40", "--rows", "12", "--no-curves"))
     assert not any(c in "hst" for line in plain.splitlines()[2:14] for c in line[4:44])
     # the letters are the map, whatever the marks
-    pm = T.phase_map(0.5773502691896257, math.pi / 2, (0, 3), (0, 60), (40, 12))
+    pm = TP.phase_map(0.5773502691896257, math.pi / 2, (0, 3), (0, 60), (40, 12))
     top = plain.splitlines()[2][4:44]
     assert top == "".join(T.LETTERS[c] for c in pm.codes[-1])
 
@@ -372,12 +372,12 @@ def test_simulate_n_is_capped_and_the_message_names_the_cap_and_the_way_out(coin
     _error(coin("simulate", "-n", "0", *BASE), 2, "-n", "from 1 to 100000000")
     _error(coin("simulate", "-n", "1e5", *BASE), 2, "-n", "whole number")
     # the cap itself is allowed (the run is not made: the core is stubbed)
-    seen, real = [], T.simulate
-    monkeypatch.setattr(T, "simulate", lambda n, *a, **k: seen.append(n) or real(3, *a, **k))
+    seen, real = [], TS.simulate
+    monkeypatch.setattr(TS, "simulate", lambda n, *a, **k: seen.append(n) or real(3, *a, **k))
     _ok(coin("simulate", "-n", "100000000", "--seed", "1", *BASE, "-q"))
     assert seen == [10**8]
     with pytest.raises(ValueError, match="n must be"):
-        T.simulate_chunks(10**8 + 1, 1, xi=FAIR, u=2.0, omega=38.0, psi=1.0).__next__()
+        TS.simulate_chunks(10**8 + 1, 1, xi=FAIR, u=2.0, omega=38.0, psi=1.0).__next__()
 
 
 @pytest.mark.parametrize("cmd", ["toss", "simulate"])
@@ -498,7 +498,7 @@ def test_ctrl_c_in_simulate_says_interrupted(coin, monkeypatch, stream):
         yield np.zeros(3, dtype=np.int8)
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(T, "simulate_chunks", interrupted)
+    monkeypatch.setattr(TS, "simulate_chunks", interrupted)
     from coincli.io import options as _options
 
     # a seed drawn by an earlier run in this process is not this run's (it was reported)

@@ -26,6 +26,7 @@ from coincli.core._numerics.quaternion import _qconj, _qrot  # noqa: E402
 from coincli.core.bounce import design as D  # noqa: E402
 from coincli.core.bounce import runs as R  # noqa: E402
 from coincli.core.toss import flight as T  # noqa: E402
+from coincli.core.toss import launch as TL  # noqa: E402
 from coincli.core.models import conditional, dynamic  # noqa: E402
 
 HAND = {"u": "normal:2.4:0.3", "omega": "normal:38:4"}
@@ -223,9 +224,9 @@ def test_rolling_rule_changes_no_outcome():
     t_max): 48 hand tosses of the fair coin, 8 of which end rolling on the side."""
     coin = B.Coin(0.577)
     eng = B.Engine(coin, B.SURFACES["wood"])
-    dists = {**T.HAND_TOSS, "height": T.as_dist(0.0, "height", 0, 1),
-             "vx": T.as_dist(0.0, "vx", 0, 1),
-             "z0": T.as_dist(T.default_z0(0.577, contact="thick"), "z0", 0, 1)}
+    dists = {**TL.HAND_TOSS, "height": TL.as_dist(0.0, "height", 0, 1),
+             "vx": TL.as_dist(0.0, "vx", 0, 1),
+             "z0": TL.as_dist(T.default_z0(0.577, contact="thick"), "z0", 0, 1)}
     launches = R._block_launches(5, 0, 48, dists, coin)
     fired = 0
     for launch in launches:

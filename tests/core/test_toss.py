@@ -1,4 +1,5 @@
-"""Tests of coincli.core.toss.flight: time of flight, outcomes, many tosses, phase space, distributions.
+"""Tests of coincli.core.toss (flight, batch, phase, launch, simulate): time of flight, outcomes,
+many tosses, phase space, distributions.
 
 The reference for "no missed root" is independent of the module: it evaluates eq. (3) as printed
 (``cos alpha = A + B cos(omega t)``, ``arccos``), and samples ``F = z - L`` densely wherever the
@@ -16,7 +17,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from coincli.core.toss import flight as T
+from coincli.core.toss import batch as TB, flight as T, launch as TL, phase as TP, simulate as TS
 from coincli.core.models import conditional, dynamic, theta0
 
 FAIR = 1 / math.sqrt(3)
@@ -230,7 +231,7 @@ def test_stress_values_no_missed_root_no_nan(args, contact):
     assert r.t_f == t_f
     assert all(math.isfinite(v) for v in (r.t_f, r.alpha_f, r.turns, r.vigor))
     assert 0 <= r.alpha_f <= math.pi
-    v = T.toss_many(*args, contact=contact)
+    v = TB.toss_many(*args, contact=contact)
     assert float(v.t_f) == pytest.approx(t_f, rel=1e-12)
     assert int(v.code) == r.code
 
@@ -297,7 +298,7 @@ def test_a_dip_too_thin_for_dense_sampling_is_found(contact, psi, xi):
     z_dip = z0 - f_m - eps
     half = math.sqrt(2 * eps / (A * om * om))  # half-width of the dip, to a factor ~2
     t_f = T.flight_time(xi, psi, u, om, contact=contact, z0=z_dip)
-    t_v = float(T.toss_many(xi, psi, u, om, contact=contact, z0=z_dip).t_f)
+    t_v = float(TB.toss_many(xi, psi, u, om, contact=contact, z0=z_dip).t_f)
     for t in (t_f, t_v):
         assert t_m - 3 * half < t < t_m - half / 3
     ts = t_m + period * (np.arange(-512, 512) + 0.5) / 512  # two turns, 512 points a turn
@@ -307,7 +308,7 @@ def test_a_dip_too_thin_for_dense_sampling_is_found(contact, psi, xi):
     z_clear = z0 - f_m + 10 * eps
     t_f2 = T.flight_time(xi, psi, u, om, contact=contact, z0=z_clear)
     assert t_f2 > t_m + period / 64
-    assert float(T.toss_many(xi, psi, u, om, contact=contact, z0=z_clear).t_f) == pytest.approx(
+    assert float(TB.toss_many(xi, psi, u, om, contact=contact, z0=z_clear).t_f) == pytest.approx(
         t_f2, rel=1e-12)
 
 
@@ -323,7 +324,7 @@ def test_vectorized_matches_scalar(contact):
                    rng.uniform(0, math.pi, n))
     u = 10.0 ** rng.uniform(-6, 1.5, n)
     om = np.where(rng.random(n) < 0.05, 0.0, 10.0 ** rng.uniform(-2, 6, n))
-    v = T.toss_many(xi, psi, u, om, contact=contact)
+    v = TB.toss_many(xi, psi, u, om, contact=contact)
     assert v.t_f.shape == (n,) and not np.isnan(v.t_f).any()
     for i in range(n):
         r = T.toss(float(xi[i]), float(psi[i]), float(u[i]), float(om[i]), contact=contact)
@@ -333,7 +334,7 @@ def test_vectorized_matches_scalar(contact):
 
 
 def test_vectorized_broadcasts_and_keeps_shape():
-    v = T.toss_many(FAIR, math.pi / 2, np.linspace(0.5, 3, 7)[None, :], np.linspace(1, 60, 5)[
+    v = TB.toss_many(FAIR, math.pi / 2, np.linspace(0.5, 3, 7)[None, :], np.linspace(1, 60, 5)[
         :, None])
     assert v.t_f.shape == v.code.shape == v.alpha_f.shape == (5, 7)
     assert sum(v.counts()) == 35
@@ -341,10 +342,10 @@ def test_vectorized_broadcasts_and_keeps_shape():
 
 def test_vectorized_chunks_agree_with_one_batch():
     rng = np.random.default_rng(9)
-    n = T._BATCH + 1000
-    c = T.sample_conditions(n, rng, u="normal:2.4:0.3", omega="normal:38:4", psi="normal:1.5:0.2")
-    v = T.toss_many(FAIR, c["psi"], c["u"], c["omega"])
-    w = T.toss_many(FAIR, c["psi"][-1000:], c["u"][-1000:], c["omega"][-1000:])
+    n = TB._BATCH + 1000
+    c = TL.sample_conditions(n, rng, u="normal:2.4:0.3", omega="normal:38:4", psi="normal:1.5:0.2")
+    v = TB.toss_many(FAIR, c["psi"], c["u"], c["omega"])
+    w = TB.toss_many(FAIR, c["psi"][-1000:], c["u"][-1000:], c["omega"][-1000:])
     assert np.array_equal(v.t_f[-1000:], w.t_f)
 
 
@@ -363,23 +364,23 @@ def test_outcomes_without_refinement_are_those_of_toss_many(xi, contact):
     k = psi.size
     u = 10 ** rng.uniform(-3, 1.5, k)
     om = 10 ** rng.uniform(-2, 4, k)
-    ref = T.toss_many(xi, psi, u, om, contact=contact).code
-    assert np.array_equal(T._outcomes(xi, psi, u, om, contact=contact), ref)
+    ref = TB.toss_many(xi, psi, u, om, contact=contact).code
+    assert np.array_equal(TB._outcomes(xi, psi, u, om, contact=contact), ref)
     # Dense scans in omega: every outcome change is a toss whose alpha_f sits on a boundary.
     # (A coin of no thickness lands as alpha turns through pi/2, its boundary, an infinitely
     # thick one on its side: one outcome throughout.)
     w = np.linspace(1.0, 200.0, 40001)
     changes = 0
     for p_, u_ in ((math.pi / 2, 2.4), (1.1, 1.0), (0.3, 3.0)):
-        ref = T.toss_many(xi, p_, u_, w, contact=contact).code
+        ref = TB.toss_many(xi, p_, u_, w, contact=contact).code
         changes += np.count_nonzero(ref[1:] != ref[:-1])
-        assert np.array_equal(T._outcomes(xi, p_, u_, w, contact=contact), ref)
+        assert np.array_equal(TB._outcomes(xi, p_, u_, w, contact=contact), ref)
     assert changes > 20 or xi == 0 or math.isinf(xi)
 
 
 
 ORDINARY = {"u": "normal:2.4:0.3", "omega": "normal:38:4",
-            "psi": T.Dist("normal", math.pi / 2, math.radians(10), 0.0, math.pi)}
+            "psi": TL.Dist("normal", math.pi / 2, math.radians(10), 0.0, math.pi)}
 
 
 def _descent_stages(xi, psi, u, om, diameter=D, g=G):
@@ -389,13 +390,13 @@ def _descent_stages(xi, psi, u, om, diameter=D, g=G):
     z0 = math.sqrt(3) / 2 * a
     t0 = math.atan2(1.0, xi)
     sb, cb = math.sin(t0 / 2), math.cos(t0 / 2)
-    lim = T._descent_limits(a, z0, g, 2 * a * sb * cb, sb, cb)
+    lim = TB._descent_limits(a, z0, g, 2 * a * sb * cb, sb, cb)
     n = psi.size
     code = np.empty(n, dtype=np.int8)
     with np.errstate(all="ignore"):
-        cand = T._descent_batch(np, psi, u, om, a, z0, g, lim, np.empty((9, n)),
-                                np.empty((4, n), dtype=bool), code)
-        full = T._descent_outcomes(np, psi, u, om, xi, diameter, g, (sb, cb), n)
+        cand = TB._descent_batch(np, psi, u, om, a, z0, g, lim, np.empty((9, n)),
+                                 np.empty((4, n), dtype=bool), code)
+        full = TB._descent_outcomes(np, psi, u, om, xi, diameter, g, (sb, cb), n)
     return code, cand, full
 
 
@@ -406,10 +407,10 @@ def test_descent_outcomes_are_those_of_toss_many(kind, xi):
     theta0, then F sampled) gives toss_many's code toss by toss, and nearly every hand toss or
     ordinary toss takes it: first the bounds (most), then the samples (the rest)."""
     rng = np.random.default_rng(31)
-    c = T.sample_conditions(3 * T._CHUNK, rng, **(T.HAND_TOSS if kind == "hand" else ORDINARY))
+    c = TL.sample_conditions(3 * TS._CHUNK, rng, **(TL.HAND_TOSS if kind == "hand" else ORDINARY))
     psi, u, om = c["psi"], c["u"], c["omega"]
-    ref = T.toss_many(xi, psi, u, om).code
-    assert np.array_equal(T._outcomes(xi, psi, u, om), ref)
+    ref = TB.toss_many(xi, psi, u, om).code
+    assert np.array_equal(TB._outcomes(xi, psi, u, om), ref)
     first, cand, full = _descent_stages(xi, psi, u, om)
     got = first >= 0
     assert np.array_equal(first[got], ref[got])
@@ -442,8 +443,8 @@ def test_descent_outcomes_at_the_side_boundary(xi):
             for target in (t0 / 2, math.pi - t0 / 2, math.pi / 2 - t0 / 2, math.pi / 2 + t0 / 2):
                 om = 2 * (target + k * math.pi) / tc * (1 + rel)
                 for psi in (math.pi / 2, 1.3):
-                    ref = T.toss_many(xi, psi, u, om).code
-                    assert np.array_equal(T._outcomes(xi, psi, u, om), ref), (u, k, target, psi)
+                    ref = TB.toss_many(xi, psi, u, om).code
+                    assert np.array_equal(TB._outcomes(xi, psi, u, om), ref), (u, k, target, psi)
                     if psi == math.pi / 2:
                         _, _, full = _descent_stages(xi, np.full(om.size, psi),
                                                      np.full(om.size, u), om)
@@ -466,8 +467,8 @@ def test_descent_outcomes_on_other_coins_planets_and_tilts():
                        rng.uniform(0, math.pi, n))
         u = 10 ** rng.uniform(-2, 2, n)
         om = 10 ** rng.uniform(-1, 4.5, n)
-        ref = T.toss_many(xi, psi, u, om, diameter=dia, g=g).code
-        assert np.array_equal(T._outcomes(xi, psi, u, om, diameter=dia, g=g), ref)
+        ref = TB.toss_many(xi, psi, u, om, diameter=dia, g=g).code
+        assert np.array_equal(TB._outcomes(xi, psi, u, om, diameter=dia, g=g), ref)
         _, _, full = _descent_stages(xi, psi, u, om, dia, g)
         assert np.array_equal(full[full >= 0], ref[full >= 0])
         decided += np.count_nonzero(full >= 0)
@@ -478,21 +479,21 @@ def test_descent_outcomes_on_other_coins_planets_and_tilts():
 
 def test_outcomes_of_no_tosses():
     for contact in T.CONTACTS:
-        assert T._outcomes(FAIR, np.zeros((2, 0)), 2.0, 40.0, contact=contact).shape == (2, 0)
-        assert T.toss_many(FAIR, np.zeros(0), 2.0, 40.0, contact=contact).code.shape == (0,)
+        assert TB._outcomes(FAIR, np.zeros((2, 0)), 2.0, 40.0, contact=contact).shape == (2, 0)
+        assert TB.toss_many(FAIR, np.zeros(0), 2.0, 40.0, contact=contact).code.shape == (0,)
 
 
 def test_simulate_hand_toss_counts_are_those_of_toss_many():
     """End to end: simulate's counts for the default hand toss are toss_many's on the same
     draws (the chunks of simulate_chunks, each a full chunk from one generator)."""
-    n = 2 * T._CHUNK + 999
-    sim = T.simulate(n, 2024, xi=FAIR, **T.HAND_TOSS)
+    n = 2 * TS._CHUNK + 999
+    sim = TS.simulate(n, 2024, xi=FAIR, **TL.HAND_TOSS)
     rng = np.random.default_rng(2024)
     codes = []
-    for done in range(0, n, T._CHUNK):
-        c = T.sample_conditions(T._CHUNK, rng, **T.HAND_TOSS)
-        m = min(T._CHUNK, n - done)
-        codes.append(T.toss_many(FAIR, c["psi"][:m], c["u"][:m], c["omega"][:m]).code)
+    for done in range(0, n, TS._CHUNK):
+        c = TL.sample_conditions(TS._CHUNK, rng, **TL.HAND_TOSS)
+        m = min(TS._CHUNK, n - done)
+        codes.append(TB.toss_many(FAIR, c["psi"][:m], c["u"][:m], c["omega"][:m]).code)
     assert sim.counts == tuple(int(k) for k in np.bincount(np.concatenate(codes), minlength=3))
 
 
@@ -502,7 +503,7 @@ def test_simulate_hand_toss_counts_are_those_of_toss_many():
 def _transitions(xi, psi, u, wmax, n=20000, contact="rim"):
     """omega where the outcome changes at fixed u: a fine scan, then bisection on toss()."""
     w = np.linspace(wmax / n, wmax, n)
-    code = T.toss_many(xi, psi, u, w, contact=contact).code
+    code = TB.toss_many(xi, psi, u, w, contact=contact).code
     out = []
     for i in np.flatnonzero(code[1:] != code[:-1]):
         lo, hi = w[i], w[i + 1]
@@ -532,7 +533,7 @@ def test_fair_coin_boundaries_are_the_hyperbolae_of_eq10_once_u_is_large():
     devs = []
     for u in (0.25, 0.5, 1.0, 2.0, 4.0):
         wmax = 4.5 * math.pi * G / (2 * u)  # the first nine curves: c = 1/3, 2/3, ..., 13/3
-        curves = T.hyperbolae(FAIR, psi, np.array([u]), wmax)
+        curves = TP.hyperbolae(FAIR, psi, np.array([u]), wmax)
         assert [round(c.coefficient, 12) for c in curves] == [
             round(k / 3, 12) for k in (1, 2, 4, 5, 7, 8, 10, 11, 13)]
         b = _transitions(FAIR, psi, u, wmax)
@@ -553,8 +554,8 @@ def test_boundaries_approach_eq10_as_u_grows_for_any_thickness():
         wmax = 4.5 * math.pi * G / (2 * u)
         b = _transitions(xi, psi, u, wmax)
         assert len(b) == 9
-        devs.append(_deviation(b, T.hyperbolae(xi, psi, np.array([u]), wmax)))
-        exact = T.hyperbolae(xi, psi, np.array([u]), wmax, exact=True)
+        devs.append(_deviation(b, TP.hyperbolae(xi, psi, np.array([u]), wmax)))
+        exact = TP.hyperbolae(xi, psi, np.array([u]), wmax, exact=True)
         assert _deviation(b, exact) < 1e-12
     for d1, d2 in zip(devs, devs[1:], strict=False):
         assert 3.5 < d1 / d2 < 4.5  # 1/u^2
@@ -564,19 +565,19 @@ def test_boundaries_approach_eq10_as_u_grows_for_any_thickness():
 def test_general_psi_boundaries_use_theta1_theta2():
     xi, psi, u = FAIR, 1.2, 3.0
     wmax = 4.5 * math.pi * G / (2 * u)
-    exact = T.hyperbolae(xi, psi, np.array([u]), wmax, exact=True)
+    exact = TP.hyperbolae(xi, psi, np.array([u]), wmax, exact=True)
     b = _transitions(xi, psi, u, wmax)
     assert len(b) == len(exact)
     assert _deviation(b, exact) < 1e-12
     # psi below theta0/2: always heads, no boundary at all
-    assert T.hyperbolae(xi, 0.2, np.array([u]), wmax) == []
+    assert TP.hyperbolae(xi, 0.2, np.array([u]), wmax) == []
 
 
 # --------------------------------------------------------------------------- phase map
 
 
 def test_phase_map_matches_fig3_far_from_the_origin():
-    m = T.phase_map(FAIR, math.pi / 2, (0.0, 3.0), (0.0, 60.0), shape=(60, 40))
+    m = TP.phase_map(FAIR, math.pi / 2, (0.0, 3.0), (0.0, 60.0), shape=(60, 40))
     assert m.codes.shape == (40, 60) and m.codes.dtype == np.int8
     assert m.u[0] == pytest.approx(0.025) and m.omega[-1] == pytest.approx(59.25)
     # the strip next to the omega = 0 axis is heads (the coin barely turns)
@@ -585,7 +586,7 @@ def test_phase_map_matches_fig3_far_from_the_origin():
     c0 = m.curves[0]
     assert c0.kind == "heads|sides" and c0.omega == pytest.approx(math.pi * G / (6 * m.u))
     # far out (vigorous), equal areas of H, S, T
-    far = T.phase_map(FAIR, math.pi / 2, (20.0, 21.0), (400.0, 420.0), shape=(200, 200))
+    far = TP.phase_map(FAIR, math.pi / 2, (20.0, 21.0), (400.0, 420.0), shape=(200, 200))
     f = far.fractions()
     assert f.heads == pytest.approx(1 / 3, abs=0.02)
     assert f.sides == pytest.approx(1 / 3, abs=0.02)
@@ -594,11 +595,11 @@ def test_phase_map_matches_fig3_far_from_the_origin():
 
 def test_phase_map_bad_ranges():
     with pytest.raises(ValueError, match="u range"):
-        T.phase_map(FAIR, 1.0, (3.0, 1.0), (0, 60))
+        TP.phase_map(FAIR, 1.0, (3.0, 1.0), (0, 60))
     with pytest.raises(ValueError, match="omega range"):
-        T.phase_map(FAIR, 1.0, (0, 3), (-1, 60))
+        TP.phase_map(FAIR, 1.0, (0, 3), (-1, 60))
     with pytest.raises(ValueError, match="shape"):
-        T.phase_map(FAIR, 1.0, (0, 3), (0, 60), shape=(0, 10))
+        TP.phase_map(FAIR, 1.0, (0, 3), (0, 60), shape=(0, 10))
 
 
 # --------------------------------------------------------------------------- Kemperman-Engel
@@ -617,8 +618,8 @@ DEG = math.pi / 180
 PSI_CASES = [
     ("fixed pi/2", math.pi / 2),
     ("fixed 1.2", 1.2),
-    ("normal 90:10 deg", T.parse_dist("normal:90:10", "psi", 0, 180).scaled(DEG)),
-    ("uniform 0:180 deg", T.parse_dist("uniform:0:180", "psi", 0, 180).scaled(DEG)),
+    ("normal 90:10 deg", TL.parse_dist("normal:90:10", "psi", 0, 180).scaled(DEG)),
+    ("uniform 0:180 deg", TL.parse_dist("uniform:0:180", "psi", 0, 180).scaled(DEG)),
 ]
 
 
@@ -628,10 +629,10 @@ def test_frequencies_converge_to_the_vigorous_limit(name, psi, contact):
     # Scale the launch speed by lam at a fixed spread of omega: the vigor u omega / g grows and
     # the coin crosses the contact zone in ever less phase (omega a / u -> 0).
     n, xi = 200_000, FAIR
-    slow = T.simulate(n, 1, xi=xi, u="normal:0.3:0.04", omega="normal:38:4", psi=psi,
-                      contact=contact)
-    fast = T.simulate(n, 1, xi=xi, u="normal:153.6:19.2", omega="normal:38:4", psi=psi,
-                      contact=contact)
+    slow = TS.simulate(n, 1, xi=xi, u="normal:0.3:0.04", omega="normal:38:4", psi=psi,
+                       contact=contact)
+    fast = TS.simulate(n, 1, xi=xi, u="normal:153.6:19.2", omega="normal:38:4", psi=psi,
+                       contact=contact)
     assert fast.vigorous == slow.vigorous
     assert not _within(slow, slow.vigorous)  # vigor ~1: far from the closed forms
     assert _within(fast, fast.vigorous)  # vigor ~600: within the Monte Carlo interval
@@ -643,29 +644,29 @@ def test_frequencies_converge_to_the_vigorous_limit(name, psi, contact):
 def test_convergence_other_seeds_and_thickness():
     for seed in (2, 3):
         for xi in (0.3, 1.0):
-            s = T.simulate(200_000, seed, xi=xi, u="normal:153.6:19.2", omega="normal:38:4",
-                           psi=PSI_CASES[2][1])
+            s = TS.simulate(200_000, seed, xi=xi, u="normal:153.6:19.2", omega="normal:38:4",
+                            psi=PSI_CASES[2][1])
             assert _within(s, s.vigorous), (seed, xi)
 
 
 def test_vigorous_limit_fixed_psi_is_table_i():
-    assert T.vigorous_limit(FAIR, math.pi / 2) == pytest.approx(dynamic(FAIR), rel=1e-15)
-    assert T.vigorous_limit(0.3, 1.1) == conditional(0.3, 1.1)
-    assert T.vigorous_limit(0.3, "normal:1.1:0") == conditional(0.3, 1.1)
+    assert TS.vigorous_limit(FAIR, math.pi / 2) == pytest.approx(dynamic(FAIR), rel=1e-15)
+    assert TS.vigorous_limit(0.3, 1.1) == conditional(0.3, 1.1)
+    assert TS.vigorous_limit(0.3, "normal:1.1:0") == conditional(0.3, 1.1)
 
 
 def test_vigorous_limit_averages_against_a_plain_quadrature():
-    for dist in (PSI_CASES[2][1], PSI_CASES[3][1], T.parse_dist("uniform:20:70", "psi", 0, 180)
-                 .scaled(DEG), T.parse_dist("normal:10:40", "psi", 0, 180).scaled(DEG)):
+    for dist in (PSI_CASES[2][1], PSI_CASES[3][1], TL.parse_dist("uniform:20:70", "psi", 0, 180)
+                 .scaled(DEG), TL.parse_dist("normal:10:40", "psi", 0, 180).scaled(DEG)):
         lo, hi = max(dist.pdf_interval()[0], 0.0), min(dist.pdf_interval()[1], math.pi)
         x = np.linspace(lo, hi, 400_001)
         w = (np.ones_like(x) if dist.kind == "uniform"
              else np.exp(-0.5 * ((x - dist.p1) / dist.p2) ** 2))
         c = conditional(FAIR, x)
-        for i, v in enumerate(T.vigorous_limit(FAIR, dist)):
+        for i, v in enumerate(TS.vigorous_limit(FAIR, dist)):
             ref = np.trapezoid(c[i] * w, x) / np.trapezoid(w, x)
             assert v == pytest.approx(ref, abs=2e-6)
-        assert sum(T.vigorous_limit(FAIR, dist)) == pytest.approx(1.0, abs=1e-10)
+        assert sum(TS.vigorous_limit(FAIR, dist)) == pytest.approx(1.0, abs=1e-10)
 
 
 # --------------------------------------------------------------------------- simulate and sampling
@@ -673,17 +674,17 @@ def test_vigorous_limit_averages_against_a_plain_quadrature():
 
 def test_simulate_is_reproducible_and_streams_the_same_outcomes():
     kw = {"xi": FAIR, "u": "normal:2.4:0.3", "omega": "normal:38:4", "psi": math.pi / 2}
-    a = T.simulate(70_000, 7, **kw)
-    b = T.simulate(70_000, 7, **kw)
+    a = TS.simulate(70_000, 7, **kw)
+    b = TS.simulate(70_000, 7, **kw)
     assert a.counts == b.counts and sum(a.counts) == 70_000
-    codes = np.concatenate(list(T.simulate_chunks(70_000, 7, **kw)))
+    codes = np.concatenate(list(TS.simulate_chunks(70_000, 7, **kw)))
     assert tuple(np.bincount(codes, minlength=3)) == a.counts
     # the first tosses of a longer run are those of a shorter one
-    short = np.concatenate(list(T.simulate_chunks(1000, 7, **kw)))
+    short = np.concatenate(list(TS.simulate_chunks(1000, 7, **kw)))
     assert np.array_equal(short, codes[:1000])
-    assert T.simulate(70_000, 8, **kw).counts != a.counts
+    assert TS.simulate(70_000, 8, **kw).counts != a.counts
     seen = []
-    T.simulate(70_000, 7, progress=seen.append, **kw)
+    TS.simulate(70_000, 7, progress=seen.append, **kw)
     assert seen == [65536, 70_000]
     for f in a.frequencies:
         assert f.lo <= f.p <= f.hi
@@ -691,8 +692,8 @@ def test_simulate_is_reproducible_and_streams_the_same_outcomes():
 
 def test_sampling_respects_domains_and_distributions():
     rng = np.random.default_rng(1)
-    c = T.sample_conditions(200_000, rng, u="normal:0.2:1", omega="uniform:10:20",
-                            psi=T.parse_dist("normal:170:30", "psi", 0, 180).scaled(DEG))
+    c = TL.sample_conditions(200_000, rng, u="normal:0.2:1", omega="uniform:10:20",
+                             psi=TL.parse_dist("normal:170:30", "psi", 0, 180).scaled(DEG))
     assert c["u"].min() >= 0 and c["psi"].max() <= math.pi and c["psi"].min() >= 0
     assert 10 <= c["omega"].min() and c["omega"].max() <= 20
     # truncated normal mean: mu + sd phi(alpha) / (1 - Phi(alpha)), alpha = -0.2
@@ -701,19 +702,19 @@ def test_sampling_respects_domains_and_distributions():
     nd = NormalDist()
     mean = 0.2 + nd.pdf(-0.2) / (1 - nd.cdf(-0.2))
     assert c["u"].mean() == pytest.approx(mean, abs=0.01)
-    fixed = T.sample_conditions(10, 1, u=2.4, omega="38", psi="normal:1:0")
+    fixed = TL.sample_conditions(10, 1, u=2.4, omega="38", psi="normal:1:0")
     assert fixed == {"u": 2.4, "omega": 38.0, "psi": 1.0}
     # a normal with little mass inside the domain goes through the inverse CDF, exactly
-    tail = T.sample_conditions(20_000, 2, u="normal:-3:1", omega=1.0, psi=1.0)["u"]
+    tail = TL.sample_conditions(20_000, 2, u="normal:-3:1", omega=1.0, psi=1.0)["u"]
     mean = -3 + nd.pdf(3) / (1 - nd.cdf(3))
     assert tail.min() >= 0 and tail.mean() == pytest.approx(mean, abs=0.01)
 
 
 def test_wilson_interval():
-    lo, hi = T.wilson_interval(50, 100)
+    lo, hi = TS.wilson_interval(50, 100)
     assert lo == pytest.approx(0.4038, abs=1e-4) and hi == pytest.approx(0.5962, abs=1e-4)
-    assert T.wilson_interval(0, 10)[0] == 0.0
-    assert T.wilson_interval(10, 10)[1] == 1.0
+    assert TS.wilson_interval(0, 10)[0] == 0.0
+    assert TS.wilson_interval(10, 10)[1] == 1.0
 
 
 @pytest.mark.parametrize("level", [0.5, 0.9, 0.95, 0.99, 1 - 1e-12])
@@ -727,11 +728,11 @@ def test_wilson_interval_is_the_one_of_stats(level):
     assert wilson._z(level) == -float(ndtri((1.0 - level) / 2))
     for k, n in ((0, 7), (1, 7), (3, 7), (7, 7), (1, 10**9), (333_333, 10**6)):
         lo, hi = wilson.wilson_interval(k, n, level)
-        assert T.wilson_interval(k, n, level) == (float(lo), float(hi))
+        assert TS.wilson_interval(k, n, level) == (float(lo), float(hi))
     with pytest.raises(ValueError, match="n must be >= 1"):
-        T.wilson_interval(0, 0)
+        TS.wilson_interval(0, 0)
     with pytest.raises(ValueError, match="level must be in"):
-        T.wilson_interval(1, 2, 1.0)
+        TS.wilson_interval(1, 2, 1.0)
 
 
 # --------------------------------------------------------------------------- distributions
@@ -744,7 +745,7 @@ def test_wilson_interval_is_the_one_of_stats(level):
     ("gauss:1e1:.5", "normal", 10.0, 0.5), (2, "fixed", 2.0, 0.0),
 ])
 def test_parse_dist_accepts(spec, kind, p1, p2):
-    d = T.parse_dist(spec, "u", 0.0, T.U_MAX)
+    d = TL.parse_dist(spec, "u", 0.0, T.U_MAX)
     assert (d.kind, d.p1, d.p2) == (kind, p1, p2)
 
 
@@ -759,14 +760,14 @@ def test_parse_dist_accepts(spec, kind, p1, p2):
 ])
 def test_parse_dist_rejects_with_the_name(spec, match):
     with pytest.raises(ValueError, match=match) as e:
-        T.parse_dist(spec, "u", 0.0, T.U_MAX)
+        TL.parse_dist(spec, "u", 0.0, T.U_MAX)
     assert str(e.value).startswith("u")
 
 
 def test_dist_scaled_degrees_to_radians():
-    d = T.parse_dist("normal:90:10", "psi", 0, 180).scaled(DEG)
+    d = TL.parse_dist("normal:90:10", "psi", 0, 180).scaled(DEG)
     assert d.p1 == pytest.approx(math.pi / 2) and d.hi == pytest.approx(math.pi)
-    assert str(T.parse_dist("uniform:1:3", "u")) == "uniform:1:3"
+    assert str(TL.parse_dist("uniform:1:3", "u")) == "uniform:1:3"
 
 
 # --------------------------------------------------------------------------- bad input
@@ -789,16 +790,16 @@ def test_bad_input_raises_naming_the_argument(kw, match):
             fn(**args)
     if "contact" not in kw and "u" not in kw or kw.get("u") is not True:
         with pytest.raises(ValueError, match=match):
-            T.toss_many(**args)
+            TB.toss_many(**args)
 
 
 def test_simulate_bad_counts_and_specs():
     with pytest.raises(ValueError, match="n must be"):
-        T.simulate(0, 1, xi=FAIR, u=2.0, omega=40.0, psi=1.0)
+        TS.simulate(0, 1, xi=FAIR, u=2.0, omega=40.0, psi=1.0)
     with pytest.raises(ValueError, match="omega"):
-        T.simulate(10, 1, xi=FAIR, u=2.0, omega="normal:38", psi=1.0)
+        TS.simulate(10, 1, xi=FAIR, u=2.0, omega="normal:38", psi=1.0)
     with pytest.raises(ValueError, match="psi"):
-        T.simulate(10, 1, xi=FAIR, u=2.0, omega=40.0, psi="uniform:0:4")
+        TS.simulate(10, 1, xi=FAIR, u=2.0, omega=40.0, psi="uniform:0:4")
 
 
 # --------------------------------------------------------------------------- psi densities
@@ -819,7 +820,7 @@ def test_psi_densities_sample_their_pdf():
 
     for d in (Cosine(), Uniform(), Normal(1.0, 0.3), Normal(0.1, 2.0),
               Table([0, 1, 2, math.pi], [0, 1, 0.2, 0.5])):
-        x = T.Dist.from_density(d).sample(np.random.default_rng(4), 100_000)
+        x = TL.Dist.from_density(d).sample(np.random.default_rng(4), 100_000)
         assert x.min() >= 0 and x.max() <= math.pi
         assert kstest(x, _density_cdf(d)).pvalue > 1e-3, d.spec
 
@@ -828,11 +829,11 @@ def test_psi_density_prediction_is_the_projects_marginal_and_simulation_converge
     from coincli.core.averages import marginal
     from coincli.core.densities import Cosine
 
-    assert T.vigorous_limit(FAIR, Cosine()) == marginal(FAIR, Cosine())
-    s = T.simulate(200_000, 1, xi=FAIR, u="normal:153.6:19.2", omega="normal:38:4", psi=Cosine())
+    assert TS.vigorous_limit(FAIR, Cosine()) == marginal(FAIR, Cosine())
+    s = TS.simulate(200_000, 1, xi=FAIR, u="normal:153.6:19.2", omega="normal:38:4", psi=Cosine())
     assert _within(s, s.vigorous)
     with pytest.raises(ValueError, match="cannot be rescaled"):
-        T.Dist.from_density(Cosine()).scaled(2.0)
+        TL.Dist.from_density(Cosine()).scaled(2.0)
 
 
 # --------------------------------------------------------------------------- what can be followed
@@ -853,7 +854,7 @@ def test_flight_limits_is_the_check_of_toss_and_toss_many():
         assert got == problem, (kw, got)
         with warnings.catch_warnings():
             warnings.simplefilter("error")  # no overflow warnings on the way to the refusal
-            for fn in (T.toss, T.toss_many):
+            for fn in (T.toss, TB.toss_many):
                 if problem:
                     with pytest.raises(ValueError, match=("flight is too long", "omega \\* t_end",
                                                           "too fast to follow")[problem - 1]):
@@ -868,12 +869,12 @@ def test_simulate_counts_are_capped():
     assert T.MAX_TOSSES == 10**8
     for n in (0, T.MAX_TOSSES + 1, 10**10):
         with pytest.raises(ValueError, match="n must be a whole number from 1 to 100000000"):
-            next(T.simulate_chunks(n, 1, xi=FAIR, u=2.0, omega=40.0, psi=1.0))
+            next(TS.simulate_chunks(n, 1, xi=FAIR, u=2.0, omega=40.0, psi=1.0))
 
 
 def test_toss_many_takes_one_element_arrays():
     """numpy 2.4 refuses float() of a 1-element array that is not 0-d: one toss as arrays of
     length 1 (as coincli.core.bounce.engine passes a block of one) is the scalar toss."""
-    one = T.toss_many(np.array([0.5]), np.array([1.5]), np.array([2.0]), np.array([38.0]))
+    one = TB.toss_many(np.array([0.5]), np.array([1.5]), np.array([2.0]), np.array([38.0]))
     assert one.t_f.shape == (1,)
-    assert float(one.t_f[0]) == T.toss_many(0.5, 1.5, 2.0, 38.0).t_f
+    assert float(one.t_f[0]) == TB.toss_many(0.5, 1.5, 2.0, 38.0).t_f

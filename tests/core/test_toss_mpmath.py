@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 import toss_reference as R
 
-from coincli.core.toss import flight as T
+from coincli.core.toss import batch as TB, flight as T, launch as TL
 
 FAIR = 1 / math.sqrt(3)
 D = T.DEFAULT_DIAMETER
@@ -70,7 +70,7 @@ def _check(t_f, args, contact, **kw):
 @pytest.mark.parametrize("args", CASES)
 def test_first_contact_matches_the_mpmath_reference(args, contact):
     t_one = T.toss(*args, contact=contact).t_f
-    t_batch = float(T.toss_many(*args, contact=contact).t_f)
+    t_batch = float(TB.toss_many(*args, contact=contact).t_f)
     assert t_one == t_batch  # one toss is a batch of one: the same bits
     _check(t_one, args, contact)
 
@@ -84,7 +84,7 @@ def test_random_tosses_match_the_mpmath_reference_in_a_batch(contact):
     psi = rng.uniform(0, math.pi, n)
     u = 10 ** rng.uniform(-3, 1, n)
     om = 10 ** rng.uniform(0, 4, n)
-    v = T.toss_many(xi, psi, u, om, contact=contact)
+    v = TB.toss_many(xi, psi, u, om, contact=contact)
     worst = 0.0
     for i in range(n):
         args = (float(xi[i]), float(psi[i]), float(u[i]), float(om[i]))
@@ -95,8 +95,8 @@ def test_random_tosses_match_the_mpmath_reference_in_a_batch(contact):
 @pytest.mark.slow
 def test_hand_tosses_match_the_mpmath_reference():
     rng = np.random.default_rng(38)
-    c = T.sample_conditions(30, rng, **T.HAND_TOSS)
-    v = T.toss_many(FAIR, c["psi"], c["u"], c["omega"])
+    c = TL.sample_conditions(30, rng, **TL.HAND_TOSS)
+    v = TB.toss_many(FAIR, c["psi"], c["u"], c["omega"])
     for i in range(30):
         args = (FAIR, float(c["psi"][i]), float(c["u"][i]), float(c["omega"][i]))
         _check(float(v.t_f[i]), args, "rim")
@@ -146,5 +146,5 @@ def test_a_grazing_dip_is_the_first_contact(contact, psi, xi):
     t_f = T.toss(*args, contact=contact, z0=z0).t_f
     assert t_f < t_min
     _check(t_f, args, contact, z0=z0)
-    batch = T.toss_many(np.full(3, xi), psi, u, om, contact=contact, z0=z0)
+    batch = TB.toss_many(np.full(3, xi), psi, u, om, contact=contact, z0=z0)
     assert np.all(batch.t_f == t_f)

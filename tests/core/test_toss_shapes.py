@@ -1,4 +1,4 @@
-"""The outcome engine that simulate runs (coincli.core.toss.flight._outcomes) against toss_many's codes for
+"""The outcome engine that simulate runs (coincli.core.toss.batch._outcomes) against toss_many's codes for
 every mix of one number and arrays among psi, u and omega, over a grid that reaches the
 extremes: xi from 0 to 1e99, u from 0 to 1e8 m/s, omega from 0 to 1e10 rad/s (1e11 once), psi at 0, pi/2,
 pi and next to them, rim and thick contact.  A fixed --u, --omega or --psi reaches _outcomes as
@@ -14,7 +14,7 @@ import math
 import numpy as np
 import pytest
 
-from coincli.core.toss import flight as T
+from coincli.core.toss import batch as TB, flight as T, simulate as TS
 
 US = [0.0, 1e-300, 1e-6, 2.4, 1e3, 1e8]
 WS = [0.0, 1e-300, 1e-3, 40.0, 240.0, 1e6, 1e10]  # 1e11: the last test (2 s a toss)
@@ -38,20 +38,20 @@ def test_outcomes_equal_toss_many_for_every_mix_of_numbers_and_arrays(contact):
     cases = list(_cases(contact))
     assert len(cases) > 800
     for xi, u, w, p in cases:
-        ref = int(T.toss_many(xi, p, u, w, contact=contact).code)
+        ref = int(TB.toss_many(xi, p, u, w, contact=contact).code)
         one = np.full(3, 1.0)
         mixes = [(p, u, w), (p * one, u, w), (p, u * one, w), (p, u, w * one),
                  (p * one, u * one, w * one)]
         for pp, uu, ww in mixes:
-            got = np.broadcast_to(T._outcomes(xi, pp, uu, ww, contact=contact), (3,))
+            got = np.broadcast_to(TB._outcomes(xi, pp, uu, ww, contact=contact), (3,))
             assert (got == ref).all(), (contact, xi, u, w, p, np.shape(pp), np.shape(uu),
                                         np.shape(ww), got, ref)
 
 
 def test_simulate_with_fixed_psi_and_omega_and_a_degenerate_range_of_u():
-    sim = T.simulate(5, 1, xi=0.577, u="uniform:0:0", omega=1e11, psi=math.pi / 2)
+    sim = TS.simulate(5, 1, xi=0.577, u="uniform:0:0", omega=1e11, psi=math.pi / 2)
     assert sim.n == 5 and sum(sim.counts) == 5
-    ref = T.toss_many(0.577, math.pi / 2, 0.0, 1e11).code
+    ref = TB.toss_many(0.577, math.pi / 2, 0.0, 1e11).code
     assert sim.counts[int(ref)] == 5
 
 
@@ -65,6 +65,6 @@ def test_a_toss_beyond_the_scans_rounds_is_a_value_error_naming_omega(monkeypatc
     psi = 0.3
     with pytest.raises(ValueError, match=r"cannot be followed in double precision: at omega = "
                                          r"1e\+10 rad/s .* 300 rounds .* lower omega"):
-        T.toss_many(1e4, psi, 1e-6, 1e10, contact="thick")
+        TB.toss_many(1e4, psi, 1e-6, 1e10, contact="thick")
     with pytest.raises(ValueError, match="cannot be followed"):
-        T._outcomes(1e4, np.array([psi, psi]), np.array([1e-6, 1e-6]), 1e10, contact="thick")
+        TB._outcomes(1e4, np.array([psi, psi]), np.array([1e-6, 1e-6]), 1e10, contact="thick")

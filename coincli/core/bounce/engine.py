@@ -23,7 +23,7 @@ Free flight is exact, not simulated
     Between contacts the coin is a torque-free symmetric top under gravity: the normal precesses
     about the fixed angular momentum ``L`` at ``Omega = |L| / I1`` and the body spins about its
     axis at ``lambda = (L.n)(1/I3 - 1/I1)``; the centre follows a parabola.  The first contact is
-    the certified root of :func:`coincli.core.toss.flight.toss_many` (``contact="thick"``: the cylinder's
+    the certified root of :func:`coincli.core.toss.batch.toss_many` (``contact="thick"``: the cylinder's
     lowest corner); later flights use the same certified scan, generalised to any tilt
     (:func:`_first_touch`).  MuJoCo starts :data:`LEAD_STEPS` steps before a contact and stops
     when the coin is airborne again.  (A precessing flight integrated by MuJoCo needs RK4 to keep
@@ -713,10 +713,10 @@ class Engine:
 
     def first_contacts(self, launches):
         """The exact times of first contact of many launches (one vectorized call of
-        :func:`coincli.core.toss.flight.toss_many` with the cylinder's corner as the contact)."""
+        :func:`coincli.core.toss.batch.toss_many` with the cylinder's corner as the contact)."""
         import numpy as np
 
-        from coincli.core.toss.flight import toss_many
+        from coincli.core.toss.batch import toss_many
 
         arr = {k: np.array([getattr(x, k) for x in launches]) for k in
                ("u", "omega", "psi", "z0", "height")}

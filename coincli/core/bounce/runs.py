@@ -26,17 +26,9 @@ from coincli.core.bounce.engine import (
     Surface,
     calibrate,
 )
-from coincli.core.toss.flight import (
-    DEFAULT_DIAMETER,
-    NAMES,
-    STANDARD_G,
-    U_MAX,
-    Frequency,
-    as_dist,
-    default_z0,
-    sample_conditions,
-    wilson_interval,
-)
+from coincli.core.toss.flight import DEFAULT_DIAMETER, NAMES, STANDARD_G, U_MAX, default_z0
+from coincli.core.toss.launch import as_dist, sample_conditions
+from coincli.core.toss.simulate import Frequency, wilson_interval
 
 __all__ = ["BounceSimulation", "simulate", "default_jobs", "BLOCK", "CHUNK"]
 
@@ -139,7 +131,7 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
     launches and count the outcomes.
 
     ``u``, ``omega``, ``psi`` are as :func:`coincli.core.toss.flight.sample_conditions` takes them (numbers,
-    spec strings or :class:`coincli.core.toss.flight.Dist`; SI, radians); ``height`` (surface below the
+    spec strings or :class:`coincli.core.toss.launch.Dist`; SI, radians); ``height`` (surface below the
     launch plane, m), ``vx`` (horizontal speed, m/s) and ``z0`` (centre above the launch plane,
     m; default the paper's for a thick coin, ``(sqrt 3/2) a + h/2``) likewise.  ``jobs`` worker
     processes (default: every core); block ``k`` of 256 tosses draws from the seed ``(seed, k)``,
@@ -151,7 +143,8 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
     """
     import numpy as np
 
-    from coincli.core.toss.flight import _count, vigorous_limit
+    from coincli.core.toss.flight import _count
+    from coincli.core.toss.simulate import vigorous_limit
 
     n = _count(n)
     coin = Coin(float(xi), float(diameter), float(density))
