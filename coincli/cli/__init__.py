@@ -118,7 +118,7 @@ def _load(modules) -> None:
 
 def _interrupted() -> str:
     """'interrupted', with the seed the run drew (if it drew one), so that it can be repeated."""
-    options = sys.modules.get("coincli.cli._options")
+    options = sys.modules.get("coincli.io.options")
     seed = getattr(options, "DRAWN_SEED", None)
     return "interrupted" if seed is None else (f"interrupted (seed {seed}: --seed {seed} "
                                                "repeats this run)")
@@ -233,7 +233,7 @@ def _run(argv, gc_paused: bool = False) -> int:
         if os.environ.get(COMPLETE_VAR):
             return _complete(os.environ[COMPLETE_VAR])
         command = _click_command(argv)
-        options = sys.modules.get("coincli.cli._options")
+        options = sys.modules.get("coincli.io.options")
         if options is not None:  # run() may be called again in one process (tests)
             options.DRAWN_SEED = None
         if gc_paused:

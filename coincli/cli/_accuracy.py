@@ -16,7 +16,7 @@ from typing import Annotated, NamedTuple
 import typer
 
 from coincli.io.table import Column, compute_error, stderr_is_terminal, usage_error
-from coincli.cli._options import seed_value
+from coincli.io.options import seed_value
 from coincli.core.modelspec import ModelSpec
 
 TolOpt = Annotated[

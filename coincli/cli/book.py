@@ -34,12 +34,11 @@ from coincli.io.table import (
     values_option,
     write_figure,
 )
+from coincli.io.options import report_seed, seed_value
 from coincli.cli._options import (
     SeedOpt,
     TossesOpt,
     range_unit,
-    report_seed,
-    seed_value,
     tosses_value,
     typed_range_error,
     unit_at_end,

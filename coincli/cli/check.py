@@ -16,6 +16,7 @@ from typing import Annotated
 import typer
 
 from coincli.io import grammar as parse
+from coincli.io import options
 from coincli.io.files import FileKindError, read_regular
 from coincli.cli import _options, app
 from coincli.io.table import (
@@ -67,7 +68,7 @@ def _densities(specs: str | None) -> dict:
     """--psi-dist, parsed as every command parses it, by machine name."""
     if specs is None:
         return {}
-    return {d.spec: d for d in _options.psi_densities(specs)}
+    return {d.spec: d for d in options.psi_densities(specs)}
 
 
 def _whole(text: str | None, what: str) -> int | None:
@@ -339,7 +340,7 @@ def _test_note(ch) -> str:
 
 def _xi_from_options(xi, quarters, coin, count, diameter, thickness) -> tuple[float, str]:
     """The coin tossed (the shared coin group) and its label."""
-    c = _options.resolve_coin(xi, coin, count, quarters, diameter, thickness,
+    c = options.resolve_coin(xi, coin, count, quarters, diameter, thickness,
                               xi_rule="finite", command="coin check")
     return c.xi, c.label()
 

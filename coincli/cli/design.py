@@ -16,6 +16,7 @@ import typer
 from coincli.core import coins as coin_catalog
 from coincli.core import models
 from coincli.io import grammar as parse
+from coincli.io import options
 from coincli.cli import _accuracy, _options, app
 from coincli.cli import _bounce as BO
 from coincli.io.table import (
@@ -63,11 +64,11 @@ def _table_i_angle(deg: float) -> float:
     exactly 0 deg: the coin never precesses (``math.pi``, 1.2e-16 rad short of pi, would
     precess, and land on a side once xi > 4e15).
     """
-    return _options.radians(180.0 - deg) if deg > 90.0 else _options.radians(deg)
+    return options.radians(180.0 - deg) if deg > 90.0 else options.radians(deg)
 
 
 def psi_model(psi_deg_text: str) -> ModelSpec:
-    return angle_model(_options.psi_angle(psi_deg_text))
+    return angle_model(options.psi_angle(psi_deg_text))
 
 
 def angle_model(deg: float) -> ModelSpec:
@@ -77,7 +78,7 @@ def angle_model(deg: float) -> ModelSpec:
 
 
 def density_model(spec: str) -> ModelSpec:
-    return ModelSpec.psi_density(_options.psi_density(spec))
+    return ModelSpec.psi_density(options.psi_density(spec))
 
 
 def choose_model(model: str | None, psi: str | None, psi_dist: str | None) -> ModelSpec:
@@ -85,7 +86,7 @@ def choose_model(model: str | None, psi: str | None, psi_dist: str | None) -> Mo
     m = (model or "").strip().lower()
     if m not in ("", "geometric", "dynamic", "psi"):
         raise usage_error(f"--model must be geometric, dynamic or psi; got {model!r}")
-    _options.refuse_psi_and_dist(psi, psi_dist)
+    options.refuse_psi_and_dist(psi, psi_dist)
     if m in ("geometric", "dynamic") and (psi is not None or psi_dist is not None):
         raise usage_error(f"--model {m} takes no --psi or --psi-dist; use --model psi")
     if psi is not None:
@@ -380,22 +381,22 @@ def design(
 _ALL_DENSITIES = ("uniform", "cosine", "normal")
 
 
-def _table_coins(xi, coin, count, quarters, diameter, thickness, stream=False) -> _options.Coins:
-    return _options.resolve_coin(xi, coin, count, quarters, diameter, thickness, many=True,
+def _table_coins(xi, coin, count, quarters, diameter, thickness, stream=False) -> options.Coins:
+    return options.resolve_coin(xi, coin, count, quarters, diameter, thickness, many=True,
                                  xi_rule="any", command="coin table", stream=stream)
 
 
-def _materialized(coins: _options.Coins) -> _options.Coins:
+def _materialized(coins: options.Coins) -> options.Coins:
     """``coins`` with its values as lists (a streamed batch read whole: the paths that need
     every value at once)."""
     if not isinstance(coins.counts, Values) and not isinstance(coins.xis, Values):
         return coins
     if isinstance(coins.xis, Values):
         xis = coins.xis.values() if len(coins.xis) > 1 else [coins.xis.values()]
-        return _options.Coins(xis, coins.kind, coins.unit, coins.counts, coins.diameter_mm,
+        return options.Coins(xis, coins.kind, coins.unit, coins.counts, coins.diameter_mm,
                               coins.typed)
     counts = [int(k) for k in coins.counts.array().tolist()]
-    return _options.Coins(coin_catalog.stack_xis(coins.unit, counts).tolist(), coins.kind,
+    return options.Coins(coin_catalog.stack_xis(coins.unit, counts).tolist(), coins.kind,
                           coins.unit, counts, coins.diameter_mm, coins.typed)
 
 
@@ -435,7 +436,7 @@ def table(
     coin table --quarters 8 --all ;  coin table --diameter 30 --thickness 17 --psi 60,90 ;
     coin table --xi 17/30 --vs psi --psi 0:180:10
     """
-    _options.refuse_old_count(old_n, "coin table --coin quarter --count {n}")
+    options.refuse_old_count(old_n, "coin table --coin quarter --count {n}")
     check_format(fmt)
     if vs is not None:
         if vs.strip().lower() != "psi":
@@ -448,12 +449,12 @@ def table(
     coins = _table_coins(xi, coin, count, quarters, diameter, thickness, stream=True)
     extra: list[ModelSpec] = []
     if psi is not None:
-        extra += [angle_model(d) for d in _options.psi_angles(psi)]
+        extra += [angle_model(d) for d in options.psi_angles(psi)]
     dens = []
     if all_models:
-        dens += [_options.psi_density(s) for s in _ALL_DENSITIES]
+        dens += [options.psi_density(s) for s in _ALL_DENSITIES]
     if psi_dist is not None:
-        dens += _options.psi_densities(psi_dist)
+        dens += options.psi_densities(psi_dist)
     seen = set()
     for d in dens:
         if d.spec not in seen:
@@ -463,7 +464,7 @@ def table(
     _accuracy.require_density(acc, bool(dens))
     _table_rows(coins, extra, acc, fmt, quiet)
     if quiet and acc is not None and acc.sampling:  # the note that names the seed is not shown
-        _options.report_seed(acc.seed, seed is not None)
+        options.report_seed(acc.seed, seed is not None)
 
 
 def _table_rows(coins, extra, acc, fmt: str, quiet: bool) -> None:
@@ -535,7 +536,7 @@ def _table_note(extra) -> str:
            "dynamic = eq. 12 (psi = 90 deg)" + "".join(f"; {m.label}" for m in extra)
 
 
-def _table_stream(coins: _options.Coins, models_, extra, fmt: str, quiet: bool) -> None:
+def _table_stream(coins: options.Coins, models_, extra, fmt: str, quiet: bool) -> None:
     """``coin table`` over many coins under closed forms and quadrature over psi: one row per
     coin and model, computed from arrays and written a chunk of coins at a time (memory flat
     in the number of rows).
@@ -562,11 +563,11 @@ def _table_stream(coins: _options.Coins, models_, extra, fmt: str, quiet: bool) 
                 chunks=map(compute, values.chunks(max(CHUNK_ROWS // k, 1)))), fmt, quiet)
 
 
-def _table_vs_psi(coins: _options.Coins, psi_text, fmt, quiet):
+def _table_vs_psi(coins: options.Coins, psi_text, fmt, quiet):
     if len(coins.xis) != 1:
         raise usage_error("--vs psi tabulates one coin: give a single --xi (or one count)")
     x = float(coins.xis[0])
-    degs = _options.psi_angles(psi_text or "0:180:15")
+    degs = options.psi_angles(psi_text or "0:180:15")
     rows = []
     t = math.degrees(models.theta0(x)) / 2
     for d in degs:
@@ -614,7 +615,7 @@ def stack(
     coin stack --diameter 25 --thickness 2 --count 1:12:1 ;
     seq 0.1 0.1 0.9 | coin stack --coin nickel --p-sides - --format csv
     """
-    _options.refuse_old_count(old_n, "coin stack --coin quarter --count {n}")
+    options.refuse_old_count(old_n, "coin stack --coin quarter --count {n}")
     check_format(fmt)
     m = choose_model(model, psi, psi_dist)
     if quarters is not None and p_sides is not None:
@@ -624,7 +625,7 @@ def stack(
         raise usage_error("coin stack stacks a coin of known size: give --coin NAME, --quarters "
                           "N or --diameter D --thickness H (for a coin given by --xi, use coin "
                           "table --xi X)")
-    coins = _options.resolve_coin(None, coin, count, quarters, diameter, thickness, many=True,
+    coins = options.resolve_coin(None, coin, count, quarters, diameter, thickness, many=True,
                                   default="quarter", need_count=False, command="coin stack",
                                   stream=True, takes_xi=False)
     c = coins.unit

@@ -16,6 +16,7 @@ from typing import Annotated
 import typer
 
 from coincli.io import grammar as parse
+from coincli.io import options
 from coincli.cli import _bounce as BO
 from coincli.cli import _options, _phase, app
 from coincli.io.table import compute_error, usage_error, write_figure
@@ -71,14 +72,14 @@ PsiMarkOpt = Annotated[
 
 def _mark_coins(xi, coin, count, quarters, diameter, thickness) -> list[float]:
     """The coins to mark (the shared coin group; at most MAX_MARKS of them), or none."""
-    c = _options.resolve_coin(xi, coin, count, quarters, diameter, thickness, many=True,
+    c = options.resolve_coin(xi, coin, count, quarters, diameter, thickness, many=True,
                               required=False, max_values=MAX_MARKS, command="coin plot")
     return [] if c is None else [float(x) for x in c.xis]
 
 
 def _one_coin(xi, coin, count, quarters, diameter, thickness) -> float:
     """The one coin of a figure; the dynamically fair coin 1/sqrt 3 when none is given."""
-    c = _options.resolve_coin(xi, coin, count, quarters, diameter, thickness, required=False,
+    c = options.resolve_coin(xi, coin, count, quarters, diameter, thickness, required=False,
                               command="coin plot")
     return 1 / math.sqrt(3) if c is None else c.xi
 
@@ -349,8 +350,8 @@ def sides(
     _one_stdin(xi=xi, count=count, quarters=quarters, data=data)
     xi_marks = _mark_coins(xi, coin, count, quarters, diameter, thickness)
     p_marks = _marks(p_sides, "--p-sides", parse.parse_probability)
-    psi_curves = (_options.psi_angles(psi, max_rows=MAX_MARKS) if psi is not None else [])
-    dens = _options.psi_densities(psi_dist) if psi_dist is not None else []
+    psi_curves = (options.psi_angles(psi, max_rows=MAX_MARKS) if psi is not None else [])
+    dens = options.psi_densities(psi_dist) if psi_dist is not None else []
     rng = _xi_range(xi_range, log)
     exps = _read_data(data) if data is not None else []
     w, h, d = _figure_size(target, width, height, dpi, (7.0, 4.5))
@@ -360,7 +361,7 @@ def sides(
         from coincli.cli.toss import bounce_launch
 
         count = 400 if tosses is None else _options.tosses_value(tosses, high=100_000)
-        seed_v = _options.seed_value(seed)
+        seed_v = options.seed_value(seed)
         u_spec, w_spec, psi_spec, labels = bounce_launch(None, None, None, None)
         lo, hi = rng if rng is not None else (0.1, 2.0)
         lo, hi = max(lo, BO.PLOT_XI[0]), min(hi, BO.PLOT_XI[1])
@@ -449,7 +450,7 @@ def psi_cmd(
     """
     target = _Target(out, terminal)
     x = _one_coin(xi, coin, count, quarters, diameter, thickness)
-    marks = _options.psi_angles(psi, max_rows=MAX_MARKS) if psi is not None else []
+    marks = options.psi_angles(psi, max_rows=MAX_MARKS) if psi is not None else []
     w, h, d = _figure_size(target, width, height, dpi, (7.0, 4.5))
     target.check_matplotlib()
     with _quiet():
@@ -505,7 +506,7 @@ def map_cmd(
         raise usage_error(f"--style must be panels or ternary, got {style!r}")
     _one_stdin(xi=xi, count=count, quarters=quarters)
     xi_marks = _mark_coins(xi, coin, count, quarters, diameter, thickness)
-    psi_marks = _options.psi_angles(psi, max_rows=MAX_MARKS) if psi is not None else []
+    psi_marks = options.psi_angles(psi, max_rows=MAX_MARKS) if psi is not None else []
     rng = _xi_range(xi_range, log)
     from coincli.render.figures import MAP_SIZES
 

@@ -1,6 +1,6 @@
 """``coin toss``, ``coin simulate``, ``coin phase``: real tosses of finite vigor (Sec. II, Fig. 3).
 
-Thin: parse the options (the shared coin group and seed of :mod:`coincli.cli._options`; angles
+Thin: parse the options (the shared coin group and seed of :mod:`coincli.io.options`; angles
 in degrees; speeds and spins with units, :func:`coincli.io.grammar.parse_speed_ms` and
 :func:`coincli.io.grammar.parse_spin_rads`), convert to SI radians, call :mod:`coincli.core.toss.flight`, build a
 :class:`Result` or a picture, print.  Whatever is not given is drawn from a natural hand toss
@@ -18,6 +18,7 @@ from typing import Annotated
 import typer
 
 from coincli.io import grammar as parse
+from coincli.io import options
 from coincli.cli import _bounce as BO
 from coincli.cli import _options, _phase, app
 from coincli.io.table import (
@@ -334,7 +335,7 @@ def toss_cmd(
     if physics is not None and contact.strip().lower() != "rim":
         raise usage_error("--contact goes with --landing bounce only as rim (a bounce is the "
                           "whole cylinder on the surface)")
-    coins = _options.resolve_coin(xi, coin, count, quarters, diameter, thickness, many=True,
+    coins = options.resolve_coin(xi, coin, count, quarters, diameter, thickness, many=True,
                                   xi_rule="finite", command="coin toss")
     ct = _phase.contact_value(contact)
     dia = _phase.diameter_m(coins, diameter)
@@ -342,7 +343,7 @@ def toss_cmd(
     given = {"psi": psi, "u": u, "omega": omega}
     cols = {"xi": coins.xis}
     if psi is not None:
-        cols["psi"] = values_option(psi, "--psi", _options._deg_item, bounds=(0.0, 180.0))
+        cols["psi"] = values_option(psi, "--psi", options._deg_item, bounds=(0.0, 180.0))
     if u is not None:
         cols["u"] = _values(u, "--u", "u")
     if omega is not None:
@@ -364,7 +365,7 @@ def toss_cmd(
 
     from coincli.core.toss import flight as T
 
-    seed_v = _options.seed_value(seed) if drawn else None
+    seed_v = options.seed_value(seed) if drawn else None
     if drawn:
         from coincli.core._numerics.backend import numpy_random
 
@@ -408,7 +409,7 @@ def toss_cmd(
             extra = (f"  Drawn from a hand toss ({DHM}): {what}; seed {seed_v} (--seed {seed_v} "
                      "repeats it).")
             if quiet:
-                _options.report_seed(seed_v, seed is not None)
+                options.report_seed(seed_v, seed is not None)
         BO.toss(physics, xi=xf, psi=float(psi_rad[0]), u=uf, omega=wf, diameter=dia, g=gv,
                 z0=z0_m, trajectory=trajectory, fmt=fmt, quiet=quiet, note_extra=extra,
                 seed=seed_v if drawn else None)
@@ -444,7 +445,7 @@ def toss_cmd(
         note += (f"  Drawn from a hand toss ({DHM}): {what}; seed {seed_v} (--seed {seed_v} "
                  "repeats it).")
         if quiet:
-            _options.report_seed(seed_v, seed is not None)
+            options.report_seed(seed_v, seed is not None)
     emit(Result("coin toss", columns, [], note, quiet=outcome if n > 1 else outcome[0],
                 vertical=True, data=data), fmt, quiet)
 
@@ -461,10 +462,10 @@ def _psi_dist(text: str):
     try:
         v = parse.parse_number(s, "--psi-dist")
     except ValueError:
-        return T.Dist.from_density(_options.psi_density(s))
+        return T.Dist.from_density(options.psi_density(s))
     if not 0.0 <= v <= 180.0:
         raise usage_error(f"--psi-dist: a fixed angle must be from 0 to 180 degrees, got {s!r}")
-    return _options.radians(v)
+    return options.radians(v)
 
 
 @app.command("simulate")
@@ -536,7 +537,7 @@ def simulate_cmd(
     if physics is not None and contact.strip().lower() != "rim":
         raise usage_error("--contact goes with --landing catch (a bounce is the whole cylinder "
                           "on the surface)")
-    coins = _options.resolve_coin(xi, coin, count, quarters, diameter, thickness,
+    coins = options.resolve_coin(xi, coin, count, quarters, diameter, thickness,
                                   xi_rule="finite", command="coin simulate")
     ct = _phase.contact_value(contact)
     dia = _phase.diameter_m(coins, diameter)
@@ -547,7 +548,7 @@ def simulate_cmd(
     from coincli.core.toss import flight as T
 
     u_spec, w_spec, psi_spec, labels = launch(psi, psi_dist, u, omega)
-    seed_v = _options.seed_value(seed)
+    seed_v = options.seed_value(seed)
     kw = {"xi": xv, "u": u_spec, "omega": w_spec, "psi": psi_spec, "diameter": dia, "g": gv,
           "contact": ct}
     # Every toss must be one the core can follow, checked at the top of the distributions (the
@@ -564,13 +565,13 @@ def simulate_cmd(
                       thickness_text=thickness)
         BO.check_speed(physics, u_hi, gv, u or HAND["u"])
         if quiet:
-            _options.report_seed(seed_v, seed is not None)
+            options.report_seed(seed_v, seed is not None)
         BO.simulate(physics, count=count_n, seed=seed_v, xi=xv, u=u_spec, omega=w_spec,
                     psi=psi_spec, diameter=dia, g=gv, labels=labels, fmt=fmt, quiet=quiet,
                     progress=lambda total: _progress(total, 200))
         return
     if stream:
-        _options.report_seed(seed_v, seed is not None)
+        options.report_seed(seed_v, seed is not None)
         _stream(T, count_n, seed_v, kw)
         return
     with _progress(count_n) as tick:
@@ -592,7 +593,7 @@ def simulate_cmd(
             "table).  95% Wilson intervals.  The vigorous limit is Table I averaged over "
             "psi; it holds when u*omega/g >> 1 and omega*a/u << 1.")
     if quiet:
-        _options.report_seed(seed_v, seed is not None)
+        options.report_seed(seed_v, seed is not None)
     emit(Result("coin simulate", columns, rows, note, quiet=[r[2] for r in rows]), fmt, quiet)
 
 
@@ -688,9 +689,9 @@ def launch(psi, psi_dist, u, omega):
     specs and their description (``u ~ ..., omega ~ ..., psi ...``, units named)."""
     from coincli.core.toss import flight as T
 
-    _options.refuse_psi_and_dist(psi, psi_dist)
+    options.refuse_psi_and_dist(psi, psi_dist)
     if psi is not None:
-        psi_spec = _options.radians(_options.psi_angle(psi))
+        psi_spec = options.radians(options.psi_angle(psi))
         psi_text = f"psi = {psi.strip()} deg"
     elif psi_dist is not None:
         psi_spec = _psi_dist(psi_dist)
@@ -747,9 +748,7 @@ def bounce_design(physics, *, p_sides, psi, psi_dist, u, omega, diameter, coin, 
     u_spec, w_spec, psi_spec, labels = bounce_launch(psi, psi_dist, u, omega)
     BO.check_coin(physics, None, dia, diameter_text=diameter)
     BO.check_speed(physics, _reach(u_spec, U_MAX), T_G, u or HAND["u"])
-    from coincli.cli._options import seed_value
-
-    BO.design(physics, targets=targets, seed=seed_value(seed), tol=tol_v, max_tosses=mt,
+    BO.design(physics, targets=targets, seed=options.seed_value(seed), tol=tol_v, max_tosses=mt,
               time_limit=tl, u=u_spec, omega=w_spec, psi=psi_spec, diameter=dia, g=T_G,
               labels=labels, fmt=fmt, quiet=quiet, progress=BO.design_progress)
 

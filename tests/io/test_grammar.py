@@ -380,16 +380,16 @@ def test_small_labels(coin):
 
 
 def test_seed_option_is_shared():
-    from coincli.cli import _options
+    from coincli.io import options
 
-    assert _options.seed_value("12") == 12
-    drawn = {_options.seed_value(None) for _ in range(4)}
+    assert options.seed_value("12") == 12
+    drawn = {options.seed_value(None) for _ in range(4)}
     assert len(drawn) == 4 and all(0 <= s < 2**63 for s in drawn)
     from coincli.io.table import CoinError
 
     for bad in ("-1", "1.5", "x", "9" * 41):
         with pytest.raises(CoinError, match="--seed must be a whole number >= 0"):
-            _options.seed_value(bad)
+            options.seed_value(bad)
 
 
 # --------------------------------------------------------------------------- figures
