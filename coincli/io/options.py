@@ -28,8 +28,8 @@ from coincli.io.table import shown, usage_error, values_option, values_stream
 
 __all__ = [
     "Coins", "resolve_coin", "COIN_FORMS", "refuse_old_count", "seed_value", "DRAWN_SEED",
-    "report_seed", "PSI_AND_DIST", "refuse_psi_and_dist", "psi_angle", "psi_angles", "radians",
-    "psi_density", "psi_densities",
+    "report_seed", "report_drawn_seed", "PSI_AND_DIST", "refuse_psi_and_dist", "psi_angle",
+    "psi_angles", "radians", "psi_density", "psi_densities",
 ]
 
 # --------------------------------------------------------------------------- the coin group
@@ -345,6 +345,13 @@ def report_seed(seed: int, given: bool) -> None:
             sys.stderr.write(f"coin: seed {seed} (--seed {seed} repeats this run)\n")
         except (OSError, ValueError):
             pass
+
+
+def report_drawn_seed() -> None:
+    """The seed this run drew (:data:`DRAWN_SEED`), if it drew one, on stderr: after output
+    that has no room for the note naming it (``-q``)."""
+    if DRAWN_SEED is not None:
+        report_seed(DRAWN_SEED, False)
 
 
 # --------------------------------------------------------------------------- psi
