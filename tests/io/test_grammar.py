@@ -3,9 +3,10 @@ the same contradictions with the same line; one meaning per flag; one psi-densit
 spelling that changed either still works or fails naming the new one.
 
 COIN_COMMANDS is the list to extend when a command learns the coin group.  A command whose
-owner has not yet moved it onto ``coincli.cli._options`` carries ``pending="<owner>"``: its
-cases run as expected failures (xfail, not strict), so they turn into XPASS the moment it is
-converted; at merge time the lead deletes the ``pending`` to switch them on.
+owner has not yet moved it onto the shared options (``coincli.io.options``) carries
+``pending="<owner>"``: its cases run as expected failures (xfail, not strict), so they turn
+into XPASS the moment it is converted; at merge time the lead deletes the ``pending`` to switch
+them on.
 """
 
 from __future__ import annotations
