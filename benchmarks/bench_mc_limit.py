@@ -6,7 +6,7 @@ Run from the repository root (a few minutes on a busy 2-CPU machine):
     python benchmarks/bench_mc_limit.py --no-write # print only
 
 - CPU seconds (``time.process_time``, median of ``--repeat`` runs) of one run's whole limit
-  (``coincli.cli._accuracy.RUN_BUDGET`` tosses) of ``monte_carlo`` at xi = 0.5 for each of
+  (``coincli.reports.accuracy.RUN_BUDGET`` tosses) of ``monte_carlo`` at xi = 0.5 for each of
   Table II's densities, against the baseline measured in the same run, interleaved: drawing the
   two uniform numbers per toss alone (``Generator.random`` in the same batches).
 - The smallest ``--tol`` that ``--method mc`` meets within the limit for those densities (what
@@ -64,7 +64,7 @@ def main(argv=None) -> int:
     import numpy as np
 
     from coincli.core import estimators as est
-    from coincli.cli._accuracy import RUN_BUDGET
+    from coincli.reports.accuracy import RUN_BUDGET
     from coincli.core.densities import parse_density
 
     where = _report.machine()

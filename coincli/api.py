@@ -76,6 +76,244 @@ def _rows(report, command: str, options: dict, flags: frozenset = frozenset()) -
 # (design, table, stack, coins, fair: coincli.reports.design)
 
 
+def _given(options: dict) -> dict:
+    """The options a caller gave: those not None (None is "the command's default")."""
+    return {k: v for k, v in options.items() if v is not None}
+
+
+def design(*, p_sides, model=None, psi=None, psi_dist=None, diameter=None, thickness=None,
+           coin=None, tol=None, method=None, landing=None, surface=None, restitution=None,
+           friction=None, torsional=None, rolling=None, u=None, omega=None,
+           release_height=None, vx=None, seed=None, max_tosses=None, time_limit=None,
+           jobs=None, dt=None, t_max=None) -> list[dict]:
+    """The coin that lands on a side with the chance you want: ``coin design``.
+
+    Parameters
+    ----------
+    p_sides : float, str or list
+        Target chance of a side: ``1/3``, ``"1/3"``, ``"33%"``; a list ``[0.2, 0.3]`` or
+        ``"0.2,0.3"``; a range ``"0.1:0.9:0.1"``.  One row per target.
+    model : str, optional
+        ``"geometric"``, ``"dynamic"`` (default) or ``"psi"`` (with ``psi`` or ``psi_dist``).
+    psi : float or str, optional
+        Table I at this angle psi, degrees in [0, 180].
+    psi_dist : str, optional
+        psi averaged over a density: ``"uniform"``, ``"cosine"``, ``"normal:90:18"``,
+        ``"table:FILE"``.
+    diameter, thickness : float or str, optional
+        The coin's diameter (default the ``coin``'s), for the thickness column; or its
+        thickness, for the diameter column instead.  In mm, or with a unit (``"2.4cm"``).
+    coin : str, optional
+        Catalog coin of the stack columns (default ``"quarter"``; see :func:`coins`).
+    tol : float or str, optional
+        Absolute error wanted on a psi-averaged chance (with ``psi_dist``).
+    method : str, optional
+        ``"auto"`` or ``"quad"``: how to average over psi.
+    landing : str, optional
+        ``"catch"`` (default: the paper's exact model) or ``"bounce"``: the coin lands on a
+        surface and bounces, simulated with MuJoCo (``pip install 'thickcoin[physics]'``).
+    surface, restitution, friction, torsional, rolling, release_height, vx : optional
+        With ``landing="bounce"``: the surface and the launch, as the options of the same
+        names (``coin design --help``).
+    u, omega, seed, max_tosses, time_limit, jobs, dt, t_max : optional
+        With ``landing="bounce"``: the launch, the seed and the simulation's limits.
+
+    Returns
+    -------
+    list of dict
+        One row per target: ``p_sides``, ``xi``, ``d_over_h``, ``diameter_mm``,
+        ``thickness_mm``, ``p_heads``, ``p_tails``, the nearest stack of the coin (``coin``,
+        ``stack_n``, ``stack_xi``, ``stack_p_sides`` and its neighbours') and the other
+        model's P(sides), as ``coin design --format json`` prints them.
+
+    Raises
+    ------
+    coincli.errors.InputError
+        A wrong or contradictory input (the command's message).
+    coincli.errors.NotComputable
+        A target no coin reaches under the model.
+
+    Examples
+    --------
+    >>> from coincli import api
+    >>> row = api.design(p_sides="1/3")[0]
+    >>> round(row["xi"], 6), row["stack_n"]
+    (0.57735, 8)
+    >>> [round(r["xi"], 4) for r in api.design(p_sides=[0.25, 1/3], model="geometric")]
+    [0.2582, 0.3536]
+    """
+    options = _given(locals())
+    from coincli.reports import design as _r
+
+    return _rows(_r.design, "design", options)
+
+
+def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickness=None,
+          psi=None, psi_dist=None, all=None, vs=None, tol=None, method=None,
+          seed=None) -> list[dict]:
+    """The chances of heads, sides and tails under every model: ``coin table``.
+
+    Parameters
+    ----------
+    xi : float, str or list, optional
+        Aspect ratios h/D: ``0.577``, ``"17/30"``, a list, or a range ``"0.1:1:0.1"``.
+    coin, count, quarters, diameter, thickness : optional
+        The coin otherwise: a catalog ``coin`` (``count`` of them stacked; a list or range of
+        counts gives one coin each), ``quarters`` N US quarters, or ``diameter`` and
+        ``thickness`` (mm, or with a unit).
+    psi : float, str or list, optional
+        Table I at each angle psi (degrees in [0, 180]): a value, a list or a range.
+    psi_dist : str or list, optional
+        psi densities to average over: ``"normal:90:18"``, ``"uniform,cosine"``, a list.
+    all : bool, optional
+        Also Table II's densities: uniform, cosine, normal.
+    vs : str, optional
+        ``"psi"``: one coin over the ``psi`` angles (default ``"0:180:15"``), regimes named.
+    tol : float or str, optional
+        Absolute error wanted on each psi-averaged chance; error columns are added.
+    method : str, optional
+        ``"auto"``, ``"quad"``, ``"mc"`` or ``"qmc"``: how to average over psi.
+    seed : int or str, optional
+        Seed of ``method="mc"`` or ``"qmc"`` (default: drawn; the rows' ``seed`` says it).
+
+    Returns
+    -------
+    list of dict
+        One row per coin and model (geometric, dynamic, then the others): ``xi``,
+        ``model``, ``p_heads``, ``p_sides``, ``p_tails`` (led by ``coin`` and ``count`` for a
+        stacked coin; with ``method`` or ``tol`` also ``method``, ``err_heads``,
+        ``err_sides``, ``err_tails``), as ``coin table --format json`` prints them.
+
+    Raises
+    ------
+    coincli.errors.InputError
+        A wrong or contradictory input (the command's message).
+    coincli.errors.NotComputable
+        A chance that cannot be computed (e.g. a density too costly for the run).
+
+    Examples
+    --------
+    >>> from coincli import api
+    >>> [(r["model"], round(r["p_sides"], 4)) for r in api.table(xi=0.5, psi=60)]
+    [('geometric', 0.4472), ('dynamic', 0.2952), ('psi=60', 0.4646)]
+    >>> [r["model"] for r in api.table(xi=[0.2, 0.577], all=True)][:5]
+    ['geometric', 'dynamic', 'uniform', 'cosine', 'normal']
+    """
+    options = _given(locals())
+    from coincli.reports import design as _r
+
+    return _rows(_r.table, "table", options, flags=frozenset({"all"}))
+
+
+def stack(*, coin=None, count=None, p_sides=None, quarters=None, diameter=None,
+          thickness=None, model=None, psi=None, psi_dist=None) -> list[dict]:
+    """Stacks of real coins glued together, their xi = N h / D and chances: ``coin stack``.
+
+    Parameters
+    ----------
+    coin : str, optional
+        Catalog coin stacked (default ``"quarter"``; see :func:`coins`).
+    count : int, str or list, optional
+        How many coins: N, a list or a range ``"1:12:1"``; one row each.
+    p_sides : float, str or list, optional
+        Instead of ``count``: find the stack nearest this chance of a side (with its
+        neighbours, N - 1 and N + 1); a list or a range gives one row per target.
+    quarters : int, str or list, optional
+        N US quarters (``coin="quarter", count=N``).
+    diameter, thickness : float or str, optional
+        A custom coin instead of a catalog one (mm, or with a unit).
+    model, psi, psi_dist : optional
+        The model, as in :func:`design` (default dynamic).
+
+    Returns
+    -------
+    list of dict
+        One row per stack: ``coin``, ``count``, ``height_mm``, ``xi``, ``p_heads``,
+        ``p_sides``, ``p_tails`` and ``mark`` (``"nearest"``); for several targets,
+        ``target_p_sides`` first and no ``mark``; as ``coin stack --format json`` prints them.
+
+    Raises
+    ------
+    coincli.errors.InputError
+        A wrong or contradictory input (the command's message).
+    coincli.errors.NotComputable
+        A target no stack reaches (``p_sides=1`` needs an infinitely tall one).
+
+    Examples
+    --------
+    >>> from coincli import api
+    >>> [(r["count"], r["mark"]) for r in api.stack(p_sides="1/3")]
+    [(7, ''), (8, 'nearest'), (9, '')]
+    >>> round(api.stack(quarters=8)[0]["p_sides"], 4)
+    0.3332
+    """
+    options = _given(locals())
+    from coincli.reports import design as _r
+
+    return _rows(_r.stack, "stack", options)
+
+
+def coins() -> list[dict]:
+    """The catalog of real coins, their dimensions and sources: ``coin coins``.
+
+    It takes no parameters and raises nothing.
+
+    Returns
+    -------
+    list of dict
+        One row per coin: ``name``, ``label``, ``diameter_mm``, ``thickness_mm``, ``xi`` and
+        ``p_sides_dynamic`` (the chance of a side of one coin, dynamic model), ``source``;
+        as ``coin coins --format json`` prints them.
+
+    Examples
+    --------
+    >>> from coincli import api
+    >>> [r["name"] for r in api.coins()][:3]
+    ['cent', 'nickel', 'dime']
+    """
+    from coincli.reports import design as _r
+
+    return _rows(_r.coins, "coins", {})
+
+
+def fair(*, diameter=None, coin=None, psi_dist=None) -> list[dict]:
+    """The fair three-sided coin (P(sides) = 1/3) under each model: ``coin fair``.
+
+    Parameters
+    ----------
+    diameter : float or str, optional
+        Diameter for the thickness column (default the ``coin``'s), mm or with a unit.
+    coin : str, optional
+        Catalog coin of the stack columns (default ``"quarter"``).
+    psi_dist : str, optional
+        Also psi averaged over this density (only its sides are 1/3 then).
+
+    Returns
+    -------
+    list of dict
+        One row per model: ``model``, ``xi``, ``d_over_h``, ``thickness_mm``, the chances,
+        the nearest stack (``stack_n``, ``stack_xi``, ``stack_p_sides``) and what the
+        geometric and dynamic models say of it; as ``coin fair --format json`` prints them.
+
+    Raises
+    ------
+    coincli.errors.InputError
+        A wrong input (the command's message).
+    coincli.errors.NotComputable
+        A density under which no coin is fair.
+
+    Examples
+    --------
+    >>> from coincli import api
+    >>> [(r["model"], round(r["xi"], 6), r["stack_n"]) for r in api.fair()]
+    [('geometric', 0.353553, 5), ('dynamic', 0.57735, 8)]
+    """
+    options = _given(locals())
+    from coincli.reports import design as _r
+
+    return _rows(_r.fair, "fair", options)
+
+
 # --------------------------------------------------------------------------- toss family
 # (toss, simulate, phase: coincli.reports.toss)
 

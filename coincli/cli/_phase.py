@@ -17,7 +17,6 @@ import typer
 
 from coincli.io import grammar as parse
 from coincli.io import options
-from coincli.cli import _options
 from coincli.io.table import usage_error
 
 U_DEFAULT = "0:3"  #: m/s
@@ -195,7 +194,7 @@ def resolve(*, xi, coin, count, quarters, diameter, thickness, psi, u, omega, co
              "diameter": f"{coins.diameter_mm:g} mm" if coins is not None and
              coins.diameter_mm is not None else "24.26 mm"}
     return Phase(
-        xi=x, psi_deg=_options.psi_angle(psi),
+        xi=x, psi_deg=options.psi_angle(psi),
         u_range=_range(u or U_DEFAULT, u_what, parse.parse_speed_ms, "m/s", U_TOP),
         omega_range=_range(omega or OMEGA_DEFAULT, w_what, parse.parse_spin_rads, "rad/s",
                            OMEGA_TOP),
@@ -221,7 +220,7 @@ def check_followable(ph: Phase) -> None:
     """Every cell must be a toss the core can follow: check the top corner of the ranges."""
     from coincli.core.toss import flight as T
 
-    _, phase, problem = T.flight_limits(ph.xi, _options.radians(ph.psi_deg), ph.u_range[1],
+    _, phase, problem = T.flight_limits(ph.xi, options.radians(ph.psi_deg), ph.u_range[1],
                                         ph.omega_range[1], diameter=ph.diameter, g=ph.g,
                                         contact=ph.contact)
     if not problem:
@@ -261,7 +260,7 @@ def data(ph: Phase, nu: int, nw: int, *, figure: bool = False):
     from coincli.core.toss import phase as T
     from coincli.core.models import conditional
 
-    psi = _options.radians(ph.psi_deg)
+    psi = options.radians(ph.psi_deg)
     try:
         pm = T.phase_map(ph.xi, psi, ph.u_range, ph.omega_range, (nu, nw), diameter=ph.diameter,
                          g=ph.g, contact=ph.contact, exact_curves=ph.exact)

@@ -350,7 +350,7 @@ def sides(
     _one_stdin(xi=xi, count=count, quarters=quarters, data=data)
     xi_marks = _mark_coins(xi, coin, count, quarters, diameter, thickness)
     p_marks = _marks(p_sides, "--p-sides", parse.parse_probability)
-    psi_curves = (_options.psi_angles(psi, max_rows=MAX_MARKS) if psi is not None else [])
+    psi_curves = (options.psi_angles(psi, max_rows=MAX_MARKS) if psi is not None else [])
     dens = options.psi_densities(psi_dist) if psi_dist is not None else []
     rng = _xi_range(xi_range, log)
     exps = _read_data(data) if data is not None else []
@@ -450,7 +450,7 @@ def psi_cmd(
     """
     target = _Target(out, terminal)
     x = _one_coin(xi, coin, count, quarters, diameter, thickness)
-    marks = _options.psi_angles(psi, max_rows=MAX_MARKS) if psi is not None else []
+    marks = options.psi_angles(psi, max_rows=MAX_MARKS) if psi is not None else []
     w, h, d = _figure_size(target, width, height, dpi, (7.0, 4.5))
     target.check_matplotlib()
     with _quiet():
@@ -506,7 +506,7 @@ def map_cmd(
         raise usage_error(f"--style must be panels or ternary, got {style!r}")
     _one_stdin(xi=xi, count=count, quarters=quarters)
     xi_marks = _mark_coins(xi, coin, count, quarters, diameter, thickness)
-    psi_marks = _options.psi_angles(psi, max_rows=MAX_MARKS) if psi is not None else []
+    psi_marks = options.psi_angles(psi, max_rows=MAX_MARKS) if psi is not None else []
     rng = _xi_range(xi_range, log)
     from coincli.render.figures import MAP_SIZES
 

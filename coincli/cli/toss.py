@@ -1,6 +1,6 @@
 """``coin toss``, ``coin simulate``, ``coin phase``: real tosses of finite vigor (Sec. II, Fig. 3).
 
-Thin: parse the options (the shared coin group and seed of :mod:`coincli.cli._options`; angles
+Thin: parse the options (the shared coin group and seed of :mod:`coincli.io.options`; angles
 in degrees; speeds and spins with units, :func:`coincli.io.grammar.parse_speed_ms` and
 :func:`coincli.io.grammar.parse_spin_rads`), convert to SI radians, call :mod:`coincli.core.toss.flight`, build a
 :class:`Result` or a picture, print.  Whatever is not given is drawn from a natural hand toss
@@ -20,7 +20,7 @@ import typer
 from coincli.io import grammar as parse
 from coincli.io import options
 from coincli.cli import _bounce as BO
-from coincli.cli import _options, _phase, app
+from coincli.cli import _phase, app
 from coincli.io.table import (
     Column,
     FormatOpt,
@@ -343,7 +343,7 @@ def toss_cmd(
     given = {"psi": psi, "u": u, "omega": omega}
     cols = {"xi": coins.xis}
     if psi is not None:
-        cols["psi"] = values_option(psi, "--psi", _options._deg_item, bounds=(0.0, 180.0))
+        cols["psi"] = values_option(psi, "--psi", options._deg_item, bounds=(0.0, 180.0))
     if u is not None:
         cols["u"] = _values(u, "--u", "u")
     if omega is not None:
@@ -465,7 +465,7 @@ def _psi_dist(text: str):
         return T.Dist.from_density(options.psi_density(s))
     if not 0.0 <= v <= 180.0:
         raise usage_error(f"--psi-dist: a fixed angle must be from 0 to 180 degrees, got {s!r}")
-    return _options.radians(v)
+    return options.radians(v)
 
 
 @app.command("simulate")
@@ -691,9 +691,9 @@ def launch(psi, psi_dist, u, omega):
     specs and their description (``u ~ ..., omega ~ ..., psi ...``, units named)."""
     from coincli.core.toss import launch as T
 
-    _options.refuse_psi_and_dist(psi, psi_dist)
+    options.refuse_psi_and_dist(psi, psi_dist)
     if psi is not None:
-        psi_spec = _options.radians(_options.psi_angle(psi))
+        psi_spec = options.radians(options.psi_angle(psi))
         psi_text = f"psi = {psi.strip()} deg"
     elif psi_dist is not None:
         psi_spec = _psi_dist(psi_dist)
@@ -750,9 +750,7 @@ def bounce_design(physics, *, p_sides, psi, psi_dist, u, omega, diameter, coin, 
     u_spec, w_spec, psi_spec, labels = bounce_launch(psi, psi_dist, u, omega)
     BO.check_coin(physics, None, dia, diameter_text=diameter)
     BO.check_speed(physics, _reach(u_spec, U_MAX), T_G, u or HAND["u"])
-    from coincli.io.options import seed_value
-
-    BO.design(physics, targets=targets, seed=seed_value(seed), tol=tol_v, max_tosses=mt,
+    BO.design(physics, targets=targets, seed=options.seed_value(seed), tol=tol_v, max_tosses=mt,
               time_limit=tl, u=u_spec, omega=w_spec, psi=psi_spec, diameter=dia, g=T_G,
               labels=labels, fmt=fmt, quiet=quiet, progress=BO.design_progress)
 

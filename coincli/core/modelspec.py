@@ -6,6 +6,10 @@ and ``coin plot sides`` mean by "a model": the geometric one (eq. 11), the dynam
 quadrature order to average with when a tolerance asks for one.  It is pure: it prints
 nothing and knows no command line; the commands build it (and word its errors) themselves.
 
+Table I at an angle in degrees, as every command takes one, is here too: :func:`table_i_radians`
+(the angle it is evaluated at, mirrored exactly past 90 deg), :func:`table_i_model` (its
+:class:`ModelSpec`) and :func:`table_i_deg` (its chances over arrays, for the figures).
+
 The closed forms stay on :mod:`coincli.core.models` (Python floats for one value); numpy and
 :mod:`coincli.core.averages` load only when a psi density or a fixed-psi inverse is evaluated (at
 90 deg that is eq. 12's own inverse), so a closed-form run imports neither.
@@ -18,7 +22,7 @@ from typing import NamedTuple
 
 from coincli.core import models
 
-__all__ = ["ModelSpec", "GEOMETRIC", "DYNAMIC"]
+__all__ = ["ModelSpec", "GEOMETRIC", "DYNAMIC", "table_i_radians", "table_i_model", "table_i_deg"]
 
 GEOMETRIC_LABEL = "geometric (uniform orientations, eq. 11)"
 DYNAMIC_LABEL = "dynamic (Keller flip, psi = 90 deg, eq. 12)"
@@ -137,3 +141,59 @@ class ModelSpec(NamedTuple):
 
 GEOMETRIC = ModelSpec.geometric()
 DYNAMIC = ModelSpec.dynamic()
+
+
+# --------------------------------------------------------------------------- Table I in degrees
+
+
+class _Mirrored(ModelSpec):
+    """Table I at psi > 90 deg, computed at its mirror image 180 deg - psi and named by psi."""
+
+    __slots__ = ()
+
+    @property
+    def name(self) -> str:
+        return f"psi={180.0 - math.degrees(self.psi):.10g}"
+
+
+def table_i_radians(deg):
+    """The angle (radians) to evaluate Table I at for ``deg`` degrees (a float, or an array).
+
+    Table I is symmetric, P(i | psi) = P(i | 180 deg - psi), and past 90 deg the mirror angle is
+    taken in degrees, where ``180 - deg`` is exact: ``--psi 179.5`` is ``--psi 0.5`` to the last
+    bit (in radians pi - psi would carry pi's rounding, 1e-16 rad, 1e-14 relative at 0.5 deg),
+    and 180 deg is exactly 0 deg: the coin never precesses (``math.pi``, 1.2e-16 rad short of
+    pi, would precess, and land on a side once xi > 4e15).
+    """
+    if isinstance(deg, (float, int)):
+        return math.radians(180.0 - deg if deg > 90.0 else deg)
+    import numpy as np
+
+    d = np.asarray(deg, dtype=float)
+    return np.radians(np.where(d > 90.0, 180.0 - d, d))
+
+
+def table_i_model(deg: float) -> ModelSpec:
+    """Table I at ``deg`` degrees (in [0, 180]; checked by the caller) as a :class:`ModelSpec`,
+    evaluated at :func:`table_i_radians` and named by ``deg`` (``psi=120``)."""
+    label = f"psi = {deg:.10g} deg (Table I)"
+    return (_Mirrored if deg > 90.0 else ModelSpec).fixed_psi(table_i_radians(deg), label)
+
+
+def table_i_deg(xi, psi_deg):
+    """Table I at ``psi_deg`` degrees (floats or arrays that broadcast), as every command takes
+    an angle: at :func:`table_i_radians` (past 90 deg the mirror angle ``180 - psi``, exact),
+    and 90 deg is the Keller flip exactly (eq. 12, :meth:`ModelSpec.fixed_psi`), so that a plot
+    marks the chances `coin table --psi` prints (:func:`table_i_model`)."""
+    import numpy as np
+
+    d = np.asarray(psi_deg, dtype=float)
+    o = models.conditional(xi, table_i_radians(d))
+    at90 = d == 90.0
+    if not at90.any():
+        return o
+    k = models.dynamic(xi)
+    out = [np.where(at90, a, b) for a, b in zip(k, o, strict=True)]
+    if not np.ndim(out[0]):
+        out = [float(v) for v in out]
+    return models.Outcome(*out)

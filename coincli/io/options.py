@@ -1,15 +1,24 @@
-"""Text to values for the options every command shares (no typer): the coin group, tosses,
-seeds, units typed once at the end of a range or distribution, psi densities.
+"""The one grammar of ``coin``, text to values: the options every command spells the same way.
 
-:func:`resolve_coin` turns the coin group's text (``--xi``, ``--coin``, ``--count``,
-``--quarters``, ``--diameter``, ``--thickness``) into :class:`Coins`, refusing every
-contradiction with the same one-line message in every command; :func:`tosses_value` and
-:func:`seed_value` read ``-n`` and ``--seed`` (a seed drawn when absent, kept in
-:data:`DRAWN_SEED` so that an interrupted run can still name it); :func:`psi_densities` parses
-``--psi-dist`` by :func:`coincli.core.densities.parse_density`.  Each raises the one-line
-usage error (:class:`coincli.errors.InputError`).  The typer declarations of these options are
-in :mod:`coincli.cli._options`; :mod:`coincli.reports` calls these.  No numpy, scipy or rich at
-import.
+- **A coin**: ``--xi X`` (``0.577``, ``17/30``; lists, ranges and ``-`` where a command takes
+  many), ``--coin NAME [--count N]`` (a catalog coin, N of them stacked), ``--quarters N`` (N US
+  quarters) or ``--diameter D --thickness H`` (lengths with units, ``--count N`` stacks them);
+  ``--diameter D`` with ``--xi X`` gives the coin its size.  :func:`resolve_coin` turns the
+  options into :class:`Coins` and refuses every contradiction with the same one-line message
+  in every command.  Stacked coins are always ``--count``: the old ``-n`` of ``coin table`` and
+  ``coin stack`` fails naming it (:func:`refuse_old_count`).
+- **Tosses and seeds**: ``-n N`` (:func:`tosses_value`); ``--seed N``, when absent drawn
+  (:func:`seed_value`, kept in :data:`DRAWN_SEED` so that an interrupted run can still name it)
+  and reported (:func:`report_seed`).
+- **Units typed once** at the end of a range or a distribution (:func:`unit_at_end`,
+  :func:`range_unit`).
+- **psi**: ``--psi DEG`` (a list or a range where a command takes many) and
+  ``--psi-dist SPEC[,SPEC...]``, parsed by :func:`coincli.core.densities.parse_density` everywhere.
+
+Each function takes the text a command was given (or None) and returns typed values, or raises
+the one-line usage error (:class:`coincli.errors.InputError`).  The typer declarations of these
+options are in :mod:`coincli.cli._options`; this module declares none (no typer of its own), and
+loads no numpy, scipy or rich at import.
 """
 
 from __future__ import annotations
@@ -21,9 +30,10 @@ from coincli.io import grammar as parse
 from coincli.io.table import shown, usage_error, values_option, values_stream
 
 __all__ = [
-    "Coins", "resolve_coin", "COIN_FORMS", "tosses_value", "seed_value", "DRAWN_SEED",
-    "unit_at_end", "range_unit", "typed_range_error", "report_seed", "psi_density",
-    "psi_densities",
+    "Coins", "resolve_coin", "COIN_FORMS", "refuse_old_count", "seed_value", "DRAWN_SEED",
+    "report_seed", "report_drawn_seed", "tosses_value", "unit_at_end", "range_unit",
+    "typed_range_error", "PSI_AND_DIST", "refuse_psi_and_dist", "psi_angle",
+    "psi_angles", "radians", "psi_density", "psi_densities",
 ]
 
 # --------------------------------------------------------------------------- the coin group
@@ -304,7 +314,7 @@ def resolve_coin(xi: str | None = None, coin: str | None = None, count: str | No
                  typed)
 
 
-# --------------------------------------------------------------------------- tosses, seeds
+# --------------------------------------------------------------------------- stacked coins, seeds
 
 
 def tosses_value(text: str, *, low: int = 1, high: int = parse.MAX_COUNT,
@@ -326,22 +336,6 @@ def _shown(text: str) -> str:
     from coincli.io.table import shown
 
     return shown(text)
-
-
-def seed_value(text: str | None) -> int:
-    """The seed typed, or a fresh one drawn from the operating system's entropy (63 bits, so
-    that it prints short and any tool reads it back); the caller reports it."""
-    global DRAWN_SEED
-    if text is None:
-        from coincli.core._numerics.backend import randbits
-
-        DRAWN_SEED = randbits(63)
-        return DRAWN_SEED
-    return _one(text, "--seed", parse.parse_seed)
-
-
-#: The seed this run drew, if it drew one: an interrupted run still reports it (coincli.cli).
-DRAWN_SEED: int | None = None
 
 
 def unit_at_end(nums: list[str], units, what: str, example: str, text: str) -> list[str]:
@@ -381,6 +375,30 @@ def typed_range_error(exc: Exception, head: str, text: str) -> Exception:
     return usage_error(str(exc).replace(repr(head), repr(text.strip())))
 
 
+def refuse_old_count(value: str | None, example: str) -> None:
+    """The old ``-n N`` of table/stack: a usage error naming ``--count N``."""
+    if value is not None:
+        n = value.strip()
+        n = n if n.isascii() and n.isdigit() and len(n) < 20 else "N"
+        raise usage_error(f"-n is a number of tosses; stacked coins are --count N (e.g. "
+                          f"{example.format(n=n)})")
+
+
+def seed_value(text: str | None) -> int:
+    """The seed typed, or a fresh one drawn from the operating system's entropy (63 bits, so
+    that it prints short and any tool reads it back); the caller reports it."""
+    global DRAWN_SEED
+    if text is None:
+        from coincli.core._numerics.backend import randbits
+
+        DRAWN_SEED = randbits(63)
+        return DRAWN_SEED
+    return _one(text, "--seed", parse.parse_seed)
+
+
+#: The seed this run drew, if it drew one: an interrupted run still reports it (coincli.cli).
+DRAWN_SEED: int | None = None
+
 def report_seed(seed: int, given: bool) -> None:
     """A drawn seed on stderr, where the output itself has no room for it (``-q``,
     ``--stream``): every random result can be repeated.  A seed the user gave is not repeated."""
@@ -391,7 +409,62 @@ def report_seed(seed: int, given: bool) -> None:
             pass
 
 
+def report_drawn_seed() -> None:
+    """The seed this run drew (:data:`DRAWN_SEED`), if it drew one, on stderr: after output
+    that has no room for the note naming it (``-q``)."""
+    if DRAWN_SEED is not None:
+        report_seed(DRAWN_SEED, False)
+
+
 # --------------------------------------------------------------------------- psi
+
+
+def _deg_item(text: str, what: str) -> float:
+    try:
+        v = parse.parse_number(text, what)
+    except ValueError:
+        v = math.nan
+    if not 0.0 <= v <= 180.0:  # NaN fails
+        raise ValueError(f"{what} must be an angle in [0, 180] degrees, got {text!r}")
+    return v + 0.0
+
+
+PSI_AND_DIST = "give --psi DEG (a fixed angle) or --psi-dist SPEC (a distribution), not both"
+
+
+def refuse_psi_and_dist(psi, psi_dist) -> None:
+    """The one usage error for --psi and --psi-dist given together."""
+    if psi is not None and psi_dist is not None:
+        raise usage_error(PSI_AND_DIST)
+
+
+def _a_list(text: str) -> bool:
+    return any(c in text for c in ",:") and str(text).strip() != "-"
+
+
+def psi_angle(text: str, what: str = "--psi") -> float:
+    """One angle in degrees, in [0, 180]; a list or range is refused as such (a command that
+    takes many uses :func:`psi_angles`)."""
+    try:
+        return _deg_item(text, what)
+    except ValueError as exc:
+        if _a_list(text):
+            raise usage_error(f"{what} takes one angle here (degrees, 0 to 180), not a list or "
+                              f"range; got {shown(text)}") from None
+        raise usage_error(str(exc)) from None
+
+
+def psi_angles(text: str, what: str = "--psi", *, max_rows: int = parse.MAX_ROWS) -> list[float]:
+    """Angles in degrees: a value, a list ``a,b`` or a range ``lo:hi:step`` (no stdin)."""
+    try:
+        return [float(v) for v in parse.parse_values(text, what, _deg_item, max_rows=max_rows)]
+    except ValueError as exc:
+        raise usage_error(str(exc)) from None
+
+
+def radians(deg: float) -> float:
+    """Degrees to radians, 180 to the double nearest pi (as :func:`parse.parse_angle_deg`)."""
+    return math.pi if deg == 180.0 else math.radians(deg)
 
 
 def psi_density(spec: str, what: str = "--psi-dist"):

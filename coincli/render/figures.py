@@ -30,7 +30,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from coincli.core import models
-from coincli.core.modelspec import ModelSpec
+from coincli.core.modelspec import ModelSpec, table_i_deg
 from coincli.errors import MatplotlibMissing, install_hint
 
 __all__ = [
@@ -315,26 +315,6 @@ def psi_spec(psi_rad: float) -> ModelSpec:
     """Table I at a fixed angle (radians)."""
     models.check_psi(psi_rad)
     return ModelSpec.fixed_psi(float(psi_rad), f"ψ = {math.degrees(psi_rad):.6g}° (Table I)")
-
-
-def table_i_deg(xi, psi_deg):
-    """Table I at ``psi_deg`` degrees (floats or arrays that broadcast), as every command takes
-    an angle: past 90 deg at the mirror angle ``180 - psi`` taken in degrees (exact; Table I is
-    symmetric, and 180 deg is 0: the coin never precesses), and 90 deg is the Keller flip
-    exactly (eq. 12, :meth:`ModelSpec.fixed_psi`), so that a plot marks the chances `coin table
-    --psi` prints (the rule of ``coincli.cli.design._table_i_angle``)."""
-    import numpy as np
-
-    d = np.asarray(psi_deg, dtype=float)
-    o = models.conditional(xi, np.radians(np.where(d > 90.0, 180.0 - d, d)))
-    at90 = d == 90.0
-    if not at90.any():
-        return o
-    k = models.dynamic(xi)
-    out = [np.where(at90, a, b) for a, b in zip(k, o, strict=True)]
-    if not np.ndim(out[0]):
-        out = [float(v) for v in out]
-    return models.Outcome(*out)
 
 
 def density_spec(density) -> ModelSpec:

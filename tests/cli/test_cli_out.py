@@ -544,7 +544,7 @@ def test_a_mathtext_title_is_drawn_as_plain_text(tmp_path):
 def test_python_warnings_never_reach_stderr(coin, monkeypatch):
     import warnings
 
-    from coincli.cli import design
+    from coincli.reports import design
 
     real = design.values_stream
 

@@ -303,7 +303,7 @@ def test_toss_simulate_phase_import_neither_scipy_nor_rich_nor_matplotlib():
 
 _GC_DURING_THE_COMMAND = """
 import gc, sys
-import coincli.cli.design as design
+import coincli.reports.design as design
 from coincli._entry import main
 
 real = design.models.dynamic_inverse

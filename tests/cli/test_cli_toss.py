@@ -499,10 +499,10 @@ def test_ctrl_c_in_simulate_says_interrupted(coin, monkeypatch, stream):
         raise KeyboardInterrupt
 
     monkeypatch.setattr(TS, "simulate_chunks", interrupted)
-    from coincli.io import options as _options
+    from coincli.io import options
 
     # a seed drawn by an earlier run in this process is not this run's (it was reported)
-    monkeypatch.setattr(_options, "DRAWN_SEED", 12345)
+    monkeypatch.setattr(options, "DRAWN_SEED", 12345)
     rc, out, err = coin("simulate", "-n", "1000", "--seed", "3", *BASE,
                         *(["--stream"] if stream else []))
     assert rc == 130 and err == "coin: error: interrupted\n"

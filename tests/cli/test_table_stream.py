@@ -18,7 +18,7 @@ def _rows(coin, *argv):
 
 
 def test_a_streamed_density_batch_gives_each_coins_own_rows(coin, monkeypatch):
-    import coincli.cli.design as design
+    import coincli.reports.design as design
 
     xs = ["1e-300", "0.05", "0.5773502691896258", "3", "1e300"]
     argv = ("--xi", ",".join(xs), "--psi-dist", "normal:30:5,uniform", "--psi", "90")

@@ -370,7 +370,7 @@ def test_progress_bar_draws_on_stderr_only_after_a_second(monkeypatch):
 def test_the_run_budget_stops_quasi_monte_carlo_deterministically(capsys, monkeypatch):
     # A --tol out of reach of qmc: the run stops at its budget of points (not on the clock),
     # warns, and the same seed gives the same bytes.
-    import coincli.cli._accuracy as acc
+    import coincli.reports.accuracy as acc
 
     monkeypatch.setattr(acc, "RUN_BUDGET", 1 << 16)
     argv = ["table", "--xi", "0.577", "--psi-dist", "uniform", "--method", "qmc", "--seed", "1",
@@ -390,7 +390,7 @@ def test_monte_carlo_refuses_a_tol_beyond_the_run_limit_up_front(capsys, monkeyp
     # and meets it.
     import time
 
-    import coincli.cli._accuracy as acc
+    import coincli.reports.accuracy as acc
 
     monkeypatch.setattr(acc, "RUN_BUDGET", 1 << 16)
     argv = ["table", "--xi", "0.577", "--psi-dist", "uniform", "--method", "mc", "--seed", "1",
@@ -445,7 +445,7 @@ def test_smallest_tol_is_the_limit():
 
 
 def test_the_budget_is_one_per_run_shared_by_the_densities(capsys, monkeypatch):
-    import coincli.cli._accuracy as acc
+    import coincli.reports.accuracy as acc
 
     monkeypatch.setattr(acc, "RUN_BUDGET", 1 << 16)
     code, out, err = _run(["table", "--xi", "0.577", "--all", "--method", "qmc", "--seed",

@@ -3,9 +3,10 @@ the same contradictions with the same line; one meaning per flag; one psi-densit
 spelling that changed either still works or fails naming the new one.
 
 COIN_COMMANDS is the list to extend when a command learns the coin group.  A command whose
-owner has not yet moved it onto ``coincli.cli._options`` carries ``pending="<owner>"``: its
-cases run as expected failures (xfail, not strict), so they turn into XPASS the moment it is
-converted; at merge time the lead deletes the ``pending`` to switch them on.
+owner has not yet moved it onto the shared options (``coincli.io.options``) carries
+``pending="<owner>"``: its cases run as expected failures (xfail, not strict), so they turn
+into XPASS the moment it is converted; at merge time the lead deletes the ``pending`` to switch
+them on.
 """
 
 from __future__ import annotations
@@ -380,16 +381,16 @@ def test_small_labels(coin):
 
 
 def test_seed_option_is_shared():
-    from coincli.io import options as _options
+    from coincli.io import options
 
-    assert _options.seed_value("12") == 12
-    drawn = {_options.seed_value(None) for _ in range(4)}
+    assert options.seed_value("12") == 12
+    drawn = {options.seed_value(None) for _ in range(4)}
     assert len(drawn) == 4 and all(0 <= s < 2**63 for s in drawn)
     from coincli.io.table import CoinError
 
     for bad in ("-1", "1.5", "x", "9" * 41):
         with pytest.raises(CoinError, match="--seed must be a whole number >= 0"):
-            _options.seed_value(bad)
+            options.seed_value(bad)
 
 
 # --------------------------------------------------------------------------- figures
