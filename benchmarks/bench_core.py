@@ -31,7 +31,7 @@ AIM_ARRAY = 3.0
 
 def scalar_rates(repeat: int) -> list[tuple[str, str, float]]:
     from coincli.core import models
-    from coincli.core.densities import parse_density
+    from coincli.io.grammar import parse_density
     from coincli.core.averages import conditional_inverse, marginal, marginal_inverse
 
     normal = parse_density("normal")
@@ -71,7 +71,7 @@ def array_ratios(n: int, repeat: int):
     import numpy as np
 
     from coincli.core import models
-    from coincli.core.densities import parse_density
+    from coincli.io.grammar import parse_density
     from coincli.core.averages import marginal
 
     rng = np.random.default_rng(2024)

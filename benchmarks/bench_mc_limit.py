@@ -65,7 +65,7 @@ def main(argv=None) -> int:
 
     from coincli.core import estimators as est
     from coincli.cli._accuracy import RUN_BUDGET
-    from coincli.core.densities import parse_density
+    from coincli.io.grammar import parse_density
 
     where = _report.machine()
     batch = 1 << 20

@@ -16,7 +16,7 @@ import sys
 import typer
 
 from coincli import __version__
-from coincli.errors import CoinError, ExitCode, InputError
+from coincli.errors import CoinError, ExitCode, InputError, clip_message
 
 class _Loaded:
     """An attribute of :class:`_App` that imports every command module on its first read."""
@@ -125,8 +125,6 @@ def _interrupted() -> str:
 
 
 def _fail(message: str, code: int) -> int:
-    from coincli.io.table import clip_message
-
     try:
         sys.stderr.write(f"coin: error: {clip_message(message)}\n")
         sys.stderr.flush()
@@ -420,7 +418,7 @@ def _prepare(root):
     time of ``--help``, and no second wrapping) laid out in the terminal's width, and every
     command that takes the shared ``--format`` option also takes ``--no-headers`` (one
     definition here, so a command added later has it too; :func:`coincli.io.table.emit`
-    reads it)."""
+    reads it through :func:`coincli.io.table.headers_left_out`)."""
     from coincli.render.terminal import terminal_width
 
     root.context_settings = {**(root.context_settings or {}),
@@ -527,14 +525,16 @@ def _example_lines(example: str) -> str:
 
 
 def _with_no_headers(callback, fmt_name):
-    from coincli.io.table import usage_error
+    from coincli.errors import usage_error
+    from coincli.io.table import headers_left_out
 
     def run_command(*args, no_headers=False, **kwargs):
         if no_headers:
             fmt = str(kwargs.get(fmt_name) or "table").strip().lower()
             if fmt not in ("csv", "tsv"):
                 raise usage_error(f"--no-headers goes with --format csv or tsv, not {fmt!r}")
-        return callback(*args, **kwargs)
+        with headers_left_out(no_headers):
+            return callback(*args, **kwargs)
 
     return run_command
 

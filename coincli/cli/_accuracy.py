@@ -2,20 +2,21 @@
 
 Shared by ``coin table`` and ``coin design``.  The numbers come from :mod:`coincli.core.estimators`
 (loaded only when a psi density is used); this module adds the options, their one-line usage
-errors, the error columns and a progress bar for long Monte Carlo runs (rich, on stderr, only
-when stderr is a terminal and a run has taken more than a second).  No numpy, scipy or rich at
+errors, the error columns and a progress bar for long Monte Carlo runs
+(:class:`coincli.render.progress.ProgressBar`: rich, on stderr, only when stderr is a terminal
+and a run has taken more than a second).  No numpy, scipy or rich at
 import time.
 """
 
 from __future__ import annotations
 
 import sys
-import time
 from typing import Annotated, NamedTuple
 
 import typer
 
-from coincli.io.table import Column, compute_error, stderr_is_terminal, usage_error
+from coincli.errors import compute_error, usage_error
+from coincli.io.table import Column
 from coincli.cli._options import seed_value
 from coincli.core.modelspec import ModelSpec
 
@@ -215,14 +216,14 @@ def run(acc: Accuracy, density, x, n: int, budget: Budget | None = None):
 
     if budget is None:
         budget = Budget(1)
-    bar = Progress(f"{acc.method} {density.spec}")
-    try:
-        e = est.estimate(x, density, tol=acc.tol, method=acc.method, seed=acc.seed,
-                         max_samples=budget.share(), progress=bar)
-    except ValueError as exc:
-        raise compute_error(str(exc)) from None
-    finally:
-        bar.close()
+    from coincli.render.progress import ProgressBar
+
+    with ProgressBar(f"{acc.method} {density.spec}", delay=1.0) as bar:
+        try:
+            e = est.estimate(x, density, tol=acc.tol, method=acc.method, seed=acc.seed,
+                             max_samples=budget.share(), progress=bar)
+        except ValueError as exc:
+            raise compute_error(str(exc)) from None
     if acc.sampling:
         budget.used(e.n)
     if e.method == "quad":  # the calibrated bound itself
@@ -287,37 +288,3 @@ def _warn(message: str) -> None:
         sys.stderr.flush()
     except (OSError, ValueError):
         pass
-
-
-class Progress:
-    """``progress(done, total)`` for the estimators: a rich bar on stderr once a run has taken
-    a second, only when stderr is a terminal; nothing otherwise (never on stdout)."""
-
-    def __init__(self, label: str, delay: float = 1.0):
-        self.label = label
-        self.delay = delay
-        self.start = time.monotonic()
-        self.enabled = stderr_is_terminal()
-        self.bar = None
-        self.task = None
-
-    def __call__(self, done: int, total: int) -> None:
-        if not self.enabled:
-            return
-        if self.bar is None:
-            if time.monotonic() - self.start < self.delay or done >= total:
-                return
-            from rich.console import Console
-            from rich.progress import BarColumn, Progress, TimeRemainingColumn
-
-            self.bar = Progress(self.label, BarColumn(), "{task.completed:,}/{task.total:,}",
-                                TimeRemainingColumn(), console=Console(stderr=True),
-                                transient=True)
-            self.bar.start()
-            self.task = self.bar.add_task(self.label, total=total)
-        self.bar.update(self.task, completed=done, total=total)
-
-    def close(self) -> None:
-        if self.bar is not None:
-            self.bar.stop()
-            self.bar = None

@@ -10,7 +10,10 @@
   ``coin table`` and ``coin stack`` fails naming ``--count``: :data:`OldCountOpt`).
 - **A seed**: ``--seed N``; when absent one is drawn (:func:`seed_value`) and reported.
 - **psi**: ``--psi DEG`` (a list or a range where a command takes many) and
-  ``--psi-dist SPEC[,SPEC...]``, parsed by :func:`coincli.core.densities.parse_density` everywhere.
+  ``--psi-dist SPEC[,SPEC...]``, parsed by :func:`coincli.io.grammar.parse_density` everywhere.
+- **Output**: ``--format/-f FORMAT`` (:data:`FormatOpt`, checked by
+  :func:`coincli.io.table.check_format`) and ``--quiet/-q`` (:data:`QuietOpt`); every command
+  that takes ``--format`` also takes ``--no-headers`` (added by :mod:`coincli.cli`).
 
 Commands declare the options with these ``Annotated`` aliases (parameter names ``xi``,
 ``coin``, ``count``, ``quarters``, ``diameter``, ``thickness``, ``tosses``, ``seed``, ``psi``,
@@ -25,15 +28,32 @@ from typing import Annotated
 
 import typer
 
+from coincli.errors import shown, usage_error
 from coincli.io import grammar as parse
-from coincli.io.table import shown, usage_error, values_option, values_stream
+from coincli.io.batches import values_option, values_stream
 
 __all__ = [
     "XiOpt", "XisOpt", "CoinOpt", "CountOpt", "CountsOpt", "QuartersOpt", "QuartersManyOpt",
     "DiameterOpt", "ThicknessOpt", "TossesOpt", "OldCountOpt", "SeedOpt", "PsiOpt", "PsisOpt",
     "PsiDistOpt", "PsiDistsOpt", "Coins", "resolve_coin", "COIN_FORMS", "refuse_old_count",
     "tosses_value", "seed_value", "psi_angle", "psi_angles", "psi_density", "psi_densities",
-    "radians",
+    "radians", "FormatOpt", "QuietOpt",
+]
+
+# --------------------------------------------------------------------------- output
+
+FormatOpt = Annotated[
+    str,
+    typer.Option(
+        "--format",
+        "-f",
+        help="Output format: table (default: aligned text, folded to fit a terminal), csv, "
+        "tsv, json, jsonl or markdown (a pipe table).",
+        metavar="FORMAT",
+    ),
+]
+QuietOpt = Annotated[
+    bool, typer.Option("--quiet", "-q", help="Print only the main number (for shell scripts).")
 ]
 
 # --------------------------------------------------------------------------- the coin group
@@ -279,7 +299,7 @@ def resolve_coin(xi: str | None = None, coin: str | None = None, count: str | No
     with ``need_count=False`` its ``counts`` stay None (the command finds the count itself).
     ``max_values``: the most coins a list, range or stdin may give (``coin plot``'s marks).
     ``stream`` (with ``many``): several ``--xi`` values, or several counts, come back as a
-    :class:`coincli.io.table.Values` (``xis`` None for counts), read and checked whole but
+    :class:`coincli.io.batches.Values` (``xis`` None for counts), read and checked whole but
     held in chunks, for a command that computes a chunk at a time.  ``takes_xi``: False for a
     command that refuses --xi itself (``coin stack``): its errors then never suggest one.
     """
@@ -383,18 +403,12 @@ def tosses_value(text: str, *, low: int = 1, high: int = parse.MAX_COUNT,
     digits = s.removeprefix("+")
     if not (digits.isascii() and digits.isdigit()):
         raise usage_error(f"{what} must be a whole number from {low} to {high}, got "
-                          f"{_shown(text)}")
+                          f"{shown(text)}")
     digits = digits.lstrip("0") or "0"
     if len(digits) > 19 or not low <= int(digits) <= high:  # and no int() of 5000 digits
         raise usage_error(f"{what} must be a whole number from {low} to {high}, got "
-                          f"{_shown(text)}")
+                          f"{shown(text)}")
     return int(digits)
-
-
-def _shown(text: str) -> str:
-    from coincli.io.table import shown
-
-    return shown(text)
 
 
 SeedOpt = Annotated[
@@ -540,11 +554,10 @@ def radians(deg: float) -> float:
 
 
 def psi_density(spec: str, what: str = "--psi-dist"):
-    """One psi density (:func:`coincli.core.densities.parse_density`), or a usage error."""
-    from coincli.core.densities import parse_density
+    """One psi density (:func:`coincli.io.grammar.parse_density`), or a usage error."""
 
     try:
-        return parse_density(spec)
+        return parse.parse_density(spec)
     except ValueError as exc:
         if "," in spec and not spec.strip().lower().startswith("table:"):
             raise usage_error(f"{what} takes one density here, not a list; got {shown(spec)} "

@@ -17,7 +17,7 @@ import typer
 
 from coincli.io import grammar as parse
 from coincli.cli import _options
-from coincli.io.table import usage_error
+from coincli.errors import usage_error
 
 U_DEFAULT = "0:3"  #: m/s
 OMEGA_DEFAULT = "0:60"  #: rad/s

@@ -19,22 +19,13 @@ import typer
 
 from coincli.io import grammar as parse
 from coincli.cli import app
-from coincli.io.table import (
-    CHUNK_ROWS,
-    CoinError,
-    Column,
+from coincli.errors import CoinError, compute_error, usage_error
+from coincli.io.batches import values_option
+from coincli.io.table import CHUNK_ROWS, Column, Result, check_format, emit
+from coincli.render.terminal import stderr_is_terminal
+from coincli.cli._options import (
     FormatOpt,
     QuietOpt,
-    Result,
-    check_format,
-    compute_error,
-    emit,
-    stderr_is_terminal,
-    usage_error,
-    values_option,
-    write_figure,
-)
-from coincli.cli._options import (
     SeedOpt,
     TossesOpt,
     range_unit,
@@ -173,7 +164,7 @@ def _typed(text: str, units, unit: str) -> str:
 
 
 def _times(text: str):
-    """--times: a value, a list, a range or - (coincli.io.table.values_option), each time
+    """--times: a value, a list, a range or - (coincli.io.batches.values_option), each time
     with an optional unit; a range takes its unit once at the end (``0:500:100ms``, as
     ``coin simulate --omega 38:40:1rev/s`` does) or the same unit after every number."""
     t = text.strip()
@@ -281,10 +272,12 @@ def _require_matplotlib() -> None:
 
 
 def _figure(path: str, build) -> None:
-    """Draw and save a figure through the shared writer (io.table.write_figure: atomic,
+    """Draw and save a figure through the shared writer (render.figures.write_figure: atomic,
     one-line errors, ``coin: wrote FILE (W x H pixels)`` as coin plot says)."""
     _require_matplotlib()
     import warnings
+
+    from coincli.render.figures import write_figure
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -638,11 +631,11 @@ def _toss(box, spin, n, seed, flight, start, rule, out, figure, fmt, quiet):
     import numpy as np
 
     from coincli.core import rigid as R
-    from coincli.cli.toss import _progress
     from coincli.core.toss.flight import wilson_interval
+    from coincli.render.progress import ProgressBar
 
     counts = np.zeros(6, dtype=np.int64)
-    with _progress(count) as tick:
+    with ProgressBar("tossing", count, least=200_000) as tick:
         done = 0
         chunks = R.toss_chunks(count, seed_v, moments=box.moments, sides=box.sides, spin=dists,
                                flight=fd, start=start, rule=rule)

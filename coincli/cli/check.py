@@ -15,23 +15,12 @@ from typing import Annotated
 
 import typer
 
-from coincli.io import grammar as parse
-from coincli.io.files import FileKindError, read_regular
 from coincli.cli import _options, app
-from coincli.io.table import (
-    CHUNK_ROWS,
-    Column,
-    FormatOpt,
-    QuietOpt,
-    Result,
-    check_format,
-    compute_error,
-    emit,
-    read_capped,
-    shown,
-    stream_reader,
-    usage_error,
-)
+from coincli.cli._options import FormatOpt, QuietOpt
+from coincli.errors import compute_error, shown, usage_error
+from coincli.io import grammar as parse
+from coincli.io.files import Unreadable, read_text
+from coincli.io.table import CHUNK_ROWS, Column, Result, check_format, emit
 
 _OUTCOMES = ("heads", "sides", "tails")
 
@@ -423,33 +412,27 @@ def _read_text(path: str) -> tuple[str, str]:
 
     At most :data:`MAX_FILE_BYTES` are read, in chunks, whatever the file claims to be
     (/dev/zero and pipes have no size); reading stops at a NUL byte.  A named file must be a
-    regular file (:func:`coincli.io.files.read_regular`).
+    regular file (:func:`coincli.io.files.read_text`).
     """
-    if path.strip() == "-":
-        if sys.stdin is None:
-            raise usage_error("FILE '-' reads the experiments from standard input, but there "
-                              "is none")
-        name = "stdin"
-        data, why = read_capped(stream_reader(sys.stdin), MAX_FILE_BYTES)
-    else:
-        name = path
-        try:
-            data, why = read_regular(path, MAX_FILE_BYTES)  # a FIFO or device: refused
-        except FileKindError as exc:
-            raise usage_error(f"cannot read {_clipped(path)}: it is {exc.kind}, not a regular "
-                              "file; give an experiments file, or '-' to read a pipe") from None
-        except OSError as exc:
-            raise usage_error(f"cannot read {_clipped(path)}: {exc.strerror or exc}") from None
-    if why == "size":
-        raise usage_error(f"{_file_name(name)}: larger than {MAX_FILE_BYTES // 10**6} MB; is this "
-                          f"an experiments file? (at most {MAX_FILE_BYTES} bytes)")
-    if why == "nul":
-        raise usage_error(f"{_file_name(name)}: contains a NUL byte; expected a CSV text file")
+    stdin = path.strip() == "-"
+    if stdin and sys.stdin is None:
+        raise usage_error("FILE '-' reads the experiments from standard input, but there "
+                          "is none")
+    name = "stdin" if stdin else path
     try:
-        text = data.decode("utf-8")
-    except UnicodeDecodeError:
-        raise usage_error(f"{_file_name(name)}: not UTF-8 text") from None
-    return text, name
+        return read_text(sys.stdin if stdin else path, MAX_FILE_BYTES), name
+    except Unreadable as exc:
+        if exc.reason == "system" and stdin:  # as any failure of the system: exit 1, its words
+            raise compute_error(exc.detail) from None
+        raise usage_error({
+            "kind": f"cannot read {_clipped(path)}: it is {exc.detail}, not a regular file; "
+                    "give an experiments file, or '-' to read a pipe",
+            "system": f"cannot read {_clipped(path)}: {exc.detail}",
+            "size": f"{_file_name(name)}: larger than {MAX_FILE_BYTES // 10**6} MB; is this an "
+                    f"experiments file? (at most {MAX_FILE_BYTES} bytes)",
+            "nul": f"{_file_name(name)}: contains a NUL byte; expected a CSV text file",
+            "utf8": f"{_file_name(name)}: not UTF-8 text",
+        }[exc.reason]) from None
 
 
 def _clipped(text: str, limit: int = 60) -> str:

@@ -18,19 +18,10 @@ from coincli.core import models
 from coincli.io import grammar as parse
 from coincli.cli import _accuracy, _options, app
 from coincli.cli import _bounce as BO
-from coincli.io.table import (
-    CHUNK_ROWS,
-    Column,
-    FormatOpt,
-    QuietOpt,
-    Result,
-    Values,
-    check_format,
-    compute_error,
-    emit,
-    usage_error,
-    values_stream,
-)
+from coincli.cli._options import FormatOpt, QuietOpt
+from coincli.errors import compute_error, usage_error
+from coincli.io.batches import Values, values_stream
+from coincli.io.table import CHUNK_ROWS, Column, Result, check_format, emit
 from coincli.core.modelspec import DYNAMIC, GEOMETRIC, ModelSpec
 
 MACHINE_FORMATS = ("csv", "tsv", "json", "jsonl")

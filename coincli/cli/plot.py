@@ -18,7 +18,7 @@ import typer
 from coincli.io import grammar as parse
 from coincli.cli import _bounce as BO
 from coincli.cli import _options, _phase, app
-from coincli.io.table import compute_error, usage_error, write_figure
+from coincli.errors import compute_error, usage_error
 
 plot_app = typer.Typer(
     name="plot",
@@ -216,6 +216,8 @@ class _Target:
             raise compute_error(str(exc)) from None
 
     def save(self, fig, dpi: float) -> None:
+        from coincli.render.figures import write_figure
+
         write_figure(fig, self.path, dpi, too_small=": give a larger --width or --height")
 
     def text_plot(self, build):
@@ -261,32 +263,24 @@ def _compute(fn, *args, **kwargs):
 
 
 def _read_data(path: str):
-    from coincli.io.files import FileKindError, read_capped, read_regular
-    from coincli.io.table import stream_reader
     from coincli.core.stats.tests import parse_experiments
+    from coincli.io.files import Unreadable, read_text
 
     name = "stdin" if path == "-" else path
+    if path == "-" and sys.stdin is None:
+        raise usage_error("--data -: reads your tosses from standard input, but there is none "
+                          "(it is closed)")
     try:
-        if path == "-":
-            if sys.stdin is None:
-                raise usage_error("--data -: reads your tosses from standard input, but there "
-                                  "is none (it is closed)")
-            data, why = read_capped(stream_reader(sys.stdin), MAX_DATA_BYTES)
-        else:
-            data, why = read_regular(path, MAX_DATA_BYTES)
-    except FileKindError as exc:
-        raise usage_error(f"--data: cannot read {name!r}: it is {exc.kind}, not a regular file; "
-                          "give a CSV file, or '-' to read a pipe") from None
-    except OSError as exc:
-        raise usage_error(f"--data: cannot read {name!r}: {exc.strerror or exc}") from None
-    if why == "size":
-        raise usage_error(f"--data: {name!r} is larger than {MAX_DATA_BYTES} bytes")
-    if why == "nul":
-        raise usage_error(f"--data: {name!r} contains a NUL byte; expected a CSV text file")
-    try:
-        text = data.decode("utf-8")
-    except UnicodeDecodeError:
-        raise usage_error(f"--data: {name!r} is not UTF-8 text") from None
+        text = read_text(sys.stdin if path == "-" else path, MAX_DATA_BYTES)
+    except Unreadable as exc:
+        raise usage_error({
+            "kind": f"--data: cannot read {name!r}: it is {exc.detail}, not a regular file; give "
+                    "a CSV file, or '-' to read a pipe",
+            "system": f"--data: cannot read {name!r}: {exc.detail}",
+            "size": f"--data: {name!r} is larger than {MAX_DATA_BYTES} bytes",
+            "nul": f"--data: {name!r} contains a NUL byte; expected a CSV text file",
+            "utf8": f"--data: {name!r} is not UTF-8 text",
+        }[exc.reason]) from None
     try:
         return parse_experiments(text)
     except ValueError as exc:

@@ -20,26 +20,18 @@ import typer
 from coincli.io import grammar as parse
 from coincli.cli import _bounce as BO
 from coincli.cli import _options, _phase, app
-from coincli.io.table import (
-    Column,
-    FormatOpt,
-    QuietOpt,
-    Result,
-    check_format,
-    compute_error,
-    emit,
-    env_no_color,
-    stderr_is_terminal,
-    stdout_is_terminal,
-    usage_error,
-    values_option,
-    write_figure,
-)
+from coincli.errors import compute_error, usage_error
+from coincli.io.batches import values_option
+from coincli.io.table import Column, Result, check_format, emit
+from coincli.render.progress import ProgressBar
+from coincli.render.terminal import env_no_color, stdout_is_terminal
 from coincli.cli._options import (
     CoinOpt,
     CountOpt,
     DiameterOpt,
+    FormatOpt,
     QuartersOpt,
+    QuietOpt,
     SeedOpt,
     ThicknessOpt,
     TossesOpt,
@@ -567,13 +559,13 @@ def simulate_cmd(
             _options.report_seed(seed_v, seed is not None)
         BO.simulate(physics, count=count_n, seed=seed_v, xi=xv, u=u_spec, omega=w_spec,
                     psi=psi_spec, diameter=dia, g=gv, labels=labels, fmt=fmt, quiet=quiet,
-                    progress=lambda total: _progress(total, 200))
+                    progress=lambda total: ProgressBar("tossing", total, least=200))
         return
     if stream:
         _options.report_seed(seed_v, seed is not None)
         _stream(T, count_n, seed_v, kw)
         return
-    with _progress(count_n) as tick:
+    with ProgressBar("tossing", count_n, least=200_000) as tick:
         sim = _usage(T.simulate, count_n, seed_v, progress=tick, **kw)
     machine = fmt != "table"
     rows = []
@@ -645,37 +637,6 @@ def _stream(T, count, seed_v, kw):
         out.write(buf.tobytes().decode("ascii"))
         codes = next(chunks, None)
     out.flush()
-
-
-class _progress:
-    """A rich progress bar on stderr for long runs (``least`` tosses or more) on a terminal;
-    a no-op otherwise."""
-
-    def __init__(self, total: int, least: int = 200_000):
-        self.total = total
-        self.least = least
-        self.bar = None
-
-    def __enter__(self):
-        if self.total >= self.least and stderr_is_terminal():
-            from rich.console import Console
-            from rich.progress import BarColumn, Progress, TimeRemainingColumn
-
-            self.bar = Progress("tossing", BarColumn(), "{task.completed:,}/{task.total:,}",
-                                TimeRemainingColumn(), console=Console(stderr=True),
-                                transient=True)
-            self.bar.start()
-            self.task = self.bar.add_task("toss", total=self.total)
-        return self._tick
-
-    def _tick(self, done: int):
-        if self.bar is not None:
-            self.bar.update(self.task, completed=done)
-
-    def __exit__(self, *exc):
-        if self.bar is not None:
-            self.bar.stop()
-        return False
 
 
 # ------------------------------------------------------------------------ design --landing bounce
@@ -751,7 +712,8 @@ def bounce_design(physics, *, p_sides, psi, psi_dist, u, omega, diameter, coin, 
 
     BO.design(physics, targets=targets, seed=seed_value(seed), tol=tol_v, max_tosses=mt,
               time_limit=tl, u=u_spec, omega=w_spec, psi=psi_spec, diameter=dia, g=T_G,
-              labels=labels, fmt=fmt, quiet=quiet, progress=BO.design_progress)
+              labels=labels, fmt=fmt, quiet=quiet,
+              progress=lambda: ProgressBar("simulating", unit="tosses", elapsed=True))
 
 
 T_G = 9.81  # coincli.core.toss.flight.STANDARD_G
@@ -863,4 +825,4 @@ def _phase_figure(path, ph):
         raise compute_error(str(exc)) from None
     data = _phase.data(ph, ph.cols or _phase.FIGURE_CELLS, ph.rows or _phase.FIGURE_CELLS,
                        figure=True)
-    write_figure(P.phase_figure(data), path)
+    P.write_figure(P.phase_figure(data), path)

@@ -595,7 +595,7 @@ def test_batches_stream_in_flat_memory(tmp_path):
 
 
 def test_a_spooled_batch_gives_the_same_bytes(coin, monkeypatch):
-    import coincli.io.table as common
+    import coincli.io.batches as common
 
     stdin = "".join(f"{k / 70001!r}\n" for k in range(1, 70001))
     whole = _ok(coin("design", "-p", "-", "-f", "csv", stdin=stdin))

@@ -138,7 +138,7 @@ def test_simulate_csv_is_the_core(coin):
     out = _ok(coin(*SIM, "--psi-dist", "normal:90:10", "-n", "20000", "--seed", "7",
                    "--format", "csv"))
     rows = list(csv.DictReader(io.StringIO(out)))
-    from coincli.core.densities import parse_density
+    from coincli.io.grammar import parse_density
 
     psi = T.Dist.from_density(parse_density("normal:90:10"))  # the grammar of coin design
     sim = T.simulate(20000, 7, xi=0.577, u="normal:2.4:0.3", omega="normal:38:4", psi=psi)

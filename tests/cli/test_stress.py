@@ -231,7 +231,7 @@ DENSITIES = ["uniform", "cosine", "normal", "normal:90:18", "normal:90:0.001", "
 
 
 def _marginal_sweep(spec):
-    from coincli.core.densities import parse_density
+    from coincli.io.grammar import parse_density
     from coincli.core.averages import marginal
 
     d = parse_density(spec)
@@ -268,7 +268,7 @@ def test_marginal_strictly_in_unit_interval_and_monotone(spec):
 
 @pytest.mark.parametrize("spec", ["uniform", "normal"])
 def test_marginal_inverse_across_magnitudes(spec):
-    from coincli.core.densities import parse_density
+    from coincli.io.grammar import parse_density
     from coincli.core.averages import marginal, marginal_inverse
 
     d = parse_density(spec)

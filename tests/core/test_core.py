@@ -13,7 +13,8 @@ import pytest
 from coincli.core import coins
 from coincli.core import models
 from coincli.io import grammar as parse
-from coincli.core.densities import Cosine, Normal, Table, Uniform, parse_density
+from coincli.core.densities import Cosine, Normal, Table, Uniform
+from coincli.io.grammar import parse_density
 from coincli.core.averages import conditional_inverse, marginal, marginal_inverse
 
 XI_FAIR = 1 / math.sqrt(3)

@@ -227,7 +227,7 @@ def test_scalar_path_finite_and_equal_to_the_array_path(spec):
     """One xi at a time and many at once give the same finite chances (the scalar path once
     built a NaN breakpoint where a far-tail offset passed the end of its piece: xi = 0.05 with
     normal:90:10 printed nan)."""
-    from coincli.core.densities import parse_density
+    from coincli.io.grammar import parse_density
 
     d = parse_density(spec)
     xs = np.concatenate([np.geomspace(1e-3, 1e3, 121), [0.05, 0.0725, 1 / math.sqrt(3)]])
