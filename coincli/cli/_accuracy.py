@@ -4,8 +4,7 @@ Shared by ``coin table`` and ``coin design``.  The numbers come from :mod:`coinc
 (loaded only when a psi density is used); this module adds the options, their one-line usage
 errors, the error columns and a progress bar for long Monte Carlo runs
 (:class:`coincli.render.progress.ProgressBar`: rich, on stderr, only when stderr is a terminal
-and a run has taken more than a second).  No numpy, scipy or rich at
-import time.
+and a run has taken more than a second).  No numpy, scipy or rich at import time.
 """
 
 from __future__ import annotations
