@@ -31,7 +31,8 @@ from _report import fmt_rate, machine, median, table, write_section  # noqa: E40
 from coincli.core.bounce import engine as B  # noqa: E402
 from coincli.core.bounce import runs as R  # noqa: E402
 from coincli.core.toss import flight as T  # noqa: E402
-from coincli.core.toss import launch as TL, simulate as TS  # noqa: E402
+from coincli.core.toss import launch as TL  # noqa: E402
+from coincli.core.toss import simulate as TS
 
 LAUNCH = TL.HAND_TOSS
 CASES = [  # landing, xi, tosses

@@ -31,8 +31,8 @@ AIM_ARRAY = 3.0
 
 def scalar_rates(repeat: int) -> list[tuple[str, str, float]]:
     from coincli.core import models
-    from coincli.core.densities import parse_density
     from coincli.core.averages import conditional_inverse, marginal, marginal_inverse
+    from coincli.io.grammar import parse_density
 
     normal = parse_density("normal")
     cases = [
@@ -71,8 +71,8 @@ def array_ratios(n: int, repeat: int):
     import numpy as np
 
     from coincli.core import models
-    from coincli.core.densities import parse_density
     from coincli.core.averages import marginal
+    from coincli.io.grammar import parse_density
 
     rng = np.random.default_rng(2024)
     xi = rng.uniform(0.0, 3.0, n)  # every regime of a real coin, thin to very thick

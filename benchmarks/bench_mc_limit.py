@@ -64,8 +64,8 @@ def main(argv=None) -> int:
     import numpy as np
 
     from coincli.core import estimators as est
+    from coincli.io.grammar import parse_density
     from coincli.reports.accuracy import RUN_BUDGET
-    from coincli.core.densities import parse_density
 
     where = _report.machine()
     batch = 1 << 20

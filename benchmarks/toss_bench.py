@@ -133,7 +133,9 @@ def throughput(n: int, repeat: int):
     user gets it: ``coin simulate`` is one run), interleaved, and in this process once warm."""
     import numpy as np
 
-    from coincli.core.toss import flight as T, launch as TL, simulate as TS
+    from coincli.core.toss import flight as T
+    from coincli.core.toss import launch as TL
+    from coincli.core.toss import simulate as TS
 
     psi = TL.Dist("normal", math.pi / 2, math.radians(10), 0.0, math.pi)
     configs = {
@@ -199,7 +201,8 @@ def throughput(n: int, repeat: int):
 def _descent_constants(xi):
     """The rim coin's radius, launch height, band sines and descent limits, as ``_outcomes``
     sets them up for a quarter-sized coin of aspect ratio ``xi`` under standard gravity."""
-    from coincli.core.toss import batch as TB, flight as T
+    from coincli.core.toss import batch as TB
+    from coincli.core.toss import flight as T
 
     a = T.DEFAULT_DIAMETER / 2
     z0 = math.sqrt(3.0) / 2 * a
@@ -216,7 +219,10 @@ def stages(kw, n, repeat, xi=0.577):
     medians are noise at a few nanoseconds)."""
     import numpy as np
 
-    from coincli.core.toss import batch as TB, flight as T, launch as TL, simulate as TS
+    from coincli.core.toss import batch as TB
+    from coincli.core.toss import flight as T
+    from coincli.core.toss import launch as TL
+    from coincli.core.toss import simulate as TS
 
     rng = np.random.default_rng(7)
     chunks = [TL.sample_conditions(TS._CHUNK, rng, **kw) for _ in range(n // TS._CHUNK)]
@@ -258,7 +264,10 @@ def path_shares(kw, xi=0.577, chunks=4):
     the sampled passes settle, and the scan must settle (simulate's rim path)."""
     import numpy as np
 
-    from coincli.core.toss import batch as TB, flight as T, launch as TL, simulate as TS
+    from coincli.core.toss import batch as TB
+    from coincli.core.toss import flight as T
+    from coincli.core.toss import launch as TL
+    from coincli.core.toss import simulate as TS
 
     rng = np.random.default_rng(7)
     a, z0, sb, cb, lim = _descent_constants(xi)
@@ -281,7 +290,9 @@ def path_shares(kw, xi=0.577, chunks=4):
 def engine(n: int, repeat: int):
     import numpy as np
 
-    from coincli.core.toss import batch as TB, flight as T, phase as TP
+    from coincli.core.toss import batch as TB
+    from coincli.core.toss import flight as T
+    from coincli.core.toss import phase as TP
 
     rng = np.random.default_rng(7)
     rows = []

@@ -38,8 +38,8 @@ from _report import machine, table  # noqa: E402
 from marginal_reference import ref_marginal  # noqa: E402
 
 from coincli.core import estimators as E  # noqa: E402
-from coincli.core.densities import Cosine, Normal, Table, Uniform  # noqa: E402
 from coincli.core.averages import marginal, order_for_tol  # noqa: E402
+from coincli.core.densities import Cosine, Normal, Table, Uniform  # noqa: E402
 
 DOC = ROOT / "docs" / "work-precision.md"
 PNG = ROOT / "docs" / "work-precision.png"

@@ -12,7 +12,11 @@ sees the message a shell user sees.
 - :class:`PhysicsMissing` and :class:`MatplotlibMissing` (both :class:`ImportError`): an optional
   engine is not installed; the message says how to install it.  Exit 1.
 
-This module imports nothing: the closed-form path stays as light as it is.
+Errors are built by :func:`usage_error` and :func:`compute_error`; a user's value in a message
+is quoted by :func:`shown`, and :func:`clip_message` holds every message to one readable line.
+
+This module imports nothing (``re`` only inside the functions that need it): the closed-form path
+stays as light as it is.
 """
 
 from __future__ import annotations
@@ -28,6 +32,12 @@ __all__ = [
     "PhysicsMissing",
     "MatplotlibMissing",
     "INSTALL_HINT",
+    "usage_error",
+    "compute_error",
+    "shown",
+    "clip_message",
+    "MAX_SHOWN_CHARS",
+    "MAX_MESSAGE_CHARS",
 ]
 
 #: how to install an optional extra of this project (never the unrelated ``coincli`` package)
@@ -37,6 +47,59 @@ INSTALL_HINT = ("pip install -U 'thickcoin[{extra}]' (from a checkout: pip insta
 def install_hint(extra: str) -> str:
     """The one-line install hint for the optional ``extra`` (``physics``, ``plot``, ...)."""
     return INSTALL_HINT.format(extra=extra)
+
+
+# --------------------------------------------------------------------------- messages
+
+MAX_SHOWN_CHARS = 60  #: the most characters of a user's value that an error message repeats
+MAX_MESSAGE_CHARS = 1000  #: an error line longer than this is cut in the middle
+_ESCAPE = r"\\(?:x[0-9a-fA-F]{2}|u[0-9a-fA-F]{4}|U[0-9a-fA-F]{8}|N\{[^}]*\}|.)"
+_QUOTED = None  # compiled on first use: `re` costs nothing at start-up this way
+
+
+def _clip_repr(r: str, limit: int) -> str:
+    """The repr ``r`` (quotes included) cut to about ``limit`` characters, ending in '...'."""
+    import re
+
+    q, body = r[0], r[1:-1]
+    keep, n = [], 0
+    for m in re.finditer(_ESCAPE + "|.", body, re.S):  # never split an escape like \x00
+        tok = m.group()
+        if n + len(tok) > limit - 3:
+            break
+        keep.append(tok)
+        n += len(tok)
+    return f"{q}{''.join(keep)}...{q}"
+
+
+def shown(text: str, limit: int = MAX_SHOWN_CHARS) -> str:
+    """``repr(text)`` for an error message, cut to about ``limit`` characters with '...'."""
+    r = repr(str(text))
+    return r if len(r) <= limit + 2 else _clip_repr(r, limit)
+
+
+def clip_message(message: str) -> str:
+    """``message`` with every quoted value ('...' or "...", as repr writes them) longer than
+    :data:`MAX_SHOWN_CHARS` cut short with '...', and the whole line held to
+    :data:`MAX_MESSAGE_CHARS` (its start and end kept: what was wrong, what is allowed)."""
+    global _QUOTED
+    if len(message) <= MAX_SHOWN_CHARS + 2:
+        return message
+    if _QUOTED is None:
+        import re
+
+        _QUOTED = re.compile(
+            rf"""(?<!\w)(?:'(?:[^'\\\n]|{_ESCAPE})*'|"(?:[^"\\\n]|{_ESCAPE})*")""", re.S)
+    message = _QUOTED.sub(
+        lambda m: m.group() if len(m.group()) <= MAX_SHOWN_CHARS + 2
+        else _clip_repr(m.group(), MAX_SHOWN_CHARS), message)
+    if len(message) > MAX_MESSAGE_CHARS:
+        head = MAX_MESSAGE_CHARS * 2 // 3
+        message = message[:head] + " ... " + message[-(MAX_MESSAGE_CHARS - head - 5):]
+    return message
+
+
+# --------------------------------------------------------------------------- the errors
 
 
 class ExitCode(enum.IntEnum):
@@ -53,15 +116,13 @@ class ExitCode(enum.IntEnum):
 class CoinError(Exception):
     """An error to print as one line on stderr, with its exit code.
 
-    The message is passed through :func:`coincli.io.table.clip_message`: a quoted value longer
-    than 60 characters (a 10,000-character option, a 5 MB stdin line) is cut short.
+    The message is passed through :func:`clip_message`: a quoted value longer than 60
+    characters (a 10,000-character option, a 5 MB stdin line) is cut short.
     """
 
     code: ExitCode = ExitCode.ERROR
 
     def __init__(self, message: str, code: ExitCode | None = None):
-        from coincli.io.table import clip_message
-
         message = clip_message(str(message))
         super().__init__(message)
         self.message = message
@@ -107,3 +168,13 @@ class MatplotlibMissing(CoinError, ImportError):
 def for_code(message: str, code: int) -> CoinError:
     """The error of exit ``code`` (2: :class:`InputError`, else :class:`NotComputable`)."""
     return InputError(message) if code == ExitCode.USAGE else NotComputable(message, code)
+
+
+def usage_error(message: str) -> InputError:
+    """The error of a wrong input (exit 2)."""
+    return InputError(message)
+
+
+def compute_error(message: str) -> NotComputable:
+    """The error of a valid input whose answer cannot be computed (exit 1)."""
+    return NotComputable(message)

@@ -17,7 +17,8 @@ import typer
 
 from coincli import __version__
 from coincli.cli._help import prepare as _prepare
-from coincli.errors import CoinError, ExitCode, InputError
+from coincli.errors import CoinError, ExitCode, InputError, clip_message
+
 
 class _Loaded:
     """An attribute of :class:`_App` that imports every command module on its first read."""
@@ -126,8 +127,6 @@ def _interrupted() -> str:
 
 
 def _fail(message: str, code: int) -> int:
-    from coincli.io.table import clip_message
-
     try:
         sys.stderr.write(f"coin: error: {clip_message(message)}\n")
         sys.stderr.flush()

@@ -15,8 +15,9 @@ from typing import Annotated
 
 import typer
 
+from coincli.errors import compute_error, usage_error
 from coincli.io import grammar as parse
-from coincli.io.table import Column, Result, compute_error, usage_error
+from coincli.io.table import Column, Result
 
 LANDINGS = ("catch", "bounce")
 SURFACE_NAMES = ("wood", "hard-floor", "felt", "rice")  # coincli.core.bounce.engine.SURFACES, without mujoco
@@ -459,36 +460,6 @@ def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, 
         sys.stdout.flush()
         sys.stderr.write(f"coin: warning: {why[r.stopped_by]}; the intervals are wider than "
                          "asked\n")
-
-
-class design_progress:
-    """A rich progress bar of simulated tosses on stderr, on a terminal only."""
-
-    def __init__(self):
-        self.bar = None
-
-    def __enter__(self):
-        from coincli.io.table import stderr_is_terminal
-
-        if stderr_is_terminal():
-            from rich.console import Console
-            from rich.progress import BarColumn, Progress, TimeElapsedColumn
-
-            self.bar = Progress("simulating", BarColumn(), "{task.completed:,}/{task.total:,}",
-                                "tosses", TimeElapsedColumn(), console=Console(stderr=True),
-                                transient=True)
-            self.bar.start()
-            self.task = self.bar.add_task("design", total=1)
-        return self._tick
-
-    def _tick(self, done: int, planned: int):
-        if self.bar is not None:
-            self.bar.update(self.task, completed=done, total=max(planned, done))
-
-    def __exit__(self, *exc):
-        if self.bar is not None:
-            self.bar.stop()
-        return False
 
 
 # --------------------------------------------------------------------------- coin plot sides

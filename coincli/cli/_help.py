@@ -120,7 +120,7 @@ def prepare(root, complete: bool = False):
     time of ``--help``, and no second wrapping) laid out in the terminal's width, and every
     command that takes the shared ``--format`` option also takes ``--no-headers`` (one
     definition here, so a command added later has it too; :func:`coincli.io.table.emit`
-    reads it).  Options are shown in panels (:data:`PANELS`), command summaries whole, and with
+    reads it through :func:`coincli.io.table.headers_left_out`).  Options are shown in panels (:data:`PANELS`), command summaries whole, and with
     ``complete`` (shell completion) the options that take names complete them."""
     from coincli.render.terminal import terminal_width
 
@@ -233,12 +233,14 @@ def _example_lines(example: str) -> str:
 
 def _with_no_headers(callback, fmt_name):
     from coincli.errors import InputError
+    from coincli.io.table import headers_left_out
 
     def run_command(*args, no_headers=False, **kwargs):
         if no_headers:
             fmt = str(kwargs.get(fmt_name) or "table").strip().lower()
             if fmt not in ("csv", "tsv"):
                 raise InputError(f"--no-headers goes with --format csv or tsv, not {fmt!r}")
-        return callback(*args, **kwargs)
+        with headers_left_out(no_headers):
+            return callback(*args, **kwargs)
 
     return run_command

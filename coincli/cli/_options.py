@@ -20,11 +20,10 @@ from typing import Annotated
 
 import typer
 
-
 __all__ = [
     "XiOpt", "XisOpt", "CoinOpt", "CountOpt", "CountsOpt", "QuartersOpt", "QuartersManyOpt",
     "DiameterOpt", "ThicknessOpt", "TossesOpt", "OldCountOpt", "SeedOpt", "PsiOpt", "PsisOpt",
-    "PsiDistOpt", "PsiDistsOpt",
+    "PsiDistOpt", "PsiDistsOpt", "FormatOpt", "QuietOpt",
 ]
 
 # --------------------------------------------------------------------------- the coin group
@@ -115,4 +114,20 @@ PsiDistsOpt = Annotated[
     str | None,
     typer.Option("--psi-dist", metavar="SPECS", help="psi densities, comma-separated: "
                  "uniform[:LOW:HIGH], cosine, normal[:MEAN:SD], table:FILE."),
+]
+
+# --------------------------------------------------------------------------- output
+
+FormatOpt = Annotated[
+    str,
+    typer.Option(
+        "--format",
+        "-f",
+        help="Output format: table (default: aligned text, folded to fit a terminal), csv, "
+        "tsv, json, jsonl or markdown (a pipe table).",
+        metavar="FORMAT",
+    ),
+]
+QuietOpt = Annotated[
+    bool, typer.Option("--quiet", "-q", help="Print only the main number (for shell scripts).")
 ]

@@ -257,8 +257,8 @@ def data(ph: Phase, nu: int, nw: int, *, figure: bool = False):
         return d
     import types
 
-    from coincli.core.toss import phase as T
     from coincli.core.models import conditional
+    from coincli.core.toss import phase as T
 
     psi = options.radians(ph.psi_deg)
     try:

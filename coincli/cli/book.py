@@ -14,24 +14,17 @@ from typing import Annotated
 import typer
 
 from coincli.cli import app
-from coincli.cli._options import SeedOpt, TossesOpt
-from coincli.io.table import (
-    FormatOpt,
-    QuietOpt,
-    Result,
-    compute_error,
-    emit_all,
-    stderr_is_terminal,
-    usage_error,
-)
+from coincli.cli._options import FormatOpt, QuietOpt, SeedOpt, TossesOpt
+from coincli.errors import compute_error
+from coincli.io.table import Result, emit_all, usage_error
+from coincli.render.terminal import stderr_is_terminal
 
 
 def _progress(total: int):
-    """The progress bar of a --toss run (:mod:`coincli.cli.toss`'s, imported when a run has
-    tosses to show)."""
-    from coincli.cli.toss import _progress as bar
+    """The progress bar of a --toss run (a bar with the time left from 200,000 tosses)."""
+    from coincli.render.progress import ProgressBar
 
-    return bar(total)
+    return ProgressBar("tossing", total, least=200_000)
 
 
 def _output(result, fmt: str, quiet: bool, out: str | None) -> None:

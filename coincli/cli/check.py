@@ -12,7 +12,8 @@ from typing import Annotated
 import typer
 
 from coincli.cli import _options, app
-from coincli.io.table import FormatOpt, QuietOpt, emit_all
+from coincli.cli._options import FormatOpt, QuietOpt
+from coincli.io.table import emit_all
 
 # --------------------------------------------------------------------------- shared options
 

@@ -11,8 +11,9 @@ import typer
 
 from coincli.cli import _accuracy, _options, app
 from coincli.cli import _bounce as BO
+from coincli.cli._options import FormatOpt, QuietOpt
 from coincli.io import options
-from coincli.io.table import FormatOpt, QuietOpt, emit_all
+from coincli.io.table import emit_all
 from coincli.reports import design as report
 
 # --------------------------------------------------------------------------- models as options
@@ -155,7 +156,7 @@ def table(
         xi=xi, coin=coin, count=count, quarters=quarters, diameter=diameter,
         thickness=thickness, psi=psi, psi_dist=psi_dist, all=all_models, vs=vs, tol=tol,
         method=method, seed=seed, fmt=fmt, quiet=quiet, old_n=old_n,
-        progress=_accuracy.Progress), fmt, quiet)
+        progress=_estimator_bar), fmt, quiet)
     if quiet:  # the note that names a drawn seed (--method mc or qmc) is not shown
         options.report_drawn_seed()
 
@@ -230,3 +231,11 @@ def fair(
     """
     emit_all(report.fair(diameter=diameter, coin=coin, psi_dist=psi_dist, fmt=fmt,
                          quiet=quiet), fmt, quiet)
+
+
+def _estimator_bar(label: str):
+    """The progress bar of a long ``--method mc`` or ``qmc`` run: drawn once the run has taken a
+    second and is not done, on a terminal's stderr only."""
+    from coincli.render.progress import ProgressBar
+
+    return ProgressBar(label, delay=1.0)

@@ -15,11 +15,13 @@ from typing import Annotated
 
 import typer
 
-from coincli.io import grammar as parse
-from coincli.io import options
 from coincli.cli import _bounce as BO
 from coincli.cli import _options, _phase, app
-from coincli.io.table import compute_error, usage_error, write_figure
+from coincli.errors import compute_error
+from coincli.io import grammar as parse
+from coincli.io import options
+from coincli.io.table import usage_error
+from coincli.render.figures import write_figure
 
 plot_app = typer.Typer(
     name="plot",
@@ -262,9 +264,8 @@ def _compute(fn, *args, **kwargs):
 
 
 def _read_data(path: str):
-    from coincli.io.files import FileKindError, read_capped, read_regular
-    from coincli.io.table import stream_reader
     from coincli.io.experiments import parse_experiments
+    from coincli.io.files import FileKindError, read_capped, read_regular, stream_reader
 
     name = "stdin" if path == "-" else path
     try:

@@ -17,36 +17,29 @@ from typing import Annotated
 
 import typer
 
-from coincli.io import grammar as parse
-from coincli.io import options
 from coincli.cli import _bounce as BO
 from coincli.cli import _phase, app
-from coincli.io.table import (
-    Column,
-    FormatOpt,
-    QuietOpt,
-    Result,
-    check_format,
-    compute_error,
-    emit,
-    env_no_color,
-    stderr_is_terminal,
-    stdout_is_terminal,
-    usage_error,
-    values_option,
-    write_figure,
-)
 from coincli.cli._options import (
     CoinOpt,
     CountOpt,
     DiameterOpt,
+    FormatOpt,
     QuartersOpt,
+    QuietOpt,
     SeedOpt,
     ThicknessOpt,
     TossesOpt,
     XiOpt,
     XisOpt,
 )
+from coincli.errors import compute_error
+from coincli.io import grammar as parse
+from coincli.io import options
+from coincli.io.batches import values_option
+from coincli.io.table import Column, Result, check_format, emit, stdout_is_terminal, usage_error
+from coincli.render.figures import write_figure
+from coincli.render.progress import ProgressBar
+from coincli.render.terminal import env_no_color
 
 # Limits, as in coincli.core.toss.flight (kept here so that this module needs no numpy to load).
 U_MAX = 1e8  # m/s, coincli.core.toss.flight.U_MAX
@@ -363,7 +356,9 @@ def toss_cmd(
     z0_m = _z0_m(z0, xi_max, dia, ct == "thick")
     import numpy as np
 
-    from coincli.core.toss import batch as TB, flight as T, launch as TL
+    from coincli.core.toss import batch as TB
+    from coincli.core.toss import flight as T
+    from coincli.core.toss import launch as TL
 
     seed_v = options.seed_value(seed) if drawn else None
     if drawn:
@@ -545,7 +540,8 @@ def simulate_cmd(
     count_n = _tosses(tosses) if tosses is not None else 10_000
     xv = coins.xi
     _xi_for_contact(xv, ct == "thick")
-    from coincli.core.toss import flight as T, simulate as TS
+    from coincli.core.toss import flight as T
+    from coincli.core.toss import simulate as TS
 
     u_spec, w_spec, psi_spec, labels = launch(psi, psi_dist, u, omega)
     seed_v = options.seed_value(seed)
@@ -568,13 +564,13 @@ def simulate_cmd(
             options.report_seed(seed_v, seed is not None)
         BO.simulate(physics, count=count_n, seed=seed_v, xi=xv, u=u_spec, omega=w_spec,
                     psi=psi_spec, diameter=dia, g=gv, labels=labels, fmt=fmt, quiet=quiet,
-                    progress=lambda total: _progress(total, 200))
+                    progress=lambda total: ProgressBar("tossing", total, least=200))
         return
     if stream:
         options.report_seed(seed_v, seed is not None)
         _stream(T, count_n, seed_v, kw)
         return
-    with _progress(count_n) as tick:
+    with ProgressBar("tossing", count_n, least=200_000) as tick:
         sim = _usage(TS.simulate, count_n, seed_v, progress=tick, **kw)
     machine = fmt != "table"
     rows = []
@@ -650,37 +646,6 @@ def _stream(T, count, seed_v, kw):
     out.flush()
 
 
-class _progress:
-    """A rich progress bar on stderr for long runs (``least`` tosses or more) on a terminal;
-    a no-op otherwise."""
-
-    def __init__(self, total: int, least: int = 200_000):
-        self.total = total
-        self.least = least
-        self.bar = None
-
-    def __enter__(self):
-        if self.total >= self.least and stderr_is_terminal():
-            from rich.console import Console
-            from rich.progress import BarColumn, Progress, TimeRemainingColumn
-
-            self.bar = Progress("tossing", BarColumn(), "{task.completed:,}/{task.total:,}",
-                                TimeRemainingColumn(), console=Console(stderr=True),
-                                transient=True)
-            self.bar.start()
-            self.task = self.bar.add_task("toss", total=self.total)
-        return self._tick
-
-    def _tick(self, done: int):
-        if self.bar is not None:
-            self.bar.update(self.task, completed=done)
-
-    def __exit__(self, *exc):
-        if self.bar is not None:
-            self.bar.stop()
-        return False
-
-
 # ------------------------------------------------------------------------ design --landing bounce
 
 
@@ -752,7 +717,8 @@ def bounce_design(physics, *, p_sides, psi, psi_dist, u, omega, diameter, coin, 
     BO.check_speed(physics, _reach(u_spec, U_MAX), T_G, u or HAND["u"])
     BO.design(physics, targets=targets, seed=options.seed_value(seed), tol=tol_v, max_tosses=mt,
               time_limit=tl, u=u_spec, omega=w_spec, psi=psi_spec, diameter=dia, g=T_G,
-              labels=labels, fmt=fmt, quiet=quiet, progress=BO.design_progress)
+              labels=labels, fmt=fmt, quiet=quiet, progress=lambda: ProgressBar("simulating", unit="tosses",
+                                                     elapsed=True))
 
 
 T_G = 9.81  # coincli.core.toss.flight.STANDARD_G
@@ -848,8 +814,8 @@ def phase_cmd(
 
 
 def _phase_figure(path, ph):
-    from coincli.render import figures as P
     from coincli.io.files import check_output_path
+    from coincli.render import figures as P
 
     try:
         P.figure_format(path)

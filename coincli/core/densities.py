@@ -11,10 +11,10 @@ Each density is normalized exactly on ``[0, pi]`` and evaluates on numpy arrays 
   is the table of two equal weights at LOW and HIGH.
 
 ``features()`` tells the quadrature where a density changes quickly (a narrow normal) or has
-kinks (a table), so that it can place breakpoints there.  :func:`parse_density` reads the
-command-line syntax (``uniform``, ``uniform:LOW:HIGH``, ``cosine``, ``normal``,
-``normal:MEAN:SD`` in degrees, ``table:FILE``): the one parser of ``--psi-dist`` for every
-command.
+kinks (a table), so that it can place breakpoints there.  The command-line syntax (``uniform``,
+``uniform:LOW:HIGH``, ``cosine``, ``normal``, ``normal:MEAN:SD`` in degrees, ``table:FILE``)
+is read by :func:`coincli.io.grammar.parse_density`; a table's text by :meth:`Table.from_text`
+(this module reads no files).
 """
 
 from __future__ import annotations
@@ -22,9 +22,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-__all__ = ["Density", "Uniform", "Cosine", "Normal", "Table", "parse_density", "PAPER_DENSITIES"]
+from coincli.errors import shown
 
-MAX_TABLE_BYTES = 10_000_000
+__all__ = ["Density", "Uniform", "Cosine", "Normal", "Table", "PAPER_DENSITIES"]
+
 MAX_TABLE_POINTS = 100_000
 #: the least area (radians times the largest weight) a table may enclose: a density of at most
 #: 2**1000 per radian, well inside the doubles (the quadrature and the samplers then need no
@@ -50,7 +51,8 @@ class Density:
 
     @property
     def spec(self) -> str:
-        """The text that :func:`parse_density` reads back to this density (machine output)."""
+        """The text that :func:`coincli.io.grammar.parse_density` reads back to this density
+        (machine output)."""
         return self.name
 
     @property
@@ -106,8 +108,8 @@ class Normal(Density):
             raise ValueError(f"normal sd must be > 0, got {sd!r}")
         self.mean, self.sd = float(mean), float(sd)
         #: ``180 deg - mean`` in radians when the mean was given in degrees past 90 (set by
-        #: :func:`parse_density`): a normal too narrow to average is Table I there, the angle
-        #: ``coin ... --psi MEAN`` takes
+        #: :func:`coincli.io.grammar.parse_density`): a normal too narrow to average is Table I
+        #: there, the angle ``coin ... --psi MEAN`` takes
         self.mirror: float | None = None
         #: the point of [0, pi] nearest the mean: the density's largest value is there
         self.peak = min(max(self.mean, 0.0), math.pi)
@@ -278,7 +280,7 @@ class Table(Density):
         """Parse lines ``psi,weight`` (or whitespace-separated); ``#`` comments; psi in degrees."""
         pts = []
         prev, last = "", 0.0
-        where = _shown(label)[1:-1]  # error messages repeat at most 60 characters of user text
+        where = shown(label)[1:-1]  # error messages repeat at most 60 characters of user text
         for n, raw in enumerate(text.splitlines(), start=1):
             line = raw.split("#", 1)[0].strip()
             if not line:
@@ -286,7 +288,7 @@ class Table(Density):
             parts = [p for p in line.replace(",", " ").replace(";", " ").split() if p]
             if len(parts) != 2:
                 raise ValueError(f"{where} line {n}: expected 'psi,weight', got "
-                                 f"{_shown(raw.strip())}")
+                                 f"{shown(raw.strip())}")
             try:
                 if not (parts[0].isascii() and parts[1].isascii()):  # float() reads '٢' as 2
                     raise ValueError("digits 0-9 only")
@@ -295,18 +297,18 @@ class Table(Density):
                 if not pts:  # a header line
                     continue
                 raise ValueError(f"{where} line {n}: not two numbers: "
-                                 f"{_shown(raw.strip())}") from None
+                                 f"{shown(raw.strip())}") from None
             x = math.radians(a) if degrees else a
             top = 180.0 if degrees else math.pi
             if not 0.0 <= a <= top:
-                raise ValueError(f"{where} line {n}: psi {_shown(parts[0])} is outside [0, "
+                raise ValueError(f"{where} line {n}: psi {shown(parts[0])} is outside [0, "
                                  f"{top:g}]{' degrees' if degrees else ' radians'}")
             if not b >= 0.0 or b == math.inf:
-                raise ValueError(f"{where} line {n}: weight {_shown(parts[1])} is not a finite "
+                raise ValueError(f"{where} line {n}: weight {shown(parts[1])} is not a finite "
                                  "number >= 0")
             if pts and not x > pts[-1][0]:
-                raise ValueError(f"{where} line {n}: psi {_shown(parts[0])} does not exceed the "
-                                 f"previous point's {_shown(prev)}; psi values must be strictly "
+                raise ValueError(f"{where} line {n}: psi {shown(parts[0])} does not exceed the "
+                                 f"previous point's {shown(prev)}; psi values must be strictly "
                                  "increasing" + (" (as doubles, in radians)" if a > last else ""))
             pts.append((x, b))
             prev, last = parts[0], a
@@ -319,105 +321,3 @@ class Table(Density):
 
 
 PAPER_DENSITIES = {"uniform": Uniform, "cosine": Cosine, "normal": Normal}
-
-
-DENSITY_FORMS = ("uniform, uniform:LOW:HIGH, cosine, normal (the paper's), normal:MEAN:SD "
-                 "(degrees) or table:FILE")
-
-
-def parse_density(text: str) -> Density:
-    """``uniform``, ``uniform:LOW:HIGH``, ``cosine``, ``normal`` (the paper's),
-    ``normal:MEAN:SD`` (degrees) or ``table:FILE`` (lines ``psi_degrees,weight``)."""
-    s = str(text).strip()
-    kind, _, rest = s.partition(":")
-    kind = kind.lower()
-    if kind in ("uniform", "cosine") and not rest:
-        return PAPER_DENSITIES[kind]()
-    if kind == "uniform":
-        return _uniform_on(rest, text)
-    if kind == "normal":
-        if not rest:
-            return Normal()
-        parts = rest.split(":")
-        if len(parts) != 2:
-            raise ValueError(f"psi density must be normal:MEAN:SD in degrees, got {text!r}")
-        from coincli.io.grammar import parse_number
-
-        mean = parse_number(parts[0], "normal mean (degrees)")
-        sd = parse_number(parts[1], "normal sd (degrees)")
-        if not sd > 0:
-            raise ValueError(f"normal sd must be > 0 degrees, got {parts[1]!r}")
-        d = Normal(math.radians(mean), math.radians(sd))
-        if 90.0 < mean <= 180.0:  # Table I's mirror of the mean, taken in degrees (exact)
-            d.mirror = math.radians(180.0 - mean)
-        return d
-    if kind == "table" and rest:
-        return Table.from_text(_read_table_file(rest), label=rest)
-    raise ValueError(f"psi density must be {DENSITY_FORMS}; got {_shown(str(text))}")
-
-
-def _uniform_on(rest: str, text: str) -> Density:
-    """``uniform:LOW:HIGH`` (degrees, 0 <= LOW < HIGH <= 180): the two-point table of equal
-    weights, sampled and integrated exactly; ``uniform:0:180`` is :class:`Uniform` itself."""
-    from coincli.io.grammar import parse_number
-
-    parts = rest.split(":")
-    rule = "uniform:LOW:HIGH in degrees with 0 <= LOW < HIGH <= 180"
-    if len(parts) != 2:
-        raise ValueError(f"psi density must be {rule}, got {_shown(str(text))}")
-    try:
-        lo, hi = (parse_number(p, "uniform bound (degrees)") for p in parts)
-    except ValueError:
-        raise ValueError(f"psi density must be {rule}, got {_shown(str(text))}") from None
-    if lo == hi and 0 <= lo <= 180:
-        raise ValueError(f"psi density {_shown(str(text))} is a single angle; give it as "
-                         f"--psi {parts[0].strip()}, or make LOW < HIGH")
-    if not 0 <= lo < hi <= 180:
-        raise ValueError(f"psi density must be {rule}, got {_shown(str(text))}")
-    if lo == 0 and hi == 180:
-        return Uniform()
-    rad = [math.pi if v == 180 else math.radians(v) for v in (lo, hi)]
-    return Table(rad, [1.0, 1.0], label=f"uniform {lo:g} to {hi:g} deg",
-                 spec=f"uniform:{lo + 0.0:.10g}:{hi:.10g}")
-
-
-def _shown(text: str, limit: int = 60) -> str:
-    """``repr(text)`` for an error message, cut to about ``limit`` characters with '...'."""
-    import re
-
-    r = repr(text)
-    if len(r) <= limit + 2:
-        return r
-    body = ""
-    for tok in re.findall(r"\\(?:x..|u....|U........|.)|.", r[1:limit + 10], re.S):
-        if len(body) + len(tok) > limit - 3:  # never end inside an escape such as \x00
-            break
-        body += tok
-    return f"{r[0]}{body}...{r[0]}"
-
-
-def _read_table_file(path: str) -> str:
-    """The text of a psi table file, read in chunks and never more than ``MAX_TABLE_BYTES + 1``
-    bytes (a device such as /dev/zero has no size to check first); a NUL byte stops it at once.
-    Only a regular file is read (:func:`coincli.io.files.read_regular`: a FIFO or a device is
-    refused without blocking).  UTF-8, a leading byte-order mark dropped."""
-    from coincli.io.files import FileKindError, read_regular
-
-    name = _shown(path)
-    try:
-        data, why = read_regular(path, MAX_TABLE_BYTES)
-    except FileKindError as exc:
-        raise ValueError(f"psi table {name} is {exc.kind}, not a regular file; expected a "
-                         "text file of psi,weight lines") from None
-    except OSError as exc:
-        raise ValueError(f"cannot read psi table {name}: {exc.strerror or exc}") from None
-    if why == "nul":
-        raise ValueError(f"psi table {name} contains a NUL byte; expected a text file "
-                         "of psi,weight lines")
-    if why == "size":
-        raise ValueError(f"psi table {name} is larger than {MAX_TABLE_BYTES} bytes; a table is at "
-                         f"most {MAX_TABLE_BYTES // 10**6} MB and {MAX_TABLE_POINTS} points")
-    try:
-        return data.decode("utf-8")
-    except UnicodeDecodeError:
-        raise ValueError(f"psi table {name} is not UTF-8 text") from None

@@ -18,12 +18,13 @@ A failure anywhere (a full disk, ``ulimit -f``, Ctrl-C, an error while drawing) 
 temporary file and leaves the old target byte for byte as it was.  A symbolic link is followed:
 the file it points to is replaced, the link stays.
 
-Every file ``coin`` reads by name goes through :func:`read_regular` (``--psi-dist table:FILE``,
-``coin fit FILE``, ``coin plot sides --data FILE``): the file is opened without blocking and
-checked to be a regular file before a byte is read, so a FIFO with no writer or a device such
-as ``/dev/zero`` is one line, not a hang; reading stops past a byte limit (see
-:func:`read_capped`).  Standard input (``-``) is each caller's: a pipe there is what the user
-asked for.
+Every file ``coin`` is given (``--psi-dist table:FILE``, ``coin fit FILE``, ``coin plot sides
+--data FILE``, or ``-`` for standard input) is read by :func:`read_text`: a named file through
+:func:`read_regular`, opened without blocking and checked to be a regular file before a byte is
+read, so a FIFO with no writer or a device such as ``/dev/zero`` is one line, not a hang;
+reading stops past a byte limit and at a NUL byte (see :func:`read_capped`).  A pipe on
+standard input is what the user asked for.  Each failure is an :class:`Unreadable` that the
+caller says in its own words.
 
 Errors are :class:`FileKindError` (a ValueError: the path names the wrong kind of file; the
 command line turns it into a usage error, exit 2) or OSError (the system refused: no such file
@@ -44,11 +45,27 @@ __all__ = [
     "read_regular",
     "read_capped",
     "file_kind",
+    "read_text",
+    "Unreadable",
+    "stream_reader",
     "READ_CHUNK",
+    "UTF8_BOM",
 ]
 
 READ_CHUNK = 1 << 20  #: bytes read at a time
-_BOM = b"\xef\xbb\xbf"
+UTF8_BOM = b"\xef\xbb\xbf"  #: the byte-order mark some editors put first; dropped on reading
+
+
+class Unreadable(ValueError):
+    """A file (or stdin) :func:`read_text` could not give as text.  ``reason`` is ``"kind"`` (not
+    a regular file: ``detail`` says what it is, 'a FIFO (named pipe)', ...), ``"system"`` (the
+    system refused: ``detail`` is its words, 'No such file or directory'), ``"size"`` (more
+    than the limit), ``"nul"`` (a NUL byte) or ``"utf8"`` (not UTF-8 text).  Each caller says
+    it in its own words."""
+
+    def __init__(self, reason: str, detail: str = ""):
+        super().__init__(f"{reason}: {detail}" if detail else reason)
+        self.reason, self.detail = reason, detail
 
 
 class FileKindError(ValueError):
@@ -221,8 +238,8 @@ def read_capped(read: Callable[[int], bytes], limit: int,
         if not chunk:
             break
         total += len(chunk)
-        if not parts and chunk.startswith(_BOM):
-            chunk = chunk[len(_BOM):]
+        if not parts and chunk.startswith(UTF8_BOM):
+            chunk = chunk[len(UTF8_BOM):]
         why = None
         nul = chunk.find(b"\0")
         if nul >= 0:
@@ -244,3 +261,43 @@ def read_capped(read: Callable[[int], bytes], limit: int,
     if total > limit:
         return b"", "size"
     return b"".join(parts), None
+
+
+def read_text(source, limit: int) -> str:
+    """The UTF-8 text of the regular file ``source`` (a path) or of the stream ``source`` (stdin:
+    anything with ``read``), at most ``limit`` bytes, a leading byte-order mark dropped: the one
+    reader of the files a command is given (``coin fit FILE``, ``coin plot sides --data FILE``,
+    ``--psi-dist table:FILE``).
+
+    A named file is read by :func:`read_regular` (a FIFO or a device is refused without
+    blocking), a stream by :func:`read_capped`: never more than ``limit + 1`` bytes, and reading
+    stops at a NUL byte.  Every failure is :class:`Unreadable`, whose ``reason`` the caller
+    turns into its message.
+    """
+    try:
+        if hasattr(source, "read"):
+            data, why = read_capped(stream_reader(source), limit)
+        else:
+            data, why = read_regular(source, limit)
+    except FileKindError as exc:
+        raise Unreadable("kind", exc.kind) from None
+    except OSError as exc:
+        raise Unreadable("system", str(exc.strerror or exc)) from None
+    if why is not None:
+        raise Unreadable(why)
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError:
+        raise Unreadable("utf8") from None
+
+
+def stream_reader(stream) -> Callable[[int], bytes]:
+    """``read(n) -> bytes`` for a binary or text stream (stdin, or a file opened ``"rb"``)."""
+    buf = getattr(stream, "buffer", None)
+    read = (buf if buf is not None else stream).read
+
+    def read_bytes(n: int) -> bytes:
+        chunk = read(n)
+        return chunk.encode("utf-8", "surrogateescape") if isinstance(chunk, str) else chunk
+
+    return read_bytes

@@ -1,13 +1,21 @@
-"""Parsing of the values people type: probabilities, lengths, angles, lists and ranges.
+"""Parsing of the values people type: probabilities, lengths, angles, lists and ranges, and the
+psi densities of ``--psi-dist`` (:func:`parse_density`).
 
-Pure functions: text in, numbers out, ValueError with a one-line message otherwise.  Nothing
-here evaluates user text as code.
+Pure functions: text in, numbers (or a :class:`coincli.core.densities.Density`) out, ValueError
+with a one-line message otherwise.  Nothing here evaluates user text as code; the one file read
+is a ``table:FILE`` of ``--psi-dist`` (through :func:`coincli.io.files.read_text`).
 """
 
 from __future__ import annotations
 
 import math
 import re
+from typing import TYPE_CHECKING
+
+from coincli.errors import shown
+
+if TYPE_CHECKING:
+    from coincli.core.densities import Density
 
 __all__ = [
     "parse_number",
@@ -27,6 +35,9 @@ __all__ = [
     "split_unit",
     "SPEED_UNITS",
     "SPIN_UNITS",
+    "parse_density",
+    "DENSITY_FORMS",
+    "MAX_TABLE_BYTES",
 ]
 
 MAX_ROWS = 1_000_000  #: the most rows a range or list may expand to
@@ -400,3 +411,92 @@ def parse_values(text: str, what: str, item=parse_number, *, max_rows: int = MAX
     if len(items) > max_rows:
         raise ValueError(f"{what} lists {len(items)} values; at most {max_rows} are allowed")
     return [item(p, what) for p in items]
+
+
+# --------------------------------------------------------------------------- psi densities
+
+MAX_TABLE_BYTES = 10_000_000  #: the largest psi table file (``--psi-dist table:FILE``)
+
+DENSITY_FORMS = ("uniform, uniform:LOW:HIGH, cosine, normal (the paper's), normal:MEAN:SD "
+                 "(degrees) or table:FILE")
+
+
+def parse_density(text: str) -> Density:
+    """``uniform``, ``uniform:LOW:HIGH``, ``cosine``, ``normal`` (the paper's),
+    ``normal:MEAN:SD`` (degrees) or ``table:FILE`` (lines ``psi_degrees,weight``): the one
+    parser of ``--psi-dist`` for every command."""
+    from coincli.core.densities import PAPER_DENSITIES, Normal, Table
+
+    s = str(text).strip()
+    kind, _, rest = s.partition(":")
+    kind = kind.lower()
+    if kind in ("uniform", "cosine") and not rest:
+        return PAPER_DENSITIES[kind]()
+    if kind == "uniform":
+        return _uniform_on(rest, text)
+    if kind == "normal":
+        if not rest:
+            return Normal()
+        parts = rest.split(":")
+        if len(parts) != 2:
+            raise ValueError(f"psi density must be normal:MEAN:SD in degrees, got {text!r}")
+        mean = parse_number(parts[0], "normal mean (degrees)")
+        sd = parse_number(parts[1], "normal sd (degrees)")
+        if not sd > 0:
+            raise ValueError(f"normal sd must be > 0 degrees, got {parts[1]!r}")
+        d = Normal(math.radians(mean), math.radians(sd))
+        if 90.0 < mean <= 180.0:  # Table I's mirror of the mean, taken in degrees (exact)
+            d.mirror = math.radians(180.0 - mean)
+        return d
+    if kind == "table" and rest:
+        return Table.from_text(_read_table_file(rest), label=rest)
+    raise ValueError(f"psi density must be {DENSITY_FORMS}; got {shown(str(text))}")
+
+
+def _uniform_on(rest: str, text: str) -> Density:
+    """``uniform:LOW:HIGH`` (degrees, 0 <= LOW < HIGH <= 180): the two-point table of equal
+    weights, sampled and integrated exactly; ``uniform:0:180`` is :class:`Uniform` itself."""
+    from coincli.core.densities import Table, Uniform
+
+    parts = rest.split(":")
+    rule = "uniform:LOW:HIGH in degrees with 0 <= LOW < HIGH <= 180"
+    if len(parts) != 2:
+        raise ValueError(f"psi density must be {rule}, got {shown(str(text))}")
+    try:
+        lo, hi = (parse_number(p, "uniform bound (degrees)") for p in parts)
+    except ValueError:
+        raise ValueError(f"psi density must be {rule}, got {shown(str(text))}") from None
+    if lo == hi and 0 <= lo <= 180:
+        raise ValueError(f"psi density {shown(str(text))} is a single angle; give it as "
+                         f"--psi {parts[0].strip()}, or make LOW < HIGH")
+    if not 0 <= lo < hi <= 180:
+        raise ValueError(f"psi density must be {rule}, got {shown(str(text))}")
+    if lo == 0 and hi == 180:
+        return Uniform()
+    rad = [math.pi if v == 180 else math.radians(v) for v in (lo, hi)]
+    return Table(rad, [1.0, 1.0], label=f"uniform {lo:g} to {hi:g} deg",
+                 spec=f"uniform:{lo + 0.0:.10g}:{hi:.10g}")
+
+
+def _read_table_file(path: str) -> str:
+    """The text of a psi table file, read in chunks and never more than ``MAX_TABLE_BYTES + 1``
+    bytes (a device such as /dev/zero has no size to check first); a NUL byte stops it at once.
+    Only a regular file is read (:func:`coincli.io.files.read_text`: a FIFO or a device is
+    refused without blocking).  UTF-8, a leading byte-order mark dropped."""
+    from coincli.core.densities import MAX_TABLE_POINTS
+    from coincli.io.files import Unreadable, read_text
+
+    try:
+        return read_text(path, MAX_TABLE_BYTES)
+    except Unreadable as exc:
+        name = shown(path)
+        raise ValueError({
+            "kind": f"psi table {name} is {exc.detail}, not a regular file; expected a text "
+                    "file of psi,weight lines",
+            "system": f"cannot read psi table {name}: {exc.detail}",
+            "size": f"psi table {name} is larger than {MAX_TABLE_BYTES} bytes; a table is at "
+                    f"most {MAX_TABLE_BYTES // 10**6} MB and {MAX_TABLE_POINTS} points",
+            "nul": f"psi table {name} contains a NUL byte; expected a text file of psi,weight "
+                   "lines",
+            "utf8": f"psi table {name} is not UTF-8 text",
+        }[exc.reason]) from None

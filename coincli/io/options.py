@@ -26,8 +26,10 @@ from __future__ import annotations
 import math
 import sys
 
+from coincli.errors import shown
 from coincli.io import grammar as parse
-from coincli.io.table import shown, usage_error, values_option, values_stream
+from coincli.io.batches import values_option, values_stream
+from coincli.io.table import usage_error
 
 __all__ = [
     "Coins", "resolve_coin", "COIN_FORMS", "refuse_old_count", "seed_value", "DRAWN_SEED",
@@ -333,7 +335,7 @@ def tosses_value(text: str, *, low: int = 1, high: int = parse.MAX_COUNT,
 
 
 def _shown(text: str) -> str:
-    from coincli.io.table import shown
+    from coincli.errors import shown
 
     return shown(text)
 

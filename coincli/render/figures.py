@@ -19,19 +19,21 @@ Every artist that carries data has a ``gid`` (``curve:dynamic``, ``fair:geometri
 can find it without relying on draw order.  The palette is Okabe & Ito's (distinguishable with
 every common colour-vision deficiency); outcomes and models are also told apart by line style.
 :func:`save_figure` writes PNG, SVG or PDF by the file's extension, byte-for-byte reproducible
-(``svg.hashsalt`` fixed, no dates in the metadata).
+(``svg.hashsalt`` fixed, no dates in the metadata); :func:`write_figure` is how a command saves
+one (one line on stderr saying so, each failure one error line).
 """
 
 from __future__ import annotations
 
 import contextlib
 import math
+import sys
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from coincli.core import models
 from coincli.core.modelspec import ModelSpec, table_i_deg
-from coincli.errors import MatplotlibMissing, install_hint
+from coincli.errors import MatplotlibMissing, compute_error, install_hint, usage_error
 
 __all__ = [
     "OKABE_ITO",
@@ -61,6 +63,7 @@ __all__ = [
     "phase_figure",
     "ternary_colours",
     "save_figure",
+    "write_figure",
     "figure_format",
     "check_figure_size",
     "FigureTooSmall",
@@ -155,8 +158,6 @@ def require_matplotlib():
     ``./matplotlibrc`` that is not a regular file is not opened.  :func:`_style` resets every
     setting to matplotlib's defaults plus coin's own while a figure is drawn.
     """
-    import sys
-
     if sys.modules.get("matplotlib") is None:
         _shielded_import()
     try:
@@ -302,6 +303,32 @@ def save_figure(fig, path: str, dpi: float = 150.0) -> int:
     from coincli.io.files import write_atomic
 
     return write_atomic(path, buf.getbuffer())
+
+
+def write_figure(fig, path: str, dpi: float = 150.0, too_small: str = "") -> None:
+    """Save a figure through :func:`save_figure` (whole or not at all, the old file intact on
+    failure) and say so on stderr (``coin: wrote sides.png (1050 x 675 pixels)``), as every command that writes a figure does; each failure is one line (a path
+    that is not a regular file is a usage error; ``too_small`` is the hint for a figure too
+    small for its labels)."""
+    from coincli.io.files import FileKindError
+
+    try:
+        save_figure(fig, path, dpi)
+    except FigureTooSmall as exc:
+        raise usage_error(f"{exc}{too_small}") from None
+    except FileKindError as exc:
+        raise usage_error(f"--out: {exc}") from None
+    except OSError as exc:
+        raise compute_error(f"cannot write {path!r}: {exc.strerror or exc}") from None
+    except MemoryError:
+        raise compute_error(f"not enough memory to draw {path!r}") from None
+    w, h = (float(v) for v in fig.get_size_inches())
+    dims = (f"{round(w * dpi)} x {round(h * dpi)} pixels" if figure_format(path) == "png" else
+            f"{w:g} x {h:g} inches")
+    try:
+        sys.stderr.write(f"coin: wrote {path} ({dims})\n")
+    except (OSError, ValueError):
+        pass
 
 
 # --------------------------------------------------------------------------- models

@@ -1,9 +1,11 @@
-"""The terminal: how wide it is, and whether it takes colour.
+"""The terminal: whether stdout or stderr is one, how wide it is, and whether it takes colour.
 
 One width for everything ``coin`` lays out (tables in :mod:`coincli.io.table`, text plots in
 :mod:`coincli.render.text`, ``coin phase``): :func:`terminal_width`.  ``COLUMNS`` set to a whole
 number from 1 up wins (as in every POSIX tool); anything else there (``0``, empty, a word) is
-ignored and the terminal is asked; when there is no terminal, 80.  Nothing is imported.
+ignored and the terminal is asked; when there is no terminal, 80.  :func:`stdout_is_terminal`
+and :func:`stderr_is_terminal` say where a table may be laid out and a progress bar drawn.
+Nothing is imported.
 """
 
 from __future__ import annotations
@@ -11,7 +13,8 @@ from __future__ import annotations
 import os
 import sys
 
-__all__ = ["terminal_width", "terminal_height", "colour_allowed", "MAX_WIDTH"]
+__all__ = ["terminal_width", "terminal_height", "colour_allowed", "env_no_color",
+           "stdout_is_terminal", "stderr_is_terminal", "MAX_WIDTH"]
 
 DEFAULT_SIZE = (80, 24)
 MAX_WIDTH = 10_000  #: a width beyond this (COLUMNS=999999999) is taken as this
@@ -59,3 +62,22 @@ def terminal_height(stream=None) -> int:
 def colour_allowed() -> bool:
     """Escape codes are welcome: NO_COLOR (no-color.org) unset or empty and TERM not 'dumb'."""
     return not os.environ.get("NO_COLOR") and os.environ.get("TERM", "") != "dumb"
+
+
+def env_no_color() -> bool:
+    """NO_COLOR set to a non-empty value (no-color.org)."""
+    return bool(os.environ.get("NO_COLOR"))
+
+
+def stdout_is_terminal() -> bool:
+    try:
+        return sys.stdout.isatty()
+    except (AttributeError, ValueError):
+        return False
+
+
+def stderr_is_terminal() -> bool:
+    try:
+        return sys.stderr.isatty()
+    except (AttributeError, ValueError):
+        return False

@@ -167,10 +167,6 @@ def plot_size(width: int | None = None, height: int | None = None,
 
 def emit(text, out=None) -> None:
     """Print a rendered plot (colour on a terminal, plain text in a pipe or with NO_COLOR)."""
-    from rich.console import Console
-
-    from coincli.render.terminal import colour_allowed, terminal_width
-
     # NO_COLOR (no-color.org, set to anything non-empty): rich drops colours by itself but keeps
     # bold, italic, dim and reverse; no colour system at all means no escape codes at all, as
     # the tables do (coincli.io.table).  The width is given: rich reads COLUMNS itself, and
@@ -178,6 +174,10 @@ def emit(text, out=None) -> None:
     # On a terminal, titles, legends and notes wrap at words to its width (the plot itself is
     # sized to fit); in a pipe nothing is wrapped.
     import sys
+
+    from rich.console import Console
+
+    from coincli.render.terminal import colour_allowed, terminal_width
 
     stream = out if out is not None else sys.stdout
     try:

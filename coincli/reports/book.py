@@ -18,7 +18,9 @@ import math
 import os
 import re
 
+from coincli.errors import CoinError, compute_error
 from coincli.io import grammar as parse
+from coincli.io.batches import values_option
 from coincli.io.options import (
     range_unit,
     report_seed,
@@ -27,17 +29,8 @@ from coincli.io.options import (
     typed_range_error,
     unit_at_end,
 )
-from coincli.io.table import (
-    CHUNK_ROWS,
-    CoinError,
-    Column,
-    Result,
-    check_format,
-    compute_error,
-    usage_error,
-    values_option,
-    write_figure,
-)
+from coincli.io.table import CHUNK_ROWS, Column, Result, check_format, usage_error
+from coincli.render.figures import write_figure
 
 __all__ = ["book", "seed_note", "MAX_TOSSES", "FACES"]
 

@@ -20,18 +20,11 @@ import math
 from coincli.core import coins as coin_catalog
 from coincli.core import models
 from coincli.core.modelspec import DYNAMIC, GEOMETRIC, ModelSpec, table_i_model, table_i_radians
+from coincli.errors import compute_error
 from coincli.io import grammar as parse
 from coincli.io import options
-from coincli.io.table import (
-    CHUNK_ROWS,
-    Column,
-    Result,
-    Values,
-    check_format,
-    compute_error,
-    usage_error,
-    values_stream,
-)
+from coincli.io.batches import Values, values_stream
+from coincli.io.table import CHUNK_ROWS, Column, Result, check_format, usage_error
 from coincli.reports import accuracy as _accuracy
 from coincli.reports.accuracy import tolist as _tolist
 

@@ -18,10 +18,9 @@ import pytest
 from cli_helpers import error as _error
 from cli_helpers import ok as _ok
 
-from coincli.core import coins
-from coincli.core import models
 from coincli.cli import run
-from coincli.io.table import FAST_MIN_BYTES
+from coincli.core import coins, models
+from coincli.io.batches import FAST_MIN_BYTES
 
 QUARTER = coins.CATALOG["quarter"]
 
@@ -166,7 +165,7 @@ def test_design_fixed_psi_solves_table_one(coin):
 
 def test_design_psi_distribution(coin):
     from coincli.core.averages import marginal
-    from coincli.core.densities import parse_density
+    from coincli.io.grammar import parse_density
 
     out = _ok(coin("design", "-p", "1/3", "--psi-dist", "normal:90:18", "-f", "json"))
     (r,) = _strict_json(out)

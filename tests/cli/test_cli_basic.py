@@ -11,8 +11,8 @@ import sys
 
 import pytest
 
-from coincli.core import models
 from coincli.cli import run
+from coincli.core import models
 
 
 def _run(argv, capsys, stdin=None, monkeypatch=None):

@@ -576,10 +576,10 @@ def test_the_faces_figure_ticks_do_not_overlap(moments):
     # a box from --moments labels its faces "0.7071 x 0 (relative)": six such ticks side by
     # side overlapped in the 7-inch figure until the size went on lines of its own
     pytest.importorskip("matplotlib")
+    from types import SimpleNamespace
+
     from coincli.render import book_figures as bookplot
     from coincli.reports.book import _face_size
-
-    from types import SimpleNamespace
 
     box = SimpleNamespace(size_mm=None, sides=R.box_sides(moments))
     rows = [(f"{s}{k // 2 + 1}", _face_size(box, k), 0, 1 / 6, 0.1, 0.2, 1 / 6)

@@ -13,14 +13,14 @@ from pathlib import Path
 
 import pytest
 
+from coincli.cli import run
 from coincli.core import coins
+from coincli.core.models import dynamic, geometric
 from coincli.core.stats import counts as stats_counts
 from coincli.core.stats import fit as stats_fit
 from coincli.core.stats import intervals as stats_intervals
 from coincli.core.stats import tests as stats
 from coincli.io import experiments
-from coincli.cli import run
-from coincli.core.models import dynamic, geometric
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 TOSSES = DATA / "tosses.csv"
@@ -89,8 +89,8 @@ def test_check_coin_forms(capsys, coin_args, xi):
 
 
 def test_check_psi_dist_and_json(capsys):
-    from coincli.core.densities import Normal, Uniform
     from coincli.core.averages import marginal
+    from coincli.core.densities import Normal, Uniform
 
     code, out, _ = _run(["check", "--xi", "0.58", "--heads", "45", "--sides", "35", "--tails",
                          "20", "--psi-dist", "uniform,normal:90:20", "--format", "json"], capsys)

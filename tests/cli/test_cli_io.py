@@ -23,8 +23,8 @@ import pytest
 from cli_helpers import error
 from cli_helpers import ok as _ok
 
-from coincli.io import table as _common
-from coincli.io.table import MAX_LINE_CHARS, MAX_STDIN_BYTES, MAX_STDIN_LINES
+from coincli.io import batches as _common
+from coincli.io.batches import MAX_LINE_CHARS, MAX_STDIN_BYTES, MAX_STDIN_LINES
 
 
 def _error(result, code: int, *words: str, longest: int = 300) -> str:
@@ -190,9 +190,9 @@ def test_fit_file_cap_names_the_limit(coin, tmp_path, monkeypatch):
 
 
 def test_psi_table_cap_names_the_limit(coin, tmp_path, monkeypatch):
-    from coincli.core import densities
+    from coincli.io import grammar
 
-    monkeypatch.setattr(densities, "MAX_TABLE_BYTES", 1000)
+    monkeypatch.setattr(grammar, "MAX_TABLE_BYTES", 1000)
     path = tmp_path / "psi.csv"
     path.write_text("psi,weight\n" + "".join(f"{k},1.000\n" for k in range(181)))
     _error(coin("table", "--xi", "0.5", "--psi-dist", f"table:{path}"), 2,
@@ -249,7 +249,8 @@ def test_a_bad_stdin_value_is_shown_cut_short(coin):
 
 
 def test_clip_message_keeps_short_values_and_escapes():
-    clip = _common.clip_message
+    from coincli.errors import clip_message as clip
+
     short = "--coin: unknown coin 'quater'; did you mean 'quarter' or 'paper-quarter'?"
     assert clip(short) == short
     long_nul = "got " + repr("\0" * 500) + ", expected a number"

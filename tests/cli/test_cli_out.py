@@ -18,7 +18,6 @@ import time
 from pathlib import Path
 
 import pytest
-
 from cli_helpers import error as _error
 from cli_helpers import ok as _ok
 
@@ -595,7 +594,7 @@ def test_batches_stream_in_flat_memory(tmp_path):
 
 
 def test_a_spooled_batch_gives_the_same_bytes(coin, monkeypatch):
-    import coincli.io.table as common
+    import coincli.io.batches as common
 
     stdin = "".join(f"{k / 70001!r}\n" for k in range(1, 70001))
     whole = _ok(coin("design", "-p", "-", "-f", "csv", stdin=stdin))

@@ -19,7 +19,11 @@ import pytest
 from cli_helpers import error as _error
 from cli_helpers import ok as _ok
 
-from coincli.core.toss import batch as TB, flight as T, launch as TL, phase as TP, simulate as TS
+from coincli.core.toss import batch as TB
+from coincli.core.toss import flight as T
+from coincli.core.toss import launch as TL
+from coincli.core.toss import phase as TP
+from coincli.core.toss import simulate as TS
 
 FAIR = 0.577
 
@@ -138,7 +142,7 @@ def test_simulate_csv_is_the_core(coin):
     out = _ok(coin(*SIM, "--psi-dist", "normal:90:10", "-n", "20000", "--seed", "7",
                    "--format", "csv"))
     rows = list(csv.DictReader(io.StringIO(out)))
-    from coincli.core.densities import parse_density
+    from coincli.io.grammar import parse_density
 
     psi = TL.Dist.from_density(parse_density("normal:90:10"))  # the grammar of coin design
     sim = TS.simulate(20000, 7, xi=0.577, u="normal:2.4:0.3", omega="normal:38:4", psi=psi)

@@ -17,8 +17,8 @@ import warnings
 import numpy as np
 import pytest
 
-from coincli.core import models
 from coincli.cli import run
+from coincli.core import models
 
 TOSSES = """\
 # three experiments: stacks of quarters and a rod

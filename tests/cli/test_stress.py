@@ -231,8 +231,8 @@ DENSITIES = ["uniform", "cosine", "normal", "normal:90:18", "normal:90:0.001", "
 
 
 def _marginal_sweep(spec):
-    from coincli.core.densities import parse_density
     from coincli.core.averages import marginal
+    from coincli.io.grammar import parse_density
 
     d = parse_density(spec)
     o = marginal(np.array(XIS), d)
@@ -268,8 +268,8 @@ def test_marginal_strictly_in_unit_interval_and_monotone(spec):
 
 @pytest.mark.parametrize("spec", ["uniform", "normal"])
 def test_marginal_inverse_across_magnitudes(spec):
-    from coincli.core.densities import parse_density
     from coincli.core.averages import marginal, marginal_inverse
+    from coincli.io.grammar import parse_density
 
     d = parse_density(spec)
     for p in [1e-300, 1e-100, 1e-10, 1e-3, 0.1, 1 / 3, 0.5, 0.9, 1 - 1e-9]:

@@ -7,7 +7,6 @@ import io
 import json
 
 import pytest
-
 from test_cli_out import _peak_kib
 
 
@@ -105,7 +104,7 @@ def test_design_never_prints_an_overflowed_length_as_inf(coin):
 def test_stack_counts_under_a_density_stream(coin, monkeypatch):
     # many counts under a psi density: arrays a chunk at a time (was one scalar quadrature a
     # row held in memory: 24 s of CPU and 167 MB for 200,000 counts; bench_mc_limit)
-    import coincli.io.table as common
+    import coincli.io.batches as common
 
     argv = ("stack", "--count", "1,2,40,1000,100000", "--psi-dist", "normal:30:0.05", "-f",
             "csv")

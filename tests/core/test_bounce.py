@@ -25,9 +25,9 @@ mujoco = pytest.importorskip("mujoco")
 from coincli.core._numerics.quaternion import _qconj, _qrot  # noqa: E402
 from coincli.core.bounce import design as D  # noqa: E402
 from coincli.core.bounce import runs as R  # noqa: E402
+from coincli.core.models import conditional, dynamic  # noqa: E402
 from coincli.core.toss import flight as T  # noqa: E402
 from coincli.core.toss import launch as TL  # noqa: E402
-from coincli.core.models import conditional, dynamic  # noqa: E402
 
 HAND = {"u": "normal:2.4:0.3", "omega": "normal:38:4"}
 

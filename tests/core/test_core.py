@@ -10,11 +10,11 @@ from fractions import Fraction
 import mpmath as mp
 import pytest
 
-from coincli.core import coins
-from coincli.core import models
-from coincli.io import grammar as parse
-from coincli.core.densities import Cosine, Normal, Table, Uniform, parse_density
+from coincli.core import coins, models
 from coincli.core.averages import conditional_inverse, marginal, marginal_inverse
+from coincli.core.densities import Cosine, Normal, Table, Uniform
+from coincli.io import grammar as parse
+from coincli.io.grammar import parse_density
 
 XI_FAIR = 1 / math.sqrt(3)
 

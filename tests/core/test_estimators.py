@@ -15,11 +15,11 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from coincli.cli import run
 from coincli.core import estimators as E
 from coincli.core import models
-from coincli.cli import run
-from coincli.core.densities import Cosine, Normal, Table, Uniform
 from coincli.core.averages import error_bound, marginal, order_for_tol
+from coincli.core.densities import Cosine, Normal, Table, Uniform
 
 XI_FAIR = 1 / math.sqrt(3)
 P2 = Normal(math.pi / 2, math.sqrt(0.1))  # Problem 2: mean pi/2, variance 0.1
@@ -343,7 +343,7 @@ def test_option_errors_are_one_line_usage_errors(argv, message, capsys):
 
 def test_no_progress_bar_off_a_terminal(capsys, monkeypatch):
     """A long run with stderr not a terminal: no bar, nothing on stderr, clean stdout."""
-    import coincli.cli._accuracy as acc
+    import coincli.render.progress as acc
 
     monkeypatch.setattr(acc, "stderr_is_terminal", lambda: False)
     code, out, err = _run(["table", "--xi", "0.577", "--psi-dist", "uniform", "--method", "mc",
@@ -352,15 +352,15 @@ def test_no_progress_bar_off_a_terminal(capsys, monkeypatch):
 
 
 def test_progress_bar_draws_on_stderr_only_after_a_second(monkeypatch):
-    import coincli.cli._accuracy as acc
+    import coincli.render.progress as acc
 
     monkeypatch.setattr(acc, "stderr_is_terminal", lambda: True)
     buf = io.StringIO()
     monkeypatch.setattr(sys, "stderr", buf)
-    bar = acc.Progress("mc test", delay=3600)
+    bar = acc.ProgressBar("mc test", delay=3600)
     bar(10, 100)
     assert bar.bar is None  # not within the delay
-    bar = acc.Progress("mc test", delay=0)
+    bar = acc.ProgressBar("mc test", delay=0)
     bar(10, 100)
     assert bar.bar is not None
     bar(100, 100)
@@ -417,7 +417,7 @@ def test_monte_carlo_refuses_a_tol_beyond_the_run_limit_up_front(capsys, monkeyp
                                       ("normal:30:5", 0.05), ("uniform", 40.0)])
 def test_the_planned_tosses_meet_the_tolerance(spec, xi):
     # the prediction is an upper bound: seeded runs stop by the planned tosses, having met tol
-    from coincli.core.densities import parse_density
+    from coincli.io.grammar import parse_density
 
     d = parse_density(spec)
     spread = E.chance_spread(E.quad(xi, d).value)

@@ -13,8 +13,8 @@ import pytest
 
 from coincli.core import averages as mg
 from coincli.core import models
-from coincli.core.densities import Cosine, Normal, Table, Uniform
 from coincli.core.averages import error_bound, marginal, order_for_tol
+from coincli.core.densities import Cosine, Normal, Table, Uniform
 
 XI_FAIR = 1 / math.sqrt(3)
 REFERENCE = ref.load()
@@ -227,7 +227,7 @@ def test_scalar_path_finite_and_equal_to_the_array_path(spec):
     """One xi at a time and many at once give the same finite chances (the scalar path once
     built a NaN breakpoint where a far-tail offset passed the end of its piece: xi = 0.05 with
     normal:90:10 printed nan)."""
-    from coincli.core.densities import parse_density
+    from coincli.io.grammar import parse_density
 
     d = parse_density(spec)
     xs = np.concatenate([np.geomspace(1e-3, 1e3, 121), [0.05, 0.0725, 1 / math.sqrt(3)]])

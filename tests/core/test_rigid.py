@@ -18,12 +18,11 @@ import math
 import mpmath as mp
 import numpy as np
 import pytest
+import rigid_reference  # tests/ is on sys.path under pytest
 from scipy.integrate import solve_ivp
 
 from coincli.core import rigid as R
 from coincli.core._numerics import elliptic
-
-import rigid_reference  # tests/ is on sys.path under pytest
 
 EPS = 2.220446049250313e-16
 PERMS = [(0, 1, 2), (0, 2, 1), (1, 0, 2), (1, 2, 0), (2, 0, 1), (2, 1, 0)]

@@ -15,11 +15,11 @@ import numpy as np
 import pytest
 import stats_reference as old
 
+from coincli.core.densities import Cosine, Normal
+from coincli.core.models import dynamic, geometric
 from coincli.core.stats import counts as stats_counts
 from coincli.core.stats import fit as stats_fit
 from coincli.core.stats import tests as stats
-from coincli.core.densities import Cosine, Normal
-from coincli.core.models import dynamic, geometric
 
 
 def _random_experiments(seed: int, rows: int) -> list[stats_counts.Experiment]:

@@ -17,8 +17,12 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from coincli.core.toss import batch as TB, flight as T, launch as TL, phase as TP, simulate as TS
 from coincli.core.models import conditional, dynamic, theta0
+from coincli.core.toss import batch as TB
+from coincli.core.toss import flight as T
+from coincli.core.toss import launch as TL
+from coincli.core.toss import phase as TP
+from coincli.core.toss import simulate as TS
 
 FAIR = 1 / math.sqrt(3)
 D = T.DEFAULT_DIAMETER

@@ -15,7 +15,9 @@ import numpy as np
 import pytest
 import toss_reference as R
 
-from coincli.core.toss import batch as TB, flight as T, launch as TL
+from coincli.core.toss import batch as TB
+from coincli.core.toss import flight as T
+from coincli.core.toss import launch as TL
 
 FAIR = 1 / math.sqrt(3)
 D = T.DEFAULT_DIAMETER

@@ -14,7 +14,9 @@ import math
 import numpy as np
 import pytest
 
-from coincli.core.toss import batch as TB, flight as T, simulate as TS
+from coincli.core.toss import batch as TB
+from coincli.core.toss import flight as T
+from coincli.core.toss import simulate as TS
 
 US = [0.0, 1e-300, 1e-6, 2.4, 1e3, 1e8]
 WS = [0.0, 1e-300, 1e-3, 40.0, 240.0, 1e6, 1e10]  # 1e11: the last test (2 s a toss)

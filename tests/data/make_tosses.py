@@ -12,9 +12,9 @@ import math
 
 import numpy as np
 
+from coincli.core.averages import marginal
 from coincli.core.coins import get_coin, stack_xi
 from coincli.core.densities import Normal
-from coincli.core.averages import marginal
 
 rng = np.random.default_rng(2024)
 dens = Normal(math.pi / 2, math.radians(18))

@@ -16,11 +16,10 @@ import io
 import math
 
 import pytest
-
-from coincli.core import coins
-from coincli.core import models
 from cli_helpers import error as _error
 from cli_helpers import ok as _ok
+
+from coincli.core import coins, models
 
 
 class Cmd:
@@ -284,9 +283,11 @@ def test_uniform_low_high_works_in_every_command_with_psi_dist(coin, argv):
 
 def test_uniform_low_high_is_exact(report):
     """uniform:LOW:HIGH against an mpmath reference of the same density, at regime edges too."""
-    from coincli.core.averages import marginal
-    from coincli.core.densities import Table, parse_density
     from marginal_reference import ref_marginal
+
+    from coincli.core.averages import marginal
+    from coincli.core.densities import Table
+    from coincli.io.grammar import parse_density
 
     worst = 0.0
     for spec, lo, hi in (("uniform:60:120", 60, 120), ("uniform:0:30.5", 0, 30.5),
@@ -307,8 +308,8 @@ def test_uniform_low_high_is_exact(report):
 def test_uniform_low_high_samples_exactly():
     import numpy as np
 
-    from coincli.core.densities import parse_density
     from coincli.core.estimators import sample_psi
+    from coincli.io.grammar import parse_density
 
     d = parse_density("uniform:60:120")
     u = np.linspace(0.0, 1.0, 1001)
@@ -386,7 +387,7 @@ def test_seed_option_is_shared():
     assert options.seed_value("12") == 12
     drawn = {options.seed_value(None) for _ in range(4)}
     assert len(drawn) == 4 and all(0 <= s < 2**63 for s in drawn)
-    from coincli.io.table import CoinError
+    from coincli.errors import CoinError
 
     for bad in ("-1", "1.5", "x", "9" * 41):
         with pytest.raises(CoinError, match="--seed must be a whole number >= 0"):

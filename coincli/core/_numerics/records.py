@@ -9,7 +9,6 @@ toss modules (:mod:`coincli.core.toss`), which ``coin toss`` and ``coin simulate
 
 from __future__ import annotations
 
-
 _NEW_LIST = object()  #: a record field's default: a new empty list for each instance
 
 

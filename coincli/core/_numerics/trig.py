@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import math
 
-
 # Half-angle sine and cosine by polynomials: numpy's sin and cos are scalar loops, several times
 # the cost of these array operations.  x = j pi/2 + r with j = rint(2x/pi) (Cody and Waite: pi/2
 # to 33 bits, so j * _P1 is exact for j < 2^20, plus its remainder), |r| <= pi/4; sin r and cos r

@@ -67,7 +67,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-from coincli.errors import PhysicsMissing, install_hint
 from coincli.core._numerics.quaternion import _qaxis, _qconj, _qmul, _qrot
 from coincli.core._numerics.roots import bisect
 from coincli.core.toss.flight import (
@@ -77,6 +76,7 @@ from coincli.core.toss.flight import (
     _check,
     classify,
 )
+from coincli.errors import PhysicsMissing, install_hint
 
 __all__ = [
     "PhysicsMissing",

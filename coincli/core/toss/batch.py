@@ -43,13 +43,13 @@ import math
 from coincli.core._numerics.records import _record
 from coincli.core._numerics.trig import _SIN_TAYLOR, _abs_sin_rough, _sin_into
 from coincli.core.toss.flight import (
+    _EPS,
+    _SQRT3_2,
     DEFAULT_DIAMETER,
     HEADS,
     SIDES,
     STANDARD_G,
     TAILS,
-    _EPS,
-    _SQRT3_2,
     _alpha,
     _Batch,
     _check,
