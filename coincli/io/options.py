@@ -13,7 +13,7 @@
 - **Units typed once** at the end of a range or a distribution (:func:`unit_at_end`,
   :func:`range_unit`).
 - **psi**: ``--psi DEG`` (a list or a range where a command takes many) and
-  ``--psi-dist SPEC[,SPEC...]``, parsed by :func:`coincli.core.densities.parse_density` everywhere.
+  ``--psi-dist SPEC[,SPEC...]``, parsed by :func:`coincli.io.grammar.parse_density` everywhere.
 
 Each function takes the text a command was given (or None) and returns typed values, or raises
 the one-line usage error (:class:`coincli.errors.InputError`).  The typer declarations of these
@@ -470,8 +470,8 @@ def radians(deg: float) -> float:
 
 
 def psi_density(spec: str, what: str = "--psi-dist"):
-    """One psi density (:func:`coincli.core.densities.parse_density`), or a usage error."""
-    from coincli.core.densities import parse_density
+    """One psi density (:func:`coincli.io.grammar.parse_density`), or a usage error."""
+    from coincli.io.grammar import parse_density
 
     try:
         return parse_density(spec)
