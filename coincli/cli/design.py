@@ -277,9 +277,12 @@ def design(
     check_format(fmt)
     bounce_only = {"--u": u, "--omega": omega, "--seed": seed, "--max-tosses": max_tosses,
                    "--time-limit": time_limit}
-    physics = BO.parse_physics(BO.landing_of(landing), surface=surface, restitution=restitution,
-                               friction=friction, torsional=torsional, rolling=rolling,
-                               height=height, vx=vx, jobs=jobs, dt=dt, t_max=t_max) \
+    from coincli.reports import bounce as bounce_report
+
+    physics = bounce_report.parse_physics(
+        bounce_report.landing_of(landing), surface=surface, restitution=restitution,
+        friction=friction, torsional=torsional, rolling=rolling, height=height, vx=vx,
+        jobs=jobs, dt=dt, t_max=t_max) \
         if landing.strip().lower() == "bounce" or not any(
             v is not None for v in bounce_only.values()) else None
     if physics is None:
@@ -290,11 +293,15 @@ def design(
     else:
         if model is not None or method is not None or thickness is not None:
             raise usage_error("--model, --method and --thickness go with --landing catch")
-        from coincli.cli.toss import bounce_design
+        from coincli.io.table import emit_all
 
-        return bounce_design(physics, p_sides=p_sides, psi=psi, psi_dist=psi_dist, u=u,
-                             omega=omega, diameter=diameter, coin=coin, tol=tol, seed=seed,
-                             max_tosses=max_tosses, time_limit=time_limit, fmt=fmt, quiet=quiet)
+        result = bounce_report.bounce_design(
+            physics, p_sides=p_sides, psi=psi, psi_dist=psi_dist, u=u, omega=omega,
+            diameter=diameter, coin=coin, tol=tol, seed=seed, max_tosses=max_tosses,
+            time_limit=time_limit, fmt=fmt, quiet=quiet, progress=BO.design_progress)
+        emit_all(result, fmt, quiet)
+        bounce_report.warn_unmet(result)  # after the table
+        return
     m = choose_model(model, psi, psi_dist)
     if method is not None and method.strip().lower() not in _accuracy.METHODS:
         raise usage_error(f"--method must be auto or quad; got {method!r}")

@@ -139,7 +139,7 @@ def test_bounce_launch_defaults_are_the_hand_toss():
     """design and plot sides --landing bounce launch as simulate and toss do: the one hand toss
     of coincli.core.toss.flight, not a copy of it."""
     from coincli.core.toss import flight as T
-    from coincli.cli.toss import bounce_launch
+    from coincli.reports.launch import bounce_launch
 
     u, w, psi, text = bounce_launch(None, None, None, None)
     assert (u, w, psi) == (T.HAND_TOSS["u"], T.HAND_TOSS["omega"], T.HAND_TOSS["psi"])
