@@ -10,7 +10,6 @@ from typing import Annotated
 
 import typer
 
-
 TolOpt = Annotated[
     str | None,
     typer.Option("--tol", help="Absolute error wanted on each psi-averaged chance, e.g. "

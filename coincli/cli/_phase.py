@@ -1,34 +1,22 @@
-"""The options of the phase-space picture (Fig. 3), shared by ``coin phase`` and ``coin plot phase``.
+"""The options of the phase-space picture (Fig. 3), shared by ``coin phase`` and
+``coin plot phase``.
 
 Both commands draw the same thing, so they take the same options with the same defaults: the
 coin group (default: the fair coin 1/sqrt 3, a quarter's size), ``--psi`` (90), ``--u LOW:HIGH``
 (0:3 m/s) and ``--omega LOW:HIGH`` (0:60 rad/s), with units, ``--cols``/``--rows`` (the grid),
 ``--exact``, ``--no-curves``, ``--toss U:OMEGA`` (marks), ``--g`` and ``--contact``.  The old
 spellings of ``coin plot phase`` (``--u-range``, ``--omega-range``, ``--exact-curves``,
-``--resolution``) still work, hidden.  No numpy, scipy or rich at import.
+``--resolution``) still work, hidden.  These are the typer declarations; they are resolved
+and drawn by :mod:`coincli.reports.phase`.  No numpy, scipy or rich at import.
 """
 
 from __future__ import annotations
 
-import math
-from typing import Annotated, NamedTuple
+from typing import Annotated
 
 import typer
 
-from coincli.io import grammar as parse
-from coincli.io import options
-from coincli.io.table import usage_error
-
-U_DEFAULT = "0:3"  #: m/s
-OMEGA_DEFAULT = "0:60"  #: rad/s
-U_TOP = 1e8  #: m/s, coincli.core.toss.flight.U_MAX
-OMEGA_TOP = 1e12  #: rad/s
-MIN_SPAN = 1e-6  #: the narrowest range, in m/s or rad/s
-MAX_CELLS = 4000  #: along each axis of the grid
-MAX_MARKS = 20
-FIGURE_CELLS = 400  #: the grid of a figure file, along each axis
-DATA_CELLS = 100  #: the grid of csv/json
-FAIR_XI = 1 / math.sqrt(3)
+from coincli.reports.phase import DATA_CELLS, FIGURE_CELLS, OMEGA_DEFAULT, U_DEFAULT
 
 PsiOpt = Annotated[str, typer.Option("--psi", metavar="DEG", help="Angle psi of the angular "
                                      "momentum to the normal, degrees [0, 180].")]
@@ -58,216 +46,3 @@ OldURangeOpt = Annotated[str | None, typer.Option("--u-range", hidden=True)]
 OldOmegaRangeOpt = Annotated[str | None, typer.Option("--omega-range", hidden=True)]
 OldExactOpt = Annotated[bool, typer.Option("--exact-curves", hidden=True)]
 OldResolutionOpt = Annotated[str | None, typer.Option("--resolution", hidden=True)]
-
-
-class Phase(NamedTuple):
-    """The resolved options: SI units (m, m/s, rad/s), psi in degrees."""
-
-    xi: float
-    psi_deg: float
-    u_range: tuple
-    omega_range: tuple
-    diameter: float  #: m
-    g: float
-    contact: str
-    exact: bool
-    curves: bool
-    marks: list
-    cols: int | None
-    rows: int | None
-    typed: dict  #: the user's text of u, omega, g, diameter, xi (for messages)
-
-
-def _short(v: float) -> str:
-    """1e8, 1e-6 (not 1e+08, 1e-06)."""
-    return f"{v:g}".replace("e+0", "e").replace("e+", "e").replace("e-0", "e-")
-
-
-def _range(text: str, what: str, parse_one, unit: str, top: float) -> tuple[float, float]:
-    """LOW:HIGH with a unit after HIGH (for both) or after each."""
-    rule = (f"{what} must be LOW:HIGH ({unit} or with a unit) with 0 <= LOW < HIGH <= "
-            f"{_short(top)} and HIGH - LOW >= {_short(MIN_SPAN)}")
-    parts = text.split(":")
-    if len(parts) != 2:
-        raise usage_error(f"{rule}, got {text!r}")
-    units = parse.SPEED_UNITS if unit == "m/s" else parse.SPIN_UNITS
-    lo_t, hi_t = (p.strip() for p in parts)
-    _, u_lo = parse.split_unit(lo_t, units)
-    _, u_hi = parse.split_unit(hi_t, units)
-    if u_hi is not None and u_lo is None:
-        lo_t = lo_t + u_hi
-    try:
-        lo, hi = parse_one(lo_t, what), parse_one(hi_t, what)
-    except ValueError:
-        raise usage_error(f"{rule}, got {text!r}") from None
-    if not (0 <= lo < hi <= top and hi - lo >= MIN_SPAN):
-        raise usage_error(f"{rule}, got {text!r}")
-    return lo, hi
-
-
-def _cells(text: str | None, what: str) -> int | None:
-    if text is None:
-        return None
-    try:
-        v = parse.parse_count(text, what)
-    except ValueError:
-        v = 0
-    if not 2 <= v <= MAX_CELLS:
-        raise usage_error(f"{what} must be a whole number from 2 to {MAX_CELLS}, got {text!r}")
-    return v
-
-
-def _marks(text: str | None) -> list[tuple[float, float]]:
-    if text is None:
-        return []
-    out = []
-    for item in text.split(","):
-        bad = usage_error("--toss must be U:OMEGA, finite numbers >= 0 in m/s and rad/s or with "
-                          f"units (1.2:40, 120cm/s:6rev/s; a list a:b,c:d); got {item!r}")
-        parts = item.split(":")
-        if len(parts) != 2:
-            raise bad
-        try:
-            out.append((parse.parse_speed_ms(parts[0], "--toss"),
-                        parse.parse_spin_rads(parts[1], "--toss")))
-        except ValueError:
-            raise bad from None
-    if len(out) > MAX_MARKS:
-        raise usage_error(f"--toss marks at most {MAX_MARKS} tosses")
-    return out
-
-
-def contact_value(text: str) -> str:
-    c = text.strip().lower()
-    if c not in ("rim", "thick"):
-        raise usage_error(f"--contact must be rim or thick, got {text!r}")
-    return c
-
-
-def g_value(text: str) -> float:
-    try:
-        v = parse.parse_number(text, "--g")
-    except ValueError:
-        v = math.nan
-    if not 0 < v <= 1e100:  # NaN fails
-        raise usage_error(f"--g must be a number > 0 and <= 1e+100 m/s^2, got {text!r}")
-    return v
-
-
-def diameter_m(coins, typed: str | None = None) -> float:
-    """The coin's diameter in metres (a quarter's when only --xi is given); ``typed`` is the
-    --diameter text, quoted by the error."""
-    mm = coins.diameter_mm if coins is not None and coins.diameter_mm is not None else 24.26
-    if not 1e-300 <= mm <= 1e103:
-        got = repr(typed) if typed is not None else f"{_short(mm)} mm"
-        raise usage_error(f"--diameter must be a length from 1e-300 mm to 1e103 mm (1e100 m), "
-                          f"got {got}")
-    return mm / 1000.0
-
-
-def resolve(*, xi, coin, count, quarters, diameter, thickness, psi, u, omega, cols, rows,
-            exact, no_curves, toss, g, contact, old_u=None, old_omega=None, old_exact=False,
-            old_resolution=None) -> Phase:
-    """The options of the phase picture, checked, in SI units."""
-    for new, old, name_new, name_old in ((u, old_u, "--u", "--u-range"),
-                                         (omega, old_omega, "--omega", "--omega-range")):
-        if new is not None and old is not None:
-            raise usage_error(f"{name_old} is the old spelling of {name_new}; give one")
-    u_what = "--u-range" if old_u is not None else "--u"
-    w_what = "--omega-range" if old_omega is not None else "--omega"
-    u = u if u is not None else old_u
-    omega = omega if omega is not None else old_omega
-    if old_resolution is not None:
-        if cols is not None or rows is not None:
-            raise usage_error("--resolution N is the old spelling of --cols N --rows N; give "
-                              "one")
-        cols = rows = old_resolution
-    coins = options.resolve_coin(xi, coin, count, quarters, diameter, thickness,
-                                  required=False, xi_rule="finite")
-    x = FAIR_XI if coins is None else float(coins.xis[0])
-    ct = contact_value(contact)
-    if ct == "thick" and x > 1e100:
-        raise usage_error(f"--xi must be at most 1e100 with --contact thick (the launch height "
-                          f"rises by h/2), got {xi.strip() if xi is not None else _short(x)}")
-    typed = {"u": (u or U_DEFAULT).strip(), "omega": (omega or OMEGA_DEFAULT).strip(),
-             "g": f"{g.strip()} m/s^2", "xi": f"{x:g}",
-             "diameter": f"{coins.diameter_mm:g} mm" if coins is not None and
-             coins.diameter_mm is not None else "24.26 mm"}
-    return Phase(
-        xi=x, psi_deg=options.psi_angle(psi),
-        u_range=_range(u or U_DEFAULT, u_what, parse.parse_speed_ms, "m/s", U_TOP),
-        omega_range=_range(omega or OMEGA_DEFAULT, w_what, parse.parse_spin_rads, "rad/s",
-                           OMEGA_TOP),
-        diameter=diameter_m(coins, diameter), g=g_value(g), contact=ct, exact=exact or old_exact,
-        curves=not no_curves, marks=_marks(toss), cols=_cells(cols, "--cols"),
-        rows=_cells(rows, "--rows"), typed=typed)
-
-
-def text_size(ph: Phase, extra_lines: int = 10) -> tuple[int, int]:
-    """The grid of a picture in the terminal: ``--cols``/``--rows``, or what fits it with the
-    command line above it and the next prompt below (the axis labels take a few columns; the
-    title, axes and legend 8 lines, the two prompts 2: ``extra_lines``)."""
-    from coincli.render.terminal import terminal_height, terminal_width
-
-    tw, th = terminal_width(), terminal_height()
-    label = max(len(f"{ph.omega_range[1]:g}"), 4) + 3
-    cols = ph.cols if ph.cols is not None else max(10, min(tw, MAX_CELLS) - label)
-    rows = ph.rows if ph.rows is not None else max(6, min(th, MAX_CELLS) - extra_lines)
-    return cols, rows
-
-
-def check_followable(ph: Phase) -> None:
-    """Every cell must be a toss the core can follow: check the top corner of the ranges."""
-    from coincli.core.toss import flight as T
-
-    _, phase, problem = T.flight_limits(ph.xi, options.radians(ph.psi_deg), ph.u_range[1],
-                                        ph.omega_range[1], diameter=ph.diameter, g=ph.g,
-                                        contact=ph.contact)
-    if not problem:
-        return
-    if problem == 1:
-        what = "the time of flight at the top of --u overflows a double; raise --g"
-    elif problem == 2:
-        what = (f"the coin would turn up to omega * t = {phase:.3g} rad in the air at the top "
-                f"of the --u and --omega ranges, beyond the {T.MAX_PHASE:g} rad where a double "
-                f"no longer holds the phase; lower --omega (got {ph.typed['omega']}) or --u "
-                f"(got {ph.typed['u']})")
-    else:
-        what = (f"the spin at the top of --omega is too fast to follow: omega^2 * a overflows "
-                f"a double; lower --omega (got {ph.typed['omega']})")
-    raise usage_error(what)
-
-
-def data(ph: Phase, nu: int, nw: int, *, figure: bool = False):
-    """The picture's data on an ``nu`` by ``nw`` grid: :class:`coincli.render.figures.PhaseData` for a
-    figure; for text and csv the same fields from :func:`coincli.core.toss.phase.phase_map` directly (so
-    that they load no plotting module)."""
-    check_followable(ph)
-    if figure:
-        from coincli.render import figures as P
-
-        try:
-            d = P.phase_data(ph.xi, ph.psi_deg, u_range=ph.u_range, omega_range=ph.omega_range,
-                             nu=nu, nw=nw, marks=ph.marks, exact_curves=ph.exact,
-                             diameter=ph.diameter, g=ph.g, contact=ph.contact)
-        except ValueError as exc:
-            raise usage_error(str(exc)) from None
-        if not ph.curves:
-            d.curves = []
-        return d
-    import types
-
-    from coincli.core.models import conditional
-    from coincli.core.toss import phase as T
-
-    psi = options.radians(ph.psi_deg)
-    try:
-        pm = T.phase_map(ph.xi, psi, ph.u_range, ph.omega_range, (nu, nw), diameter=ph.diameter,
-                         g=ph.g, contact=ph.contact, exact_curves=ph.exact)
-    except ValueError as exc:
-        raise usage_error(str(exc)) from None
-    return types.SimpleNamespace(
-        xi=ph.xi, psi_deg=ph.psi_deg, u=pm.u, omega=pm.omega, outcome=pm.codes,
-        curves=list(pm.curves) if ph.curves else [], fractions=pm.fractions(),
-        vigorous=conditional(ph.xi, psi), marks=list(ph.marks), exact_curves=ph.exact,
-        u_range=ph.u_range, omega_range=ph.omega_range)

@@ -15,16 +15,10 @@ import typer
 
 from coincli.cli import app
 from coincli.cli._options import FormatOpt, QuietOpt, SeedOpt, TossesOpt
-from coincli.errors import compute_error
-from coincli.io.table import Result, emit_all, usage_error
+from coincli.errors import compute_error, usage_error
+from coincli.io.table import Result, emit_all
+from coincli.render.progress import tossing_bar
 from coincli.render.terminal import stderr_is_terminal
-
-
-def _progress(total: int):
-    """The progress bar of a --toss run (a bar with the time left from 200,000 tosses)."""
-    from coincli.render.progress import ProgressBar
-
-    return ProgressBar("tossing", total, least=200_000)
 
 
 def _output(result, fmt: str, quiet: bool, out: str | None) -> None:
@@ -111,6 +105,6 @@ def book_cmd(
 
     result = report.book(size=size, moments=moments, spin=spin, times=times, toss=toss,
                          tosses=n, seed=seed, flight=flight, start=start, rule=rule, out=out,
-                         fmt=fmt, quiet=quiet, progress=_progress)
+                         fmt=fmt, quiet=quiet, progress=tossing_bar)
     _output(result, fmt, quiet, out)
     report.seed_note(result, seed, quiet)

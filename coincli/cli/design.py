@@ -14,6 +14,7 @@ from coincli.cli import _bounce as BO
 from coincli.cli._options import FormatOpt, QuietOpt
 from coincli.io import options
 from coincli.io.table import emit_all
+from coincli.render.progress import estimator_bar, simulating_bar
 from coincli.reports import design as report
 
 # --------------------------------------------------------------------------- models as options
@@ -104,13 +105,18 @@ def design(
     seq 0.05 0.05 0.95 | coin design -p - --format csv ;
     coin design --p-sides 1/3 --landing bounce --surface wood --seed 1
     """
-    emit_all(report.design(
+    result = report.design(
         p_sides, model=model, psi=psi, psi_dist=psi_dist, diameter=diameter,
         thickness=thickness, coin=coin, tol=tol, method=method, landing=landing,
         surface=surface, restitution=restitution, friction=friction, torsional=torsional,
         rolling=rolling, u=u, omega=omega, release_height=height, vx=vx, seed=seed,
         max_tosses=max_tosses, time_limit=time_limit, jobs=jobs, dt=dt, t_max=t_max, fmt=fmt,
-        quiet=quiet), fmt, quiet)
+        quiet=quiet, progress=simulating_bar)
+    emit_all(result, fmt, quiet)
+    if landing.strip().lower() == "bounce":
+        from coincli.reports.bounce import warn_unmet
+
+        warn_unmet(result)  # after the table
 
 
 # --------------------------------------------------------------------------- table
@@ -156,7 +162,7 @@ def table(
         xi=xi, coin=coin, count=count, quarters=quarters, diameter=diameter,
         thickness=thickness, psi=psi, psi_dist=psi_dist, all=all_models, vs=vs, tol=tol,
         method=method, seed=seed, fmt=fmt, quiet=quiet, old_n=old_n,
-        progress=_estimator_bar), fmt, quiet)
+        progress=estimator_bar), fmt, quiet)
     if quiet:  # the note that names a drawn seed (--method mc or qmc) is not shown
         options.report_drawn_seed()
 
@@ -233,9 +239,3 @@ def fair(
                          quiet=quiet), fmt, quiet)
 
 
-def _estimator_bar(label: str):
-    """The progress bar of a long ``--method mc`` or ``qmc`` run: drawn once the run has taken a
-    second and is not done, on a terminal's stderr only."""
-    from coincli.render.progress import ProgressBar
-
-    return ProgressBar(label, delay=1.0)

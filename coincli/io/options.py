@@ -26,10 +26,9 @@ from __future__ import annotations
 import math
 import sys
 
-from coincli.errors import shown
+from coincli.errors import shown, usage_error
 from coincli.io import grammar as parse
 from coincli.io.batches import values_option, values_stream
-from coincli.io.table import usage_error
 
 __all__ = [
     "Coins", "resolve_coin", "COIN_FORMS", "refuse_old_count", "seed_value", "DRAWN_SEED",

@@ -78,3 +78,20 @@ class ProgressBar:
         if self.bar is not None:
             self.bar.stop()
             self.bar = None
+
+
+def tossing_bar(total: int, least: int = 200_000) -> ProgressBar:
+    """The bar of a run of ``total`` tosses (``coin simulate``, ``coin book --toss``, the
+    bouncing runs): the time left, from ``least`` tosses."""
+    return ProgressBar("tossing", total, least=least)
+
+
+def simulating_bar() -> ProgressBar:
+    """The bar of ``coin design --landing bounce``: the tosses done of those planned (the plan
+    grows) and the time taken."""
+    return ProgressBar("simulating", unit="tosses", elapsed=True)
+
+
+def estimator_bar(label: str) -> ProgressBar:
+    """The bar of a long ``--method mc`` or ``qmc`` run: drawn once it has taken a second."""
+    return ProgressBar(label, delay=1.0)

@@ -14,9 +14,9 @@ import sys
 from typing import NamedTuple
 
 from coincli.core.modelspec import ModelSpec
-from coincli.errors import compute_error
+from coincli.errors import compute_error, usage_error
 from coincli.io.options import seed_value
-from coincli.io.table import Column, usage_error
+from coincli.io.table import Column
 
 METHODS = ("auto", "quad", "mc", "qmc")
 #: the most tosses (mc) or Sobol points (qmc) one command run simulates for --tol, shared by

@@ -18,7 +18,7 @@ import math
 import os
 import re
 
-from coincli.errors import CoinError, compute_error
+from coincli.errors import CoinError, compute_error, usage_error
 from coincli.io import grammar as parse
 from coincli.io.batches import values_option
 from coincli.io.options import (
@@ -29,7 +29,7 @@ from coincli.io.options import (
     typed_range_error,
     unit_at_end,
 )
-from coincli.io.table import CHUNK_ROWS, Column, Result, check_format, usage_error
+from coincli.io.table import CHUNK_ROWS, Column, Result, check_format
 from coincli.render.figures import write_figure
 
 __all__ = ["book", "seed_note", "MAX_TOSSES", "FACES"]

@@ -14,11 +14,11 @@ from __future__ import annotations
 import math
 import sys
 
-from coincli.errors import compute_error, shown
+from coincli.errors import compute_error, shown, usage_error
 from coincli.io import grammar as parse
 from coincli.io import options
 from coincli.io.files import FileKindError, read_capped, read_regular, stream_reader
-from coincli.io.table import CHUNK_ROWS, Column, Result, check_format, usage_error
+from coincli.io.table import CHUNK_ROWS, Column, Result, check_format
 
 __all__ = ["check", "fit", "MACHINE_COLUMNS", "FIT_COLUMNS", "MAX_FILE_BYTES"]
 

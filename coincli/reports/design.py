@@ -20,11 +20,11 @@ import math
 from coincli.core import coins as coin_catalog
 from coincli.core import models
 from coincli.core.modelspec import DYNAMIC, GEOMETRIC, ModelSpec, table_i_model, table_i_radians
-from coincli.errors import compute_error
+from coincli.errors import compute_error, usage_error
 from coincli.io import grammar as parse
 from coincli.io import options
 from coincli.io.batches import Values, values_stream
-from coincli.io.table import CHUNK_ROWS, Column, Result, check_format, usage_error
+from coincli.io.table import CHUNK_ROWS, Column, Result, check_format
 from coincli.reports import accuracy as _accuracy
 from coincli.reports.accuracy import tolist as _tolist
 
@@ -163,25 +163,12 @@ def _stack_columns(coin, p, model: ModelSpec, xi=None):
 
 
 def _physics(landing: str, **bounce_options):
-    """The ``--landing`` and bounce options, parsed by the bounce code: its Physics, or None
-    for ``--landing catch`` (then no bounce option may be given).
+    """The ``--landing`` and bounce options, parsed by the bounce reports
+    (:func:`coincli.reports.bounce.parse_physics`): its Physics, or None for ``--landing
+    catch`` (then no bounce option may be given)."""
+    from coincli.reports import bounce
 
-    The bounce code is still :mod:`coincli.cli._bounce` (``landing_of``, ``parse_physics``);
-    this is the one place the design reports call it."""
-    from coincli.cli import _bounce as BO
-
-    return BO.parse_physics(BO.landing_of(landing), **bounce_options)
-
-
-def _bounce_design(physics, **kwargs) -> list:
-    """``coin design --landing bounce``: simulated tosses on a surface, a probit curve fitted
-    and inverted for each target.  The bounce design is still
-    :func:`coincli.cli.toss.bounce_design`, which writes its own output: nothing is left to
-    return.  This is the one place the design reports call it."""
-    from coincli.cli.toss import bounce_design
-
-    bounce_design(physics, **kwargs)
-    return []
+    return bounce.parse_physics(bounce.landing_of(landing), **bounce_options)
 
 
 def design(p_sides: str, *, model: str | None = None, psi: str | None = None,
@@ -193,12 +180,14 @@ def design(p_sides: str, *, model: str | None = None, psi: str | None = None,
            omega: str | None = None, release_height: str | None = None, vx: str | None = None,
            seed: str | None = None, max_tosses: str | None = None,
            time_limit: str | None = None, jobs: str | None = None, dt: str | None = None,
-           t_max: str | None = None, fmt: str = "table", quiet: bool = False):
+           t_max: str | None = None, fmt: str = "table", quiet: bool = False, progress=None):
     """``coin design``: the aspect ratio (and size, and nearest stack of a catalog coin) that
     lands on a side with the chance ``p_sides``, under a model; one row per target.
 
-    With ``landing="bounce"`` the design is simulated (MuJoCo) instead (see
-    :func:`_bounce_design`)."""
+    With ``landing="bounce"`` the design is simulated (MuJoCo) instead
+    (:func:`coincli.reports.bounce.bounce_design`; ``progress()``, a progress bar, or None);
+    its result may carry a warning that :func:`coincli.reports.bounce.warn_unmet` writes after
+    the table."""
     check_format(fmt)
     bounce_only = {"--u": u, "--omega": omega, "--seed": seed, "--max-tosses": max_tosses,
                    "--time-limit": time_limit}
@@ -215,10 +204,12 @@ def design(p_sides: str, *, model: str | None = None, psi: str | None = None,
     else:
         if model is not None or method is not None or thickness is not None:
             raise usage_error("--model, --method and --thickness go with --landing catch")
-        return _bounce_design(physics, p_sides=p_sides, psi=psi, psi_dist=psi_dist, u=u,
-                              omega=omega, diameter=diameter, coin=coin, tol=tol, seed=seed,
-                              max_tosses=max_tosses, time_limit=time_limit, fmt=fmt,
-                              quiet=quiet)
+        from coincli.reports.bounce import bounce_design
+
+        return bounce_design(physics, p_sides=p_sides, psi=psi, psi_dist=psi_dist, u=u,
+                             omega=omega, diameter=diameter, coin=coin, tol=tol, seed=seed,
+                             max_tosses=max_tosses, time_limit=time_limit, fmt=fmt,
+                             quiet=quiet, progress=progress)
     m = choose_model(model, psi, psi_dist)
     if method is not None and method.strip().lower() not in _accuracy.METHODS:
         raise usage_error(f"--method must be auto or quad; got {method!r}")

@@ -138,8 +138,8 @@ def test_plot_sides_bounce_without_a_curve_draws_the_points(coin):
 def test_bounce_launch_defaults_are_the_hand_toss():
     """design and plot sides --landing bounce launch as simulate and toss do: the one hand toss
     of coincli.core.toss.launch, not a copy of it."""
-    from coincli.cli.toss import bounce_launch
     from coincli.core.toss import launch as T
+    from coincli.reports.launch import bounce_launch
 
     u, w, psi, text = bounce_launch(None, None, None, None)
     assert (u, w, psi) == (T.HAND_TOSS["u"], T.HAND_TOSS["omega"], T.HAND_TOSS["psi"])

@@ -290,7 +290,7 @@ def test_phase_text_in_a_pipe_is_letters_with_legend(coin):
 
 
 def test_phase_colour_on_a_terminal(coin, monkeypatch):
-    import coincli.cli.toss as C
+    import coincli.reports.phase as C
 
     monkeypatch.setattr(C, "stdout_is_terminal", lambda: True)
     monkeypatch.delenv("NO_COLOR", raising=False)
@@ -362,7 +362,7 @@ def _error_without(result, code, words, absent=()):
 def test_simulate_n_is_capped_and_the_message_names_the_cap_and_the_way_out(coin, monkeypatch):
     import time
 
-    import coincli.cli.toss as C
+    import coincli.reports.launch as C
 
     assert C.MAX_TOSSES == T.MAX_TOSSES == 10**8
     # was: no cap; 10^10 tosses ran for about 3 hours (and --stream as long)

@@ -1,0 +1,517 @@
+"""The bouncing runs (``--landing bounce``, issue 16): the surface and launch options, and what
+``coin toss``, ``coin simulate`` and ``coin design`` print when the coin lands on a surface,
+bounces and settles; the simulated points of ``coin plot sides --landing bounce``.
+
+The physics is :mod:`coincli.core.bounce.engine` (MuJoCo, an optional extra).  This module parses
+the surface options (:func:`parse_physics`: :class:`Physics`, or None for ``--landing catch``),
+turns a missing MuJoCo into the one-line hint ``pip install 'thickcoin[physics]'`` (exit 1),
+and builds the results (:func:`simulate`, :func:`toss`, :func:`design`, called by
+:mod:`coincli.reports.toss` and :func:`bounce_design`, the report of ``coin design --landing
+bounce``).  A run's progress is shown by a bar the caller passes (``progress``); none when
+None.  Nothing here imports numpy, scipy, rich or mujoco at import time; ``--landing catch``
+(the default) never loads them.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+
+from coincli.errors import compute_error, usage_error
+from coincli.io import grammar as parse
+from coincli.io.batches import values_option
+from coincli.io.table import Column, Result
+from coincli.reports.launch import (
+    HAND,
+    U_MAX,
+    bounce_launch,
+    bounded_number,
+    core_call,
+    no_progress,
+    reach,
+    tosses_count,
+)
+
+LANDINGS = ("catch", "bounce")
+#: coincli.core.bounce.engine.SURFACES, named without loading mujoco
+SURFACE_NAMES = ("wood", "hard-floor", "felt", "rice")
+MAX_BOUNCE_TOSSES = 10**6  #: -n with --landing bounce: ~4 hours at ~75 tosses/s on two cores
+STANDARD_G = 9.81  # coincli.core.toss.flight.STANDARD_G
+
+
+class Physics:
+    """The parsed ``--landing bounce`` options (SI)."""
+
+    __slots__ = ("surface", "height", "vx", "jobs", "dt", "t_max", "B")
+
+    def describe(self) -> str:
+        s = self.surface
+        return (f"surface {s.name} (restitution {s.restitution:g}, friction {s.friction:g}, "
+                f"torsional {s.torsional * 1000:g} mm, rolling {s.rolling * 1000:g} mm)")
+
+
+def bounce_module():
+    """:mod:`coincli.core.bounce.engine` with MuJoCo loaded, or the one-line install hint
+    (exit 1)."""
+    from coincli.core.bounce import engine as B
+
+    try:
+        B.require_mujoco()
+    except B.PhysicsMissing as exc:
+        raise compute_error(str(exc)) from None
+    return B
+
+
+def landing_of(text: str) -> str:
+    t = text.strip().lower()
+    if t not in LANDINGS:
+        raise usage_error(f"--landing must be catch or bounce, got {text!r}")
+    return t
+
+
+def _zero_length(text: str) -> bool:
+    """``0``, ``0mm``, ``0.0 cm``...: a zero length (which the shared length parser, made for
+    sizes, refuses), its unit checked by that parser."""
+    import re
+
+    m = re.fullmatch(r"\s*([-+]?[0-9.]+(?:e[-+]?[0-9]+)?)\s*([a-z]*)\s*", str(text).lower())
+    if m is None:
+        return False
+    try:
+        if parse.parse_number(m.group(1), "length") != 0:
+            return False
+        return not m.group(2) or parse.parse_length_mm("1" + m.group(2)) > 0
+    except ValueError:
+        return False
+
+
+def _length_m(text: str, what: str, hi_mm: float) -> float:
+    """A length from 0 to ``hi_mm`` mm (a number in mm, or with a unit), in metres."""
+    try:
+        v = parse.parse_length_mm(text, what)
+    except ValueError as exc:
+        if not _zero_length(text):
+            raise usage_error(str(exc).replace("a finite length > 0", "a finite length >= 0")
+                              ) from None
+        v = 0.0
+    if not 0.0 <= v <= hi_mm:
+        raise usage_error(f"{what} must be a length from 0 to {hi_mm:g} mm, got {text!r}")
+    return v / 1000.0
+
+
+def _dist(text: str, what: str, unit: str, scale: float, hi: float):
+    """A fixed value (a length with a unit for mm) or normal:MEAN:SD / uniform:LOW:HIGH."""
+    from coincli.core.toss import launch as T
+
+    t = text.strip()
+    if ":" not in t:
+        if unit == "mm":
+            return _length_m(t, what, hi)
+        return bounded_number(t, what, 0.0, hi)
+    try:
+        return T.parse_dist(t, what, 0.0, hi, unit).scaled(scale)
+    except ValueError as exc:
+        raise usage_error(str(exc)) from None
+
+
+def parse_physics(landing: str, *, surface=None, restitution=None, friction=None,
+                  torsional=None, rolling=None, height=None, vx=None, jobs=None, dt=None,
+                  t_max=None) -> Physics | None:
+    """The bounce options, or None for ``--landing catch`` (then none may be given)."""
+    if landing == "catch":
+        extra = [name for name, v in (("--surface", surface), ("--restitution", restitution),
+                                      ("--friction", friction), ("--torsional", torsional),
+                                      ("--rolling", rolling), ("--release-height", height),
+                                      ("--vx", vx),
+                                      ("--jobs", jobs), ("--dt", dt), ("--t-max", t_max))
+                 if v is not None]
+        if extra:
+            raise usage_error(f"{', '.join(extra)} go{'es' if len(extra) == 1 else ''} with "
+                              "--landing bounce (the catch ends at first contact: no surface)")
+        return None
+    name = None if surface is None else surface.strip().lower()
+    if name is not None and name not in SURFACE_NAMES:
+        raise usage_error(f"--surface must be one of {', '.join(SURFACE_NAMES)}, got {surface!r}")
+    e = None if restitution is None else bounded_number(restitution, "--restitution", 0.06,
+                                                        0.95)
+    mu = None if friction is None else bounded_number(friction, "--friction", 0.0, 10.0)
+    tor = None if torsional is None else _length_m(torsional, "--torsional", 100.0)
+    rol = None if rolling is None else _length_m(rolling, "--rolling", 100.0)
+    B = bounce_module()
+    p = Physics()
+    p.B = B
+    if name is None and e is not None and mu is None:
+        raise usage_error("--restitution without --surface needs --friction too (or start "
+                          "from a preset: --surface wood --restitution 0.4)")
+    if name is None and mu is not None and e is None:
+        raise usage_error("--friction without --surface needs --restitution too (or start from "
+                          "a preset: --surface wood --friction 0.5)")
+    try:
+        p.surface = B.surface(name, restitution=e, friction=mu, torsional=tor, rolling=rol)
+    except ValueError as exc:
+        raise usage_error(str(exc)) from None
+    p.height = 0.0 if height is None else _dist(height, "--release-height", "mm", 1e-3, 1e5)
+    p.vx = 0.0 if vx is None else _dist(vx, "--vx", "m/s", 1.0, 100.0)
+    if jobs is None:
+        from coincli.core.bounce.runs import default_jobs
+
+        p.jobs = default_jobs()
+    else:
+        j = jobs.strip()
+        if not (j.isascii() and j.isdigit()) or not 1 <= int(j) <= 1024:
+            raise usage_error(f"--jobs must be a whole number from 1 to 1024, got {jobs!r}")
+        p.jobs = int(j)
+    p.dt = B.DEFAULT_DT if dt is None else bounded_number(dt, "--dt", 1e-6, 1e-3)
+    p.t_max = B.DEFAULT_T_MAX if t_max is None else bounded_number(t_max, "--t-max", 0.01,
+                                                                    1000.0)
+    return p
+
+
+def check_speed(p: Physics, u_top: float, g: float, text: str) -> None:
+    """Refuse a launch speed whose flight cannot end within ``--t-max``: the coin rises and
+    falls back for ``2 u / g`` seconds before it reaches a surface at the launch plane, so
+    ``u`` may be at most ``g t_max / 2`` (49 m/s at the default 10 s).  ``u_top``: the largest
+    speed the run draws (m/s); ``text``: the value as typed."""
+    u_max = g * p.t_max / 2
+    if not u_top <= u_max:
+        raise usage_error(f"--u must be at most {u_max:.3g} m/s with --landing bounce and "
+                          f"--t-max {p.t_max:g} s (the coin must land within --t-max: the "
+                          f"flight lasts 2u/g), got {text!r}")
+
+
+def check_coin(p: Physics, xi: float | None, dia: float, *, xi_text=None, diameter_text=None,
+               thickness_text=None) -> None:
+    """Refuse, naming the option as typed, a coin MuJoCo cannot simulate: a diameter outside
+    [the smallest with a mass and inertia MuJoCo takes at xi = 100, 10 m], or an aspect ratio
+    (``xi`` None: not checked) too thin for that diameter
+    (:func:`coincli.core.bounce.engine.smallest_xi`)."""
+    B = p.B
+    why = "(MuJoCo's limits on a body's mass and inertia)"
+    if not B.smallest_diameter() <= dia <= 10.0:
+        lo = B.round_up(B.smallest_diameter() * 1000)
+        what = "--diameter" if diameter_text is not None else "the coin's diameter"
+        got = repr(diameter_text) if diameter_text is not None else f"{dia * 1000:g} mm"
+        raise usage_error(f"{what} must be from {lo:g} to 10000 mm with --landing bounce "
+                          f"{why}, got {got}")
+    if xi is None:
+        return
+    lo = B.smallest_xi(dia)
+    if not xi >= lo:
+        if thickness_text is not None:
+            raise usage_error(f"--thickness must be at least {B.round_up(lo * dia * 1000):g} mm "
+                              f"with --landing bounce and a {dia * 1000:g} mm diameter {why}, "
+                              f"got {thickness_text!r}")
+        got = repr(xi_text) if xi_text is not None else f"{xi:g}"
+        raise usage_error(f"--xi must be at least {B.round_up(lo):g} with --landing bounce and "
+                          f"D = {dia * 1000:g} mm {why}, got {got}")
+
+
+def dist_text(v, unit: str, scale: float = 1.0) -> str:
+    if isinstance(v, float):
+        return f"{v * scale:g} {unit}"
+    return f"{v.scaled(scale)} {unit}"
+
+
+# --------------------------------------------------------------------------- coin simulate
+
+
+def simulate(p: Physics, *, count, seed, xi, u, omega, psi, diameter, g, labels, fmt,
+             progress=None) -> Result:
+    """``coin simulate --landing bounce``: frequencies among settled tosses with Wilson
+    intervals, what the catch would have said of the same tosses, the vigorous limit.
+    ``progress(total)``: a progress bar (a context manager giving ``tick(done)``), or None."""
+    from coincli.core.bounce import runs
+    from coincli.core.toss.simulate import wilson_interval
+
+    if count > MAX_BOUNCE_TOSSES:
+        raise usage_error(f"-n must be at most {MAX_BOUNCE_TOSSES} with --landing bounce (a "
+                          f"simulated toss takes milliseconds), got {count}")
+    with (progress or no_progress)(count) as tick:
+        sim = core_call(runs.simulate, count, seed, xi=xi, u=u, omega=omega, psi=psi,
+                        surf=p.surface, landing="bounce", height=p.height, vx=p.vx,
+                        diameter=diameter, g=g, dt=p.dt, t_max=p.t_max, jobs=p.jobs,
+                        progress=tick)
+    rows = []
+    n = sim.n
+    for i, f in enumerate(sim.frequencies):
+        rows.append((f.outcome, f.count, f.p, f.lo, f.hi, sim.catch_counts[i] / n,
+                     float(sim.vigorous[i])))
+    lo, hi = wilson_interval(sim.counts[3], n)
+    rows.append(("unsettled", sim.counts[3], sim.counts[3] / n, lo, hi, None, None))
+    common = ["bounce", p.surface.name, p.surface.restitution, p.surface.friction, sim.seed,
+              sim.mean_bounces, sim.mean_t_settle, sim.agree / n]
+    rows = [r + tuple(common) for r in rows]
+    columns = [
+        Column("outcome", "outcome", "text"), Column("count", "count", "int"),
+        Column("frequency", "frequency"), Column("ci_low", "95% low"),
+        Column("ci_high", "95% high"), Column("caught", "if caught"),
+        Column("vigorous", "vigorous limit"), Column("landing", "landing", "text"),
+        Column("surface", "surface", "text"), Column("restitution", "restitution"),
+        Column("friction", "friction"), Column("seed", "seed", "int"),
+        Column("mean_bounces", "mean bounces"), Column("mean_t_settle", "mean time to settle"),
+        Column("agree_caught", "same as caught"),
+    ]
+    if fmt == "table":  # the human table: the run-wide numbers go to the note
+        columns = columns[:7]
+        rows = [r[:7] for r in rows]
+    note = (f"Simulated table (MuJoCo), not the paper's catch: {n} tosses, seed {sim.seed}, "
+            f"onto {p.describe()}; xi = {xi:g}, {labels}; surface "
+            f"{dist_text(p.height, 'mm', 1000)} below the launch plane, horizontal speed "
+            f"{dist_text(p.vx, 'm/s')}; dt = {p.dt:g} s.  Frequencies among the "
+            f"{sim.settled} settled tosses, 95% Wilson intervals; {sim.counts[3]} still moving "
+            f"at {p.t_max:g} s are 'unsettled' (their share of all tosses).  Mean bounces "
+            f"{sim.mean_bounces:.3g}, mean time to settle {sim.mean_t_settle:.3g} s; "
+            f"{sim.agree / n:.1%} land as the catch at first contact would have said ('if "
+            "caught': the same tosses caught, eq. 7).  The vigorous limit is the paper's catch "
+            "model averaged over psi.")
+    return Result("coin simulate --landing bounce", columns, rows, note,
+                  quiet=[r[2] for r in rows[:3]])
+
+
+# --------------------------------------------------------------------------- coin toss
+
+
+def toss(p: Physics, *, xi, psi, u, omega, diameter, g, z0, trajectory, fmt,
+         note_extra: str = "", seed: int | None = None) -> Result:
+    """``coin toss --landing bounce``: one toss onto the surface, its bounces, time to settle
+    and final side; ``trajectory`` (a path) gets the time series as CSV, written atomically."""
+    from coincli.core.toss.flight import NAMES, default_z0
+
+    B = p.B
+    if trajectory is not None:
+        _output_path(trajectory)
+    if not (isinstance(p.height, float) and isinstance(p.vx, float)):
+        raise usage_error("coin toss takes one --release-height and one --vx (a number, not a "
+                          "distribution)")
+    coin = core_call(B.Coin, xi, diameter)
+    z0v = default_z0(xi, diameter, "thick") if z0 is None else z0
+    eng = core_call(B.Engine, coin, p.surface, dt=p.dt, g=g, landing="bounce", t_max=p.t_max)
+    launch = B.Launch(u, omega, psi, z0v, p.height, p.vx, 0.0)
+    t_land = eng.first_contacts([launch])[0]
+    if not t_land < p.t_max:  # a lower surface lengthens the flight past 2u/g
+        raise usage_error(f"the coin lands {t_land:.4g} s after launch, past --t-max "
+                          f"{p.t_max:g} s: lower --u or --release-height, or raise --t-max")
+    r = core_call(eng.run, launch, record=trajectory is not None, t_contact=t_land)
+    if trajectory is not None:
+        write_csv_atomic(trajectory, B.TRAJECTORY_COLUMNS, r.trajectory)
+    names = NAMES
+    data = [[xi], [math.degrees(psi)], [u], [omega], ["bounce"], [p.surface.name],
+            [r.t_first], [names[r.catch_code]], [r.bounces], [r.t_settle],
+            [math.degrees(r.alpha)], [r.outcome], [r.steps]]
+    columns = [
+        Column("xi", "xi"), Column("psi_deg", "psi (deg)"), Column("u", "u (m/s)"),
+        Column("omega", "omega (rad/s)"), Column("landing", "landing", "text"),
+        Column("surface", "surface", "text"), Column("t_first", "first contact (s)", "g10"),
+        Column("caught", "if caught (eq. 7)", "text"), Column("bounces", "bounces", "int"),
+        Column("t_settle", "settled at (s)", "g6"), Column("tilt_deg", "final tilt (deg)"),
+        Column("outcome", "outcome", "text"), Column("steps", "MuJoCo steps", "int"),
+    ]
+    note = (f"One toss onto {p.describe()} (MuJoCo, dt = {p.dt:g} s), the surface "
+            f"{p.height * 1000:g} mm below the launch plane; D = {diameter * 1000:g} mm.  "
+            "'settled at': when the coin's energy (less that of rolling, when it rolls on its "
+            "side without slipping) fell below what it needs to cross a corner, so the side "
+            "could no longer change.  'if caught': the paper's catch at the first contact.")
+    if trajectory is not None:
+        note += f"  Trajectory: {trajectory} ({len(r.trajectory)} rows)."
+    note += note_extra
+    if seed is not None and fmt != "table":  # drawn launch values: the seed that repeats them
+        columns.append(Column("seed", "seed", "int"))
+        data.append([seed])
+    return Result("coin toss --landing bounce", columns, [], note, quiet=r.outcome,
+                  vertical=True, data=data)
+
+
+def _output_path(path: str) -> None:
+    """Refuse a --trajectory path that cannot be written, before any simulating."""
+    from coincli.io.files import FileKindError, check_output_path
+
+    try:
+        check_output_path(path)
+    except FileKindError as exc:
+        raise usage_error(f"--trajectory: {exc}") from None
+    except OSError as exc:
+        raise compute_error(f"cannot write {path!r}: {exc.strerror or exc}") from None
+
+
+def write_csv_atomic(path: str, header, rows) -> None:
+    """A CSV written whole or not at all (:func:`coincli.io.files.write_atomic`)."""
+    from coincli.io.files import FileKindError, write_atomic
+
+    lines = [",".join(header)]
+    lines += [",".join(repr(v) if isinstance(v, float) else str(v) for v in row) for row in rows]
+    try:
+        write_atomic(path, ("\n".join(lines) + "\n").encode())
+    except FileKindError as exc:
+        raise usage_error(f"--trajectory: {exc}") from None
+    except OSError as exc:
+        raise compute_error(f"cannot write {path!r}: {exc.strerror or exc}") from None
+
+
+# --------------------------------------------------------------------------- coin design
+
+
+def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, psi, diameter,
+           g, labels, progress=None) -> DesignResult:
+    """The aspect ratios of the ``targets`` chances of a side, fitted to simulated tosses, as
+    :func:`bounce_design` prints them.  ``progress()``: a progress bar (a context manager
+    giving ``tick(done, planned)``), or None."""
+    from coincli.core.bounce import design as bounce_design
+
+    with (progress or no_progress)() as tick:
+        r = core_call(bounce_design.design, targets, seed=seed, tol=tol, max_tosses=max_tosses,
+                      time_limit=time_limit, u=u, omega=omega, psi=psi, surf=p.surface,
+                      landing="bounce", height=p.height, vx=p.vx, diameter=diameter, g=g,
+                      dt=p.dt, t_max=p.t_max, jobs=p.jobs, progress=tick)
+    dia_mm = diameter * 1000
+    rows = [(t, x, lo, hi, dia_mm * x, float(f.p_sides(x)), f.p_value, len(f.points), r.tosses,
+             r.seed)
+            for t, x, lo, hi, f in zip(r.targets, r.xi, r.low, r.high, r.fits, strict=True)]
+    columns = [
+        Column("p_sides", "P(sides) target"), Column("xi", "xi = h/D"),
+        Column("xi_low", "95% low"), Column("xi_high", "95% high"),
+        Column("thickness_mm", f"thickness (mm) for D = {dia_mm:g}"),
+        Column("fitted_p_sides", "fitted P(sides)"), Column("fit_p_value", "fit p-value"),
+        Column("fit_points", "aspect ratios fitted", "int"),
+        Column("tosses", "tosses", "int"), Column("seed", "seed", "int"),
+    ]
+    why = {"tol": f"every interval within --tol {tol:g}",
+           "max_tosses": f"--max-tosses {max_tosses} reached before --tol {tol:g}",
+           "time_limit": f"the --time-limit of {time_limit:g} s passed before --tol {tol:g}"}
+    note = (f"Simulated table (MuJoCo), not the paper's catch: tosses onto {p.describe()}, "
+            f"{labels}; seed {r.seed}.  {r.tosses} tosses ({r.unsettled} unsettled, left out) "
+            f"at {len(r.fit.points)} aspect ratios in {r.rounds + 1} "
+            f"round{'' if r.rounds == 0 else 's'}.  Each answer is "
+            "from P(sides) = Phi(alpha + beta ln xi) fitted by maximum likelihood to the "
+            "aspect ratios near it ('aspect ratios fitted'; "
+            + "; ".join(f"{t:.4g}: Phi({f.alpha:.4g} + {f.beta:.4g} ln xi), deviance "
+                        f"{f.deviance:.3g} on {f.df} df, p = {f.p_value:.3g}"
+                        for t, f in zip(r.targets, r.fits, strict=True))
+            + ")" + ("; a curve misses its points by more than their noise: its interval is "
+                     "widened by the dispersion" if any(f.p_value < 0.01 for f in r.fits)
+                     else "")
+            + f"; 95% intervals by the delta method.  Stopped: {why[r.stopped_by]}"
+            + ("" if r.first >= bounce_design.DESIGN_FIRST else
+               f" (--max-tosses {max_tosses} cut the first sweep to {r.first} tosses per aspect "
+               f"ratio, from {bounce_design.DESIGN_FIRST})")
+            + ("" if r.stopped_by == "tol" else
+               f"; --max-tosses {r.tosses} reproduces this result") + ".  "
+            "The catch model (no --landing) gives the paper's xi.  Toss a prototype and check "
+            "it with coin check.")
+    return DesignResult("coin design --landing bounce", columns, rows, note,
+                        quiet=[row[1] for row in rows], vertical=len(rows) == 1,
+                        warning=None if r.met else f"{why[r.stopped_by]}; the intervals are "
+                        "wider than asked")
+
+
+def bounce_design(physics, *, p_sides, psi, psi_dist, u, omega, diameter, coin, tol, seed,
+                  max_tosses, time_limit, fmt="table", quiet=False, progress=None
+                  ) -> DesignResult:
+    """``coin design --landing bounce``: the report, from the options as typed (``physics``:
+    :func:`parse_physics` of the surface options).  ``fmt`` and ``quiet`` are the command's
+    (unused: the same result is written in every format); ``progress``: a progress bar for
+    :func:`design`, or None.  After writing it, call :func:`warn_unmet`."""
+    from coincli.core import coins as coin_catalog
+    from coincli.io.options import seed_value
+
+    targets = values_option(p_sides, "--p-sides", parse.parse_probability, bounds=(0.0, 1.0))
+    targets = [float(t) for t in targets]
+    if len(targets) > 20:
+        raise usage_error(f"--landing bounce designs at most 20 targets a run, got "
+                          f"{len(targets)}")
+    for t in targets:
+        if not 0.0 < t < 1.0:
+            raise usage_error(f"--p-sides must be strictly between 0 and 1 with --landing "
+                              f"bounce, got {t:g}")
+    tol_v = 0.01 if tol is None else bounded_number(tol, "--tol", 1e-4, 1.0)
+    mt = 200_000 if max_tosses is None else tosses_count(max_tosses)
+    tl = 300.0 if time_limit is None else bounded_number(time_limit, "--time-limit", 1.0, 1e6)
+    if diameter is not None:
+        try:
+            dia = parse.parse_length_mm(diameter, "--diameter") / 1000
+        except ValueError as exc:
+            raise usage_error(str(exc)) from None
+    else:
+        try:
+            dia = coin_catalog.get_coin(coin).diameter_mm / 1000
+        except ValueError as exc:
+            raise usage_error(str(exc)) from None
+    u_spec, w_spec, psi_spec, labels = bounce_launch(psi, psi_dist, u, omega)
+    check_coin(physics, None, dia, diameter_text=diameter)
+    check_speed(physics, reach(u_spec, U_MAX), STANDARD_G, u or HAND["u"])
+    return design(physics, targets=targets, seed=seed_value(seed), tol=tol_v, max_tosses=mt,
+                  time_limit=tl, u=u_spec, omega=w_spec, psi=psi_spec, diameter=dia,
+                  g=STANDARD_G, labels=labels, progress=progress)
+
+
+class DesignResult(Result):
+    """What ``coin design --landing bounce`` prints, and ``warning``: the line that follows it
+    on stderr when the run stopped before every interval was within ``--tol``
+    (:func:`warn_unmet` writes it, after the table)."""
+
+    __slots__ = ("warning",)
+
+    def __init__(self, *args, warning: str | None = None, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.warning = warning
+
+
+def warn_unmet(results) -> None:
+    """After a report's output is written: the warning of a bounce design that stopped short
+    of ``--tol`` (:class:`DesignResult`), on stderr; nothing for any other result."""
+    for r in [results] if isinstance(results, Result) else results:
+        if getattr(r, "warning", None):
+            sys.stdout.flush()
+            sys.stderr.write(f"coin: warning: {r.warning}\n")
+
+
+
+# --------------------------------------------------------------------------- coin plot sides
+
+
+class FittedSpec:
+    """The fitted bounce curve, shaped as :class:`coincli.core.modelspec.ModelSpec` for the plots
+    (``forward``, ``inverse``, ``label``, ``gid``)."""
+
+    key = "fitted"
+    closed_form = False
+
+    def __init__(self, fit, surface_name: str):
+        self.fit = fit
+        self.label = f"bounce on {surface_name}: fitted probit (simulated)"
+        self.name = self.gid = "bounce"
+
+    def forward(self, xi):
+        from coincli.core.models import Outcome
+
+        s = self.fit.p_sides(xi)
+        return Outcome((1 - s) / 2, s, (1 - s) / 2)  # faces not told apart by the fit
+
+    def inverse(self, p):
+        return self.fit.inverse(p)
+
+
+#: The aspect ratios `coin plot sides --landing bounce` simulates, at most: below 0.05 a coin
+#: hardly ever lands on its side (no points worth their time), above 100 MuJoCo's body limits.
+PLOT_XI = (0.05, 100.0)
+
+
+def sides_points(p: Physics, *, seed, n, xis, u, omega, psi, diameter, g):
+    """Simulated points (one per xi, 95% Wilson intervals) and the fitted curve, or None and
+    why not when the points do not determine one."""
+    from coincli.core.bounce import design as bounce_design
+    from coincli.core.bounce import runs
+    from coincli.render.figures import ExperimentPoint
+
+    pts = []
+    for j, x in enumerate(xis):
+        r = core_call(runs.simulate, n, seed, xi=x, u=u, omega=omega, psi=psi, surf=p.surface,
+                 landing="bounce", height=p.height, vx=p.vx, diameter=diameter, g=g, dt=p.dt,
+                 t_max=p.t_max, jobs=p.jobs, stream=(0, j))
+        f = r.frequencies[1]
+        pts.append(ExperimentPoint(f"simulated bounce on {p.surface.name}", x, r.settled,
+                                   f.count, f.p, f.lo, f.hi))
+    try:
+        fit = bounce_design.fit_sides([(e.xi, e.n, e.sides) for e in pts])
+    except ValueError as exc:
+        return pts, None, str(exc)
+    return pts, FittedSpec(fit, p.surface.name), None
