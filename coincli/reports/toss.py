@@ -405,8 +405,10 @@ def _letters(T, count, seed_v, kw):
     (by the writer), so bad input still fails cleanly with nothing printed."""
     import numpy as np
 
+    from coincli.core.toss import simulate as TS
+
     table = np.array([ord(c) for c in T.LETTERS], dtype=np.uint8)
-    chunks = T.simulate_chunks(count, seed_v, **kw)
+    chunks = TS.simulate_chunks(count, seed_v, **kw)
     codes = core_call(next, chunks)
     while codes is not None:
         buf = np.empty(2 * codes.size - 1, dtype=np.uint8)
