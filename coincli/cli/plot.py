@@ -21,7 +21,7 @@ plot_app = typer.Typer(
     name="plot",
     help="Draw the paper's figures with your design and data on them: sides (Fig. 5a), psi "
     "(Fig. 2d), map (Fig. 2a-c), phase (Fig. 3).  PNG, SVG or PDF by the --out file's "
-    "extension (needs matplotlib: pip install 'coincli\\[plot]'); a text plot in the terminal "
+    "extension (needs matplotlib: pip install 'thickcoin\\[plot]'); a text plot in the terminal "
     "otherwise.  Example: coin plot sides --p-sides 1/3 --out sides.png",
     no_args_is_help=True,
     context_settings={"help_option_names": ["-h", "--help"]},

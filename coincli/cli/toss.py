@@ -206,7 +206,7 @@ def phase_cmd(
     contact: ContactOpt = "rim",
     out: Annotated[str | None, typer.Option(
         "--out", "-o", metavar="FILE", help="Write a figure: .png, .svg or .pdf (needs "
-        "matplotlib: pip install 'coincli\\[plot]').")] = None,
+        "matplotlib: pip install 'thickcoin\\[plot]').")] = None,
     fmt: FormatOpt = "table",
 ):
     """The pre-images of heads, sides and tails over (u, omega): Fig. 3 of the paper.

@@ -158,6 +158,7 @@ def resolve(*, xi, coin, count, quarters, diameter, thickness, psi, u, omega, co
             raise usage_error("--resolution N is the old spelling of --cols N --rows N; give "
                               "one")
         cols = rows = old_resolution
+    cols_what = rows_what = "--resolution" if old_resolution is not None else None
     coins = _options.resolve_coin(xi, coin, count, quarters, diameter, thickness,
                                   required=False, xi_rule="finite")
     x = FAIR_XI if coins is None else float(coins.xis[0])
@@ -175,8 +176,8 @@ def resolve(*, xi, coin, count, quarters, diameter, thickness, psi, u, omega, co
         omega_range=_range(omega or OMEGA_DEFAULT, w_what, parse.parse_spin_rads, "rad/s",
                            OMEGA_TOP),
         diameter=diameter_m(coins, diameter), g=g_value(g), contact=ct, exact=exact or old_exact,
-        curves=not no_curves, marks=_marks(toss), cols=_cells(cols, "--cols"),
-        rows=_cells(rows, "--rows"), typed=typed)
+        curves=not no_curves, marks=_marks(toss), cols=_cells(cols, cols_what or "--cols"),
+        rows=_cells(rows, rows_what or "--rows"), typed=typed)
 
 
 def text_size(ph: Phase, extra_lines: int = 10) -> tuple[int, int]:

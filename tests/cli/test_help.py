@@ -93,3 +93,10 @@ def test_values_complete(words, expected):
 def test_a_file_argument_completes_as_files():
     # bash falls back to file names (the completion script says -o default) on no candidate
     assert _complete("coin fit ") == []
+
+
+@pytest.mark.parametrize("option", ["--resolution", "--cols", "--rows"])
+def test_an_error_names_the_option_as_typed(coin, option):
+    code, out, err = coin("plot", "phase", option, "abc", "--terminal")
+    assert code == 2 and out == ""
+    assert err.startswith(f"coin: error: {option} must be a whole number"), err
