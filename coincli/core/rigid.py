@@ -81,6 +81,7 @@ import math
 
 from coincli.core._numerics.elliptic import _EPS, _Py, _xp, ellip_agm, ellip_f, ellip_j
 from coincli.core._numerics.quaternion import _frame_quat, _qconj, _qmul, _zxz
+from coincli.limits import MAX_PHASE
 
 __all__ = [
     "MAX_PHASE",
@@ -106,7 +107,6 @@ __all__ = [
     "start_quaternion",
 ]
 
-MAX_PHASE = 1e12  #: rad: |omega| t beyond this is refused (the phase would be rounding noise)
 #: the six faces, by outward normal along +-(body axis): index 2*i for +, 2*i + 1 for -
 FACES = ("+1", "-1", "+2", "-2", "+3", "-3")
 RULES = ("centre", "normal")

@@ -30,14 +30,13 @@ from coincli.io.options import (
     unit_at_end,
 )
 from coincli.io.table import CHUNK_ROWS, Column, Result, check_format
+from coincli.limits import MAX_BOOK_TOSSES, MAX_PHASE, NORMAL_REACH
 from coincli.render.figures import write_figure
 
 __all__ = ["book", "seed_note", "MAX_TOSSES", "FACES"]
 
 
-MAX_TOSSES = 10**7  # tosses of one --toss run (a box costs ~10 coins: elliptic integrals)
-MAX_PHASE = 1e12  # coincli.core.rigid.MAX_PHASE
-NORMAL_REACH = 10  # a normal spin or flight is checked up to MEAN + 10 SD (P < 1e-23 a draw)
+MAX_TOSSES = MAX_BOOK_TOSSES  # tosses of one --toss run (a box costs ~10 coins)
 FIGURE_POINTS = 2001  # samples of omega(t) in a figure without --times
 FACES = ("+1", "-1", "+2", "-2", "+3", "-3")
 STARTS = FACES + ("random",)

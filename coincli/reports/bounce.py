@@ -21,6 +21,7 @@ from coincli.errors import compute_error, usage_error
 from coincli.io import grammar as parse
 from coincli.io.batches import values_option
 from coincli.io.table import Column, Result
+from coincli.limits import LANDINGS, MAX_BOUNCE_TOSSES, STANDARD_G, SURFACE_NAMES
 from coincli.reports.launch import (
     HAND,
     U_MAX,
@@ -31,12 +32,6 @@ from coincli.reports.launch import (
     reach,
     tosses_count,
 )
-
-LANDINGS = ("catch", "bounce")
-#: coincli.core.bounce.engine.SURFACES, named without loading mujoco
-SURFACE_NAMES = ("wood", "hard-floor", "felt", "rice")
-MAX_BOUNCE_TOSSES = 10**6  #: -n with --landing bounce: ~4 hours at ~75 tosses/s on two cores
-STANDARD_G = 9.81  # coincli.core.toss.flight.STANDARD_G
 
 
 class Physics:

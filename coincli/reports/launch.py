@@ -20,11 +20,9 @@ import math
 from coincli.errors import usage_error
 from coincli.io import grammar as parse
 from coincli.io import options as _options
+from coincli.limits import MAX_TOSSES, NORMAL_REACH, U_MAX  # noqa: F401 (MAX_TOSSES: the reports' limit of -n)
 
 # Limits, as in coincli.core.toss.flight (kept here so that this module needs no numpy to load).
-U_MAX = 1e8  # m/s, coincli.core.toss.flight.U_MAX
-MAX_TOSSES = 10**8  # coincli.core.toss.flight.MAX_TOSSES: simulate -n; ~20 s of hand tosses
-NORMAL_REACH = 10  # simulate checks a normal up to MEAN + 10 SD (never drawn: P < 1e-23)
 DHM = "Diaconis, Holmes & Montgomery 2007"
 #: the hand toss of coincli.core.toss.flight.HAND_TOSS, as typed (for help and notes)
 HAND = {"u": "normal:2.4:0.3", "omega": "normal:38:4rev/s", "psi": "normal:90:10"}

@@ -17,23 +17,22 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
+from coincli.core.models import FAIR_XI_DYNAMIC
 from coincli.errors import compute_error, usage_error
 from coincli.io import grammar as parse
 from coincli.io import options as _options
 from coincli.io.table import Column, Result, check_format
+from coincli.limits import OMEGA_TOP, U_MAX
 from coincli.render.figures import write_figure
 from coincli.render.terminal import env_no_color, stdout_is_terminal
 
 U_DEFAULT = "0:3"  #: m/s
 OMEGA_DEFAULT = "0:60"  #: rad/s
-U_TOP = 1e8  #: m/s, coincli.core.toss.flight.U_MAX
-OMEGA_TOP = 1e12  #: rad/s
 MIN_SPAN = 1e-6  #: the narrowest range, in m/s or rad/s
 MAX_CELLS = 4000  #: along each axis of the grid
 MAX_MARKS = 20
 FIGURE_CELLS = 400  #: the grid of a figure file, along each axis
 DATA_CELLS = 100  #: the grid of csv/json
-FAIR_XI = 1 / math.sqrt(3)
 
 
 class Phase(NamedTuple):
@@ -161,7 +160,7 @@ def resolve(*, xi, coin, count, quarters, diameter, thickness, psi, u, omega, co
     cols_what = rows_what = "--resolution" if old_resolution is not None else None
     coins = _options.resolve_coin(xi, coin, count, quarters, diameter, thickness,
                                   required=False, xi_rule="finite")
-    x = FAIR_XI if coins is None else float(coins.xis[0])
+    x = FAIR_XI_DYNAMIC if coins is None else float(coins.xis[0])
     ct = contact_value(contact)
     if ct == "thick" and x > 1e100:
         raise usage_error(f"--xi must be at most 1e100 with --contact thick (the launch height "
@@ -172,7 +171,7 @@ def resolve(*, xi, coin, count, quarters, diameter, thickness, psi, u, omega, co
              coins.diameter_mm is not None else "24.26 mm"}
     return Phase(
         xi=x, psi_deg=_options.psi_angle(psi),
-        u_range=_range(u or U_DEFAULT, u_what, parse.parse_speed_ms, "m/s", U_TOP),
+        u_range=_range(u or U_DEFAULT, u_what, parse.parse_speed_ms, "m/s", U_MAX),
         omega_range=_range(omega or OMEGA_DEFAULT, w_what, parse.parse_spin_rads, "rad/s",
                            OMEGA_TOP),
         diameter=diameter_m(coins, diameter), g=g_value(g), contact=ct, exact=exact or old_exact,

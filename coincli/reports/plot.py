@@ -17,6 +17,7 @@ import sys
 from coincli.errors import compute_error, usage_error
 from coincli.io import grammar as parse
 from coincli.io import options as _options
+from coincli.limits import DEFAULT_DIAMETER, STANDARD_G
 from coincli.render.figures import write_figure
 from coincli.reports import bounce as BO
 from coincli.reports import phase as PH
@@ -268,7 +269,7 @@ def sides(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
 
         xis = [float(x) for x in np.geomspace(lo, hi, 8)]
         pts, fitted, why = BO.sides_points(physics, seed=seed_v, n=count, xis=xis, u=u_spec,
-                                           omega=w_spec, psi=psi_spec, diameter=0.02426, g=9.81)
+                                           omega=w_spec, psi=psi_spec, diameter=DEFAULT_DIAMETER, g=STANDARD_G)
         bounce = (pts, fitted)
         curve = (f"the curve is the probit fitted to them (fit p-value "
                  f"{fitted.fit.p_value:.3g})" if fitted is not None else f"no curve: {why}")

@@ -77,6 +77,7 @@ from coincli.core.toss.flight import (
     classify,
 )
 from coincli.errors import PhysicsMissing, install_hint
+from coincli.limits import LANDINGS, SURFACE_NAMES
 
 __all__ = [
     "PhysicsMissing",
@@ -101,7 +102,6 @@ __all__ = [
 ]
 
 INSTALL_HINT = install_hint("physics")
-LANDINGS = ("catch", "bounce")
 UNSETTLED = 3  #: outcome code of a toss still moving at t_max
 DEFAULT_DENSITY = 8920.0  #: kg/m^3, cupronickel (the US quarter's cladding, 75 Cu / 25 Ni)
 #: s.  The convergence study (docs/bounce.md, benchmarks/bounce_convergence.py): halving it
@@ -204,6 +204,8 @@ SURFACES = {
                     "rough; with --landing bounce it shows how far a nearly inelastic landing is "
                     "from a catch"),
 }
+if tuple(SURFACES) != SURFACE_NAMES:  # the command line names them from coincli.limits
+    raise AssertionError("coincli.limits.SURFACE_NAMES must list the surface presets in order")
 
 
 def surface(name=None, *, restitution=None, friction=None, torsional=None, rolling=None):

@@ -85,6 +85,14 @@ import math
 
 from coincli.core._numerics.records import _record
 from coincli.core._numerics.trig import _abs_sin_rough, _half_sincos
+from coincli.limits import (  # noqa: F401 (re-read by the toss modules' users as T.NAME)
+    CONTACTS,
+    DEFAULT_DIAMETER,
+    MAX_PHASE,
+    MAX_TOSSES,
+    STANDARD_G,
+    U_MAX,
+)
 
 __all__ = [
     "DEFAULT_DIAMETER",
@@ -109,15 +117,9 @@ __all__ = [
     "toss",
 ]
 
-DEFAULT_DIAMETER = 0.02426  #: m, a US quarter (the paper's coin)
-STANDARD_G = 9.81  #: m/s^2
-CONTACTS = ("rim", "thick")
 HEADS, SIDES, TAILS = 0, 1, 2  #: outcome codes
 NAMES = ("heads", "sides", "tails")
 LETTERS = ("H", "S", "T")
-MAX_PHASE = 1e12  #: rad; omega * t_end beyond this is refused (the phase would be noise)
-MAX_TOSSES = 10**8  #: the most tosses one simulate run makes (~20 s of hand tosses)
-U_MAX = 1e8  #: m/s, the largest launch speed accepted
 
 _TWO_PI = 2.0 * math.pi
 _EPS = 2.220446049250313e-16

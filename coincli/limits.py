@@ -1,0 +1,32 @@
+"""The constants and limits that the core and the command line share: one copy of each.
+
+This module imports nothing, so that the command line can name a limit in a message, or check
+it, without loading the core (and numpy) on a path that does not need it.  The core
+(:mod:`coincli.core`) imports its limits from here too, so the two can never disagree.
+"""
+
+#: m, the diameter of a US quarter: the paper's coin, the default everywhere
+DEFAULT_DIAMETER = 0.02426
+#: m/s^2, standard gravity (the default ``--g``)
+STANDARD_G = 9.81
+#: the contacts of a toss: ``rim`` (the paper's) or ``thick`` (the cylinder's corner)
+CONTACTS = ("rim", "thick")
+#: the landings: ``catch`` (the paper's: caught at first contact) or ``bounce`` (on a table)
+LANDINGS = ("catch", "bounce")
+#: the surface presets of ``--landing bounce`` (their numbers are in coincli.core.bounce.engine)
+SURFACE_NAMES = ("wood", "hard-floor", "felt", "rice")
+
+#: m/s, the largest launch speed accepted
+U_MAX = 1e8
+#: rad/s, the top of a spin range in ``coin phase`` and ``coin plot phase``
+OMEGA_TOP = 1e12
+#: rad: a phase (omega * t) beyond this is refused: a double no longer resolves a turn in it
+MAX_PHASE = 1e12
+#: the most tosses of one catch run (``coin simulate -n``; about 20 s of hand tosses)
+MAX_TOSSES = 10**8
+#: the most tosses of one ``--landing bounce`` run (about 4 hours at 75 tosses/s on two cores)
+MAX_BOUNCE_TOSSES = 10**6
+#: the most tosses of one ``coin book --toss`` run (a box costs about ten coins)
+MAX_BOOK_TOSSES = 10**7
+#: a normal launch distribution is checked up to MEAN + NORMAL_REACH SD (P < 1e-23 a draw)
+NORMAL_REACH = 10
