@@ -122,7 +122,7 @@ def prepare(root, complete: bool = False):
     definition here, so a command added later has it too; :func:`coincli.io.table.emit`
     reads it through :func:`coincli.io.table.headers_left_out`).  Options are shown in panels (:data:`PANELS`), command summaries whole, and with
     ``complete`` (shell completion) the options that take names complete them."""
-    from coincli.render.terminal import terminal_width
+    from coincli.io.terminal import terminal_width
 
     root.context_settings = {**(root.context_settings or {}),
                              "terminal_width": terminal_width(), "max_content_width": 80}

@@ -17,8 +17,8 @@ from coincli.cli import app
 from coincli.cli._options import FormatOpt, QuietOpt, SeedOpt, TossesOpt
 from coincli.errors import compute_error, usage_error
 from coincli.io.table import Result, emit_all
+from coincli.io.terminal import stderr_is_terminal
 from coincli.render.progress import tossing_bar
-from coincli.render.terminal import stderr_is_terminal
 
 
 def _output(result, fmt: str, quiet: bool, out: str | None) -> None:

@@ -28,7 +28,7 @@ from contextvars import ContextVar
 from typing import NamedTuple
 
 from coincli.errors import usage_error
-from coincli.render.terminal import stdout_is_terminal
+from coincli.io.terminal import stdout_is_terminal
 
 __all__ = [
     "Column",
@@ -262,7 +262,7 @@ def _human_table(result: Result, out, terminal: bool) -> None:
     column shifts its row, it is never cut."""
     width, bold = None, False
     if terminal:
-        from coincli.render.terminal import colour_allowed, terminal_width
+        from coincli.io.terminal import colour_allowed, terminal_width
 
         width, bold = terminal_width(out), colour_allowed()
     if result.chunks is None:

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import time
 
-from coincli.render.terminal import stderr_is_terminal
+from coincli.io.terminal import stderr_is_terminal
 
 __all__ = ["ProgressBar"]
 

@@ -156,10 +156,10 @@ class Canvas:
 
 def plot_size(width: int | None = None, height: int | None = None,
               default_rows: int = 21) -> tuple[int, int]:
-    """Columns and rows of the plot area: the terminal's width (:func:`coincli.render.terminal.
+    """Columns and rows of the plot area: the terminal's width (:func:`coincli.io.terminal.
     terminal_width`, the same as the tables') less the axis labels, 30 to 110 columns."""
     if width is None:
-        from coincli.render.terminal import terminal_width
+        from coincli.io.terminal import terminal_width
 
         width = min(max(terminal_width() - 10, 30), 110)
     return max(int(width), 10), max(int(height or default_rows), 5)
@@ -177,7 +177,7 @@ def emit(text, out=None) -> None:
 
     from rich.console import Console
 
-    from coincli.render.terminal import colour_allowed, terminal_width
+    from coincli.io.terminal import colour_allowed, terminal_width
 
     stream = out if out is not None else sys.stdout
     try:
@@ -541,7 +541,7 @@ def text_phase(data, cols: int, rows: int, contact: str = "rim"):
     except (AttributeError, ValueError):
         tty = False
     colour = tty and not os.environ.get("NO_COLOR")
-    from coincli.render.terminal import terminal_width
+    from coincli.io.terminal import terminal_width
 
     return phase_text(data, colour=colour, title=phase_title(data, contact),
                       width=terminal_width() if tty else None)

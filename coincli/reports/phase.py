@@ -22,9 +22,9 @@ from coincli.errors import compute_error, usage_error
 from coincli.io import grammar as parse
 from coincli.io import options as _options
 from coincli.io.table import Column, Result, check_format
+from coincli.io.terminal import env_no_color, stdout_is_terminal
 from coincli.limits import OMEGA_TOP, U_MAX
 from coincli.render.figures import write_figure
-from coincli.render.terminal import env_no_color, stdout_is_terminal
 
 U_DEFAULT = "0:3"  #: m/s
 OMEGA_DEFAULT = "0:60"  #: rad/s
@@ -183,7 +183,7 @@ def text_size(ph: Phase, extra_lines: int = 10) -> tuple[int, int]:
     """The grid of a picture in the terminal: ``--cols``/``--rows``, or what fits it with the
     command line above it and the next prompt below (the axis labels take a few columns; the
     title, axes and legend 8 lines, the two prompts 2: ``extra_lines``)."""
-    from coincli.render.terminal import terminal_height, terminal_width
+    from coincli.io.terminal import terminal_height, terminal_width
 
     tw, th = terminal_width(), terminal_height()
     label = max(len(f"{ph.omega_range[1]:g}"), 4) + 3
@@ -304,7 +304,7 @@ def _picture(ph: Phase):
     from coincli.render.text import phase_text, phase_title
 
     colour = stdout_is_terminal() and not env_no_color()
-    from coincli.render.terminal import terminal_width
+    from coincli.io.terminal import terminal_width
 
     return phase_text(d, colour=colour, title=phase_title(d, ph.contact),
                       width=terminal_width() if stdout_is_terminal() else None)
