@@ -7,9 +7,9 @@ option takes on the command line (``"1/3"``, ``"25mm"``, ``"normal:90:18"``, ``"
 Each returns the list of row dicts that ``--format json`` prints: for the same inputs,
 ``json.loads(coin COMMAND ... --format json)`` equals ``api.COMMAND(...)``.
 
-A wrong input raises :class:`coincli.errors.InputError` (a :class:`ValueError`) with the
+A wrong input raises `coincli.errors.InputError` (a `ValueError`) with the
 one-line message the command line prints; an answer that cannot be computed raises
-:class:`coincli.errors.NotComputable` (an :class:`ArithmeticError`).
+`coincli.errors.NotComputable` (an `ArithmeticError`).
 
 >>> from coincli import api
 >>> row = api.design(p_sides="1/3")[0]
@@ -30,27 +30,31 @@ __all__ = ["design", "table", "stack", "coins", "fair", "toss", "simulate", "pha
 
 
 def _text(name: str, value):
-    """``value`` as the text its option takes: strings as they are, numbers as their shortest
-    repr (which reads back to the same double), lists joined with commas."""
-    if value is None or isinstance(value, (str, bool)):
+    """``value`` as the text its option takes: strings as they are, numbers (numpy's too) as
+    their shortest repr (which reads back to the same double), lists, tuples and arrays joined
+    with commas."""
+    if value is None or isinstance(value, str):
         return value
+    if hasattr(value, "tolist") and not isinstance(value, (int, float)):  # numpy: arrays, scalars
+        value = value.tolist()
+    if isinstance(value, bool):
+        raise InputError(f"--{name.replace('_', '-')} takes a value, not {value!r}")
     if isinstance(value, int):
         return str(value)
     if isinstance(value, float):
         if not math.isfinite(value):
             return "inf" if value > 0 else ("-inf" if value < 0 else "nan")
-        return repr(value)
+        return float.__repr__(float(value))  # numpy.float64's repr is 'np.float64(...)'
     if isinstance(value, (list, tuple)):
         return ",".join(_text(name, v) for v in value)
-    if hasattr(value, "item"):  # a numpy scalar
-        return _text(name, value.item())
-    raise InputError(f"{name.replace('_', '-')}: a number, a string or a list of them; got "
+    raise InputError(f"--{name.replace('_', '-')}: a number, a string or a list of them; got "
                      f"{type(value).__name__}")
 
 
-def _rows(report, command: str, options: dict, flags: frozenset = frozenset()) -> list[dict]:
-    """Call ``report`` (a :mod:`coincli.reports` function) with ``options`` as the command line
-    would give them, and return its rows as ``--format json`` prints them."""
+def _rows(report, command: str, options: dict) -> list[dict]:
+    """Call ``report`` (a `coincli.reports` function) with ``options`` as the command line
+    would give them, and return its rows as ``--format json`` prints them.  A flag (an option
+    whose default is a bool) takes True or False; any other option a value (`_text`)."""
     from coincli.io.table import Result, json_rows
 
     params = inspect.signature(report).parameters
@@ -61,7 +65,13 @@ def _rows(report, command: str, options: dict, flags: frozenset = frozenset()) -
             allowed = ", ".join(p for p in params if p not in hidden)
             raise InputError(f"coin {command} has no option --{name.replace('_', '-')}; its "
                              f"options are {allowed}")
-        kwargs[name] = bool(value) if name in flags else _text(name, value)
+        if isinstance(params[name].default, bool):
+            if not isinstance(value, bool):
+                raise InputError(f"--{name.replace('_', '-')} is a flag: True or False, not "
+                                 f"{value!r}")
+            kwargs[name] = value
+        else:
+            kwargs[name] = _text(name, value)
     if "fmt" in params:
         kwargs["fmt"] = "json"
     out = report(**kwargs)
@@ -104,7 +114,7 @@ def design(*, p_sides, model=None, psi=None, psi_dist=None, diameter=None, thick
         The coin's diameter (default the ``coin``'s), for the thickness column; or its
         thickness, for the diameter column instead.  In mm, or with a unit (``"2.4cm"``).
     coin : str, optional
-        Catalog coin of the stack columns (default ``"quarter"``; see :func:`coins`).
+        Catalog coin of the stack columns (default ``"quarter"``; see `coins()`).
     tol : float or str, optional
         Absolute error wanted on a psi-averaged chance (with ``psi_dist``).
     method : str, optional
@@ -202,7 +212,7 @@ def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
     options = _given(locals())
     from coincli.reports import design as _r
 
-    return _rows(_r.table, "table", options, flags=frozenset({"all"}))
+    return _rows(_r.table, "table", options)
 
 
 def stack(*, coin=None, count=None, p_sides=None, quarters=None, diameter=None,
@@ -212,7 +222,7 @@ def stack(*, coin=None, count=None, p_sides=None, quarters=None, diameter=None,
     Parameters
     ----------
     coin : str, optional
-        Catalog coin stacked (default ``"quarter"``; see :func:`coins`).
+        Catalog coin stacked (default ``"quarter"``; see `coins()`).
     count : int, str or list, optional
         How many coins: N, a list or a range ``"1:12:1"``; one row each.
     p_sides : float, str or list, optional
@@ -223,7 +233,7 @@ def stack(*, coin=None, count=None, p_sides=None, quarters=None, diameter=None,
     diameter, thickness : float or str, optional
         A custom coin instead of a catalog one (mm, or with a unit).
     model, psi, psi_dist : optional
-        The model, as in :func:`design` (default dynamic).
+        The model, as in `design()` (default dynamic).
 
     Returns
     -------
@@ -481,7 +491,7 @@ def phase(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
     options = {k: v for k, v in locals().items() if v is not None}
     from coincli.reports import phase as _r
 
-    return _rows(_r.phase, "phase", options, flags=frozenset({"exact", "no_curves"}))
+    return _rows(_r.phase, "phase", options)
 
 
 # --------------------------------------------------------------------------- check family
@@ -588,7 +598,7 @@ def fit(file, *, psi_dist=None, no_spread=None, delimiter=None, alpha=None,
     options["file"] = os.fspath(file)
     from coincli.reports import check as _r
 
-    return _rows(_r.fit, "fit", options, flags=frozenset({"no_spread"}))
+    return _rows(_r.fit, "fit", options)
 
 
 def book(*, size=None, moments=None, spin=None, times=None, toss=None, tosses=None, seed=None,
@@ -655,4 +665,4 @@ def book(*, size=None, moments=None, spin=None, times=None, toss=None, tosses=No
     options = {k: v for k, v in locals().items() if v is not None}
     from coincli.reports import book as _r
 
-    return _rows(_r.book, "book", options, flags=frozenset({"toss"}))
+    return _rows(_r.book, "book", options)
