@@ -108,9 +108,7 @@ class ExitCode(enum.IntEnum):
     OK = 0
     ERROR = 1  #: the input is valid but the answer cannot be computed
     USAGE = 2  #: the input is wrong: a bad option, value, file line or combination
-    HANGUP = 129  #: SIGHUP
     INTERRUPTED = 130  #: Ctrl-C
-    TERMINATED = 143  #: SIGTERM
 
 
 class CoinError(Exception):
