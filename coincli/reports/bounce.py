@@ -329,13 +329,14 @@ def _output_path(path: str) -> None:
 
 
 def write_csv_atomic(path: str, header, rows) -> None:
-    """A CSV written whole or not at all (:func:`coincli.io.files.write_atomic`)."""
-    from coincli.io.files import FileKindError, write_atomic
+    """A CSV written whole or not at all, by the one csv writer (:func:`coincli.io.table.emit`
+    into :func:`coincli.io.files.write_text_atomic`)."""
+    from coincli.io.files import FileKindError, write_text_atomic
+    from coincli.io.table import emit
 
-    lines = [",".join(header)]
-    lines += [",".join(repr(v) if isinstance(v, float) else str(v) for v in row) for row in rows]
+    table = Result("trajectory", [Column(name, name) for name in header], list(rows))
     try:
-        write_atomic(path, ("\n".join(lines) + "\n").encode())
+        write_text_atomic(path, lambda fh: emit(table, "csv", out=fh, no_headers=False))
     except FileKindError as exc:
         raise usage_error(f"--trajectory: {exc}") from None
     except OSError as exc:
