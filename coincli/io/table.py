@@ -24,7 +24,6 @@ import itertools
 import math
 import sys
 from collections.abc import Sequence
-from contextvars import ContextVar
 from typing import NamedTuple
 
 from coincli.errors import usage_error
@@ -170,18 +169,18 @@ CHUNK_ROWS = 8_192  #: rows computed, formatted and written at a time by a strea
 
 #: ``--no-headers`` of the running command: :mod:`coincli.cli` sets it around each command
 #: (:func:`headers_left_out`); :func:`emit` reads it when not told
-_NO_HEADERS: ContextVar[bool] = ContextVar("no_headers", default=False)
+_NO_HEADERS = [False]  #: the running command's --no-headers (a command runs one at a time)
 
 
 @contextlib.contextmanager
 def headers_left_out(on: bool = True):
     """Within the block, :func:`emit` leaves out the csv/tsv header line unless told otherwise
     (how the command line's ``--no-headers`` reaches it)."""
-    token = _NO_HEADERS.set(bool(on))
+    saved, _NO_HEADERS[0] = _NO_HEADERS[0], bool(on)
     try:
         yield
     finally:
-        _NO_HEADERS.reset(token)
+        _NO_HEADERS[0] = saved
 
 
 def emit(result: Result, fmt: str = "table", quiet: bool = False, out=None,
@@ -197,7 +196,7 @@ def emit(result: Result, fmt: str = "table", quiet: bool = False, out=None,
     out = out if out is not None else sys.stdout
     fmt = check_format(fmt)
     if no_headers is None:
-        no_headers = _NO_HEADERS.get()
+        no_headers = _NO_HEADERS[0]
     if result.chunks is not None:  # the first chunk is computed before anything is written
         chunks = iter(result.chunks)
         first = next(chunks, None)

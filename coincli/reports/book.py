@@ -31,7 +31,6 @@ from coincli.io.options import (
 )
 from coincli.io.table import CHUNK_ROWS, Column, Result, check_format
 from coincli.limits import MAX_BOOK_TOSSES, MAX_PHASE, NORMAL_REACH
-from coincli.render.figures import write_figure
 
 __all__ = ["book", "seed_note", "MAX_TOSSES", "FACES"]
 
@@ -243,6 +242,8 @@ def _require_matplotlib() -> None:
 def _figure(path: str, build) -> None:
     """Draw and save a figure through the shared writer (io.table.write_figure: atomic,
     one-line errors, ``coin: wrote FILE (W x H pixels)`` as coin plot says)."""
+    from coincli.render.figures import write_figure
+
     _require_matplotlib()
     import warnings
 

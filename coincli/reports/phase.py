@@ -24,7 +24,6 @@ from coincli.io import options as _options
 from coincli.io.table import Column, Result, check_format
 from coincli.io.terminal import env_no_color, stdout_is_terminal
 from coincli.limits import OMEGA_TOP, U_MAX
-from coincli.render.figures import write_figure
 
 U_DEFAULT = "0:3"  #: m/s
 OMEGA_DEFAULT = "0:60"  #: rad/s
@@ -314,6 +313,7 @@ def _figure(path, ph: Phase) -> None:
     """Write the picture as a figure file (checked before any computing)."""
     from coincli.io.files import check_output_path
     from coincli.render import figures as P
+    from coincli.render.figures import write_figure
 
     try:
         P.figure_format(path)

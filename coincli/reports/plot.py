@@ -18,7 +18,6 @@ from coincli.errors import compute_error, usage_error
 from coincli.io import grammar as parse
 from coincli.io import options as _options
 from coincli.limits import DEFAULT_DIAMETER, STANDARD_G
-from coincli.render.figures import write_figure
 from coincli.reports import bounce as BO
 from coincli.reports import phase as PH
 
@@ -160,6 +159,8 @@ class _Target:
             raise compute_error(str(exc)) from None
 
     def save(self, fig, dpi: float) -> None:
+        from coincli.render.figures import write_figure
+
         write_figure(fig, self.path, dpi, too_small=": give a larger --width or --height")
 
     def text_plot(self, build):
