@@ -2,7 +2,8 @@
 and ``coin plot sides`` for tosses that land on a surface (issue 16), and the progress bar of a
 bounce design.
 
-These are the typer declarations; :mod:`coincli.reports.bounce` parses them and runs the
+These are the typer declarations, and their :class:`~coincli.cli._options.Group`
+(:data:`BOUNCE`); :mod:`coincli.reports.bounce` parses them and runs the
 tosses (:mod:`coincli.core.bounce.engine`, MuJoCo, an optional extra).  Nothing here imports
 numpy, scipy, rich or mujoco at import time; ``--landing catch`` (the default) never loads them.
 """
@@ -12,6 +13,8 @@ from __future__ import annotations
 from typing import Annotated
 
 import typer
+
+from coincli.cli._options import Group
 
 LandingOpt = Annotated[
     str, typer.Option("--landing", help="catch (the paper's: caught at first contact, the "
@@ -68,3 +71,12 @@ TMaxOpt = Annotated[
                              "moving counts as unsettled (default 10).", metavar="S")
 ]
 
+
+#: the table's options, in the order of ``--help``; a command takes those it has
+BOUNCE = Group(("landing", LandingOpt, "catch"), ("surface", SurfaceOpt, None),
+               ("restitution", RestitutionOpt, None), ("friction", FrictionOpt, None),
+               ("torsional", TorsionalOpt, None), ("rolling", RollingOpt, None),
+               ("release_height", ReleaseHeightOpt, None), ("vx", VxOpt, None),
+               ("jobs", JobsOpt, None), ("dt", DtOpt, None), ("t_max", TMaxOpt, None))
+#: the surface a coin lands on
+SURFACE = BOUNCE.only("landing", "surface", "restitution", "friction")

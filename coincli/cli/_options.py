@@ -11,11 +11,20 @@
 Commands declare the options with these ``Annotated`` aliases (parameter names ``xi``,
 ``coin``, ``count``, ``quarters``, ``diameter``, ``thickness``, ``tosses``, ``seed``, ``psi``,
 ``psi_dist``) and pass the typed text to the parsers of :mod:`coincli.io.options` (the coin
-group, tosses, seeds, units typed once, psi), which hold the grammar itself.  No numpy, scipy or rich at import.
+group, tosses, seeds, units typed once, psi), which hold the grammar itself.  No numpy, scipy or
+rich at import.
+
+Options that travel together are declared once as a :class:`Group` (:data:`COIN`,
+:data:`COINS`, :data:`OUTPUT`; :data:`coincli.cli._bounce.BOUNCE`, :data:`coincli.cli._phase.GRID`
+...) and applied by :func:`with_groups`: a command names a group as the default of one of its
+parameters, and receives the group's values there as one :class:`Values` (a dict: ``**values``
+forwards them to the report).
 """
 
 from __future__ import annotations
 
+import functools
+import inspect
 from typing import Annotated
 
 import typer
@@ -23,7 +32,8 @@ import typer
 __all__ = [
     "XiOpt", "XisOpt", "CoinOpt", "CountOpt", "CountsOpt", "QuartersOpt", "QuartersManyOpt",
     "DiameterOpt", "ThicknessOpt", "TossesOpt", "OldCountOpt", "SeedOpt", "PsiOpt", "PsisOpt",
-    "PsiDistOpt", "PsiDistsOpt", "FormatOpt", "QuietOpt",
+    "PsiDistOpt", "PsiDistsOpt", "FormatOpt", "QuietOpt", "Group", "Values", "with_groups",
+    "COIN", "COINS", "OUTPUT",
 ]
 
 # --------------------------------------------------------------------------- the coin group
@@ -89,10 +99,6 @@ SeedOpt = Annotated[
                  "and reported)."),
 ]
 
-
-
-
-
 # --------------------------------------------------------------------------- psi
 
 PsiOpt = Annotated[
@@ -131,3 +137,96 @@ FormatOpt = Annotated[
 QuietOpt = Annotated[
     bool, typer.Option("--quiet", "-q", help="Print only the main number (for shell scripts).")
 ]
+
+# --------------------------------------------------------------------------- groups
+
+
+class Group:
+    """Options that travel together: ``(python name, Annotated type, default)`` triples in the
+    order of ``--help``.  Built from triples and other groups (flattened); :meth:`only` and
+    :meth:`but` give a command's variant.  Apply one with :func:`with_groups`."""
+
+    __slots__ = ("params",)
+
+    def __init__(self, *parts):
+        params = []
+        for part in parts:
+            params += part.params if isinstance(part, Group) else [part]
+        self.params = tuple(params)
+
+    def only(self, *names: str) -> Group:
+        """The options ``names``, in that order."""
+        by_name = {p[0]: p for p in self.params}
+        return Group(*(by_name[n] for n in names))
+
+    def without(self, *names: str) -> Group:
+        """The other options, in their order."""
+        return Group(*(p for p in self.params if p[0] not in names))
+
+    def but(self, **types) -> Group:
+        """The same options, some with another Annotated type (another help text)."""
+        group = Group(*((n, types.pop(n, t), d) for n, t, d in self.params))
+        if types:
+            raise TypeError(f"not in the group: {', '.join(types)}")
+        return group
+
+
+class Values(dict):
+    """The values a command was given for one :class:`Group`, by python name: ``values.fmt``
+    or ``values["fmt"]``; ``**values`` forwards them all."""
+
+    __slots__ = ()
+
+    def __getattr__(self, name):
+        try:
+            return self[name]
+        except KeyError:
+            raise AttributeError(name) from None
+
+
+def with_groups(fn):
+    """The command ``fn`` with each parameter whose default is a :class:`Group` replaced, in
+    its place, by the group's options; ``fn`` receives that parameter as their :class:`Values`.
+
+    Typer reads the command's ``__signature__`` and ``__annotations__``, built here once (the
+    command's own string annotations, ``from __future__ import annotations``, are looked up
+    in its module: plain names cost a dictionary look-up).
+    """
+    from coincli.cli import _NOT_A_NAME, _named
+
+    namespace, slots, params = fn.__globals__, {}, []
+    for p in inspect.signature(fn).parameters.values():
+        if isinstance(p.default, Group):
+            slots[p.name] = [name for name, _, _ in p.default.params]
+            params += [inspect.Parameter(name, p.kind, default=default, annotation=type_)
+                       for name, type_, default in p.default.params]
+        elif isinstance(p.annotation, str):
+            value = _named(p.annotation, namespace)
+            params.append(p.replace(annotation=eval(p.annotation, namespace)  # noqa: S307
+                                    if value is _NOT_A_NAME else value))
+        else:
+            params.append(p)
+    clash = set(slots) & {p.name for p in params}
+    if clash or len({p.name for p in params}) < len(params):
+        raise TypeError(f"{fn.__qualname__}: an option named twice, or as a group: {clash}")
+
+    @functools.wraps(fn)
+    def command(**given):
+        for slot, names in slots.items():
+            given[slot] = Values((name, given.pop(name)) for name in names)
+        return fn(**given)
+
+    command.__signature__ = inspect.Signature(params)
+    command.__annotations__ = {p.name: p.annotation for p in params
+                               if p.annotation is not p.empty}
+    return command
+
+
+#: a coin: ``--xi``, ``--coin``, ``--count``, ``--quarters``, ``--diameter``, ``--thickness``
+COIN = Group(("xi", XiOpt, None), ("coin", CoinOpt, None), ("count", CountOpt, None),
+             ("quarters", QuartersOpt, None), ("diameter", DiameterOpt, None),
+             ("thickness", ThicknessOpt, None))
+#: one or more coins: lists, ranges or - for --xi, --count and --quarters
+COINS = COIN.but(xi=XisOpt, count=CountsOpt, quarters=QuartersManyOpt)
+#: what is printed, and how: ``--format`` and ``-q``
+OUTPUT = Group(("fmt", FormatOpt, "table"), ("quiet", QuietOpt, False))

@@ -6,7 +6,8 @@ coin group (default: the fair coin 1/sqrt 3, a quarter's size), ``--psi`` (90), 
 (0:3 m/s) and ``--omega LOW:HIGH`` (0:60 rad/s), with units, ``--cols``/``--rows`` (the grid),
 ``--exact``, ``--no-curves``, ``--toss U:OMEGA`` (marks), ``--g`` and ``--contact``.  The old
 spellings of ``coin plot phase`` (``--u-range``, ``--omega-range``, ``--exact-curves``,
-``--resolution``) still work, hidden.  These are the typer declarations; they are resolved
+``--resolution``) still work, hidden.  These are the typer declarations and their groups
+(:data:`PHASE`, :data:`FLIGHT`, :data:`OLD`); they are resolved
 and drawn by :mod:`coincli.reports.phase`.  No numpy, scipy or rich at import.
 """
 
@@ -16,6 +17,7 @@ from typing import Annotated
 
 import typer
 
+from coincli.cli._options import Group
 from coincli.reports.phase import DATA_CELLS, FIGURE_CELLS, OMEGA_DEFAULT, U_DEFAULT
 
 PsiOpt = Annotated[str, typer.Option("--psi", metavar="DEG", help="Angle psi of the angular "
@@ -46,3 +48,13 @@ OldURangeOpt = Annotated[str | None, typer.Option("--u-range", hidden=True)]
 OldOmegaRangeOpt = Annotated[str | None, typer.Option("--omega-range", hidden=True)]
 OldExactOpt = Annotated[bool, typer.Option("--exact-curves", hidden=True)]
 OldResolutionOpt = Annotated[str | None, typer.Option("--resolution", hidden=True)]
+
+#: gravity and the contact rule of a finite toss (``coin toss``, ``simulate``, ``phase``)
+FLIGHT = Group(("g", GOpt, "9.81"), ("contact", ContactOpt, "rim"))
+#: the picture's options after the coin's, the same in ``coin phase`` and ``coin plot phase``
+PHASE = Group(("psi", PsiOpt, "90"), ("u", URangeOpt, None), ("omega", OmegaRangeOpt, None),
+              ("cols", ColsOpt, None), ("rows", RowsOpt, None), ("exact", ExactOpt, False),
+              ("no_curves", NoCurvesOpt, False), ("toss", TossMarkOpt, None), FLIGHT)
+#: the old spellings of ``coin plot phase``
+OLD = Group(("u_range", OldURangeOpt, None), ("omega_range", OldOmegaRangeOpt, None),
+            ("exact_curves", OldExactOpt, False), ("resolution", OldResolutionOpt, None))
