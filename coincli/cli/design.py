@@ -11,7 +11,7 @@ import typer
 
 from coincli.cli import _accuracy, _options, app
 from coincli.cli._bounce import BOUNCE
-from coincli.cli._options import COINS, OUTPUT, Group, with_groups
+from coincli.cli._options import COINS, OUTPUT, Group, option, with_groups
 from coincli.io import options
 from coincli.io.table import emit_all
 from coincli.render.progress import estimator_bar, simulating_bar
@@ -19,57 +19,37 @@ from coincli.reports import design as report
 
 # --------------------------------------------------------------------------- models as options
 
-ModelOpt = Annotated[
-    str | None,
-    typer.Option("--model", "-m", help="geometric, dynamic (default) or psi.", metavar="MODEL"),
-]
+ModelOpt = option("--model -m", "MODEL", "geometric, dynamic (default) or psi.")
 PsiOpt = _options.PsiOpt
 PsiDistOpt = _options.PsiDistOpt
-CoinOpt = Annotated[
-    str, typer.Option("--coin", "-c", metavar="NAME", help="Catalog coin of the stack "
-                      "(see coin coins).")
-]
+CoinOpt = option("--coin -c", "NAME", "Catalog coin of the stack (see coin coins).", kind=str)
 
 
 # --------------------------------------------------------------------------- design
 
 
-PSidesOpt = Annotated[
-    str,
-    typer.Option("--p-sides", "-p", metavar="P", help="Target chance of a side: 0.33, 1/3 "
-                 "or 33%; a list a,b; a range lo:hi:step; or - (stdin)."),
-]
-SizedDiameterOpt = Annotated[
-    str | None,
-    typer.Option("--diameter", "-d", metavar="D", help="Diameter (24.26, 2.4cm, 0.955in); "
-                 "the thickness is computed.  Default: the --coin's."),
-]
-SizedThicknessOpt = Annotated[
-    str | None,
-    typer.Option("--thickness", "-t", metavar="H", help="Thickness (mm or a unit); the "
-                 "diameter is computed instead."),
-]
+PSidesOpt = option("--p-sides -p", "P", "Target chance of a side: 0.33, 1/3 or 33%; a list a,b; a "
+                   "range lo:hi:step; or - (stdin).", kind=str)
+SizedDiameterOpt = option("--diameter -d", "D", "Diameter (24.26, 2.4cm, 0.955in); the thickness "
+                          "is computed.  Default: the --coin's.")
+SizedThicknessOpt = option("--thickness -t", "H", "Thickness (mm or a unit); the diameter is "
+                           "computed instead.")
 #: ``--landing bounce`` of ``coin design``: the table, and the tosses simulated on it
 DESIGN_TABLE = Group(
     BOUNCE.only("landing", "surface", "restitution", "friction", "torsional", "rolling"),
-    ("u", Annotated[str | None, typer.Option(
-        "--u", help="With --landing bounce: launch speed, m/s, a value or normal:MEAN:SD / "
-        "uniform:LOW:HIGH (default the hand toss of coin simulate, normal:2.4:0.3).",
-        metavar="SPEC")], None),
-    ("omega", Annotated[str | None, typer.Option(
-        "--omega", help="With --landing bounce: precession rate, rad/s or with a unit "
-        "(default the hand toss, normal:38:4rev/s).", metavar="SPEC")], None),
+    ("u", option("--u", "SPEC", "With --landing bounce: launch speed, m/s, a value or "
+                 "normal:MEAN:SD / uniform:LOW:HIGH (default the hand toss of coin simulate, "
+                 "normal:2.4:0.3)."), None),
+    ("omega", option("--omega", "SPEC", "With --landing bounce: precession rate, rad/s or with "
+                     "a unit (default the hand toss, normal:38:4rev/s)."), None),
     BOUNCE.only("release_height", "vx"),
-    ("seed", Annotated[str | None, typer.Option(
-        "--seed", metavar="SEED", help="With --landing bounce: the seed of the simulated "
-        "tosses, a whole number >= 0 (default: drawn, and reported).")], None),
-    ("max_tosses", Annotated[str | None, typer.Option(
-        "--max-tosses", help="With --landing bounce: stop before simulating more tosses than "
-        "this (default 200000, at least 180).", metavar="N")], None),
-    ("time_limit", Annotated[str | None, typer.Option(
-        "--time-limit", help="With --landing bounce: stop at the end of the first round after "
-        "this many seconds (default 300); the note gives the --max-tosses that reproduces the "
-        "result.", metavar="S")], None),
+    ("seed", option("--seed", "SEED", "With --landing bounce: the seed of the simulated tosses, "
+                    "a whole number >= 0 (default: drawn, and reported)."), None),
+    ("max_tosses", option("--max-tosses", "N", "With --landing bounce: stop before simulating "
+                          "more tosses than this (default 200000, at least 180)."), None),
+    ("time_limit", option("--time-limit", "S", "With --landing bounce: stop at the end of the "
+                          "first round after this many seconds (default 300); the note gives "
+                          "the --max-tosses that reproduces the result."), None),
     BOUNCE.only("jobs", "dt", "t_max"),
 )
 
@@ -115,6 +95,10 @@ def design(
 
 # --------------------------------------------------------------------------- table
 
+TABLE_OUTPUT = OUTPUT.but(quiet=option(
+    "--quiet -q", None, "Print only P(sides), a line a row: each coin's geometric, then dynamic, "
+    "then the other models.", kind=bool))
+
 
 @app.command()
 @with_groups
@@ -132,10 +116,7 @@ def table(
     tol: _accuracy.TolOpt = None,
     method: _accuracy.MethodOpt = None,
     seed: _accuracy.SeedOpt = None,
-    output=OUTPUT.but(quiet=Annotated[
-        bool, typer.Option("--quiet", "-q", help="Print only P(sides), a line a row: each "
-                           "coin's geometric, then dynamic, then the other models.")
-    ]),
+    output=TABLE_OUTPUT,
     old_n: _options.OldCountOpt = None,
 ):
     """Chances of heads, sides and tails under every model, for one or more coins.
@@ -156,17 +137,20 @@ def table(
 
 # --------------------------------------------------------------------------- stack and coins
 
+#: the coin group of ``coin stack``, around its --p-sides: the stack, then the coin
+STACKED, STACKED_COIN = COINS.only("coin", "count"), COINS.only("quarters", "diameter", "thickness")
+
 
 @app.command()
 @with_groups
 def stack(
-    the_stack=COINS.only("coin", "count"),
+    the_stack=STACKED,
     p_sides: Annotated[
         str | None, typer.Option("--p-sides", "-p", metavar="P", help="Find the stack nearest "
                                  "this chance of a side (0.33, 1/3, 33%), and its neighbours; "
                                  "a list, a range or - for one row each.")
     ] = None,
-    the_coin=COINS.only("quarters", "diameter", "thickness"),
+    the_coin=STACKED_COIN,
     xi: Annotated[str | None, typer.Option("--xi", "-x", hidden=True)] = None,
     model: ModelOpt = None,
     psi: PsiOpt = None,

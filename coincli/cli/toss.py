@@ -8,52 +8,47 @@ numpy loads only inside the commands, rich only to draw on a terminal, scipy nev
 from __future__ import annotations
 
 import sys
-from typing import Annotated
-
-import typer
 
 from coincli.cli import _phase, app
 from coincli.cli._bounce import BOUNCE
-from coincli.cli._options import COIN, OUTPUT, SeedOpt, TossesOpt, XisOpt, with_groups
+from coincli.cli._options import COIN, OUTPUT, SeedOpt, TossesOpt, XisOpt, option, with_groups
 from coincli.io.table import Result, emit_all
 from coincli.render.progress import tossing_bar
 from coincli.reports import phase as phase_report
 from coincli.reports import toss as report
 from coincli.reports.launch import HAND, SPEC_FORM
 
-
 # --------------------------------------------------------------------------- coin toss
 
-UValuesOpt = Annotated[str | None, typer.Option(
-    "--u", metavar="SPEED", help="Launch speed: 2 (m/s), 240cm/s, 8.6km/h; a list, a range "
-    "or -.  Default: drawn (hand toss).")]
-OmegaValuesOpt = Annotated[str | None, typer.Option(
-    "--omega", metavar="SPIN", help="Spin omega_N = M/I1 of eq. (2): 40 (rad/s), 38rev/s, "
-    "2300rpm; a list, a range or -.  Default: drawn.")]
-PsiValuesOpt = Annotated[str | None, typer.Option(
-    "--psi", metavar="DEG", help="Angle psi of the angular momentum to the normal, degrees "
-    "[0, 180]; a list, a range or -.  Default: drawn.")]
-Z0Opt = Annotated[str | None, typer.Option(
-    "--z0", metavar="MM", help="Launch height of the centre, mm or with a unit (default: "
-    "(sqrt 3/2) a, plus h/2 for thick contact).")]
+UValuesOpt = option("--u", "SPEED", "Launch speed: 2 (m/s), 240cm/s, 8.6km/h; a list, a range or "
+                    "-.  Default: drawn (hand toss).")
+OmegaValuesOpt = option("--omega", "SPIN", "Spin omega_N = M/I1 of eq. (2): 40 (rad/s), 38rev/s, "
+                        "2300rpm; a list, a range or -.  Default: drawn.")
+PsiValuesOpt = option("--psi", "DEG", "Angle psi of the angular momentum to the normal, degrees "
+                      "[0, 180]; a list, a range or -.  Default: drawn.")
+Z0Opt = option("--z0", "MM", "Launch height of the centre, mm or with a unit (default: (sqrt 3/2) "
+               "a, plus h/2 for thick contact).")
 
 
-TrajectoryOpt = Annotated[str | None, typer.Option(
-    "--trajectory", metavar="FILE.csv", help="With --landing bounce: write the time series "
-    "(time, position, quaternion, velocities, tilt, energy, contacts) to this CSV file.")]
+TrajectoryOpt = option("--trajectory", "FILE.csv", "With --landing bounce: write the time series "
+                       "(time, position, quaternion, velocities, tilt, energy, contacts) to this "
+                       "CSV file.")
+
+#: one coin, or (--xi) several; the table of one toss (no worker processes)
+TOSS_COIN, TOSS_TABLE = COIN.but(xi=XisOpt), BOUNCE.without("jobs")
 
 
 @app.command("toss")
 @with_groups
 def toss_cmd(
-    the_coin=COIN.but(xi=XisOpt),
+    the_coin=TOSS_COIN,
     psi: PsiValuesOpt = None,
     u: UValuesOpt = None,
     omega: OmegaValuesOpt = None,
     seed: SeedOpt = None,
     flight=_phase.FLIGHT,
     z0: Z0Opt = None,
-    table=BOUNCE.without("jobs"),
+    table=TOSS_TABLE,
     trajectory: TrajectoryOpt = None,
     output=OUTPUT,
 ):
@@ -83,19 +78,18 @@ def toss_cmd(
 # --------------------------------------------------------------------------- coin simulate
 
 
-SpecUOpt = Annotated[str | None, typer.Option(
-    "--u", metavar="SPEC", help=f"Launch speed: {SPEC_FORM}, in m/s or with a unit "
-    f"(normal:240:30cm/s).  Default: {HAND['u']} (hand toss).")]
-SpecOmegaOpt = Annotated[str | None, typer.Option(
-    "--omega", metavar="SPEC", help=f"Spin: {SPEC_FORM}, in rad/s or with a unit.  "
-    f"Default: {HAND['omega']} (hand toss).")]
-FixedPsiOpt = Annotated[str | None, typer.Option(
-    "--psi", metavar="DEG", help="A fixed angle psi, degrees [0, 180].")]
-HandPsiDistOpt = Annotated[str | None, typer.Option(
-    "--psi-dist", metavar="SPEC", help="psi density: uniform[:LOW:HIGH], cosine, "
-    f"normal[:MEAN:SD] (deg), table:FILE.  Default: {HAND['psi']}.")]
-StreamOpt = Annotated[bool, typer.Option(
-    "--stream", help="Print one outcome a line (H, S or T) instead of the summary.")]
+SpecUOpt = option(
+    "--u", "SPEC", f"Launch speed: {SPEC_FORM}, in m/s or with a unit "
+    f"(normal:240:30cm/s).  Default: {HAND['u']} (hand toss).")
+SpecOmegaOpt = option(
+    "--omega", "SPEC", f"Spin: {SPEC_FORM}, in rad/s or with a unit.  "
+    f"Default: {HAND['omega']} (hand toss).")
+FixedPsiOpt = option("--psi", "DEG", "A fixed angle psi, degrees [0, 180].")
+HandPsiDistOpt = option(
+    "--psi-dist", "SPEC", "psi density: uniform[:LOW:HIGH], cosine, "
+    f"normal[:MEAN:SD] (deg), table:FILE.  Default: {HAND['psi']}.")
+StreamOpt = option("--stream", None, "Print one outcome a line (H, S or T) instead of the summary.",
+                   kind=bool)
 
 
 @app.command("simulate")
@@ -141,15 +135,14 @@ def simulate_cmd(
 # --------------------------------------------------------------------------- coin phase
 
 
-PhaseOutOpt = Annotated[str | None, typer.Option(
-    "--out", "-o", metavar="FILE", help="Write a figure: .png, .svg or .pdf (needs "
-    "matplotlib: pip install 'thickcoin\\[plot]').")]
+FORMAT = OUTPUT.only("fmt")  #: a picture: no -q
+PhaseOutOpt = option("--out -o", "FILE", "Write a figure: .png, .svg or .pdf (needs matplotlib: "
+                     "pip install 'thickcoin\\[plot]').")
 
 
 @app.command("phase")
 @with_groups
-def phase_cmd(the_coin=COIN, grid=_phase.PHASE, out: PhaseOutOpt = None,
-              output=OUTPUT.only("fmt")):
+def phase_cmd(the_coin=COIN, grid=_phase.PHASE, out: PhaseOutOpt = None, output=FORMAT):
     """The pre-images of heads, sides and tails over (u, omega): Fig. 3 of the paper.
 
     Each cell is one deterministic toss (as `coin toss`) from the cell's centre; the coin is
