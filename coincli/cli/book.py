@@ -14,7 +14,7 @@ from typing import Annotated
 import typer
 
 from coincli.cli import app
-from coincli.cli._options import FormatOpt, QuietOpt, SeedOpt, TossesOpt
+from coincli.cli._options import OUTPUT, SeedOpt, TossesOpt, with_groups
 from coincli.errors import compute_error, usage_error
 from coincli.io.table import Result, emit_all
 from coincli.io.terminal import stderr_is_terminal
@@ -44,6 +44,7 @@ def _output(result, fmt: str, quiet: bool, out: str | None) -> None:
 
 
 @app.command("book")
+@with_groups
 def book_cmd(
     size: Annotated[str | None, typer.Option(
         "--size", help="The box's three sides AxBxC along body axes 1, 2, 3: mm, or with a unit "
@@ -83,8 +84,7 @@ def book_cmd(
         "--out", "-o", help="Write to FILE: a figure when it ends in .png, .svg or .pdf (omega(t) "
         "and the face up; with --toss the face chances), else the output in --format.",
         metavar="FILE")] = None,
-    fmt: FormatOpt = "table",
-    quiet: QuietOpt = False,
+    output=OUTPUT,
 ):
     """The paper's Problem 1: a tossed book (a box with three different moments).
 
@@ -105,6 +105,6 @@ def book_cmd(
 
     result = report.book(size=size, moments=moments, spin=spin, times=times, toss=toss,
                          tosses=n, seed=seed, flight=flight, start=start, rule=rule, out=out,
-                         fmt=fmt, quiet=quiet, progress=tossing_bar)
-    _output(result, fmt, quiet, out)
-    report.seed_note(result, seed, quiet)
+                         **output, progress=tossing_bar)
+    _output(result, output.fmt, output.quiet, out)
+    report.seed_note(result, seed, output.quiet)

@@ -12,18 +12,18 @@ from typing import Annotated
 import typer
 
 from coincli.cli import _options, app
-from coincli.cli._options import FormatOpt, QuietOpt
+from coincli.cli._options import COIN, OUTPUT, Group, option, with_groups
 from coincli.io.table import emit_all
 
 # --------------------------------------------------------------------------- shared options
 
 PsiDistsOpt = _options.PsiDistsOpt
-AlphaOpt = Annotated[
-    str, typer.Option("--alpha", help="Significance level of the verdicts.", metavar="A")
-]
-ConfidenceOpt = Annotated[
-    str, typer.Option("--confidence", help="Confidence level of the intervals.", metavar="C")
-]
+AlphaOpt = option("--alpha", "A", "Significance level of the verdicts.", kind=str)
+ConfidenceOpt = option("--confidence", "C", "Confidence level of the intervals.", kind=str)
+#: the coin group, in this command's order
+CHECK_COIN = COIN.only("xi", "quarters", "coin", "count", "diameter", "thickness")
+#: the levels of the verdicts and of the intervals
+LEVELS = Group(("alpha", AlphaOpt, "0.05"), ("confidence", ConfidenceOpt, "0.95"))
 
 
 def _opt(*names: str, mv: str, help: str):
@@ -34,13 +34,9 @@ def _opt(*names: str, mv: str, help: str):
 
 
 @app.command()
+@with_groups
 def check(
-    xi: _options.XiOpt = None,
-    quarters: _options.QuartersOpt = None,
-    coin: _options.CoinOpt = None,
-    count: _options.CountOpt = None,
-    diameter: _options.DiameterOpt = None,
-    thickness: _options.ThicknessOpt = None,
+    the_coin=CHECK_COIN,
     heads: Annotated[str | None, _opt("--heads", mv="H", help="Tosses that landed heads.")
                      ] = None,
     sides: Annotated[str | None, _opt("--sides", "-s", mv="S",
@@ -49,10 +45,8 @@ def check(
                      ] = None,
     tosses: _options.TossesOpt = None,
     psi_dist: PsiDistsOpt = None,
-    alpha: AlphaOpt = "0.05",
-    confidence: ConfidenceOpt = "0.95",
-    fmt: FormatOpt = "table",
-    quiet: QuietOpt = False,
+    levels=LEVELS,
+    output=OUTPUT,
 ):
     """Are your tosses consistent with the models?  Intervals, exact tests, verdicts.
 
@@ -67,16 +61,15 @@ def check(
     """
     from coincli.reports import check as report
 
-    emit_all(report.check(xi=xi, quarters=quarters, coin=coin, count=count, diameter=diameter,
-                          thickness=thickness, heads=heads, sides=sides, tails=tails,
-                          tosses=tosses, psi_dist=psi_dist, alpha=alpha, confidence=confidence,
-                          fmt=fmt, quiet=quiet), fmt, quiet)
+    emit_all(report.check(**the_coin, heads=heads, sides=sides, tails=tails, tosses=tosses,
+                          psi_dist=psi_dist, **levels, **output), **output)
 
 
 # --------------------------------------------------------------------------- fit
 
 
 @app.command()
+@with_groups
 def fit(
     file: Annotated[str, typer.Argument(help="Experiments CSV, or - for stdin.",
                                         metavar="FILE")],
@@ -86,10 +79,8 @@ def fit(
     delimiter: Annotated[str | None, typer.Option(
         "--delimiter", help="Separator of FILE: comma, semicolon or tab (default: the one the "
         "header uses).", metavar="SEP")] = None,
-    alpha: AlphaOpt = "0.05",
-    confidence: ConfidenceOpt = "0.95",
-    fmt: FormatOpt = "table",
-    quiet: QuietOpt = False,
+    levels=LEVELS,
+    output=OUTPUT,
 ):
     """Which model do your tosses follow?  Checks a file of experiments and compares models.
 
@@ -106,4 +97,4 @@ def fit(
     from coincli.reports import check as report
 
     emit_all(report.fit(file, psi_dist=psi_dist, no_spread=no_spread, delimiter=delimiter,
-                        alpha=alpha, confidence=confidence, fmt=fmt, quiet=quiet), fmt, quiet)
+                        **levels, **output), **output)

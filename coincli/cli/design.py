@@ -10,8 +10,8 @@ from typing import Annotated
 import typer
 
 from coincli.cli import _accuracy, _options, app
-from coincli.cli import _bounce as BO
-from coincli.cli._options import FormatOpt, QuietOpt
+from coincli.cli._bounce import BOUNCE
+from coincli.cli._options import COINS, OUTPUT, Group, option, with_groups
 from coincli.io import options
 from coincli.io.table import emit_all
 from coincli.render.progress import estimator_bar, simulating_bar
@@ -19,78 +19,55 @@ from coincli.reports import design as report
 
 # --------------------------------------------------------------------------- models as options
 
-ModelOpt = Annotated[
-    str | None,
-    typer.Option("--model", "-m", help="geometric, dynamic (default) or psi.", metavar="MODEL"),
-]
+ModelOpt = option("--model -m", "MODEL", "geometric, dynamic (default) or psi.")
 PsiOpt = _options.PsiOpt
 PsiDistOpt = _options.PsiDistOpt
-CoinOpt = Annotated[
-    str, typer.Option("--coin", "-c", metavar="NAME", help="Catalog coin of the stack "
-                      "(see coin coins).")
-]
+CoinOpt = option("--coin -c", "NAME", "Catalog coin of the stack (see coin coins).", kind=str)
 
 
 # --------------------------------------------------------------------------- design
 
 
+PSidesOpt = option("--p-sides -p", "P", "Target chance of a side: 0.33, 1/3 or 33%; a list a,b; a "
+                   "range lo:hi:step; or - (stdin).", kind=str)
+SizedDiameterOpt = option("--diameter -d", "D", "Diameter (24.26, 2.4cm, 0.955in); the thickness "
+                          "is computed.  Default: the --coin's.")
+SizedThicknessOpt = option("--thickness -t", "H", "Thickness (mm or a unit); the diameter is "
+                           "computed instead.")
+#: ``--landing bounce`` of ``coin design``: the table, and the tosses simulated on it
+DESIGN_TABLE = Group(
+    BOUNCE.only("landing", "surface", "restitution", "friction", "torsional", "rolling"),
+    ("u", option("--u", "SPEC", "With --landing bounce: launch speed, m/s, a value or "
+                 "normal:MEAN:SD / uniform:LOW:HIGH (default the hand toss of coin simulate, "
+                 "normal:2.4:0.3)."), None),
+    ("omega", option("--omega", "SPEC", "With --landing bounce: precession rate, rad/s or with "
+                     "a unit (default the hand toss, normal:38:4rev/s)."), None),
+    BOUNCE.only("release_height", "vx"),
+    ("seed", option("--seed", "SEED", "With --landing bounce: the seed of the simulated tosses, "
+                    "a whole number >= 0 (default: drawn, and reported)."), None),
+    ("max_tosses", option("--max-tosses", "N", "With --landing bounce: stop before simulating "
+                          "more tosses than this (default 200000, at least 180)."), None),
+    ("time_limit", option("--time-limit", "S", "With --landing bounce: stop at the end of the "
+                          "first round after this many seconds (default 300); the note gives "
+                          "the --max-tosses that reproduces the result."), None),
+    BOUNCE.only("jobs", "dt", "t_max"),
+)
+
+
 @app.command()
+@with_groups
 def design(
-    p_sides: Annotated[
-        str,
-        typer.Option("--p-sides", "-p", metavar="P", help="Target chance of a side: 0.33, 1/3 "
-                     "or 33%; a list a,b; a range lo:hi:step; or - (stdin)."),
-    ],
+    p_sides: PSidesOpt,
     model: ModelOpt = None,
     psi: PsiOpt = None,
     psi_dist: PsiDistOpt = None,
-    diameter: Annotated[
-        str | None,
-        typer.Option("--diameter", "-d", metavar="D", help="Diameter (24.26, 2.4cm, 0.955in); "
-                     "the thickness is computed.  Default: the --coin's."),
-    ] = None,
-    thickness: Annotated[
-        str | None,
-        typer.Option("--thickness", "-t", metavar="H", help="Thickness (mm or a unit); the "
-                     "diameter is computed instead."),
-    ] = None,
+    diameter: SizedDiameterOpt = None,
+    thickness: SizedThicknessOpt = None,
     coin: CoinOpt = "quarter",
     tol: _accuracy.TolOpt = None,
     method: _accuracy.DesignMethodOpt = None,
-    landing: BO.LandingOpt = "catch",
-    surface: BO.SurfaceOpt = None,
-    restitution: BO.RestitutionOpt = None,
-    friction: BO.FrictionOpt = None,
-    torsional: BO.TorsionalOpt = None,
-    rolling: BO.RollingOpt = None,
-    u: Annotated[str | None, typer.Option("--u", help="With --landing bounce: launch speed, "
-                                          "m/s, a value or normal:MEAN:SD / uniform:LOW:HIGH "
-                                          "(default the hand toss of coin simulate, "
-                                          "normal:2.4:0.3).", metavar="SPEC")] = None,
-    omega: Annotated[str | None, typer.Option("--omega", help="With --landing bounce: "
-                                              "precession rate, rad/s or with a unit (default "
-                                              "the hand toss, normal:38:4rev/s).",
-                                              metavar="SPEC")] = None,
-    height: BO.ReleaseHeightOpt = None,
-    vx: BO.VxOpt = None,
-    seed: Annotated[str | None, typer.Option("--seed", metavar="SEED", help="With --landing "
-                                             "bounce: the seed of the simulated tosses, a whole "
-                                             "number >= 0 (default: drawn, and reported).")
-                    ] = None,
-    max_tosses: Annotated[str | None, typer.Option("--max-tosses", help="With --landing "
-                                                   "bounce: stop before simulating more tosses "
-                                                   "than this (default 200000, at least 180).",
-                                                   metavar="N")] = None,
-    time_limit: Annotated[str | None, typer.Option("--time-limit", help="With --landing bounce: "
-                                                   "stop at the end of the first round after "
-                                                   "this many seconds (default 300); the note "
-                                                   "gives the --max-tosses that reproduces the "
-                                                   "result.", metavar="S")] = None,
-    jobs: BO.JobsOpt = None,
-    dt: BO.DtOpt = None,
-    t_max: BO.TMaxOpt = None,
-    fmt: FormatOpt = "table",
-    quiet: QuietOpt = False,
+    table=DESIGN_TABLE,
+    output=OUTPUT,
 ):
     """The aspect ratio (thickness/diameter) that lands on a side with the chance you want.
 
@@ -107,13 +84,10 @@ def design(
     """
     result = report.design(
         p_sides, model=model, psi=psi, psi_dist=psi_dist, diameter=diameter,
-        thickness=thickness, coin=coin, tol=tol, method=method, landing=landing,
-        surface=surface, restitution=restitution, friction=friction, torsional=torsional,
-        rolling=rolling, u=u, omega=omega, release_height=height, vx=vx, seed=seed,
-        max_tosses=max_tosses, time_limit=time_limit, jobs=jobs, dt=dt, t_max=t_max, fmt=fmt,
-        quiet=quiet, progress=simulating_bar)
-    emit_all(result, fmt, quiet)
-    if landing.strip().lower() == "bounce":
+        thickness=thickness, coin=coin, tol=tol, method=method, **table, **output,
+        progress=simulating_bar)
+    emit_all(result, **output)
+    if table.landing.strip().lower() == "bounce":
         from coincli.reports.bounce import warn_unmet
 
         warn_unmet(result)  # after the table
@@ -121,15 +95,15 @@ def design(
 
 # --------------------------------------------------------------------------- table
 
+TABLE_OUTPUT = OUTPUT.but(quiet=option(
+    "--quiet -q", None, "Print only P(sides), a line a row: each coin's geometric, then dynamic, "
+    "then the other models.", kind=bool))
+
 
 @app.command()
+@with_groups
 def table(
-    xi: _options.XisOpt = None,
-    coin: _options.CoinOpt = None,
-    count: _options.CountsOpt = None,
-    quarters: _options.QuartersManyOpt = None,
-    diameter: _options.DiameterOpt = None,
-    thickness: _options.ThicknessOpt = None,
+    the_coin=COINS,
     psi: _options.PsisOpt = None,
     psi_dist: _options.PsiDistsOpt = None,
     all_models: Annotated[
@@ -142,11 +116,7 @@ def table(
     tol: _accuracy.TolOpt = None,
     method: _accuracy.MethodOpt = None,
     seed: _accuracy.SeedOpt = None,
-    fmt: FormatOpt = "table",
-    quiet: Annotated[
-        bool, typer.Option("--quiet", "-q", help="Print only P(sides), a line a row: each "
-                           "coin's geometric, then dynamic, then the other models.")
-    ] = False,
+    output=TABLE_OUTPUT,
     old_n: _options.OldCountOpt = None,
 ):
     """Chances of heads, sides and tails under every model, for one or more coins.
@@ -159,35 +129,33 @@ def table(
     coin table --xi 17/30 --vs psi --psi 0:180:10
     """
     emit_all(report.table(
-        xi=xi, coin=coin, count=count, quarters=quarters, diameter=diameter,
-        thickness=thickness, psi=psi, psi_dist=psi_dist, all=all_models, vs=vs, tol=tol,
-        method=method, seed=seed, fmt=fmt, quiet=quiet, old_n=old_n,
-        progress=estimator_bar), fmt, quiet)
-    if quiet:  # the note that names a drawn seed (--method mc or qmc) is not shown
+        **the_coin, psi=psi, psi_dist=psi_dist, all=all_models, vs=vs, tol=tol, method=method,
+        seed=seed, **output, old_n=old_n, progress=estimator_bar), **output)
+    if output.quiet:  # the note that names a drawn seed (--method mc or qmc) is not shown
         options.report_drawn_seed()
 
 
 # --------------------------------------------------------------------------- stack and coins
 
+#: the coin group of ``coin stack``, around its --p-sides: the stack, then the coin
+STACKED, STACKED_COIN = COINS.only("coin", "count"), COINS.only("quarters", "diameter", "thickness")
+
 
 @app.command()
+@with_groups
 def stack(
-    coin: _options.CoinOpt = None,
-    count: _options.CountsOpt = None,
+    the_stack=STACKED,
     p_sides: Annotated[
         str | None, typer.Option("--p-sides", "-p", metavar="P", help="Find the stack nearest "
                                  "this chance of a side (0.33, 1/3, 33%), and its neighbours; "
                                  "a list, a range or - for one row each.")
     ] = None,
-    quarters: _options.QuartersManyOpt = None,
-    diameter: _options.DiameterOpt = None,
-    thickness: _options.ThicknessOpt = None,
+    the_coin=STACKED_COIN,
     xi: Annotated[str | None, typer.Option("--xi", "-x", hidden=True)] = None,
     model: ModelOpt = None,
     psi: PsiOpt = None,
     psi_dist: PsiDistOpt = None,
-    fmt: FormatOpt = "table",
-    quiet: QuietOpt = False,
+    output=OUTPUT,
     old_n: _options.OldCountOpt = None,
 ):
     """Stacks of real coins glued together: their xi = N h / D and chances.
@@ -198,25 +166,25 @@ def stack(
     coin stack --diameter 25 --thickness 2 --count 1:12:1 ;
     seq 0.1 0.1 0.9 | coin stack --coin nickel --p-sides - --format csv
     """
-    emit_all(report.stack(
-        coin=coin, count=count, p_sides=p_sides, quarters=quarters, diameter=diameter,
-        thickness=thickness, xi=xi, model=model, psi=psi, psi_dist=psi_dist, fmt=fmt,
-        quiet=quiet, old_n=old_n), fmt, quiet)
+    emit_all(report.stack(**the_stack, p_sides=p_sides, **the_coin, xi=xi, model=model, psi=psi,
+                          psi_dist=psi_dist, **output, old_n=old_n), **output)
 
 
 @app.command()
-def coins(fmt: FormatOpt = "table", quiet: QuietOpt = False):
+@with_groups
+def coins(output=OUTPUT):
     """The catalog of real coins, with their dimensions and sources.
 
     Examples: coin coins ;  coin coins --format csv ;  coin coins -q
     """
-    emit_all(report.coins(fmt=fmt, quiet=quiet), fmt, quiet)
+    emit_all(report.coins(**output), **output)
 
 
 # --------------------------------------------------------------------------- fair
 
 
 @app.command()
+@with_groups
 def fair(
     diameter: Annotated[
         str | None, typer.Option("--diameter", "-d", metavar="D", help="Diameter for the "
@@ -224,8 +192,7 @@ def fair(
     ] = None,
     coin: CoinOpt = "quarter",
     psi_dist: PsiDistOpt = None,
-    fmt: FormatOpt = "table",
-    quiet: QuietOpt = False,
+    output=OUTPUT,
 ):
     """The fair three-sided coin under each model, and what the other model says of it.
 
@@ -235,7 +202,6 @@ def fair(
 
     Examples: coin fair ;  coin fair --diameter 30 ;  coin fair --psi-dist normal:90:18
     """
-    emit_all(report.fair(diameter=diameter, coin=coin, psi_dist=psi_dist, fmt=fmt,
-                         quiet=quiet), fmt, quiet)
+    emit_all(report.fair(diameter=diameter, coin=coin, psi_dist=psi_dist, **output), **output)
 
 

@@ -13,8 +13,9 @@ from typing import Annotated
 
 import typer
 
-from coincli.cli import _bounce as BO
 from coincli.cli import _options, _phase, app
+from coincli.cli._bounce import BOUNCE
+from coincli.cli._options import COIN, COINS, Group, option, with_groups
 from coincli.reports import plot as report
 
 plot_app = typer.Typer(
@@ -30,38 +31,30 @@ app.add_typer(plot_app, name="plot")
 
 # --------------------------------------------------------------------------- shared options
 
-OutOpt = Annotated[
-    str | None,
-    typer.Option("--out", "-o", help="Figure file .png, .svg or .pdf; - or none: a text "
-                 "plot.", metavar="FILE"),
-]
-TerminalOpt = Annotated[
-    bool, typer.Option("--terminal", help="A text plot on stdout (needs no matplotlib).")
-]
+OutOpt = option("--out -o", "FILE", "Figure file .png, .svg or .pdf; - or none: a text plot.")
+TerminalOpt = option("--terminal", None, "A text plot on stdout (needs no matplotlib).", kind=bool)
 # Sizes are parsed by coincli.reports.plot, not by click: click's FloatRange lets nan through
 # (nan < 1 is False) and its messages do not say what is allowed.  Limits:
 # coincli.render.figures.FIGURE_INCHES, DPI_RANGE and MAX_PIXELS (width x dpi times height x
 # dpi, so a figure cannot exhaust the memory).
-DpiOpt = Annotated[str, typer.Option("--dpi", help="Dots per inch of a PNG, 10 to 2000 (50 "
-                                     "Mpixel at most).", metavar="DPI")]
-WidthOpt = Annotated[
-    str | None, typer.Option("--width", help="Figure width, 1 to 100 inches.",
-                             metavar="INCHES")
-]
-HeightOpt = Annotated[
-    str | None, typer.Option("--height", help="Figure height, 1 to 100 inches.",
-                             metavar="INCHES")
-]
-TitleOpt = Annotated[str | None, typer.Option("--title", help="Replace the figure's title.")]
-LogOpt = Annotated[bool, typer.Option("--log", help="Logarithmic xi axis (0.01 to 100).")]
-XiRangeOpt = Annotated[
-    str | None, typer.Option("--xi-range", help="The xi axis LOW:HIGH (default: 0:2, widened "
-                             "to show your marks).", metavar="LOW:HIGH")
-]
-PsiMarkOpt = Annotated[
-    str | None, typer.Option("--psi", help="Mark tossing angles psi, degrees [0, 180]: a "
-                             "value, a list a,b or a range.", metavar="DEG")
-]
+DpiOpt = option("--dpi", "DPI", "Dots per inch of a PNG, 10 to 2000 (50 Mpixel at most).", kind=str)
+WidthOpt = option("--width", "INCHES", "Figure width, 1 to 100 inches.")
+HeightOpt = option("--height", "INCHES", "Figure height, 1 to 100 inches.")
+TitleOpt = option("--title", None, "Replace the figure's title.")
+LogOpt = option("--log", None, "Logarithmic xi axis (0.01 to 100).", kind=bool)
+XiRangeOpt = option("--xi-range", "LOW:HIGH", "The xi axis LOW:HIGH (default: 0:2, widened to "
+                    "show your marks).")
+PsiMarkOpt = option("--psi", "DEG", "Mark tossing angles psi, degrees [0, 180]: a value, a list "
+                    "a,b or a range.")
+#: the xi axis of ``sides`` and ``map``
+XI_AXIS = Group(("log", LogOpt, False), ("xi_range", XiRangeOpt, None))
+#: ``--landing bounce`` of ``coin plot sides``: the surface, and the tosses simulated on it
+SIDES_TABLE = Group(BOUNCE.only("landing", "surface", "restitution", "friction"),
+                    ("seed", _options.SeedOpt, None), ("tosses", _options.TossesOpt, None),
+                    BOUNCE.only("jobs"))
+#: where the figure goes, and its size and title
+FIGURE = Group(("out", OutOpt, None), ("terminal", TerminalOpt, False), ("dpi", DpiOpt, "150"),
+               ("width", WidthOpt, None), ("height", HeightOpt, None), ("title", TitleOpt, None))
 
 
 def _show(text_plot) -> None:
@@ -76,13 +69,9 @@ def _show(text_plot) -> None:
 
 
 @plot_app.command("sides")
+@with_groups
 def sides(
-    xi: _options.XisOpt = None,
-    coin: _options.CoinOpt = None,
-    count: _options.CountsOpt = None,
-    quarters: _options.QuartersManyOpt = None,
-    diameter: _options.DiameterOpt = None,
-    thickness: _options.ThicknessOpt = None,
+    the_coin=COINS,
     p_sides: Annotated[
         str | None, typer.Option("--p-sides", "-p", metavar="P", help="Mark target chances of "
                                  "a side (0.33, 1/3, 33%; a list a,b).")
@@ -93,21 +82,9 @@ def sides(
         str | None, typer.Option("--data", help="Your tosses, a coin fit CSV, or - (stdin).",
                                  metavar="FILE")
     ] = None,
-    log: LogOpt = False,
-    xi_range: XiRangeOpt = None,
-    out: OutOpt = None,
-    terminal: TerminalOpt = False,
-    dpi: DpiOpt = "150",
-    width: WidthOpt = None,
-    height: HeightOpt = None,
-    title: TitleOpt = None,
-    landing: BO.LandingOpt = "catch",
-    surface: BO.SurfaceOpt = None,
-    restitution: BO.RestitutionOpt = None,
-    friction: BO.FrictionOpt = None,
-    seed: _options.SeedOpt = None,
-    tosses: _options.TossesOpt = None,
-    jobs: BO.JobsOpt = None,
+    axis=XI_AXIS,
+    figure=FIGURE,
+    table=SIDES_TABLE,
 ):
     """P(sides) against the aspect ratio for the geometric and dynamic models (Fig. 5a).
 
@@ -123,33 +100,16 @@ def sides(
     coin plot sides --quarters 6:10:1 --psi-dist normal:90:18 --out sides.svg ;
     coin plot sides --landing bounce --surface wood --seed 1 --out bounce.png
     """
-    _show(report.sides(
-        xi=xi, coin=coin, count=count, quarters=quarters, diameter=diameter,
-        thickness=thickness, p_sides=p_sides, psi=psi, psi_dist=psi_dist, data=data, log=log,
-        xi_range=xi_range, out=out, terminal=terminal, dpi=dpi, width=width, height=height,
-        title=title, landing=landing, surface=surface, restitution=restitution,
-        friction=friction, seed=seed, tosses=tosses, jobs=jobs))
+    _show(report.sides(**the_coin, p_sides=p_sides, psi=psi, psi_dist=psi_dist, data=data,
+                       **axis, **figure, **table))
 
 
 # --------------------------------------------------------------------------- psi
 
 
 @plot_app.command("psi")
-def psi_cmd(
-    xi: _options.XiOpt = None,
-    coin: _options.CoinOpt = None,
-    count: _options.CountOpt = None,
-    quarters: _options.QuartersOpt = None,
-    diameter: _options.DiameterOpt = None,
-    thickness: _options.ThicknessOpt = None,
-    psi: PsiMarkOpt = None,
-    out: OutOpt = None,
-    terminal: TerminalOpt = False,
-    dpi: DpiOpt = "150",
-    width: WidthOpt = None,
-    height: HeightOpt = None,
-    title: TitleOpt = None,
-):
+@with_groups
+def psi_cmd(the_coin=COIN, psi: PsiMarkOpt = None, figure=FIGURE):
     """P(heads), P(sides), P(tails) against psi for one coin, regimes shaded (Fig. 2d).
 
     Below theta0/2 the coin always lands heads, up to 90 - theta0/2 heads or sides, within
@@ -159,35 +119,23 @@ def psi_cmd(
     Examples: coin plot psi --xi 0.577 --out psi.png ;
     coin plot psi --quarters 8 --psi 70 --terminal
     """
-    _show(report.psi(xi=xi, coin=coin, count=count, quarters=quarters, diameter=diameter,
-                     thickness=thickness, psi=psi, out=out, terminal=terminal, dpi=dpi,
-                     width=width, height=height, title=title))
+    _show(report.psi(**the_coin, psi=psi, **figure))
 
 
 # --------------------------------------------------------------------------- map
 
 
 @plot_app.command("map")
+@with_groups
 def map_cmd(
     style: Annotated[
         str, typer.Option("--style", help="panels (three maps, one per outcome) or ternary "
                           "(one map, colours mixed by the three chances).")
     ] = "panels",
-    xi: _options.XisOpt = None,
-    coin: _options.CoinOpt = None,
-    count: _options.CountsOpt = None,
-    quarters: _options.QuartersManyOpt = None,
-    diameter: _options.DiameterOpt = None,
-    thickness: _options.ThicknessOpt = None,
+    the_coin=COINS,
     psi: PsiMarkOpt = None,
-    log: LogOpt = False,
-    xi_range: XiRangeOpt = None,
-    out: OutOpt = None,
-    terminal: TerminalOpt = False,
-    dpi: DpiOpt = "150",
-    width: WidthOpt = None,
-    height: HeightOpt = None,
-    title: TitleOpt = None,
+    axis=XI_AXIS,
+    figure=FIGURE,
 ):
     """The chances of heads, sides and tails over the (xi, psi) plane (Fig. 2a-c).
 
@@ -198,44 +146,15 @@ def map_cmd(
     Examples: coin plot map --out map.png ;
     coin plot map --style ternary --xi 0.5 --psi 80 --out map.pdf ;  coin plot map --terminal
     """
-    _show(report.map(style=style, xi=xi, coin=coin, count=count, quarters=quarters,
-                     diameter=diameter, thickness=thickness, psi=psi, log=log,
-                     xi_range=xi_range, out=out, terminal=terminal, dpi=dpi, width=width,
-                     height=height, title=title))
+    _show(report.map(style=style, **the_coin, psi=psi, **axis, **figure))
 
 
 # --------------------------------------------------------------------------- phase
 
 
 @plot_app.command("phase")
-def phase_cmd(
-    xi: _options.XiOpt = None,
-    coin: _options.CoinOpt = None,
-    count: _options.CountOpt = None,
-    quarters: _options.QuartersOpt = None,
-    diameter: _options.DiameterOpt = None,
-    thickness: _options.ThicknessOpt = None,
-    psi: _phase.PsiOpt = "90",
-    u: _phase.URangeOpt = None,
-    omega: _phase.OmegaRangeOpt = None,
-    cols: _phase.ColsOpt = None,
-    rows: _phase.RowsOpt = None,
-    exact: _phase.ExactOpt = False,
-    no_curves: _phase.NoCurvesOpt = False,
-    toss: _phase.TossMarkOpt = None,
-    g: _phase.GOpt = "9.81",
-    contact: _phase.ContactOpt = "rim",
-    u_range: _phase.OldURangeOpt = None,
-    omega_range: _phase.OldOmegaRangeOpt = None,
-    exact_curves: _phase.OldExactOpt = False,
-    resolution: _phase.OldResolutionOpt = None,
-    out: OutOpt = None,
-    terminal: TerminalOpt = False,
-    dpi: DpiOpt = "150",
-    width: WidthOpt = None,
-    height: HeightOpt = None,
-    title: TitleOpt = None,
-):
+@with_groups
+def phase_cmd(the_coin=COIN, grid=_phase.PHASE, old=_phase.OLD, figure=FIGURE):
     """The outcome over launch speed and spin for one coin (Fig. 3): coin phase as a figure.
 
     The same picture and the same options as `coin phase` (which see): each cell is one
@@ -245,9 +164,4 @@ def phase_cmd(
     Examples: coin plot phase --out phase.png ;  coin plot phase --xi 0.3 --psi 70 --terminal ;
     coin plot phase --toss 1.2:40 --u 0:3 --omega 0:100 --out phase.svg
     """
-    _show(report.phase(
-        xi=xi, coin=coin, count=count, quarters=quarters, diameter=diameter,
-        thickness=thickness, psi=psi, u=u, omega=omega, cols=cols, rows=rows, exact=exact,
-        no_curves=no_curves, toss=toss, g=g, contact=contact, u_range=u_range,
-        omega_range=omega_range, exact_curves=exact_curves, resolution=resolution, out=out,
-        terminal=terminal, dpi=dpi, width=width, height=height, title=title))
+    _show(report.phase(**the_coin, **grid, **old, **figure))

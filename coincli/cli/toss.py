@@ -8,83 +8,49 @@ numpy loads only inside the commands, rich only to draw on a terminal, scipy nev
 from __future__ import annotations
 
 import sys
-from typing import Annotated
 
-import typer
-
-from coincli.cli import _bounce as BO
 from coincli.cli import _phase, app
-from coincli.cli._options import (
-    CoinOpt,
-    CountOpt,
-    DiameterOpt,
-    FormatOpt,
-    QuartersOpt,
-    QuietOpt,
-    SeedOpt,
-    ThicknessOpt,
-    TossesOpt,
-    XiOpt,
-    XisOpt,
-)
+from coincli.cli._bounce import BOUNCE
+from coincli.cli._options import COIN, OUTPUT, SeedOpt, TossesOpt, XisOpt, option, with_groups
 from coincli.io.table import Result, emit_all
 from coincli.render.progress import tossing_bar
 from coincli.reports import phase as phase_report
 from coincli.reports import toss as report
 from coincli.reports.launch import HAND, SPEC_FORM
 
-GOpt = _phase.GOpt
-ContactOpt = _phase.ContactOpt
-
-
 # --------------------------------------------------------------------------- coin toss
 
-UValuesOpt = Annotated[str | None, typer.Option(
-    "--u", metavar="SPEED", help="Launch speed: 2 (m/s), 240cm/s, 8.6km/h; a list, a range "
-    "or -.  Default: drawn (hand toss).")]
-OmegaValuesOpt = Annotated[str | None, typer.Option(
-    "--omega", metavar="SPIN", help="Spin omega_N = M/I1 of eq. (2): 40 (rad/s), 38rev/s, "
-    "2300rpm; a list, a range or -.  Default: drawn.")]
-PsiValuesOpt = Annotated[str | None, typer.Option(
-    "--psi", metavar="DEG", help="Angle psi of the angular momentum to the normal, degrees "
-    "[0, 180]; a list, a range or -.  Default: drawn.")]
-Z0Opt = Annotated[str | None, typer.Option(
-    "--z0", metavar="MM", help="Launch height of the centre, mm or with a unit (default: "
-    "(sqrt 3/2) a, plus h/2 for thick contact).")]
+UValuesOpt = option("--u", "SPEED", "Launch speed: 2 (m/s), 240cm/s, 8.6km/h; a list, a range or "
+                    "-.  Default: drawn (hand toss).")
+OmegaValuesOpt = option("--omega", "SPIN", "Spin omega_N = M/I1 of eq. (2): 40 (rad/s), 38rev/s, "
+                        "2300rpm; a list, a range or -.  Default: drawn.")
+PsiValuesOpt = option("--psi", "DEG", "Angle psi of the angular momentum to the normal, degrees "
+                      "[0, 180]; a list, a range or -.  Default: drawn.")
+Z0Opt = option("--z0", "MM", "Launch height of the centre, mm or with a unit (default: (sqrt 3/2) "
+               "a, plus h/2 for thick contact).")
+
+
+TrajectoryOpt = option("--trajectory", "FILE.csv", "With --landing bounce: write the time series "
+                       "(time, position, quaternion, velocities, tilt, energy, contacts) to this "
+                       "CSV file.")
+
+#: one coin, or (--xi) several; the table of one toss (no worker processes)
+TOSS_COIN, TOSS_TABLE = COIN.but(xi=XisOpt), BOUNCE.without("jobs")
 
 
 @app.command("toss")
+@with_groups
 def toss_cmd(
-    xi: XisOpt = None,
-    coin: CoinOpt = None,
-    count: CountOpt = None,
-    quarters: QuartersOpt = None,
-    diameter: DiameterOpt = None,
-    thickness: ThicknessOpt = None,
+    the_coin=TOSS_COIN,
     psi: PsiValuesOpt = None,
     u: UValuesOpt = None,
     omega: OmegaValuesOpt = None,
     seed: SeedOpt = None,
-    g: GOpt = "9.81",
-    contact: ContactOpt = "rim",
+    flight=_phase.FLIGHT,
     z0: Z0Opt = None,
-    landing: BO.LandingOpt = "catch",
-    surface: BO.SurfaceOpt = None,
-    restitution: BO.RestitutionOpt = None,
-    friction: BO.FrictionOpt = None,
-    torsional: BO.TorsionalOpt = None,
-    rolling: BO.RollingOpt = None,
-    height: BO.ReleaseHeightOpt = None,
-    vx: BO.VxOpt = None,
-    dt: BO.DtOpt = None,
-    t_max: BO.TMaxOpt = None,
-    trajectory: Annotated[str | None, typer.Option("--trajectory", help="With --landing "
-                                                   "bounce: write the time series (time, "
-                                                   "position, quaternion, velocities, tilt, "
-                                                   "energy, contacts) to this CSV file.",
-                                                   metavar="FILE.csv")] = None,
-    fmt: FormatOpt = "table",
-    quiet: QuietOpt = False,
+    table=TOSS_TABLE,
+    trajectory: TrajectoryOpt = None,
+    output=OUTPUT,
 ):
     """One deterministic toss: time of flight, turns, final tilt and outcome (eqs. 3-7).
 
@@ -105,55 +71,41 @@ def toss_cmd(
     coin toss --xi 0.577 --psi 85 --u 2.4 --omega 38 --landing bounce --surface wood
     --trajectory toss.csv
     """
-    emit_all(report.toss(
-        xi=xi, coin=coin, count=count, quarters=quarters, diameter=diameter,
-        thickness=thickness, psi=psi, u=u, omega=omega, seed=seed, g=g, contact=contact, z0=z0,
-        landing=landing, surface=surface, restitution=restitution, friction=friction,
-        torsional=torsional, rolling=rolling, release_height=height, vx=vx, dt=dt, t_max=t_max,
-        trajectory=trajectory, fmt=fmt, quiet=quiet), fmt, quiet)
+    emit_all(report.toss(**the_coin, psi=psi, u=u, omega=omega, seed=seed, **flight, z0=z0,
+                         **table, trajectory=trajectory, **output), **output)
 
 
 # --------------------------------------------------------------------------- coin simulate
 
 
+SpecUOpt = option(
+    "--u", "SPEC", f"Launch speed: {SPEC_FORM}, in m/s or with a unit "
+    f"(normal:240:30cm/s).  Default: {HAND['u']} (hand toss).")
+SpecOmegaOpt = option(
+    "--omega", "SPEC", f"Spin: {SPEC_FORM}, in rad/s or with a unit.  "
+    f"Default: {HAND['omega']} (hand toss).")
+FixedPsiOpt = option("--psi", "DEG", "A fixed angle psi, degrees [0, 180].")
+HandPsiDistOpt = option(
+    "--psi-dist", "SPEC", "psi density: uniform[:LOW:HIGH], cosine, "
+    f"normal[:MEAN:SD] (deg), table:FILE.  Default: {HAND['psi']}.")
+StreamOpt = option("--stream", None, "Print one outcome a line (H, S or T) instead of the summary.",
+                   kind=bool)
+
+
 @app.command("simulate")
+@with_groups
 def simulate_cmd(
-    xi: XiOpt = None,
-    coin: CoinOpt = None,
-    count: CountOpt = None,
-    quarters: QuartersOpt = None,
-    diameter: DiameterOpt = None,
-    thickness: ThicknessOpt = None,
-    u: Annotated[str | None, typer.Option(
-        "--u", metavar="SPEC", help=f"Launch speed: {SPEC_FORM}, in m/s or with a unit "
-        f"(normal:240:30cm/s).  Default: {HAND['u']} (hand toss).")] = None,
-    omega: Annotated[str | None, typer.Option(
-        "--omega", metavar="SPEC", help=f"Spin: {SPEC_FORM}, in rad/s or with a unit.  "
-        f"Default: {HAND['omega']} (hand toss).")] = None,
-    psi: Annotated[str | None, typer.Option(
-        "--psi", metavar="DEG", help="A fixed angle psi, degrees [0, 180].")] = None,
-    psi_dist: Annotated[str | None, typer.Option(
-        "--psi-dist", metavar="SPEC", help="psi density: uniform[:LOW:HIGH], cosine, "
-        f"normal[:MEAN:SD] (deg), table:FILE.  Default: {HAND['psi']}.")] = None,
+    the_coin=COIN,
+    u: SpecUOpt = None,
+    omega: SpecOmegaOpt = None,
+    psi: FixedPsiOpt = None,
+    psi_dist: HandPsiDistOpt = None,
     tosses: TossesOpt = None,
     seed: SeedOpt = None,
-    stream: Annotated[bool, typer.Option(
-        "--stream", help="Print one outcome a line (H, S or T) instead of the summary.")] = False,
-    g: GOpt = "9.81",
-    contact: ContactOpt = "rim",
-    landing: BO.LandingOpt = "catch",
-    surface: BO.SurfaceOpt = None,
-    restitution: BO.RestitutionOpt = None,
-    friction: BO.FrictionOpt = None,
-    torsional: BO.TorsionalOpt = None,
-    rolling: BO.RollingOpt = None,
-    height: BO.ReleaseHeightOpt = None,
-    vx: BO.VxOpt = None,
-    jobs: BO.JobsOpt = None,
-    dt: BO.DtOpt = None,
-    t_max: BO.TMaxOpt = None,
-    fmt: FormatOpt = "table",
-    quiet: QuietOpt = False,
+    stream: StreamOpt = False,
+    flight=_phase.FLIGHT,
+    table=BOUNCE,
+    output=OUTPUT,
 ):
     """Many seeded tosses with random initial conditions: frequencies next to the vigorous limit.
 
@@ -175,40 +127,22 @@ def simulate_cmd(
     coin simulate -n 2000 --seed 1 --xi 0.577 --psi 90 --landing bounce --surface wood
     """
     emit_all(report.simulate(
-        xi=xi, coin=coin, count=count, quarters=quarters, diameter=diameter,
-        thickness=thickness, u=u, omega=omega, psi=psi, psi_dist=psi_dist, tosses=tosses,
-        seed=seed, stream=stream, g=g, contact=contact, landing=landing, surface=surface,
-        restitution=restitution, friction=friction, torsional=torsional, rolling=rolling,
-        release_height=height, vx=vx, jobs=jobs, dt=dt, t_max=t_max, fmt=fmt, quiet=quiet,
-        progress=tossing_bar), fmt, quiet or stream)  # --stream: the letters, one a line
+        **the_coin, u=u, omega=omega, psi=psi, psi_dist=psi_dist, tosses=tosses, seed=seed,
+        stream=stream, **flight, **table, **output, progress=tossing_bar),
+        output.fmt, output.quiet or stream)  # --stream: the letters, one a line
 
 
 # --------------------------------------------------------------------------- coin phase
 
 
+FORMAT = OUTPUT.only("fmt")  #: a picture: no -q
+PhaseOutOpt = option("--out -o", "FILE", "Write a figure: .png, .svg or .pdf (needs matplotlib: "
+                     "pip install 'thickcoin\\[plot]').")
+
+
 @app.command("phase")
-def phase_cmd(
-    xi: XiOpt = None,
-    coin: CoinOpt = None,
-    count: CountOpt = None,
-    quarters: QuartersOpt = None,
-    diameter: DiameterOpt = None,
-    thickness: ThicknessOpt = None,
-    psi: _phase.PsiOpt = "90",
-    u: _phase.URangeOpt = None,
-    omega: _phase.OmegaRangeOpt = None,
-    cols: _phase.ColsOpt = None,
-    rows: _phase.RowsOpt = None,
-    exact: _phase.ExactOpt = False,
-    no_curves: _phase.NoCurvesOpt = False,
-    toss: _phase.TossMarkOpt = None,
-    g: GOpt = "9.81",
-    contact: ContactOpt = "rim",
-    out: Annotated[str | None, typer.Option(
-        "--out", "-o", metavar="FILE", help="Write a figure: .png, .svg or .pdf (needs "
-        "matplotlib: pip install 'thickcoin\\[plot]').")] = None,
-    fmt: FormatOpt = "table",
-):
+@with_groups
+def phase_cmd(the_coin=COIN, grid=_phase.PHASE, out: PhaseOutOpt = None, output=FORMAT):
     """The pre-images of heads, sides and tails over (u, omega): Fig. 3 of the paper.
 
     Each cell is one deterministic toss (as `coin toss`) from the cell's centre; the coin is
@@ -220,12 +154,9 @@ def phase_cmd(
     Examples: coin phase ;  coin phase --xi 0.577 --psi 90 --u 0:3 --omega 0:60 ;
     coin phase --xi 0.3 --u 0:5 --omega 0:100 --out phase.png ;  coin phase -f csv
     """
-    shown = phase_report.phase(
-        xi=xi, coin=coin, count=count, quarters=quarters, diameter=diameter,
-        thickness=thickness, psi=psi, u=u, omega=omega, cols=cols, rows=rows, exact=exact,
-        no_curves=no_curves, toss=toss, g=g, contact=contact, out=out, fmt=fmt)
+    shown = phase_report.phase(**the_coin, **grid, out=out, **output)
     if isinstance(shown, (Result, list)):
-        emit_all(shown, fmt)
+        emit_all(shown, **output)
     elif isinstance(shown, str):  # letters (a pipe, NO_COLOR): no rich needed
         sys.stdout.write(shown)
     else:  # coloured blocks, a rich Text
