@@ -82,13 +82,13 @@ def _rows(report, command: str, options: dict) -> list[dict]:
     return rows
 
 
-# --------------------------------------------------------------------------- design family
-# (design, table, stack, coins, fair: coincli.reports.design)
-
-
 def _given(options: dict) -> dict:
     """The options a caller gave: those not None (None is "the command's default")."""
     return {k: v for k, v in options.items() if v is not None}
+
+
+# --------------------------------------------------------------------------- design family
+# (design, table, stack, coins, fair: coincli.reports.design)
 
 
 def design(*, p_sides, model=None, psi=None, psi_dist=None, diameter=None, thickness=None,
@@ -378,7 +378,7 @@ def toss(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickn
     >>> [r["outcome"] for r in api.toss(xi=0.577, psi=90, u=2, omega=[33, 34, 35, 36])]
     ['heads', 'sides', 'sides', 'tails']
     """
-    options = {k: v for k, v in locals().items() if v is not None}
+    options = _given(locals())
     from coincli.reports import toss as _r
 
     return _rows(_r.toss, "toss", options)
@@ -438,7 +438,7 @@ def simulate(*, xi=None, coin=None, count=None, quarters=None, diameter=None, th
     >>> round(rows[1]["vigorous"], 4), rows[1]["seed"]
     (0.3068, 7)
     """
-    options = {k: v for k, v in locals().items() if v is not None}
+    options = _given(locals())
     from coincli.reports import toss as _r
 
     return _rows(_r.simulate, "simulate", options)
@@ -488,7 +488,7 @@ def phase(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
     >>> [(c["u"], c["omega"], c["outcome"]) for c in cells[:4]]
     [(0.375, 15.0, 'sides'), (1.125, 15.0, 'tails'), (1.875, 15.0, 'heads'), (2.625, 15.0, 'sides')]
     """
-    options = {k: v for k, v in locals().items() if v is not None}
+    options = _given(locals())
     from coincli.reports import phase as _r
 
     return _rows(_r.phase, "phase", options)
@@ -541,7 +541,7 @@ def check(*, xi=None, quarters=None, coin=None, count=None, diameter=None, thick
     >>> [(r["model"], r["verdict"]) for r in rows]
     [('geometric', 'rejected, p = 1.6e-4'), ('dynamic', 'consistent at the 5% level (p = 0.65)')]
     """
-    options = {k: v for k, v in locals().items() if v is not None}
+    options = _given(locals())
     from coincli.reports import check as _r
 
     return _rows(_r.check, "check", options)
@@ -594,7 +594,7 @@ def fit(file, *, psi_dist=None, no_spread=None, delimiter=None, alpha=None,
     >>> [(r["model"], round(r["aic"], 2)) for r in rows if r["scope"] == "model"]
     [('geometric', 35.84), ('dynamic', 26.92)]
     """
-    options = {k: v for k, v in locals().items() if v is not None}
+    options = _given(locals())
     options["file"] = os.fspath(file)
     from coincli.reports import check as _r
 
@@ -662,7 +662,7 @@ def book(*, size=None, moments=None, spin=None, times=None, toss=None, tosses=No
     >>> sum(r["count"] for r in rows), [r["face"] for r in rows]
     (200, ['+1', '-1', '+2', '-2', '+3', '-3'])
     """
-    options = {k: v for k, v in locals().items() if v is not None}
+    options = _given(locals())
     from coincli.reports import book as _r
 
     return _rows(_r.book, "book", options)

@@ -40,6 +40,7 @@ from collections.abc import Callable
 __all__ = [
     "FileKindError",
     "check_output_path",
+    "refuse_unwritable",
     "write_atomic",
     "write_text_atomic",
     "read_regular",
@@ -301,3 +302,17 @@ def stream_reader(stream) -> Callable[[int], bytes]:
         return chunk.encode("utf-8", "surrogateescape") if isinstance(chunk, str) else chunk
 
     return read_bytes
+
+
+def refuse_unwritable(path: str, what: str) -> None:
+    """Refuse, before any work, an output ``path`` that cannot be written: a FIFO, a device, a
+    directory or a missing directory is a wrong input of option ``what`` (``--out``,
+    ``--trajectory``); a system error (permissions) is exit 1."""
+    from coincli.errors import compute_error, usage_error
+
+    try:
+        check_output_path(path)
+    except ValueError as exc:
+        raise usage_error(f"{what}: {exc}") from None
+    except OSError as exc:
+        raise compute_error(f"cannot write {path!r}: {exc.strerror or exc}") from None

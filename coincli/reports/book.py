@@ -219,14 +219,9 @@ def _check_out(path: str | None) -> None:
     missing directory, is refused (coincli.io.files.check_output_path)."""
     if path is None or path == "-":
         return
-    from coincli.io.files import check_output_path
+    from coincli.io.files import refuse_unwritable
 
-    try:
-        check_output_path(path)
-    except ValueError as exc:
-        raise usage_error(f"--out: {exc}") from None
-    except OSError as exc:
-        raise compute_error(f"cannot write {path!r}: {exc.strerror or exc}") from None
+    refuse_unwritable(path, "--out")
 
 
 def _require_matplotlib() -> None:

@@ -318,14 +318,9 @@ def toss(p: Physics, *, xi, psi, u, omega, diameter, g, z0, trajectory, fmt,
 
 def _output_path(path: str) -> None:
     """Refuse a --trajectory path that cannot be written, before any simulating."""
-    from coincli.io.files import FileKindError, check_output_path
+    from coincli.io.files import refuse_unwritable
 
-    try:
-        check_output_path(path)
-    except FileKindError as exc:
-        raise usage_error(f"--trajectory: {exc}") from None
-    except OSError as exc:
-        raise compute_error(f"cannot write {path!r}: {exc.strerror or exc}") from None
+    refuse_unwritable(path, "--trajectory")
 
 
 def write_csv_atomic(path: str, header, rows) -> None:
