@@ -133,6 +133,18 @@ class Values(dict):
             raise AttributeError(name) from None
 
 
+def _hint(name: str, text: str, namespace: dict):
+    """The annotation ``text`` of parameter ``name``, evaluated in ``namespace`` by
+    :func:`typing.get_type_hints` (extras kept: typer reads the ``Annotated`` metadata)."""
+    import typing
+
+    def holder():  # pragma: no cover - never called: it only carries the annotation
+        pass
+
+    holder.__annotations__ = {name: text}
+    return typing.get_type_hints(holder, globalns=namespace, include_extras=True)[name]
+
+
 def with_groups(fn):
     """The command ``fn`` with each parameter whose default is a :class:`Group` replaced, in
     its place, by the group's options; ``fn`` receives that parameter as their :class:`Values`.
@@ -151,7 +163,9 @@ def with_groups(fn):
                        for name, type_, default in p.default.params]
         elif isinstance(p.annotation, str):
             value = _named(p.annotation, namespace)
-            params.append(p.replace(annotation=eval(p.annotation, namespace)  # noqa: S307
+            # a plain (dotted) name is looked up here; any other annotation text (an inline
+            # Annotated[...]) is evaluated by typing, in fn's module, as typer would
+            params.append(p.replace(annotation=_hint(p.name, p.annotation, namespace)
                                     if value is _NOT_A_NAME else value))
         else:
             params.append(p)

@@ -249,9 +249,13 @@ def test_ctrl_c_ends_a_bounce_simulation_at_once():
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                          start_new_session=True)
     try:
-        time.sleep(2.0)
-        with open(f"/proc/{p.pid}/task/{p.pid}/children") as f:  # the worker processes
-            kids = f.read().split()
+        kids, waited = [], 0.0
+        while len(kids) < 2 and waited < 60 and p.poll() is None:  # the worker processes,
+            time.sleep(0.2)  # however long a loaded machine takes to start them
+            waited += 0.2
+            with open(f"/proc/{p.pid}/task/{p.pid}/children") as f:
+                kids = f.read().split()
+        time.sleep(0.5)  # the workers at work
         p.send_signal(signal.SIGINT)
         out, err = p.communicate(timeout=5)
     finally:
