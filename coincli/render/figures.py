@@ -368,7 +368,8 @@ def density_label(density) -> str:
 
 @dataclass(frozen=True)
 class ExperimentPoint:
-    """An experiment's frequency of sides with its 95% Wilson interval."""
+    """An experiment's frequency of sides with its 95% Wilson interval: the user's tosses, or
+    (``simulated``) tosses ``coin plot sides --landing bounce`` made itself."""
 
     label: str
     xi: float
@@ -377,16 +378,47 @@ class ExperimentPoint:
     frequency: float
     low: float
     high: float
+    simulated: bool = False
 
 
-def tosses_label(points) -> str:
-    """What the points are: 'your tosses', or the simulated tosses of ``coin plot sides
-    --landing bounce`` (labelled 'simulated ...')."""
-    if points and all(p.label.startswith("simulated") for p in points):
-        return points[0].label
-    if any(p.label.startswith("simulated") for p in points):
-        return "your tosses and simulated tosses"
-    return "your tosses"
+def point_groups(points) -> list[tuple[str, list[ExperimentPoint]]]:
+    """The points in their groups, each with its legend text: ``("data", your tosses)`` and
+    ``("simulated", the simulated tosses)``, the empty ones left out.  The two never share a
+    marker, a legend entry or a fit statistic."""
+    mine = [p for p in points if not p.simulated]
+    sims = [p for p in points if p.simulated]
+    groups = []
+    if mine:
+        groups.append(("data", mine))
+    if sims:
+        groups.append(("simulated", sims))
+    return groups
+
+
+def group_label(gid: str, points) -> str:
+    """The legend text of one group of points (see :func:`point_groups`): ``your tosses (3
+    rows)``, ``simulated bounce on wood (8 points, 400 settled tosses each)``."""
+    n = len(points)
+    if gid == "simulated":
+        ns = sorted({p.n for p in points})
+        each = f"{ns[0]:,}" if len(ns) == 1 else f"{ns[0]:,} to {ns[-1]:,}"
+        return (f"{points[0].label} ({n} point{'s' if n > 1 else ''}, {each} settled "
+                f"tosses each)")
+    return f"your tosses ({n} row{'s' if n > 1 else ''})"
+
+
+def _wrap(label: str, width: int = 64) -> str:
+    """A legend label folded at ``width`` characters (each of its own lines), so that a long
+    label does not make the legend wider than the axes."""
+    import textwrap
+
+    return "\n".join(textwrap.fill(line, width, subsequent_indent="  ")
+                     for line in label.split("\n"))
+
+
+def is_rejected(spec) -> bool:
+    """Whether a curve is a fit that its own points reject (drawn dashed and labelled so)."""
+    return bool(getattr(spec, "rejected", False))
 
 
 def experiment_points(experiments, confidence: float = 0.95) -> list[ExperimentPoint]:
@@ -548,16 +580,18 @@ def sides_data(specs: Sequence[ModelSpec] = (GEOMETRIC, DYNAMIC), *, xi_marks=()
 
 
 def sse(data: SidesData, gid: str) -> float | None:
-    """The paper's sum of squared errors of the side frequencies against one curve's model."""
-    if not data.experiments:
+    """The paper's sum of squared errors of the user's side frequencies against one curve's
+    model (the simulated points of ``--landing bounce`` are not data: they never count)."""
+    mine = [e for e in data.experiments if not e.simulated]
+    if not mine:
         return None
     import numpy as np
 
     spec = next(c.spec for c in data.curves if c.spec.gid == gid)
-    xi = np.array([e.xi for e in data.experiments])
+    xi = np.array([e.xi for e in mine])
     ux, inv = np.unique(xi, return_inverse=True)  # the model once per distinct coin, vectorized
     p = np.atleast_1d(np.asarray(spec.forward(ux).sides, dtype=float))[inv.ravel()]
-    f = np.array([e.frequency for e in data.experiments])
+    f = np.array([e.frequency for e in mine])
     return math.fsum(((f - p) ** 2).tolist())
 
 
@@ -636,8 +670,11 @@ def sides_figure(data: SidesData, *, width: float = 7.0, height: float = 4.5,
             label = c.spec.label
             err = sse(data, c.spec.gid)
             if err is not None:
-                label += f", SSE {err:.3g}"
-            ax.plot(data.xi, c.y, color=colour, linestyle=ls, label=label,
+                label += f", SSE {err:.3g} (your tosses)"
+            lw = None  # the style's
+            if c.spec.key == "fitted":  # a fit to simulated points: solid, dashed if rejected
+                ls, lw = ("--", 1.0) if is_rejected(c.spec) else ("-", None)
+            ax.plot(data.xi, c.y, color=colour, linestyle=ls, linewidth=lw, label=_wrap(label),
                     gid=f"curve:{c.spec.gid}", zorder=2)
         if data.fair:
             ax.axhline(1 / 3, color="0.6", linewidth=0.8, linestyle=":", zorder=1,
@@ -682,21 +719,24 @@ def sides_figure(data: SidesData, *, width: float = 7.0, height: float = 4.5,
                             textcoords=("axes fraction", "data"), fontsize=7.5, rotation=90,
                             ha="center", va="bottom", color=colours.get(m.gid, DESIGN_COLOUR),
                             arrowprops=_LEADER, bbox=_LABEL_BOX)
-        if data.experiments:
+        for gid, pts in point_groups(data.experiments):
             import numpy as np
 
-            ex = np.array([e.xi for e in data.experiments])
-            fy = np.array([e.frequency for e in data.experiments])
-            lo = np.array([e.low for e in data.experiments])
-            hi = np.array([e.high for e in data.experiments])
-            eb = ax.errorbar(ex, fy, yerr=np.vstack([fy - lo, hi - fy]), fmt="o",
-                             color=OKABE_ITO["black"], markerfacecolor=OKABE_ITO["orange"],
-                             markersize=5.5, capsize=3, elinewidth=1.0, zorder=6,
-                             label=f"{tosses_label(data.experiments)}: frequency of sides, "
-                             "95% Wilson interval")
-            eb.lines[0].set_gid("data")
+            ex = np.array([e.xi for e in pts])
+            fy = np.array([e.frequency for e in pts])
+            lo = np.array([e.low for e in pts])
+            hi = np.array([e.high for e in pts])
+            face, marker, size = ((OKABE_ITO["orange"], "o", 5.5) if gid == "data"
+                                  else ("white", "s", 4.5))
+            eb = ax.errorbar(ex, fy, yerr=np.vstack([fy - lo, hi - fy]), fmt=marker,
+                             color=OKABE_ITO["black"] if gid == "data" else "0.35",
+                             markerfacecolor=face, markersize=size, capsize=3, elinewidth=1.0,
+                             zorder=6 if gid == "data" else 5,
+                             label=_wrap(f"{group_label(gid, pts)}: frequency of sides, "
+                                         "95% Wilson interval"))
+            eb.lines[0].set_gid(gid)
             for k, coll in enumerate(eb.lines[2]):
-                coll.set_gid("data-errorbars" if k == 0 else f"data-errorbars:{k}")
+                coll.set_gid(f"{gid}-errorbars" if k == 0 else f"{gid}-errorbars:{k}")
         if data.log:
             ax.set_xscale("log")
         ax.set_xlim(*data.xlim)

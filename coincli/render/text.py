@@ -257,16 +257,15 @@ def text_sides(data, cols: int, rows: int):
             cv.point(m.xi, m.p, "X", DESIGN_STYLE, layer=5)
         legend.append(("X", DESIGN_STYLE, f"your target P(sides) = {p:.4g}: xi " + ", ".join(
             f"{m.gid} {m.xi:.4g}" for m in row)))
-    for e in data.experiments:
-        cv.vbar(e.xi, e.low, e.high, "|", "")
-        cv.point(e.xi, e.frequency, "o", "bold #E69F00", layer=5)
-    if data.experiments:
-        n = len(data.experiments)
-        from coincli.render.figures import tosses_label
+    from coincli.render.figures import group_label, point_groups
 
-        legend.append(("o", "bold #E69F00", f"{tosses_label(data.experiments)} ({n} "
-                       f"row{'s' if n > 1 else ''}): frequency of sides, | = 95% Wilson "
-                       "interval"))
+    for gid, pts in point_groups(data.experiments):
+        ch, style = ("o", "bold #E69F00") if gid == "data" else ("s", "bold")
+        for e in pts:
+            cv.vbar(e.xi, e.low, e.high, "|", "")
+            cv.point(e.xi, e.frequency, ch, style, layer=5 if gid == "data" else 4)
+        legend.append((ch, style, _ascii(f"{group_label(gid, pts)}: frequency of sides, "
+                                         "| = 95% Wilson interval")))
     return cv.render(
         title="coin plot sides: chance of landing on a side (Fig. 5a)",
         xlabel="aspect ratio xi = h/D (thickness / diameter)" + (", log scale" if data.log

@@ -466,9 +466,14 @@ class FittedSpec:
     key = "fitted"
     closed_form = False
 
-    def __init__(self, fit, surface_name: str):
+    def __init__(self, fit, surface_name: str, level: float = 0.05):
         self.fit = fit
-        self.label = f"bounce on {surface_name}: fitted probit (simulated)"
+        #: the points reject the probit (goodness of fit p < level): drawn dashed, labelled so
+        self.rejected = fit.p_value < level  # nan (no degrees of freedom left) is not
+        verdict = (f"REJECTED by its points, fit p = {fit.p_value:.2g}: shown for reference"
+                   if self.rejected else (f"fit p = {fit.p_value:.3g}"
+                                          if math.isfinite(fit.p_value) else "exact fit"))
+        self.label = f"bounce on {surface_name}: fitted probit (simulated; {verdict})"
         self.name = self.gid = "bounce"
 
     def forward(self, xi):
@@ -500,7 +505,7 @@ def sides_points(p: Physics, *, seed, n, xis, u, omega, psi, diameter, g):
                  t_max=p.t_max, jobs=p.jobs, stream=(0, j))
         f = r.frequencies[1]
         pts.append(ExperimentPoint(f"simulated bounce on {p.surface.name}", x, r.settled,
-                                   f.count, f.p, f.lo, f.hi))
+                                   f.count, f.p, f.lo, f.hi, simulated=True))
     try:
         fit = bounce_design.fit_sides([(e.xi, e.n, e.sides) for e in pts])
     except ValueError as exc:

@@ -272,8 +272,14 @@ def sides(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
         pts, fitted, why = BO.sides_points(physics, seed=seed_v, n=count, xis=xis, u=u_spec,
                                            omega=w_spec, psi=psi_spec, diameter=DEFAULT_DIAMETER, g=STANDARD_G)
         bounce = (pts, fitted)
-        curve = (f"the curve is the probit fitted to them (fit p-value "
-                 f"{fitted.fit.p_value:.3g})" if fitted is not None else f"no curve: {why}")
+        if fitted is None:
+            curve = f"no curve: {why}"
+        elif fitted.rejected:
+            curve = (f"the probit fitted to them is rejected by them (fit p-value "
+                     f"{fitted.fit.p_value:.3g}): drawn dashed, for reference only")
+        else:
+            curve = (f"the curve is the probit fitted to them (fit p-value "
+                     f"{fitted.fit.p_value:.3g})")
         sys.stderr.write(f"coin: note: simulated points: {count} tosses at each of 8 xi from "
                          f"{lo:.4g} to {hi:.4g} onto {physics.describe()}, {labels}; seed "
                          f"{seed_v}; {curve}\n")

@@ -112,8 +112,8 @@ def test_plot_sides_bounce_terminal(coin):
                          "--jobs", "1", "--terminal")
     assert rc == 0 and "seed 1" in note
     assert note.startswith("coin: note: simulated points: 40 tosses")
-    assert "bounce on wood: fitted probit (simulated)" in out
-    assert "simulated bounce on wood (8 rows)" in out
+    assert "bounce on wood: fitted probit (simulated; " in out
+    assert "s  simulated bounce on wood (8 points, " in out
     assert "omega ~ normal:38:4 rev/s, psi ~ normal:90:10 deg (hand toss" in note
 
 
@@ -132,7 +132,7 @@ def test_plot_sides_bounce_without_a_curve_draws_the_points(coin):
     assert rc == 0 and "Traceback" not in note
     assert "at each of 8 xi from 0.05 to 0.06" in note
     assert "no curve: the simulated points do not determine a curve of P(sides)" in note
-    assert "simulated bounce on wood (8 rows)" in out and "fitted probit" not in out
+    assert "simulated bounce on wood (8 points, " in out and "fitted probit" not in out
 
 
 def test_bounce_launch_defaults_are_the_hand_toss():

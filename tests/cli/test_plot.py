@@ -705,3 +705,56 @@ def test_psi_90_is_the_keller_flip_in_every_plot(plotmod, xi):
     k = int(np.flatnonzero(data.psi_deg == 90.0)[0])
     assert (data.heads[k], data.sides[k], data.tails[k]) == tuple(want)
     assert data.marks[0][1].tails > 0
+
+
+# ------------------------------------------------ your tosses and simulated tosses kept apart
+
+
+def _fake_fit(p_value):
+    """A SidesFit as coin plot sides --landing bounce fits one (alpha, beta on ln xi)."""
+    from coincli.core.bounce.design import SidesFit
+
+    return SidesFit(alpha=0.2, beta=1.5, cov=((0.01, 0.0), (0.0, 0.01)), points=[],
+                    deviance=30.0, df=6, p_value=p_value)
+
+
+def test_sides_user_and_simulated_points_have_their_own_markers_and_sse(plotmod):
+    """The user's tosses and the simulated tosses of --landing bounce are two series, two
+    legend entries; the SSE in the legend is of the user's tosses only (it mixed them)."""
+    from coincli.io.experiments import parse_experiments
+
+    mine = plotmod.experiment_points(parse_experiments(TOSSES))
+    sims = [plotmod.ExperimentPoint("simulated bounce on wood", x, 400, s, s / 400, lo, hi,
+                                    simulated=True)
+            for x, s, lo, hi in [(0.2, 20, 0.03, 0.08), (0.6, 300, 0.7, 0.8)]]
+    data = plotmod.sides_data(experiments=mine + sims, points=51)
+    fig = plotmod.sides_figure(data)
+    assert list(_one(fig, "data").get_xdata()) == [e.xi for e in mine]
+    assert list(_one(fig, "simulated").get_xdata()) == [0.2, 0.6]
+    assert _one(fig, "data").get_marker() != _one(fig, "simulated").get_marker()
+    labels = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    assert sum(lab.startswith("your tosses (") for lab in labels) == 1
+    assert sum(lab.startswith("simulated bounce on wood (2 points, 400 settled") for lab in labels) == 1
+    # SSE against the geometric model, by hand over the user's rows only
+    want = math.fsum((e.frequency - float(models.geometric(e.xi).sides)) ** 2 for e in mine)
+    assert plotmod.sse(data, "geometric") == pytest.approx(want, rel=1e-12)
+    mixed = want + math.fsum((e.frequency - float(models.geometric(e.xi).sides)) ** 2
+                             for e in sims)
+    assert plotmod.sse(data, "geometric") != pytest.approx(mixed, rel=1e-6)
+    only_sims = plotmod.sides_data(experiments=sims, points=51)
+    assert plotmod.sse(only_sims, "geometric") is None  # simulated points are not data
+
+
+@pytest.mark.parametrize("p_value, rejected", [(6.4e-6, True), (0.049, True), (0.05, False),
+                                                (0.7, False), (math.nan, False)])
+def test_sides_rejected_bounce_fit_is_dashed_and_labelled(plotmod, p_value, rejected):
+    from coincli.reports.bounce import FittedSpec
+
+    spec = FittedSpec(_fake_fit(p_value), "wood")
+    assert spec.rejected is rejected
+    assert ("REJECTED" in spec.label) is rejected
+    data = plotmod.sides_data([plotmod.GEOMETRIC, spec], points=51)
+    line = _one(plotmod.sides_figure(data), "curve:bounce")
+    assert line.get_linestyle() == ("--" if rejected else "-")
+    text = line.get_label().replace("\n", " ")
+    assert ("shown for reference" in text) is rejected
