@@ -160,8 +160,11 @@ def design(*, p_sides, model=None, psi=None, psi_dist=None, diameter=None, thick
 
 def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickness=None,
           psi=None, psi_dist=None, all=None, vs=None, tol=None, method=None,
-          seed=None) -> list[dict]:
-    """The chances of heads, sides and tails under every model: ``coin table``.
+          seed=None, layout=None, landing=None, surface=None, restitution=None, friction=None,
+          torsional=None, rolling=None, release_height=None, vx=None, u=None, omega=None,
+          tosses=None, jobs=None, dt=None, t_max=None) -> list[dict]:
+    """The chances of heads, sides and tails under every model: ``coin table``; with
+    ``landing="bounce"``, simulated on tables (a parameter study).
 
     Parameters
     ----------
@@ -184,7 +187,20 @@ def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
     method : str, optional
         ``"auto"``, ``"quad"``, ``"mc"`` or ``"qmc"``: how to average over psi.
     seed : int or str, optional
-        Seed of ``method="mc"`` or ``"qmc"`` (default: drawn; the rows' ``seed`` says it).
+        Seed of ``method="mc"`` or ``"qmc"``, or of the tosses of ``landing="bounce"``
+        (default: drawn; the rows' ``seed`` says it).
+    layout : str, optional
+        ``"long"`` (default): a row per coin and model; ``"wide"``: a row per coin, each
+        model's (each table's) columns side by side, named ``MODEL_COLUMN``
+        (``geometric_p_sides``; ``e0.5_mu0.3_p_sides`` with ``landing="bounce"``).
+    landing : str, optional
+        ``"catch"`` (default, the paper's models) or ``"bounce"``: ``tosses`` (default 1000)
+        simulated for each coin and each table, the same seeded launches in every cell.
+    surface, restitution, friction, torsional, rolling, release_height, vx : optional
+        With ``landing="bounce"``: the table (``restitution`` and ``friction`` may be lists or
+        ranges: a row each) and the launch, as the options of the same names.
+    u, omega, tosses, jobs, dt, t_max : optional
+        With ``landing="bounce"``: the launch, the tosses a cell and the simulation's limits.
 
     Returns
     -------
@@ -192,7 +208,11 @@ def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
         One row per coin and model (geometric, dynamic, then the others): ``xi``,
         ``model``, ``p_heads``, ``p_sides``, ``p_tails`` (led by ``coin`` and ``count`` for a
         stacked coin; with ``method`` or ``tol`` also ``method``, ``err_heads``,
-        ``err_sides``, ``err_tails``), as ``coin table --format json`` prints them.
+        ``err_sides``, ``err_tails``), as ``coin table --format json`` prints them.  With
+        ``landing="bounce"``, one per coin and table: ``xi``, ``diameter_mm``, ``surface``,
+        ``restitution``, ``friction``, ``p_heads``, ``p_heads_low``, ``p_heads_high`` (and
+        the same for sides and tails: 95% Wilson intervals; None where no toss settled),
+        ``settled``, ``unsettled``, ``seed``.
 
     Raises
     ------

@@ -28,7 +28,8 @@ PANELS = (
 )
 BOUNCE_PANEL = "Table (--landing bounce)"
 #: options that belong to the bouncing table in a command where they mean nothing else
-BOUNCE_ONLY = {"design": ("--u", "--omega", "--seed"), "sides": ("--seed", "--tosses")}
+BOUNCE_ONLY = {"design": ("--u", "--omega", "--seed"), "sides": ("--seed", "--tosses"),
+               "table": ("--u", "--omega", "--tosses")}
 SUMMARY_LIMIT = 200  #: a command summary in a listing is its first sentence, up to this long
 
 #: the values an option completes to (shell completion); files complete as files

@@ -100,6 +100,25 @@ TABLE_OUTPUT = OUTPUT.but(quiet=option(
     "then the other models.", kind=bool))
 
 
+#: ``--landing bounce`` of ``coin table``: a parameter study of tables, a row per coin and
+#: table (--restitution and --friction take lists and ranges as --xi does)
+TABLE_TABLE = Group(
+    BOUNCE.only("landing", "surface", "restitution", "friction", "torsional", "rolling").but(
+        restitution=option("--restitution", "E", "With --landing bounce: the surface's "
+                           "coefficient of restitution, 0.06 to 0.95; a list or a range "
+                           "(0.3:0.7:0.1) is a study, a row each."),
+        friction=option("--friction", "MU", "With --landing bounce: the sliding friction "
+                        "coefficient, 0 to 10; a list or a range is a study, a row each.")),
+    DESIGN_TABLE.only("u", "omega"),
+    ("tosses", option("-n --n --tosses", "N", "With --landing bounce: tosses simulated in each "
+                      "cell (coin x restitution x friction), default 1000."), None),
+    BOUNCE.only("release_height", "vx", "jobs", "dt", "t_max"),
+)
+LayoutOpt = option("--layout", "long|wide", "long (default): a row per coin and model (per coin "
+                   "and table with --landing bounce); wide: a row per coin, the models (tables) "
+                   "side by side, for a spreadsheet.")
+
+
 @app.command()
 @with_groups
 def table(
@@ -116,21 +135,30 @@ def table(
     tol: _accuracy.TolOpt = None,
     method: _accuracy.MethodOpt = None,
     seed: _accuracy.SeedOpt = None,
+    layout: LayoutOpt = None,
+    bounce=TABLE_TABLE,
     output=TABLE_OUTPUT,
-    old_n: _options.OldCountOpt = None,
 ):
     """Chances of heads, sides and tails under every model, for one or more coins.
 
     One row per coin and model: geometric (eq. 11) and dynamic (eq. 12) always; Table I at
     each --psi angle; psi-averaged densities with --psi-dist or --all (Table II).
 
+    --landing bounce answers another question: the coin lands on a table and bounces; -n
+    tosses are simulated (MuJoCo) for each coin and each table (--restitution, --friction:
+    lists or ranges make a parameter study), the same seeded launches in every cell, a row a
+    cell with 95% intervals, printed as each cell completes.
+
     Examples: coin table --xi 0.577 ;  coin table --xi 0.1:1:0.1 --format csv ;
     coin table --quarters 8 --all ;  coin table --diameter 30 --thickness 17 --psi 60,90 ;
-    coin table --xi 17/30 --vs psi --psi 0:180:10
+    coin table --xi 17/30 --vs psi --psi 0:180:10 ;  coin table --xi 0.5 --layout wide ;
+    coin table --landing bounce --xi 0.3:0.7:0.1 --friction 0.2,0.4 --seed 1 -f csv
     """
+    bouncing = bounce.landing.strip().lower() == "bounce"
     emit_all(report.table(
         **the_coin, psi=psi, psi_dist=psi_dist, all=all_models, vs=vs, tol=tol, method=method,
-        seed=seed, **output, old_n=old_n, progress=estimator_bar), **output)
+        seed=seed, layout=layout, **bounce, **output,
+        progress=simulating_bar if bouncing else estimator_bar), **output)
     if output.quiet:  # the note that names a drawn seed (--method mc or qmc) is not shown
         options.report_drawn_seed()
 

@@ -317,18 +317,53 @@ def table(*, xi: str | None = None, coin: str | None = None, count: str | None =
           quarters: str | None = None, diameter: str | None = None,
           thickness: str | None = None, psi: str | None = None, psi_dist: str | None = None,
           all: bool = False, vs: str | None = None, tol: str | None = None,
-          method: str | None = None, seed: str | None = None, fmt: str = "table",
-          quiet: bool = False, old_n: str | None = None, progress=None) -> Result:
+          method: str | None = None, seed: str | None = None, layout: str | None = None,
+          landing: str = "catch", surface=None, restitution=None, friction=None,
+          torsional=None, rolling=None, release_height=None, vx=None, u=None, omega=None,
+          tosses: str | None = None, jobs=None, dt=None, t_max=None, fmt: str = "table",
+          quiet: bool = False, progress=None) -> Result:
     """``coin table``: the chances of heads, sides and tails of each coin under each model (the
     closed forms, Table I at each ``psi``, psi densities with ``psi_dist`` or ``all``); with
-    ``vs="psi"``, one coin over the ``psi`` angles.
+    ``vs="psi"``, one coin over the ``psi`` angles.  ``layout="wide"``: one row per coin, the
+    models side by side (:func:`widen`).  ``landing="bounce"``: the chances on a table,
+    simulated for each coin and each ``restitution`` and ``friction`` (lists or ranges), a
+    parameter study (:func:`coincli.reports.bounce_table.table`).
 
     ``progress`` makes the progress bar of a long ``--method mc`` or ``qmc`` run (see
     :func:`coincli.reports.accuracy.run`); none by default.  Under ``-q`` the note that names a
     drawn seed is not printed: the command then reports it
     (:func:`coincli.io.options.report_drawn_seed`)."""
-    options.refuse_old_count(old_n, "coin table --coin quarter --count {n}")
     check_format(fmt)
+    wide = layout_value(layout, quiet)
+    bouncing = (surface, restitution, friction, torsional, rolling, release_height, vx, jobs,
+                dt, t_max)
+    if landing.strip().lower() != "catch" or any(v is not None for v in bouncing):
+        from coincli.reports.bounce import landing_of, parse_physics
+
+        landing = landing_of(landing)
+        if landing == "catch":
+            parse_physics("catch", surface=surface, restitution=restitution, friction=friction,
+                          torsional=torsional, rolling=rolling, height=release_height, vx=vx,
+                          jobs=jobs, dt=dt, t_max=t_max)
+    if landing == "bounce":
+        for name, v in (("--vs", vs), ("--all", all or None), ("--tol", tol),
+                        ("--method", method)):
+            if v is not None:
+                raise usage_error(f"{name} goes with --landing catch (the closed forms and "
+                                  "their averages over psi); --landing bounce simulates")
+        from coincli.reports import bounce_table
+
+        return bounce_table.table(
+            xi=xi, coin=coin, count=count, quarters=quarters, diameter=diameter,
+            thickness=thickness, psi=psi, psi_dist=psi_dist, u=u, omega=omega, tosses=tosses,
+            seed=seed, surface=surface, restitution=restitution, friction=friction,
+            torsional=torsional, rolling=rolling, release_height=release_height, vx=vx,
+            jobs=jobs, dt=dt, t_max=t_max, wide=wide, progress=progress)
+    options.refuse_old_count(tosses, "coin table --coin quarter --count {n}")
+    for name, v in (("--u", u), ("--omega", omega)):
+        if v is not None:
+            raise usage_error(f"{name} goes with --landing bounce (a launch to simulate); the "
+                              "catch's tables are over psi (--psi, --psi-dist)")
     if vs is not None:
         if vs.strip().lower() != "psi":
             raise usage_error(f"--vs takes psi, got {vs!r}")
@@ -352,7 +387,56 @@ def table(*, xi: str | None = None, coin: str | None = None, count: str | None =
             extra.append(ModelSpec.psi_density(d))
     acc = _accuracy.parse(tol, method, seed)
     _accuracy.require_density(acc, bool(dens))
-    return _table_rows(coins, extra, acc, fmt, progress)
+    result = _table_rows(coins, extra, acc, fmt, progress)
+    return widen(result, (GEOMETRIC, DYNAMIC, *extra), fmt) if wide else result
+
+
+LAYOUTS = ("long", "wide")
+
+
+def layout_value(text: str | None, quiet: bool) -> bool:
+    """Whether ``--layout`` asks for the wide table (``long``, the default, or ``wide``)."""
+    if text is None:
+        return False
+    t = text.strip().lower()
+    if t not in LAYOUTS:
+        raise usage_error(f"--layout must be long (a row per coin and model) or wide (a row per "
+                          f"coin, the models side by side), got {text!r}")
+    if t == "wide" and quiet:
+        raise usage_error("--layout wide lays out a table; -q prints one P(sides) a line and "
+                          "takes no layout")
+    return t == "wide"
+
+
+def widen(result: Result, models_, fmt: str) -> Result:
+    """The long table (a row per coin and model, the ``models_`` in order for every coin) as a
+    wide one: a row per coin, and each model's value columns side by side, named
+    ``MODEL_COLUMN`` (``geometric_p_sides``, ``normal:90:18_p_heads``: MODEL is the model's
+    name as the machine formats write it, in every format) and headed by its title on a
+    terminal (``--layout wide`` of ``coin table``, for a spreadsheet).  A streamed result stays
+    streamed, a chunk at a time."""
+    k = len(models_)
+    cols = list(result.columns)
+    m = next(i for i, c in enumerate(cols) if c.name == "model")
+    lead, values = cols[:m], cols[m + 1:]
+    titles = _model_names(models_, fmt)
+    columns = lead + [Column(f"{model.name}_{c.name}", f"{title} {c.header}", c.style)
+                      for model, title in zip(models_, titles, strict=True) for c in values]
+
+    def wide(data):
+        out = [list(col[::k]) for col in data[:m]]
+        for j in range(k):
+            out += [list(col[j::k]) for col in data[m + 1:]]
+        return out
+
+    if result.chunks is not None:
+        return Result(result.title, columns, [], note=result.note,
+                      chunks=map(wide, result.chunks))
+    data = [list(col) for col in zip(*result.rows, strict=True)]
+    return Result(result.title, columns, [], note=result.note,
+                  data=wide(data) if data else [[] for _ in columns])
+
+
 
 
 _TABLE_COLUMNS = [Column("xi", "xi = h/D"), Column("model", "model", "text"),

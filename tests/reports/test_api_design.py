@@ -163,7 +163,7 @@ def test_the_reports_raise_the_commands_errors():
     with pytest.raises(InputError, match="--model must be geometric, dynamic or psi"):
         R.stack(count="3", model="flat")
     with pytest.raises(InputError, match="-n is a number of tosses"):
-        R.table(old_n="8")
+        R.table(tosses="8")
     with pytest.raises(NotComputable, match="infinitely tall stack"):
         R.stack(p_sides="1")
 
