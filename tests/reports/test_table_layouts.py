@@ -164,7 +164,7 @@ def test_bounce_cells_none_where_nothing_settled():
     (["--landing", "bounce", "--xi", "0.5", "--psi", "60,90"], ["--psi with --landing bounce",
                                                                 "'60,90'"]),
     (["--landing", "bounce", "--xi", "0.1:0.9:0.01", "--surface", "wood", "--friction",
-      "0.1:1:0.1"], ["at most 1000 cells", "make 810"]),
+      "0.1:1.5:0.1"], ["at most 1000 cells", "make 1215"]),
     (["--landing", "bounce", "--xi", "0.5", "--surface", "wood", "--restitution", "0.3,1.2"],
      ["--restitution must be a number from 0.06 to 0.95", "'1.2'"]),
     (["--landing", "bounce", "--xi", "0.1:0.5:0.1", "--surface", "wood", "--friction",
