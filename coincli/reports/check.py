@@ -122,16 +122,47 @@ FIT_COLUMNS = MACHINE_COLUMNS + [
 ]
 
 
+#: the columns a table with caught (faces-only) rows adds, after all the others
+CAUGHT_MACHINE_COLUMNS = [
+    Column("same", "same side", "int"),
+    Column("different", "other side", "int"),
+    Column("p_same", "P(same | face)"),
+    Column("expected_same", "expected same"),
+    Column("expected_different", "expected different"),
+    Column("freq_same", "same frequency"),
+    Column("same_wilson_low", "same Wilson low"),
+    Column("same_wilson_high", "same Wilson high"),
+    Column("same_cp_low", "same Clopper-Pearson low"),
+    Column("same_cp_high", "same Clopper-Pearson high"),
+]
+#: ... and what ``coin fit`` adds for them: the tossers compared, and each one's fair coin
+CAUGHT_FIT_COLUMNS = [
+    Column("sigma_note", "psi sd note", "text"),
+    Column("heterogeneity_test", "heterogeneity test", "text"),
+    Column("heterogeneity_statistic", "heterogeneity statistic"),
+    Column("heterogeneity_df", "heterogeneity df", "int"),
+    Column("heterogeneity_p", "heterogeneity p-value"),
+    Column("sigma_common_deg", "common psi sd (deg)"),
+    Column("median_sigma_deg", "median tosser psi sd (deg)"),
+    Column("between_sd_log_sigma", "between-tosser sd of log psi sd"),
+    Column("design_p_sides", "design P(sides)"),
+    Column("design_xi", "design xi"),
+    Column("design_thickness_mm", "design thickness (mm)"),
+]
+
+
 def _values(arr) -> list:
     """numpy values as Python ones, NaN as None (an empty cell)."""
     return [None if v != v else v for v in arr.tolist()]
 
 
-def _machine_chunks(ch, lines, extra=None, tail_rows=()):
+def _machine_chunks(ch, lines, extra=None, tail_rows=(), caught_extra=None, row_extra=None):
     """The machine table a chunk at a time (lists of columns, at most CHUNK_ROWS rows): one
     row per experiment and model (experiment-major), then ``tail_rows`` (tuples).
     ``extra(k)`` gives the fit's extra cells of model ``k``.  A file of 10^5 experiments is
-    written without ever holding its 10^5 x models x 45 cells."""
+    written without ever holding its 10^5 x models x 45 cells.  With caught rows the
+    :data:`CAUGHT_MACHINE_COLUMNS` follow (then ``caught_extra``, makers of the fit's caught
+    columns); ``row_extra`` maps a column index to a maker that replaces it."""
     import numpy as np
 
     M = len(ch.tests)
@@ -192,6 +223,28 @@ def _machine_chunks(ch, lines, extra=None, tail_rows=()):
             makers.append(lambda a, b, cells=cells: cells * (b - a))
     # heads and tails: int columns with None where faces were not told apart
     makers[5], makers[7] = _ints(makers[5]), _ints(makers[7])
+    if cc.caught.any():
+        caught = cc.caught
+        makers[6] = _ints(per_exp(np.where(caught, nan, cc.sides)))
+        face = [t.raw[0] + t.raw[2] for t in tests]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            p_same = np.stack([np.where(caught, t.raw[0] / f, nan)
+                               for t, f in zip(tests, face, strict=True)], axis=1)
+        e_same = np.stack([np.where(caught, t.expected[0], nan) for t in tests], axis=1)
+        e_diff = np.stack([np.where(caught, t.expected[1], nan) for t in tests], axis=1)
+        for j in range(3):  # a caught row has no expected heads, sides or tails
+            makers[12 + j] = per_test(np.where(caught[:, None], nan, exp_cols[j]))
+        makers += [
+            _ints(per_exp(np.where(caught, cc.same, nan))),
+            _ints(per_exp(np.where(caught, cc.n - cc.same, nan))),
+            per_test(p_same), per_test(e_same), per_test(e_diff),
+            *(per_exp(v) for v in ch.intervals["same"]),
+        ]
+        if caught_extra is not None:
+            makers += caught_extra
+    if row_extra is not None:  # per-row cells that replace the fit's constant ones
+        for c, make in row_extra.items():
+            makers[c] = make
     step = max(1, min(CHUNK_ROWS, 8192) // M)  # 45 columns: 8192 rows of cells at a time
     for a in range(0, T, step):
         yield [make(a, min(a + step, T)) for make in makers]
@@ -232,15 +285,19 @@ def _observed_result(title: str, ch, lines, confidence: float) -> Result:
              Column("cp", f"{pct} Clopper-Pearson", "text")]
     cc = ch.cc
 
+    caught = cc.caught
+    names = _OUTCOMES + (("same",) if caught.any() else ())
+
     def rows(a: int, b: int) -> list[tuple]:
-        per = {name: [v[a:b].tolist() for v in ch.intervals[name]] for name in _OUTCOMES}
+        per = {name: [v[a:b].tolist() for v in ch.intervals[name]] for name in names}
         counts = {"heads": cc.heads[a:b].tolist(), "sides": cc.sides[a:b].tolist(),
-                  "tails": cc.tails[a:b].tolist()}
+                  "tails": cc.tails[a:b].tolist(), "same": cc.same[a:b].tolist()}
         xi = ch.xi[a:b].tolist()
         body = []
-        for j, f in enumerate(cc.faces[a:b].tolist()):
+        for j, (f, c) in enumerate(zip(cc.faces[a:b].tolist(), caught[a:b].tolist(),
+                                       strict=True)):
             lead = [lines[a + j], ch.labels[a + j], xi[j]] if with_line else []
-            for name in (_OUTCOMES if f else ("sides",)):
+            for name in (_OUTCOMES if f else ("same",) if c else ("sides",)):
                 est, wl, wh, cl, chh = (col[j] for col in per[name])
                 body.append((*lead, name, counts[name][j], est, _interval_text(wl, wh),
                              _interval_text(cl, chh)))
@@ -269,21 +326,34 @@ def _tests_result(title: str, ch, lines, note: str) -> Result:
     with_line = lines is not None
     cols = ([Column("line", "line", "int"), Column("label", "label", "text")]
             if with_line else [])
+    caught = ch.cc.caught
+    any_caught = bool(caught.any())
     cols += [Column("model", "model", "text"), Column("p_heads", "P(heads)"),
-             Column("p_sides", "P(sides)"), Column("p_tails", "P(tails)"),
-             Column("expected", "expected H / S / T", "text"), Column("p_value", "p-value"),
+             Column("p_sides", "P(sides)"), Column("p_tails", "P(tails)")]
+    if any_caught:
+        cols += [Column("p_same", "P(same | face)"),
+                 Column("expected", "expected H / S / T or same / other", "text")]
+    else:
+        cols += [Column("expected", "expected H / S / T", "text")]
+    cols += [Column("p_value", "p-value"),
              Column("log_likelihood", "log-likelihood"), Column("verdict", "verdict", "text")]
+
     def rows(a: int, b: int) -> list[tuple]:
         tests = [(t.model, t.raw[:, a:b].T.tolist(), t.expected[:, a:b].T.tolist(),
                   t.p_value[a:b].tolist(), t.log_likelihood[a:b].tolist(), t.verdict[a:b])
                  for t in ch.tests]
         body = []
-        for j, f in enumerate(ch.cc.faces[a:b].tolist()):
+        for j, (f, c) in enumerate(zip(ch.cc.faces[a:b].tolist(), caught[a:b].tolist(),
+                                       strict=True)):
             lead = [lines[a + j], ch.labels[a + j]] if with_line else []
             for model, raw, exp, pv, ll, ver in tests:
                 e = exp[j]
-                shown = e if f else (None, e[0], None)
-                body.append((*lead, model, *raw[j],
+                shown = e if f else (e[0], e[1]) if c else (None, e[0], None)
+                mid = []
+                if any_caught:
+                    h, _, t = raw[j]
+                    mid = [h / (h + t) if c and h + t > 0 else None]
+                body.append((*lead, model, *raw[j], *mid,
                              " / ".join("-" if v is None else _count_text(v) for v in shown),
                              pv[j], ll[j], ver[j]))
         return body
@@ -313,7 +383,8 @@ def _xi_from_options(xi, quarters, coin, count, diameter, thickness) -> tuple[fl
 def check(*, xi: str | None = None, quarters: str | None = None, coin: str | None = None,
           count: str | None = None, diameter: str | None = None, thickness: str | None = None,
           heads: str | None = None, sides: str | None = None, tails: str | None = None,
-          tosses: str | None = None, psi_dist: str | None = None, alpha: str = "0.05",
+          tosses: str | None = None, same: str | None = None, different: str | None = None,
+          psi_dist: str | None = None, alpha: str = "0.05",
           confidence: str = "0.95", fmt: str = "table", quiet: bool = False):
     """What ``coin check`` prints: the observed frequencies with their intervals, and for each
     model the expected counts, the exact test's p-value, the log-likelihood and a verdict.
@@ -331,12 +402,16 @@ def check(*, xi: str | None = None, quarters: str | None = None, coin: str | Non
     a = _level(alpha, "--alpha")
     conf = _level(confidence, "--confidence")
     x, label = _xi_from_options(xi, quarters, coin, count, diameter, thickness)
-    vals = {name: _whole(v, f"--{name}" if name != "n" else "-n")
-            for name, v in (("heads", heads), ("sides", sides), ("tails", tails), ("n", tosses))}
-    try:
-        counts = make_counts(**vals)
-    except ValueError as exc:
-        raise usage_error(str(exc)) from None
+    if same is not None or different is not None:
+        counts = _caught_counts(x, same, different, tosses, (heads, sides, tails))
+    else:
+        vals = {name: _whole(v, f"--{name}" if name != "n" else "-n")
+                for name, v in (("heads", heads), ("sides", sides), ("tails", tails),
+                                ("n", tosses))}
+        try:
+            counts = make_counts(**vals)
+        except ValueError as exc:
+            raise usage_error(str(exc)) from None
     _check_total(counts)
     dens = _densities(psi_dist)
     try:
@@ -344,16 +419,91 @@ def check(*, xi: str | None = None, quarters: str | None = None, coin: str | Non
         ch = stats.check_many([counts], x, chances, confidence=conf, alpha=a, labels=[label])
     except ValueError as exc:
         raise compute_error(str(exc)) from None
+    caught = bool(ch.cc.caught[0])
     if quiet or fmt != "table":
-        return Result("coin check", MACHINE_COLUMNS, [],
-                      data=next(_machine_chunks(ch, None)),
+        return Result("coin check", MACHINE_COLUMNS + (CAUGHT_MACHINE_COLUMNS if caught else []),
+                      [], data=next(_machine_chunks(ch, None)),
                       quiet=[float(t.p_value[0]) for t in ch.tests])
     coin_text = f"xi = {x:.6g}" if xi is not None else f"{label} (xi = {x:.6g})"
     title = f"coin check: {coin_text}, {_plural(counts.n, 'toss', 'tosses')}"
+    if caught:
+        title = f"coin check: {coin_text}, {_plural(counts.n, 'caught flip', 'caught flips')}"
+    note = _test_note(ch) + _models_note(dens)
+    if caught:
+        note += "\n" + _caught_note(x, counts, conf)
     return [
         _observed_result(title, ch, None, conf),
-        _tests_result("models", ch, None, _test_note(ch) + _models_note(dens)),
+        _tests_result("models", ch, None, note),
     ]
+
+
+def _caught_counts(x: float, same, different, tosses, three):
+    """``--same``/``--different`` (``-n`` optional): caught flips, faces only."""
+    from coincli.core.stats.counts import make_caught
+
+    if any(v is not None for v in three):
+        raise usage_error("--same/--different are caught flips (faces only); they cannot go "
+                          "with --heads, --sides or --tails")
+    vals = {name: _whole(v, f"--{name}" if name != "n" else "-n")
+            for name, v in (("same", same), ("different", different), ("n", tosses))}
+    try:
+        counts = make_caught(**vals)
+    except ValueError as exc:
+        raise usage_error(_option_words(str(exc))) from None
+    _warn_thick(x, "")
+    return counts
+
+
+def _option_words(message: str) -> str:
+    """A core message about same/different/n in the words of the options."""
+    for name, opt in (("same", "--same"), ("different", "--different")):
+        message = message.replace(f"{name} ", f"{opt} ", 1) if message.startswith(name) else \
+            message
+    return message.replace("same + different", "--same + --different").replace(
+        "but n =", "but -n =").replace("exceeds n =", "exceeds -n =")
+
+
+def _warn_thick(x: float, where: str) -> None:
+    """Caught flips of a thick coin: warn (stderr), once per run."""
+    from coincli.core.stats.caught import CAUGHT_XI_LIMIT
+
+    if x > CAUGHT_XI_LIMIT:
+        sys.stderr.write(f"coin: warning: {where}xi = {x:.6g} is above {CAUGHT_XI_LIMIT}: "
+                         "caught flips (faces only) are the thin coin's case; this coin lands "
+                         "on a side often enough that conditioning on a face may not describe "
+                         "how it was caught\n")
+
+
+def _caught_note(x: float, counts, conf: float) -> str:
+    """What a caught check means, and this tosser's own spread of psi."""
+    from coincli.core.stats import caught as cs
+
+    f = cs.fit_rows([x], [counts.same], [counts.n], confidence=conf)
+    text = (f"caught flips (faces only): each model is tested on the chance of landing on the "
+            f"side it started on given that it landed on a face, P(H) / (P(H) + P(T)) with the "
+            f"start side as heads (a caught coin never shows a side, so P(sides) is conditioned "
+            f"away).  Every model of a Keller flip gives 1/2; a spread of psi favours the "
+            f"starting side.  This tosser's spread: sd of psi {_fmt_deg(float(f.sigma[0]))} "
+            f"deg, {percent_text(conf)} profile-likelihood interval "
+            f"{_fmt_deg(float(f.low[0]))} to {_fmt_deg(float(f.high[0]))} deg")
+    bound = _bound_note(int(f.at_bound[0]))
+    return text + (f" ({bound})" if bound else "") + "."
+
+
+def percent_text(conf: float) -> str:
+    from coincli.core.stats.tests import percent
+
+    return percent(conf)
+
+
+def _bound_note(b: int) -> str:
+    if b < 0:
+        return ("the estimate is at the bound sigma = 0: no more flips landed on the starting "
+                "side than on the other, which a Keller flip (1/2) already explains")
+    if b > 0:
+        return ("the estimate is at the bound sigma = inf: as many flips landed on the starting "
+                "side as psi uniform gives, or more")
+    return ""
 
 def _models_note(dens) -> str:
     base = "  geometric = eq. 11, dynamic = eq. 12 (Keller flip, psi = 90 deg)"
