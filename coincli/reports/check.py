@@ -585,8 +585,8 @@ def _experiments(text: str, name: str, delimiter: str | None = None) -> list:
 
 
 def fit(file: str, *, psi_dist: str | None = None, no_spread: bool = False,
-        delimiter: str | None = None, alpha: str = "0.05", confidence: str = "0.95",
-        fmt: str = "table", quiet: bool = False):
+        delimiter: str | None = None, design: str | None = None, alpha: str = "0.05",
+        confidence: str = "0.95", fmt: str = "table", quiet: bool = False):
     """What ``coin fit FILE`` prints: every experiment of ``file`` checked as :func:`check`
     does, then the models compared across experiments (log-likelihood, AIC, the paper's sum of
     squared errors of the side frequencies) and the maximum-likelihood spread of psi with its
@@ -610,11 +610,24 @@ def fit(file: str, *, psi_dist: str | None = None, no_spread: bool = False,
         sep = None if delimiter is None else delimiter_of(delimiter)
     except ValueError as exc:
         raise usage_error(f"--{exc}") from None
+    p_design = _design(design)
     text, name = _read_text(file)
     exps = _experiments(text, name, sep)
     del text
+    thick = [e for e in exps if getattr(e.counts, "caught", False)]
+    if thick:
+        from coincli.core.stats.caught import CAUGHT_XI_LIMIT
+
+        over = [e for e in thick if e.xi > CAUGHT_XI_LIMIT]
+        if over:
+            _warn_thick(over[0].xi, f"{_file_name(name)} line {over[0].line}"
+                        + (f" and {len(over) - 1} more rows" if len(over) > 1 else "") + ": ")
+    elif p_design is not None:
+        raise usage_error("--design gives each tosser's fair coin from caught flips (same and "
+                          f"different); {_file_name(name)} has no caught rows")
     try:
-        res = stats.fit(exps, dens, confidence=conf, alpha=a, spread=not no_spread)
+        res = stats.fit(exps, dens, confidence=conf, alpha=a, spread=not no_spread,
+                        design=p_design)
     except ValueError as exc:
         raise compute_error(str(exc)) from None
     sp = res.spread
@@ -622,14 +635,18 @@ def fit(file: str, *, psi_dist: str | None = None, no_spread: bool = False,
         return Result("coin fit", FIT_COLUMNS, [], quiet=_deg(sp.sigma))
     lines = [e.line for e in exps]
     n_total = sum(e.counts.n for e in exps)
+    cf = res.caught
     if fmt == "table":
-        return [
+        out = [
             _observed_result(f"coin fit: {name}, "
                              f"{_plural(len(exps), 'experiment', 'experiments')}, "
                              f"{_plural(n_total, 'toss', 'tosses')}", res.rows, lines, conf),
             _tests_result("models, each experiment", res.rows, lines, _test_note(res.rows)),
             _comparison_result(res, conf),
         ]
+        if cf is not None:
+            out.append(_tossers_result(exps, cf, lines, conf, p_design))
+        return out
     spread_cells = ([_deg(sp.sigma), _deg(sp.low), _deg(sp.high)] if sp is not None
                     else [None] * 3)
     models = [t.model for t in res.rows.tests]
@@ -646,8 +663,152 @@ def fit(file: str, *, psi_dist: str | None = None, no_spread: bool = False,
                  None if math.isnan(m.delta_aic) else m.delta_aic, m.sse_sides]
         cells += spread_cells if m.model == stats.SPREAD_MODEL else [None] * 3
         tail.append(tuple(cells))
-    return Result("coin fit", FIT_COLUMNS, [],
-                  chunks=_machine_chunks(res.rows, lines, extra, tail))
+    if cf is None:
+        return Result("coin fit", FIT_COLUMNS, [],
+                      chunks=_machine_chunks(res.rows, lines, extra, tail))
+    return _caught_fit_result(res, exps, lines, extra, tail, spread_cells, p_design)
+
+
+def _design(text: str | None) -> float | None:
+    """--design P: the chance of a side of each tosser's coin (1/3: fair three-sided)."""
+    if text is None:
+        return None
+    try:
+        v = parse.parse_probability(text, "--design")
+    except ValueError:
+        v = math.nan
+    if not 0.0 < v < 1.0:
+        raise usage_error(f"--design must be a chance of a side strictly between 0 and 1 (1/3 "
+                          f"for a fair three-sided coin), got {shown(text)}")
+    return v
+
+
+_N_CAUGHT_FIT = len(CAUGHT_FIT_COLUMNS)
+
+
+def _caught_fit_result(res, exps, lines, extra, tail, spread_cells, p_design) -> Result:
+    """The machine table of a fit with caught rows: every column, the caught ones last; each
+    caught row's psi-spread line carries its own spread; a row of scope ``all`` the tossers'
+    heterogeneity."""
+    import numpy as np
+
+    from coincli.core.stats import fit as stats
+
+    cf = res.caught
+    T = len(res.rows)
+    models = [t.model for t in res.rows.tests]
+    M = len(models)
+    k_spread = models.index(stats.SPREAD_MODEL) if stats.SPREAD_MODEL in models else None
+    own = np.full((T, 3), np.nan)
+    own[cf.rows] = np.degrees(np.stack([cf.fits.sigma, cf.fits.low, cf.fits.high], axis=1))
+    is_caught = res.rows.cc.caught
+    notes = [None] * T
+    for i, b in zip(cf.rows.tolist(), cf.fits.at_bound.tolist(), strict=True):
+        notes[i] = _bound_note(int(b)) or None
+    design = [None] * T
+    if cf.fair_xi is not None:
+        for i, x in zip(cf.rows.tolist(), cf.fair_xi.tolist(), strict=True):
+            d = exps[i].diameter
+            design[i] = (p_design, x, None if d is None else x * d)
+    base = len(FIT_COLUMNS)  # the sigma columns are the last three of FIT_COLUMNS
+
+    def sigma_maker(c):
+        pooled = spread_cells[c]
+
+        def make(a, b):
+            out = []
+            for i in range(a, b):
+                for k in range(M):
+                    if k != k_spread:
+                        out.append(None)
+                    elif is_caught[i]:
+                        v = own[i, c]
+                        out.append(None if v != v else float(v))
+                    else:
+                        out.append(pooled)
+            return out
+        return make
+
+    def row_cells(j):
+        def make(a, b):
+            out = []
+            for i in range(a, b):
+                if j == 0:
+                    cells = [notes[i] if k == k_spread else None for k in range(M)]
+                elif design[i] is not None and 8 <= j <= 10:
+                    cells = [design[i][j - 8]] * M
+                else:
+                    cells = [None] * M
+                out += cells
+            return out
+        return make
+
+    caught_extra = [row_cells(j) for j in range(_N_CAUGHT_FIT)]
+    row_extra = {base - 3 + c: sigma_maker(c) for c in range(3)}
+    n_caught = len(CAUGHT_MACHINE_COLUMNS) + _N_CAUGHT_FIT
+    tail = [t + (None,) * n_caught for t in tail]
+    het = cf.heterogeneity
+    if het is not None:
+        from coincli.core.stats.caught import HETEROGENEITY_METHOD
+
+        n_c = int(res.rows.cc.n[cf.rows].sum())
+        cells = ["all", None, "caught rows", None, n_c] + [None] * 3 + [stats.SPREAD_MODEL]
+        cells += [None] * (base - len(cells) - 3)
+        cells += [_deg(het.sigma_common), None, None]
+        cells += [None] * len(CAUGHT_MACHINE_COLUMNS)
+        cells += [None, HETEROGENEITY_METHOD, het.statistic, het.df, het.p_value,
+                  _deg(het.sigma_common), _deg(math.exp(het.mu)), het.tau, None, None, None]
+        tail.append(tuple(cells))
+    return Result("coin fit", FIT_COLUMNS + CAUGHT_MACHINE_COLUMNS + CAUGHT_FIT_COLUMNS, [],
+                  chunks=_machine_chunks(res.rows, lines, extra, tail, caught_extra,
+                                         row_extra))
+
+
+def _tossers_result(exps, cf, lines, conf: float, p_design) -> Result:
+    """The human table of the caught rows: each tosser's spread (and fair coin)."""
+    from coincli.core.stats.tests import percent
+
+    pct = percent(conf)
+    cols = [Column("line", "line", "int"), Column("label", "label", "text"),
+            Column("same", "same / n", "text"), Column("sigma_deg", "psi sd (deg)"),
+            Column("interval", f"{pct} profile interval (deg)", "text")]
+    if cf.fair_xi is not None:
+        cols += [Column("design_xi", f"xi for P(sides) = {p_design:.6g}"),
+                 Column("design_thickness_mm", "thickness (mm)")]
+    body = []
+    for j, i in enumerate(cf.rows.tolist()):
+        e = exps[i]
+        row = [lines[i], e.label, f"{e.counts.same} / {e.counts.n}",
+               _deg(float(cf.fits.sigma[j])),
+               f"{_fmt_deg(float(cf.fits.low[j]))} to {_fmt_deg(float(cf.fits.high[j]))}"]
+        if cf.fair_xi is not None:
+            x = float(cf.fair_xi[j])
+            row += [x, None if e.diameter is None else x * e.diameter]
+        body.append(tuple(row))
+    notes = ["caught flips (faces only): each row is one tosser, fitted alone: psi ~ normal "
+             "about 90 deg truncated to [0, 180], the chance of the same side "
+             "P(H) / (P(H) + P(T)) (the start side as heads); a row at a bound is noted in "
+             "the machine output (sigma_note)."]
+    bounds = sum(1 for b in cf.fits.at_bound.tolist() if b)
+    if bounds:
+        notes.append(f"{_plural(bounds, 'row has', 'rows have')} the estimate at a bound "
+                     "(sd 0: no more same-side flips than a Keller flip's 1/2; inf: as many as "
+                     "psi uniform gives, or more).")
+    het = cf.heterogeneity
+    if het is not None:
+        notes.append(
+            f"one spread for all tossers: sd {_fmt_deg(het.sigma_common)} deg; do they differ? "
+            f"likelihood-ratio test of one spread per tosser against one for all: "
+            f"{het.statistic:.4g} on {het.df} df, p = {het.p_value:.3g}; random effects "
+            f"(log sd ~ normal, maximum marginal likelihood): median tosser "
+            f"{_fmt_deg(math.exp(het.mu))} deg, sd of log sd between tossers {het.tau:.3g} "
+            f"(a factor of {math.exp(het.tau):.3g}).")
+    if cf.fair_xi is not None:
+        notes.append(f"design: the xi whose chance of a side is {p_design:.6g} under each "
+                     "tosser's fitted spread (the paper's model, no bounce); the thickness for "
+                     "the row's diameter when the row gives one (coin or diameter).")
+    return _chunked("each tosser (caught rows)", cols,
+                    lambda a, b: body[a:b], len(body), 1, "\n".join(notes))
 
 def _comparison_result(res, conf: float) -> Result:
     cols = [Column("model", "model", "text"), Column("n_params", "fitted parameters", "int"),
