@@ -456,11 +456,15 @@ def _caught_counts(x: float, same, different, tosses, three):
 
 def _option_words(message: str) -> str:
     """A core message about same/different/n in the words of the options."""
-    for name, opt in (("same", "--same"), ("different", "--different")):
-        message = message.replace(f"{name} ", f"{opt} ", 1) if message.startswith(name) else \
-            message
-    return message.replace("same + different", "--same + --different").replace(
-        "but n =", "but -n =").replace("exceeds n =", "exceeds -n =")
+    import re
+
+    message = re.sub(r"\b(?<!-)(same|different)\b(?= (\+|=|must|was|exceeds|and))", r"--\1",
+                     message)
+    for a, b in (("but n =", "but -n ="), ("exceeds n =", "exceeds -n ="),
+                 ("without different", "without --different"), ("without same", "without --same"),
+                 ("or n", "or -n"), ("and different are", "and --different are")):
+        message = message.replace(a, b)
+    return message
 
 
 def _warn_thick(x: float, where: str) -> None:
