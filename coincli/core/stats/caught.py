@@ -89,7 +89,7 @@ def same_chance(xi, sigma):
     if x.ndim == 0:
         h, _, t = marginal(float(x), dens)
         return h / (h + t)
-    if x.size <= 16:  # a float at a time: marginal's scalar path is ten times cheaper
+    if x.size <= 2:  # a float at a time: marginal's scalar path is cheaper for one or two
         out = np.empty(x.shape)
         for i, v in enumerate(x.reshape(-1).tolist()):
             h, _, t = marginal(v, dens)
@@ -243,14 +243,27 @@ def fit_rows(xi, same, n, *, confidence: float = CONFIDENCE, chance: SameChance 
     import numpy as np
 
     conf = _check_level(confidence, "confidence")
-    xi = np.asarray(xi, dtype=float)
-    s = np.asarray(same, dtype=float)
-    m = np.asarray(n, dtype=float)
-    d = m - s
+    xi = np.asarray(xi, dtype=float).reshape(-1)
+    s = np.asarray(same, dtype=float).reshape(-1)
+    m = np.asarray(n, dtype=float).reshape(-1)
     ux, k = np.unique(xi, return_inverse=True)
     k = k.ravel()
     if chance is None or not np.array_equal(chance.xi, ux):
         chance = SameChance(ux)
+    # rows of one coin with the same counts share their fit: each distinct row once
+    rows, inv = np.unique(np.stack([k.astype(float), s, m], axis=1), axis=0,
+                          return_inverse=True)
+    inv = inv.ravel()
+    if len(rows) < len(s):
+        f = _fit_distinct(rows[:, 0].astype(np.int64), rows[:, 1], rows[:, 2], conf, chance)
+        return RowFits(*(v[inv] for v in f[:5]), conf)
+    return _fit_distinct(k, s, m, conf, chance)
+
+
+def _fit_distinct(k, s, m, conf, chance):
+    import numpy as np
+
+    d = m - s
     qinf = chance.q_inf[k]
     half = np.full(s.shape, 0.5)
     q_hat = np.clip(s / m, half, qinf)

@@ -720,10 +720,19 @@ def check_many(counts: Sequence[Counts], xi, chances: Mapping[str, object], *,
         elif np.any(cc.caught):
             cols = [np.where(cc.caught, np.nan, v) for v in cols]
         intervals[name] = cols
-    if np.any(cc.caught):  # the chance of the same side, caught rows only
-        est = [cc.same / cc.n, *wilson_interval(cc.same, cc.n, conf),
-               *clopper_pearson_interval(cc.same, cc.n, conf)]
-        intervals["same"] = [np.where(cc.caught, v, np.nan) for v in est]
+    if np.any(cc.caught):  # the chance of the same side, caught rows only; each pair once
+        c = np.flatnonzero(cc.caught)
+        sp, sinv = np.unique(np.stack([cc.same[c], cc.n[c]], axis=1), axis=0,
+                             return_inverse=True)
+        sinv = sinv.ravel()
+        ends = [*wilson_interval(sp[:, 0], sp[:, 1], conf),
+                *clopper_pearson_interval(sp[:, 0], sp[:, 1], conf)]
+        cols = []
+        for v in [sp[:, 0] / sp[:, 1], *ends]:
+            col = np.full(T, np.nan)
+            col[c] = v[sinv]
+            cols.append(col)
+        intervals["same"] = cols
     tests = [_model_tests(cc, ch, name, alpha, method) for name, ch in chances.items()]
     return Checks(xs, list(labels) if labels is not None else [""] * len(cc), cc, intervals,
                   tests, conf)
