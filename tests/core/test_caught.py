@@ -228,3 +228,23 @@ def test_synthetic_file_is_reproducible():
                          env={**__import__("os").environ,
                               "PYTHONPATH": str(DATA.parents[1])}).stdout
     assert out == (DATA / "caught.csv").read_text()
+
+
+@pytest.mark.parametrize("text, words", [
+    ("xi,same,different\n0.07,-5,3\n", "line 2, column 'same': same must be a whole number"),
+    ("xi,same,different\n0.07,5.5,3\n", "line 2, column 'same': same must be a whole number"),
+    ("xi,same,different,n\n0.07,5,3,9\n", "line 2, column 'n': same + different = 8 but n = 9"),
+    ("xi,same,different,sides\n0.07,5,3,1\n", "column 'sides': a row of caught flips"),
+    ("xi,heads,tails,start\n0.07,5,3,up\n", "start must be heads or tails, got 'up'"),
+    ("xi,hsame,hdiff,tsame\n0.07,5,3,1\n", "column 'tdiff': hsame, hdiff, tsame and tdiff"),
+])
+def test_file_errors(text, words):
+    with pytest.raises(ValueError, match=None) as info:
+        parse_experiments(text)
+    assert words in str(info.value) and "\n" not in str(info.value)
+
+
+def test_plot_data_refuses_caught_rows(capsys):
+    assert run(["plot", "sides", "--data", str(DATA / "caught.csv"), "--terminal"]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and "line 3 is caught flips" in err and err.count("\n") == 1
