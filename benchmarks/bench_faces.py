@@ -9,8 +9,9 @@ of a 10^5-row file, and the coverage of each tosser's interval.
    process doing nothing (``coin --version``) in the same run.
 2. Streaming: ``coin fit FILE --format csv > /dev/null`` on 10^4 and 10^5 rows (10 coins,
    1000 flips each): peak resident memory of the child (ru_maxrss) and the ratio.
-3. Coverage: synthetic tossers at sd 0 to 30 deg of psi (1000 flips to 10^4 each), the share
-   of 95% profile intervals that cover the true sd, with its binomial standard error.
+3. Coverage (``--coverage`` runs it alone): synthetic tossers at sd 0 to 30 deg of psi (1000
+   flips to 10^4 each), the share of 95% intervals that cover the true sd, with its binomial
+   standard error.
 
 Synthetic data only, drawn here (numpy seed 27).
 """
@@ -83,10 +84,13 @@ def _peak(argv):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--coverage", action="store_true", help="the coverage study alone")
     args = ap.parse_args()
     rng = np.random.default_rng(27)
     tmp = tempfile.mkdtemp()
     coin = [sys.executable, "-m", "coincli"]
+    if args.coverage:
+        return _coverage(rng, 400 if args.quick else 2000)
     # 1. speed
     f50 = os.path.join(tmp, "t50.csv")
     _write(f50, 50, 10_000, COINS[:5], rng)
@@ -110,8 +114,10 @@ def main():
         peaks.append(_peak([*coin, "fit", path, "--format", "csv"]))
         print(f"{rows} rows: peak RSS {peaks[-1]:.0f} MiB, wall {time.perf_counter() - t:.1f} s")
     print(f"peak ratio 10^5 / 10^4 rows: {peaks[1] / peaks[0]:.2f}")
-    # 3. coverage
-    k = 400 if args.quick else 2000
+    _coverage(rng, 400 if args.quick else 2000)
+
+
+def _coverage(rng, k):
     print("coverage of 95% profile intervals (true sd, share covering, standard error):")
     for sd in (0.0, 2.0, 5.0, 10.0, 20.0, 30.0):
         sig = math.radians(sd)

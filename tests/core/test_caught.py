@@ -93,23 +93,54 @@ def test_ends_and_interpolant():
     assert np.all(np.diff(ch._dense, axis=1) >= -1e-15)
 
 
+def _critical(delta, conf=0.95):
+    """Feldman-Cousins' critical value for a normal mean ``delta`` >= 0 from a bound at 0,
+    written out again with scipy.stats and brentq: P(accept) = Phi(sqrt c) - Phi(-(delta^2 +
+    c) / (2 delta)) below delta = sqrt(chi2_1), chi2_1(conf) above."""
+    from scipy.optimize import brentq
+    from scipy.stats import chi2, norm
+
+    full = chi2.ppf(conf, 1)
+    if delta >= math.sqrt(full):
+        return full
+    if delta == 0:
+        return norm.ppf(conf) ** 2
+    return brentq(lambda c: norm.cdf(math.sqrt(c)) - norm.cdf(-(delta**2 + c) / (2 * delta))
+                  - conf, norm.ppf(conf) ** 2, full, xtol=1e-13)
+
+
+def test_boundary_cut():
+    ds = [0.0, 0.3, 1.0, 1.9, 1.96, 3.0]
+    assert 2 * cs.boundary_cut(np.array(ds), 0.95) == pytest.approx(
+        [_critical(d) for d in ds], rel=1e-10)
+
+
 def _independent(xi, s, n, conf=0.95):
-    """The maximum-likelihood sigma and the ends of its profile interval by scipy.optimize on
-    the log-likelihood in sigma itself (same_chance straight from marginal)."""
+    """The maximum-likelihood sigma and the ends of its confidence interval by scipy.optimize
+    on the log-likelihood in sigma itself (same_chance straight from marginal), the critical
+    value :func:`_critical` at each sigma's distance from q = 1/2."""
     from scipy.optimize import brentq, minimize_scalar
-    from scipy.stats import chi2
+
+    def q_of(sig):
+        return float(cs.same_chance(xi, sig))
 
     def ll(sig):
-        q = float(cs.same_chance(xi, sig))
+        q = q_of(sig)
         return s * math.log(q) + (n - s) * math.log1p(-q)
 
     hi_sig = 3.0
     r = minimize_scalar(lambda v: -ll(v), bounds=(0.0, hi_sig), method="bounded",
                         options={"xatol": 1e-10})
+    top = max(-r.fun, ll(0.0))
     best = r.x if -r.fun >= ll(0.0) else 0.0
-    cut = max(ll(best), ll(0.0)) - chi2.ppf(conf, 1) / 2
-    lo = 0.0 if ll(0.0) >= cut else brentq(lambda v: ll(v) - cut, 0.0, best, xtol=1e-12)
-    hi = brentq(lambda v: ll(v) - cut, best, hi_sig, xtol=1e-12)
+
+    def g(sig):
+        q = q_of(sig)
+        delta = (q - 0.5) / math.sqrt(q * (1 - q) / n)
+        return top - ll(sig) - _critical(delta, conf) / 2
+
+    lo = 0.0 if g(0.0) <= 0 else brentq(g, 0.0, best, xtol=1e-12)
+    hi = brentq(g, best, hi_sig, xtol=1e-12)
     return best, lo, hi
 
 
@@ -132,8 +163,9 @@ def test_fit_against_independent_optimizer(sd_deg):
 
 
 def test_coverage_small():
-    """400 synthetic tossers at sd 12 deg: the 95% intervals cover the truth 92-98% of the time
-    (binomial 99.8% band around 95% for 400 trials); the full study is in benchmarks/."""
+    """400 synthetic tossers at sd 12 deg, and 400 at sd 0 (the bound): the 95% intervals cover
+    the truth 92-98% of the time (a 99.8% binomial band around 95% for 400 trials); the full
+    study is in benchmarks/bench_faces.py."""
     rng = np.random.default_rng(27)
     xi, sig = 0.08, math.radians(12)
     q = float(cs.same_chance(xi, sig))
@@ -142,6 +174,9 @@ def test_coverage_small():
     f = cs.fit_rows(np.full(400, xi), s, n)
     cover = np.mean((f.low <= sig) & (sig <= f.high))
     assert 0.92 <= cover <= 0.98
+    s0 = rng.binomial(n, 0.5)
+    f0 = cs.fit_rows(np.full(400, xi), s0, n)
+    assert 0.92 <= np.mean(f0.low == 0) <= 0.98
 
 
 def test_bounds_and_heterogeneity():

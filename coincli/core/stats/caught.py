@@ -19,9 +19,12 @@ interpolant in ``u = sigma / (1 + sigma)`` on 161 Chebyshev-Lobatto nodes, each 
 agrees with ``marginal`` to about 1e-15 (tests/core/test_caught.py).
 
 Each row (one tosser) is fitted alone (:func:`fit_rows`): because ``q`` is monotone in sigma,
-the maximum-likelihood ``q`` is ``same / n`` clipped to ``[1/2, q(inf)]`` and the profile
-likelihood interval of sigma is the binomial likelihood-ratio interval of ``q`` (cut at
-``chi2_1(conf)/2``) clipped to the same range and mapped back through ``q``.  Estimates at a
+the maximum-likelihood ``q`` is ``same / n`` clipped to ``[1/2, q(inf)]``, and the profile
+likelihood interval of sigma is the likelihood-ratio set of ``q`` within that range mapped back
+through ``q``.  Its critical value is boundary-aware (:func:`boundary_cut`, Feldman and
+Cousins' ordering in the normal approximation): ``chi2_1(conf)`` (3.84) for a ``q`` far from the
+ends of its range, falling to ``ndtri(conf)^2`` (2.71) at ``q = 1/2``, so that the coverage
+stays at ``conf`` near sigma = 0 too (a plain chi2_1 cut gives 97.5% there).  Estimates at a
 bound (``same/n <= 1/2``: sigma = 0; ``same/n >= q(inf)``: sigma = inf) are flagged.
 
 Across rows (:func:`heterogeneity`): the common sigma (one spread for all tossers), the
@@ -47,6 +50,7 @@ __all__ = [
     "same_chance",
     "SameChance",
     "RowFits",
+    "boundary_cut",
     "fit_rows",
     "Heterogeneity",
     "heterogeneity",
@@ -213,25 +217,64 @@ def _binom_ll(s, d, q):
         return xlogy(s, q) + xlog1py(d, -q)
 
 
-def _lr_ends(s, d, q_hat, lo, hi, cut):
-    """The binomial likelihood-ratio interval of q within [lo, hi]: where ``_binom_ll`` falls
-    ``cut`` below its value at ``q_hat`` (bisection, vectorized; an end stays at the bound when
-    the likelihood there is within the cut)."""
+def boundary_cut(delta, conf: float):
+    """Half the critical value of the likelihood-ratio statistic for a chance ``delta`` standard
+    errors from the nearest end of its range (Feldman and Cousins' ordering, in the normal
+    approximation): for ``x ~ N(delta, 1)`` constrained to ``x >= 0`` the statistic is
+    ``(x - delta)^2`` for ``x >= 0`` and ``delta^2 - 2 x delta`` below, and the set it accepts
+    has probability ``Phi(sqrt c) - Phi(-(delta^2 + c) / (2 delta))`` when ``delta < sqrt c``.
+    ``c`` solves that = ``conf``: ``ndtri(conf)^2`` (2.71 at 95%) at the bound, rising to
+    ``chi2_1(conf)`` (3.84) from ``delta = sqrt(chi2_1(conf))`` on.  Arrays, by bisection."""
+    import numpy as np
+    from scipy.special import ndtr, ndtri
+
+    delta = np.maximum(np.asarray(delta, dtype=float), 0.0)
+    full = 2.0 * _cut_half(conf)
+    lo = np.full(delta.shape, float(ndtri(conf)) ** 2)
+    hi = np.full(delta.shape, full)
+    near = delta < math.sqrt(full)
+    if not near.any():
+        return hi / 2
+    dn = np.maximum(delta[near], 1e-300)
+    a, b = lo[near], hi[near]
+    for _ in range(60):
+        c = (a + b) / 2
+        with np.errstate(over="ignore"):
+            cover = ndtr(np.sqrt(c)) - ndtr(-(dn * dn + c) / (2 * dn))
+        a = np.where(cover < conf, c, a)
+        b = np.where(cover < conf, b, c)
+    out = hi.copy()
+    out[near] = (a + b) / 2
+    return out / 2
+
+
+def _lr_ends(s, d, q_hat, lo, hi, conf):
+    """The likelihood-ratio confidence set of q within [lo, hi]: every q0 whose statistic
+    ``2 (l(q_hat) - l(q0))`` is at most the critical value of :func:`boundary_cut` at q0's
+    distance from the nearer end (in standard errors ``sqrt(q0 (1 - q0) / n)``).  Its ends by
+    bisection from ``q_hat`` outward, vectorized; an end stays at the bound when the bound is
+    accepted."""
     import numpy as np
 
     top = _binom_ll(s, d, q_hat)
-    target = top - cut
+    n = s + d
+
+    def accepted(q):
+        se = np.sqrt(np.maximum(q * (1 - q), 1e-300) / n)
+        delta = np.minimum(q - lo, hi - q) / se
+        return top - _binom_ll(s, d, q) <= boundary_cut(delta, conf)
+
     ends = []
     for bound in (lo, hi):
-        inside = _binom_ll(s, d, bound) >= target
-        a, b = (bound.copy(), q_hat.copy())  # a: below the target (or the bound), b: above
+        inside = accepted(bound)
+        a, b = (bound.copy(), q_hat.copy())  # a: rejected (or the bound), b: accepted
         for _ in range(200):
             m = (a + b) / 2
             if np.all((m == a) | (m == b) | inside):
                 break
-            above = _binom_ll(s, d, m) >= target
-            a = np.where(above, a, m)
-            b = np.where(above, m, b)
+            ok = accepted(m)
+            a = np.where(ok, a, m)
+            b = np.where(ok, m, b)
         ends.append(np.where(inside, bound, b))
     return ends[0], ends[1]
 
@@ -268,8 +311,7 @@ def _fit_distinct(k, s, m, conf, chance):
     half = np.full(s.shape, 0.5)
     q_hat = np.clip(s / m, half, qinf)
     bound = np.where(s / m <= 0.5, -1, np.where(s / m >= qinf, 1, 0))
-    cut = _cut_half(conf)
-    q_lo, q_hi = _lr_ends(s, d, q_hat, half, qinf.copy(), cut)
+    q_lo, q_hi = _lr_ends(s, d, q_hat, half, qinf.copy(), conf)
 
     def to_sigma(q, at_hi):
         u = np.where(q <= 0.5, 0.0, np.where(q >= qinf, 1.0, 0.5))
