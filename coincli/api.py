@@ -519,8 +519,8 @@ def phase(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
 
 
 def check(*, xi=None, quarters=None, coin=None, count=None, diameter=None, thickness=None,
-          heads=None, sides=None, tails=None, tosses=None, psi_dist=None, alpha=None,
-          confidence=None) -> list[dict]:
+          heads=None, sides=None, tails=None, tosses=None, same=None, different=None,
+          psi_dist=None, alpha=None, confidence=None) -> list[dict]:
     """``coin check``: are the tosses of one coin consistent with the models?
 
     Parameters
@@ -533,6 +533,10 @@ def check(*, xi=None, quarters=None, coin=None, count=None, diameter=None, thick
         Tosses that landed heads, on a side, tails (whole numbers >= 0).
     tosses : int or str, optional
         The number of tosses (``-n``), with ``sides`` alone: a binomial test of the side.
+    same, different : int or str, optional
+        Caught flips (faces only) that landed on the side they started on, and on the other
+        (``tosses`` may replace one): tested on the chance of the starting side given a face,
+        ``P(H) / (P(H) + P(T))``.
     psi_dist : str or list of str, optional
         psi densities to check as models too (``"normal:90:20"``, ``["uniform", "cosine"]``).
     alpha : str or float, optional
@@ -567,7 +571,7 @@ def check(*, xi=None, quarters=None, coin=None, count=None, diameter=None, thick
     return _rows(_r.check, "check", options)
 
 
-def fit(file, *, psi_dist=None, no_spread=None, delimiter=None, alpha=None,
+def fit(file, *, psi_dist=None, no_spread=None, delimiter=None, design=None, alpha=None,
         confidence=None) -> list[dict]:
     """``coin fit FILE``: which model do the tosses of a file of experiments follow?
 
@@ -584,6 +588,9 @@ def fit(file, *, psi_dist=None, no_spread=None, delimiter=None, alpha=None,
         Skip the fit of the spread of psi.
     delimiter : str, optional
         Separator of the file: ``comma``, ``semicolon`` or ``tab`` (default: the header's).
+    design : str or float, optional
+        For caught rows: each tosser's coin with this chance of a side (``"1/3"``: the fair
+        three-sided coin) under their fitted spread (``design_xi``, ``design_thickness_mm``).
     alpha, confidence : str or float, optional
         Significance level of the verdicts (default 0.05), confidence level of the intervals
         (default 0.95).
@@ -594,7 +601,8 @@ def fit(file, *, psi_dist=None, no_spread=None, delimiter=None, alpha=None,
         The rows ``coin fit FILE --format json`` prints: one per experiment and model
         (``scope`` ``"experiment"``), then one per model across experiments (``scope``
         ``"model"``: ``aic``, ``delta_aic``, ``sse_sides``, and for the psi-spread model the
-        fitted spread ``sigma_deg`` with its interval).
+        fitted spread ``sigma_deg`` with its interval).  With caught rows: each one's own
+        spread on its psi-spread row, and a row of scope ``"all"`` comparing the tossers.
 
     Raises
     ------

@@ -44,6 +44,10 @@ def check(
     tails: Annotated[str | None, _opt("--tails", mv="T", help="Tosses that landed tails.")
                      ] = None,
     tosses: _options.TossesOpt = None,
+    same: Annotated[str | None, _opt("--same", mv="S", help="Caught flips (faces only) that "
+                                     "landed on the side they started on.")] = None,
+    different: Annotated[str | None, _opt("--different", mv="D", help="Caught flips that "
+                                          "landed on the other side.")] = None,
     psi_dist: PsiDistsOpt = None,
     levels=LEVELS,
     output=OUTPUT,
@@ -53,16 +57,20 @@ def check(
     Gives the observed frequencies with Wilson and Clopper-Pearson intervals and, for the
     geometric and dynamic models (and each --psi-dist), the expected counts, an exact
     multinomial goodness-of-fit p-value (binomial with --sides and -n alone), the
-    log-likelihood and a verdict.  --quiet prints the p-values, one per model.
+    log-likelihood and a verdict.  --quiet prints the p-values, one per model.  Caught flips
+    (--same and --different, faces only) are tested on the chance of the starting side given a
+    face, P(H)/(P(H)+P(T)), with the tosser's fitted spread of psi in the note.
 
     Examples: coin check --xi 0.583 --heads 35 --sides 33 --tails 32 ;
+    coin check --xi 0.075 --same 5080 --different 4920 ;
     coin check --quarters 8 --sides 33 -n 100 ;  coin check --coin nickel --count 3 --heads 60
     --sides 9 --tails 31 --psi-dist normal:90:20 --format json
     """
     from coincli.reports import check as report
 
     emit_all(report.check(**the_coin, heads=heads, sides=sides, tails=tails, tosses=tosses,
-                          psi_dist=psi_dist, **levels, **output), **output)
+                          same=same, different=different, psi_dist=psi_dist, **levels,
+                          **output), **output)
 
 
 # --------------------------------------------------------------------------- fit
@@ -79,6 +87,9 @@ def fit(
     delimiter: Annotated[str | None, typer.Option(
         "--delimiter", help="Separator of FILE: comma, semicolon or tab (default: the one the "
         "header uses).", metavar="SEP")] = None,
+    design: Annotated[str | None, typer.Option(
+        "--design", help="For caught rows: each tosser's coin with this chance of a side "
+        "(1/3: fair three-sided) under their fitted spread.", metavar="P")] = None,
     levels=LEVELS,
     output=OUTPUT,
 ):
@@ -89,7 +100,9 @@ def fit(
     label.  Reports every row as `coin check` does, then across rows: the paper's sum of
     squared errors of the side frequencies, each model's log-likelihood and AIC, and the
     maximum-likelihood spread of psi (sd of a normal about 90 deg, truncated to [0, 180]) with
-    its profile-likelihood interval.  --quiet prints that spread in degrees.
+    its profile-likelihood interval.  --quiet prints that spread in degrees.  Rows of caught
+    flips (same and different, heads/tails with start, or hsame,hdiff,tsame,tdiff) are
+    tossers: each gets its own spread, and the tossers are compared.
 
     Examples: coin fit tosses.csv ;  coin fit tosses.csv --format csv ;
     coin fit - --psi-dist uniform,cosine < tosses.csv
@@ -97,4 +110,4 @@ def fit(
     from coincli.reports import check as report
 
     emit_all(report.fit(file, psi_dist=psi_dist, no_spread=no_spread, delimiter=delimiter,
-                        **levels, **output), **output)
+                        design=design, **levels, **output), **output)

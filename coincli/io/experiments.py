@@ -13,7 +13,14 @@ from __future__ import annotations
 import math
 import re
 
-from coincli.core.stats.counts import MAX_COUNT, Counts, CountsError, Experiment, make_counts
+from coincli.core.stats.counts import (
+    MAX_COUNT,
+    Counts,
+    CountsError,
+    Experiment,
+    make_caught,
+    make_counts,
+)
 
 __all__ = [
     "CSV_COLUMNS",
@@ -25,7 +32,10 @@ __all__ = [
 
 
 CSV_COLUMNS = ("label", "xi", "coin", "count", "diameter", "thickness", "heads", "sides", "tails",
-               "n")
+               "n", "same", "different", "start", "hsame", "hdiff", "tsame", "tdiff")
+#: the columns of caught flips (faces only); any of them makes a row a caught one
+CAUGHT_COLUMNS = ("same", "different", "start", "hsame", "hdiff", "tsame", "tdiff")
+_CELLS = ("hsame", "hdiff", "tsame", "tdiff")
 _CSV_ALIASES = {"name": "label", "tosses": "n", "diameter_mm": "diameter",
                 "thickness_mm": "thickness"}
 #: A number written with a decimal comma (``0,5``, ``2,4cm``): read so in semicolon files
@@ -95,6 +105,10 @@ def parse_experiments(text: str, *, max_rows: int = 100_000, delimiter: str | No
       with a unit: ``24.26mm``, ``2.4cm``, ``0.955in``) with an optional ``count``;
     - the tosses: ``heads``, ``sides``, ``tails`` (``n`` optional, must match), or ``sides``
       and ``n`` when the faces were not told apart;
+    - or caught flips, faces only (:class:`~coincli.core.stats.counts.Caught`): ``same`` and
+      ``different`` (or ``same`` and ``n``); ``heads`` and ``tails`` with ``start`` (``heads``
+      or ``tails``, the side every flip of the row started on); or the four cells ``hsame``,
+      ``hdiff``, ``tsame``, ``tdiff`` (started heads or tails, landed on the same side or not);
     - optionally ``label``.
 
     Rows may use different kinds (an empty cell is absent).  Aliases: ``name`` for ``label``,
@@ -145,8 +159,12 @@ def parse_experiments(text: str, *, max_rows: int = 100_000, delimiter: str | No
                     if name in header:
                         raise _err(line, raw.strip(), "appears twice in the header")
                     header.append(name)
-                if "sides" not in header:
+                caught_cols = set(CAUGHT_COLUMNS) & set(header)
+                if "sides" not in header and not caught_cols:
                     raise _err(line, None, f"the header has no 'sides' column ({read_as})")
+                if "start" in header and not {"heads", "tails"} <= set(header):
+                    raise _err(line, "start", "start goes with heads and tails (the flips that "
+                               f"landed heads and tails, started on start) ({read_as})")
                 if not ({"xi", "coin", "diameter"} & set(header)):
                     raise _err(line, None,
                                "the header needs xi, coin (and count), or diameter and thickness "
@@ -200,6 +218,7 @@ def _counts_of(h, s, t, m) -> Counts:
 
 def _experiment(line: int, row: dict, parse_number, parse_length_mm, coins) -> Experiment:
     has = {k for k, v in row.items() if v}
+    diameter = None
     geo = has & {"xi", "coin", "diameter", "thickness"}
     count = None
     if "count" in has:
@@ -236,6 +255,7 @@ def _experiment(line: int, row: dict, parse_number, parse_length_mm, coins) -> E
             raise _err(line, "coin", str(exc)) from None
         k = count or 1
         xi = coins.stack_xi(coin, k)
+        diameter = coin.diameter_mm
         desc = coin.name if k == 1 else f"{coin.name} x{k}"
     elif geo:
         for name in ("diameter", "thickness"):
@@ -250,6 +270,7 @@ def _experiment(line: int, row: dict, parse_number, parse_length_mm, coins) -> E
         except ValueError as exc:
             raise _err(line, "thickness", str(exc)) from None
         k = count or 1
+        diameter = d
         try:
             xi = coins.stack_xi(coins.custom_coin(d, h), k)
         except ValueError as exc:
@@ -260,15 +281,54 @@ def _experiment(line: int, row: dict, parse_number, parse_length_mm, coins) -> E
     else:
         raise _err(line, "xi", "no coin on this row: give xi, coin, or diameter and thickness")
     vals = {}
-    for name in ("heads", "sides", "tails", "n"):
+    for name in ("heads", "sides", "tails", "n", "same", "different", *_CELLS):
         if name in has:
             try:
                 vals[name] = _fast_count(row[name], name)
             except ValueError as exc:
                 raise _err(line, name, str(exc)) from None
     try:
-        counts = _counts_of(vals.get("heads"), vals.get("sides"), vals.get("tails"),
-                            vals.get("n"))
+        if has & set(CAUGHT_COLUMNS):
+            counts = _caught_of(line, row, has, vals)
+        else:
+            counts = _counts_of(vals.get("heads"), vals.get("sides"), vals.get("tails"),
+                                vals.get("n"))
     except CountsError as exc:
         raise _err(line, exc.argument, str(exc)) from None
-    return Experiment(line, float(xi), counts, row.get("label") or desc)
+    return Experiment(line, float(xi), counts, row.get("label") or desc, diameter)
+
+
+def _caught_of(line: int, row: dict, has: set, vals: dict):
+    """A caught row's :class:`~coincli.core.stats.counts.Caught` from whichever form it has."""
+    if "sides" in has:
+        raise _err(line, "sides", "a row of caught flips (same/different, start, or "
+                   "hsame/hdiff/tsame/tdiff) has no sides: a caught coin lands on a face")
+    cells = has & set(_CELLS)
+    kinds = [bool(cells), bool(has & {"same", "different"}), "start" in has]
+    if sum(kinds) > 1:
+        raise _err(line, sorted(cells | (has & {"same", "different", "start"}))[0],
+                   "give same and different, or heads, tails and start, or hsame, hdiff, "
+                   "tsame and tdiff; not several")
+    if cells:
+        missing = [c for c in _CELLS if c not in cells]
+        if missing:
+            raise _err(line, missing[0], "hsame, hdiff, tsame and tdiff must be given together")
+        if has & {"heads", "tails"}:
+            raise _err(line, "heads", "give hsame, hdiff, tsame and tdiff, or heads and tails "
+                       "with start; not both")
+        return make_caught(vals["hsame"] + vals["tsame"], vals["hdiff"] + vals["tdiff"],
+                           vals.get("n"))
+    if "start" in has:
+        start = row["start"].strip().lower()
+        if start not in ("heads", "tails", "h", "t"):
+            raise _err(line, "start", f"start must be heads or tails, got {row['start']!r}")
+        for name in ("heads", "tails"):
+            if name not in has:
+                raise _err(line, name, "heads and tails go with start")
+        h, t = vals["heads"], vals["tails"]
+        same, diff = (h, t) if start in ("heads", "h") else (t, h)
+        return make_caught(same, diff, vals.get("n"))
+    if has & {"heads", "tails"}:
+        raise _err(line, sorted(has & {"heads", "tails"})[0],
+                   "heads and tails with same/different: give start instead, or one form")
+    return make_caught(vals.get("same"), vals.get("different"), vals.get("n"))

@@ -122,16 +122,47 @@ FIT_COLUMNS = MACHINE_COLUMNS + [
 ]
 
 
+#: the columns a table with caught (faces-only) rows adds, after all the others
+CAUGHT_MACHINE_COLUMNS = [
+    Column("same", "same side", "int"),
+    Column("different", "other side", "int"),
+    Column("p_same", "P(same | face)"),
+    Column("expected_same", "expected same"),
+    Column("expected_different", "expected different"),
+    Column("freq_same", "same frequency"),
+    Column("same_wilson_low", "same Wilson low"),
+    Column("same_wilson_high", "same Wilson high"),
+    Column("same_cp_low", "same Clopper-Pearson low"),
+    Column("same_cp_high", "same Clopper-Pearson high"),
+]
+#: ... and what ``coin fit`` adds for them: the tossers compared, and each one's fair coin
+CAUGHT_FIT_COLUMNS = [
+    Column("sigma_note", "psi sd note", "text"),
+    Column("heterogeneity_test", "heterogeneity test", "text"),
+    Column("heterogeneity_statistic", "heterogeneity statistic"),
+    Column("heterogeneity_df", "heterogeneity df", "int"),
+    Column("heterogeneity_p", "heterogeneity p-value"),
+    Column("sigma_common_deg", "common psi sd (deg)"),
+    Column("median_sigma_deg", "median tosser psi sd (deg)"),
+    Column("between_sd_log_sigma", "between-tosser sd of log psi sd"),
+    Column("design_p_sides", "design P(sides)"),
+    Column("design_xi", "design xi"),
+    Column("design_thickness_mm", "design thickness (mm)"),
+]
+
+
 def _values(arr) -> list:
     """numpy values as Python ones, NaN as None (an empty cell)."""
     return [None if v != v else v for v in arr.tolist()]
 
 
-def _machine_chunks(ch, lines, extra=None, tail_rows=()):
+def _machine_chunks(ch, lines, extra=None, tail_rows=(), caught_extra=None, row_extra=None):
     """The machine table a chunk at a time (lists of columns, at most CHUNK_ROWS rows): one
     row per experiment and model (experiment-major), then ``tail_rows`` (tuples).
     ``extra(k)`` gives the fit's extra cells of model ``k``.  A file of 10^5 experiments is
-    written without ever holding its 10^5 x models x 45 cells."""
+    written without ever holding its 10^5 x models x 45 cells.  With caught rows the
+    :data:`CAUGHT_MACHINE_COLUMNS` follow (then ``caught_extra``, makers of the fit's caught
+    columns); ``row_extra`` maps a column index to a maker that replaces it."""
     import numpy as np
 
     M = len(ch.tests)
@@ -192,6 +223,28 @@ def _machine_chunks(ch, lines, extra=None, tail_rows=()):
             makers.append(lambda a, b, cells=cells: cells * (b - a))
     # heads and tails: int columns with None where faces were not told apart
     makers[5], makers[7] = _ints(makers[5]), _ints(makers[7])
+    if cc.caught.any():
+        caught = cc.caught
+        makers[6] = _ints(per_exp(np.where(caught, nan, cc.sides)))
+        face = [t.raw[0] + t.raw[2] for t in tests]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            p_same = np.stack([np.where(caught, t.raw[0] / f, nan)
+                               for t, f in zip(tests, face, strict=True)], axis=1)
+        e_same = np.stack([np.where(caught, t.expected[0], nan) for t in tests], axis=1)
+        e_diff = np.stack([np.where(caught, t.expected[1], nan) for t in tests], axis=1)
+        for j in range(3):  # a caught row has no expected heads, sides or tails
+            makers[12 + j] = per_test(np.where(caught[:, None], nan, exp_cols[j]))
+        makers += [
+            _ints(per_exp(np.where(caught, cc.same, nan))),
+            _ints(per_exp(np.where(caught, cc.n - cc.same, nan))),
+            per_test(p_same), per_test(e_same), per_test(e_diff),
+            *(per_exp(v) for v in ch.intervals["same"]),
+        ]
+        if caught_extra is not None:
+            makers += caught_extra
+    if row_extra is not None:  # per-row cells that replace the fit's constant ones
+        for c, make in row_extra.items():
+            makers[c] = make
     step = max(1, min(CHUNK_ROWS, 8192) // M)  # 45 columns: 8192 rows of cells at a time
     for a in range(0, T, step):
         yield [make(a, min(a + step, T)) for make in makers]
@@ -232,15 +285,19 @@ def _observed_result(title: str, ch, lines, confidence: float) -> Result:
              Column("cp", f"{pct} Clopper-Pearson", "text")]
     cc = ch.cc
 
+    caught = cc.caught
+    names = _OUTCOMES + (("same",) if caught.any() else ())
+
     def rows(a: int, b: int) -> list[tuple]:
-        per = {name: [v[a:b].tolist() for v in ch.intervals[name]] for name in _OUTCOMES}
+        per = {name: [v[a:b].tolist() for v in ch.intervals[name]] for name in names}
         counts = {"heads": cc.heads[a:b].tolist(), "sides": cc.sides[a:b].tolist(),
-                  "tails": cc.tails[a:b].tolist()}
+                  "tails": cc.tails[a:b].tolist(), "same": cc.same[a:b].tolist()}
         xi = ch.xi[a:b].tolist()
         body = []
-        for j, f in enumerate(cc.faces[a:b].tolist()):
+        for j, (f, c) in enumerate(zip(cc.faces[a:b].tolist(), caught[a:b].tolist(),
+                                       strict=True)):
             lead = [lines[a + j], ch.labels[a + j], xi[j]] if with_line else []
-            for name in (_OUTCOMES if f else ("sides",)):
+            for name in (_OUTCOMES if f else ("same",) if c else ("sides",)):
                 est, wl, wh, cl, chh = (col[j] for col in per[name])
                 body.append((*lead, name, counts[name][j], est, _interval_text(wl, wh),
                              _interval_text(cl, chh)))
@@ -269,21 +326,34 @@ def _tests_result(title: str, ch, lines, note: str) -> Result:
     with_line = lines is not None
     cols = ([Column("line", "line", "int"), Column("label", "label", "text")]
             if with_line else [])
+    caught = ch.cc.caught
+    any_caught = bool(caught.any())
     cols += [Column("model", "model", "text"), Column("p_heads", "P(heads)"),
-             Column("p_sides", "P(sides)"), Column("p_tails", "P(tails)"),
-             Column("expected", "expected H / S / T", "text"), Column("p_value", "p-value"),
+             Column("p_sides", "P(sides)"), Column("p_tails", "P(tails)")]
+    if any_caught:
+        cols += [Column("p_same", "P(same | face)"),
+                 Column("expected", "expected H / S / T or same / other", "text")]
+    else:
+        cols += [Column("expected", "expected H / S / T", "text")]
+    cols += [Column("p_value", "p-value"),
              Column("log_likelihood", "log-likelihood"), Column("verdict", "verdict", "text")]
+
     def rows(a: int, b: int) -> list[tuple]:
         tests = [(t.model, t.raw[:, a:b].T.tolist(), t.expected[:, a:b].T.tolist(),
                   t.p_value[a:b].tolist(), t.log_likelihood[a:b].tolist(), t.verdict[a:b])
                  for t in ch.tests]
         body = []
-        for j, f in enumerate(ch.cc.faces[a:b].tolist()):
+        for j, (f, c) in enumerate(zip(ch.cc.faces[a:b].tolist(), caught[a:b].tolist(),
+                                       strict=True)):
             lead = [lines[a + j], ch.labels[a + j]] if with_line else []
             for model, raw, exp, pv, ll, ver in tests:
                 e = exp[j]
-                shown = e if f else (None, e[0], None)
-                body.append((*lead, model, *raw[j],
+                shown = e if f else (e[0], e[1]) if c else (None, e[0], None)
+                mid = []
+                if any_caught:
+                    h, _, t = raw[j]
+                    mid = [h / (h + t) if c and h + t > 0 else None]
+                body.append((*lead, model, *raw[j], *mid,
                              " / ".join("-" if v is None else _count_text(v) for v in shown),
                              pv[j], ll[j], ver[j]))
         return body
@@ -313,7 +383,8 @@ def _xi_from_options(xi, quarters, coin, count, diameter, thickness) -> tuple[fl
 def check(*, xi: str | None = None, quarters: str | None = None, coin: str | None = None,
           count: str | None = None, diameter: str | None = None, thickness: str | None = None,
           heads: str | None = None, sides: str | None = None, tails: str | None = None,
-          tosses: str | None = None, psi_dist: str | None = None, alpha: str = "0.05",
+          tosses: str | None = None, same: str | None = None, different: str | None = None,
+          psi_dist: str | None = None, alpha: str = "0.05",
           confidence: str = "0.95", fmt: str = "table", quiet: bool = False):
     """What ``coin check`` prints: the observed frequencies with their intervals, and for each
     model the expected counts, the exact test's p-value, the log-likelihood and a verdict.
@@ -331,12 +402,16 @@ def check(*, xi: str | None = None, quarters: str | None = None, coin: str | Non
     a = _level(alpha, "--alpha")
     conf = _level(confidence, "--confidence")
     x, label = _xi_from_options(xi, quarters, coin, count, diameter, thickness)
-    vals = {name: _whole(v, f"--{name}" if name != "n" else "-n")
-            for name, v in (("heads", heads), ("sides", sides), ("tails", tails), ("n", tosses))}
-    try:
-        counts = make_counts(**vals)
-    except ValueError as exc:
-        raise usage_error(str(exc)) from None
+    if same is not None or different is not None:
+        counts = _caught_counts(x, same, different, tosses, (heads, sides, tails))
+    else:
+        vals = {name: _whole(v, f"--{name}" if name != "n" else "-n")
+                for name, v in (("heads", heads), ("sides", sides), ("tails", tails),
+                                ("n", tosses))}
+        try:
+            counts = make_counts(**vals)
+        except ValueError as exc:
+            raise usage_error(str(exc)) from None
     _check_total(counts)
     dens = _densities(psi_dist)
     try:
@@ -344,16 +419,95 @@ def check(*, xi: str | None = None, quarters: str | None = None, coin: str | Non
         ch = stats.check_many([counts], x, chances, confidence=conf, alpha=a, labels=[label])
     except ValueError as exc:
         raise compute_error(str(exc)) from None
+    caught = bool(ch.cc.caught[0])
     if quiet or fmt != "table":
-        return Result("coin check", MACHINE_COLUMNS, [],
-                      data=next(_machine_chunks(ch, None)),
+        return Result("coin check", MACHINE_COLUMNS + (CAUGHT_MACHINE_COLUMNS if caught else []),
+                      [], data=next(_machine_chunks(ch, None)),
                       quiet=[float(t.p_value[0]) for t in ch.tests])
     coin_text = f"xi = {x:.6g}" if xi is not None else f"{label} (xi = {x:.6g})"
     title = f"coin check: {coin_text}, {_plural(counts.n, 'toss', 'tosses')}"
+    if caught:
+        title = f"coin check: {coin_text}, {_plural(counts.n, 'caught flip', 'caught flips')}"
+    note = _test_note(ch) + _models_note(dens)
+    if caught:
+        note += "\n" + _caught_note(x, counts, conf)
     return [
         _observed_result(title, ch, None, conf),
-        _tests_result("models", ch, None, _test_note(ch) + _models_note(dens)),
+        _tests_result("models", ch, None, note),
     ]
+
+
+def _caught_counts(x: float, same, different, tosses, three):
+    """``--same``/``--different`` (``-n`` optional): caught flips, faces only."""
+    from coincli.core.stats.counts import make_caught
+
+    if any(v is not None for v in three):
+        raise usage_error("--same/--different are caught flips (faces only); they cannot go "
+                          "with --heads, --sides or --tails")
+    vals = {name: _whole(v, f"--{name}" if name != "n" else "-n")
+            for name, v in (("same", same), ("different", different), ("n", tosses))}
+    try:
+        counts = make_caught(**vals)
+    except ValueError as exc:
+        raise usage_error(_option_words(str(exc))) from None
+    _warn_thick(x, "")
+    return counts
+
+
+def _option_words(message: str) -> str:
+    """A core message about same/different/n in the words of the options."""
+    import re
+
+    message = re.sub(r"\b(?<!-)(same|different)\b(?= (\+|=|must|was|exceeds|and))", r"--\1",
+                     message)
+    for a, b in (("but n =", "but -n ="), ("exceeds n =", "exceeds -n ="),
+                 ("without different", "without --different"), ("without same", "without --same"),
+                 ("or n", "or -n"), ("and different are", "and --different are")):
+        message = message.replace(a, b)
+    return message
+
+
+def _warn_thick(x: float, where: str) -> None:
+    """Caught flips of a thick coin: warn (stderr), once per run."""
+    from coincli.core.stats.caught import CAUGHT_XI_LIMIT
+
+    if x > CAUGHT_XI_LIMIT:
+        sys.stderr.write(f"coin: warning: {where}xi = {x:.6g} is above {CAUGHT_XI_LIMIT}: "
+                         "caught flips (faces only) are the thin coin's case; this coin lands "
+                         "on a side often enough that conditioning on a face may not describe "
+                         "how it was caught\n")
+
+
+def _caught_note(x: float, counts, conf: float) -> str:
+    """What a caught check means, and this tosser's own spread of psi."""
+    from coincli.core.stats import caught as cs
+
+    f = cs.fit_rows([x], [counts.same], [counts.n], confidence=conf)
+    text = (f"caught flips (faces only): each model is tested on the chance of landing on the "
+            f"side it started on given that it landed on a face, P(H) / (P(H) + P(T)) with the "
+            f"start side as heads (a caught coin never shows a side, so P(sides) is conditioned "
+            f"away).  Every model of a Keller flip gives 1/2; a spread of psi favours the "
+            f"starting side.  This tosser's spread: sd of psi {_fmt_deg(float(f.sigma[0]))} "
+            f"deg, {percent_text(conf)} profile-likelihood interval "
+            f"{_fmt_deg(float(f.low[0]))} to {_fmt_deg(float(f.high[0]))} deg")
+    bound = _bound_note(int(f.at_bound[0]))
+    return text + (f" ({bound})" if bound else "") + "."
+
+
+def percent_text(conf: float) -> str:
+    from coincli.core.stats.tests import percent
+
+    return percent(conf)
+
+
+def _bound_note(b: int) -> str:
+    if b < 0:
+        return ("the estimate is at the bound sigma = 0: no more flips landed on the starting "
+                "side than on the other, which a Keller flip (1/2) already explains")
+    if b > 0:
+        return ("the estimate is at the bound sigma = inf: as many flips landed on the starting "
+                "side as psi uniform gives, or more")
+    return ""
 
 def _models_note(dens) -> str:
     base = "  geometric = eq. 11, dynamic = eq. 12 (Keller flip, psi = 90 deg)"
@@ -435,8 +589,8 @@ def _experiments(text: str, name: str, delimiter: str | None = None) -> list:
 
 
 def fit(file: str, *, psi_dist: str | None = None, no_spread: bool = False,
-        delimiter: str | None = None, alpha: str = "0.05", confidence: str = "0.95",
-        fmt: str = "table", quiet: bool = False):
+        delimiter: str | None = None, design: str | None = None, alpha: str = "0.05",
+        confidence: str = "0.95", fmt: str = "table", quiet: bool = False):
     """What ``coin fit FILE`` prints: every experiment of ``file`` checked as :func:`check`
     does, then the models compared across experiments (log-likelihood, AIC, the paper's sum of
     squared errors of the side frequencies) and the maximum-likelihood spread of psi with its
@@ -460,11 +614,24 @@ def fit(file: str, *, psi_dist: str | None = None, no_spread: bool = False,
         sep = None if delimiter is None else delimiter_of(delimiter)
     except ValueError as exc:
         raise usage_error(f"--{exc}") from None
+    p_design = _design(design)
     text, name = _read_text(file)
     exps = _experiments(text, name, sep)
     del text
+    thick = [e for e in exps if getattr(e.counts, "caught", False)]
+    if thick:
+        from coincli.core.stats.caught import CAUGHT_XI_LIMIT
+
+        over = [e for e in thick if e.xi > CAUGHT_XI_LIMIT]
+        if over:
+            _warn_thick(over[0].xi, f"{_file_name(name)} line {over[0].line}"
+                        + (f" and {len(over) - 1} more rows" if len(over) > 1 else "") + ": ")
+    elif p_design is not None:
+        raise usage_error("--design gives each tosser's fair coin from caught flips (same and "
+                          f"different); {_file_name(name)} has no caught rows")
     try:
-        res = stats.fit(exps, dens, confidence=conf, alpha=a, spread=not no_spread)
+        res = stats.fit(exps, dens, confidence=conf, alpha=a, spread=not no_spread,
+                        design=p_design)
     except ValueError as exc:
         raise compute_error(str(exc)) from None
     sp = res.spread
@@ -472,14 +639,18 @@ def fit(file: str, *, psi_dist: str | None = None, no_spread: bool = False,
         return Result("coin fit", FIT_COLUMNS, [], quiet=_deg(sp.sigma))
     lines = [e.line for e in exps]
     n_total = sum(e.counts.n for e in exps)
+    cf = res.caught
     if fmt == "table":
-        return [
+        out = [
             _observed_result(f"coin fit: {name}, "
                              f"{_plural(len(exps), 'experiment', 'experiments')}, "
                              f"{_plural(n_total, 'toss', 'tosses')}", res.rows, lines, conf),
             _tests_result("models, each experiment", res.rows, lines, _test_note(res.rows)),
             _comparison_result(res, conf),
         ]
+        if cf is not None:
+            out.append(_tossers_result(exps, cf, lines, conf, p_design))
+        return out
     spread_cells = ([_deg(sp.sigma), _deg(sp.low), _deg(sp.high)] if sp is not None
                     else [None] * 3)
     models = [t.model for t in res.rows.tests]
@@ -496,8 +667,152 @@ def fit(file: str, *, psi_dist: str | None = None, no_spread: bool = False,
                  None if math.isnan(m.delta_aic) else m.delta_aic, m.sse_sides]
         cells += spread_cells if m.model == stats.SPREAD_MODEL else [None] * 3
         tail.append(tuple(cells))
-    return Result("coin fit", FIT_COLUMNS, [],
-                  chunks=_machine_chunks(res.rows, lines, extra, tail))
+    if cf is None:
+        return Result("coin fit", FIT_COLUMNS, [],
+                      chunks=_machine_chunks(res.rows, lines, extra, tail))
+    return _caught_fit_result(res, exps, lines, extra, tail, spread_cells, p_design)
+
+
+def _design(text: str | None) -> float | None:
+    """--design P: the chance of a side of each tosser's coin (1/3: fair three-sided)."""
+    if text is None:
+        return None
+    try:
+        v = parse.parse_probability(text, "--design")
+    except ValueError:
+        v = math.nan
+    if not 0.0 < v < 1.0:
+        raise usage_error(f"--design must be a chance of a side strictly between 0 and 1 (1/3 "
+                          f"for a fair three-sided coin), got {shown(text)}")
+    return v
+
+
+_N_CAUGHT_FIT = len(CAUGHT_FIT_COLUMNS)
+
+
+def _caught_fit_result(res, exps, lines, extra, tail, spread_cells, p_design) -> Result:
+    """The machine table of a fit with caught rows: every column, the caught ones last; each
+    caught row's psi-spread line carries its own spread; a row of scope ``all`` the tossers'
+    heterogeneity."""
+    import numpy as np
+
+    from coincli.core.stats import fit as stats
+
+    cf = res.caught
+    T = len(res.rows)
+    models = [t.model for t in res.rows.tests]
+    M = len(models)
+    k_spread = models.index(stats.SPREAD_MODEL) if stats.SPREAD_MODEL in models else None
+    own = np.full((T, 3), np.nan)
+    own[cf.rows] = np.degrees(np.stack([cf.fits.sigma, cf.fits.low, cf.fits.high], axis=1))
+    is_caught = res.rows.cc.caught
+    notes = [None] * T
+    for i, b in zip(cf.rows.tolist(), cf.fits.at_bound.tolist(), strict=True):
+        notes[i] = _bound_note(int(b)) or None
+    design = [None] * T
+    if cf.fair_xi is not None:
+        for i, x in zip(cf.rows.tolist(), cf.fair_xi.tolist(), strict=True):
+            d = exps[i].diameter
+            design[i] = (p_design, x, None if d is None else x * d)
+    base = len(FIT_COLUMNS)  # the sigma columns are the last three of FIT_COLUMNS
+
+    def sigma_maker(c):
+        pooled = spread_cells[c]
+
+        def make(a, b):
+            out = []
+            for i in range(a, b):
+                for k in range(M):
+                    if k != k_spread:
+                        out.append(None)
+                    elif is_caught[i]:
+                        v = own[i, c]
+                        out.append(None if v != v else float(v))
+                    else:
+                        out.append(pooled)
+            return out
+        return make
+
+    def row_cells(j):
+        def make(a, b):
+            out = []
+            for i in range(a, b):
+                if j == 0:
+                    cells = [notes[i] if k == k_spread else None for k in range(M)]
+                elif design[i] is not None and 8 <= j <= 10:
+                    cells = [design[i][j - 8]] * M
+                else:
+                    cells = [None] * M
+                out += cells
+            return out
+        return make
+
+    caught_extra = [row_cells(j) for j in range(_N_CAUGHT_FIT)]
+    row_extra = {base - 3 + c: sigma_maker(c) for c in range(3)}
+    n_caught = len(CAUGHT_MACHINE_COLUMNS) + _N_CAUGHT_FIT
+    tail = [t + (None,) * n_caught for t in tail]
+    het = cf.heterogeneity
+    if het is not None:
+        from coincli.core.stats.caught import HETEROGENEITY_METHOD
+
+        n_c = int(res.rows.cc.n[cf.rows].sum())
+        cells = ["all", None, "caught rows", None, n_c] + [None] * 3 + [stats.SPREAD_MODEL]
+        cells += [None] * (base - len(cells) - 3)
+        cells += [_deg(het.sigma_common), None, None]
+        cells += [None] * len(CAUGHT_MACHINE_COLUMNS)
+        cells += [None, HETEROGENEITY_METHOD, het.statistic, het.df, het.p_value,
+                  _deg(het.sigma_common), _deg(math.exp(het.mu)), het.tau, None, None, None]
+        tail.append(tuple(cells))
+    return Result("coin fit", FIT_COLUMNS + CAUGHT_MACHINE_COLUMNS + CAUGHT_FIT_COLUMNS, [],
+                  chunks=_machine_chunks(res.rows, lines, extra, tail, caught_extra,
+                                         row_extra))
+
+
+def _tossers_result(exps, cf, lines, conf: float, p_design) -> Result:
+    """The human table of the caught rows: each tosser's spread (and fair coin)."""
+    from coincli.core.stats.tests import percent
+
+    pct = percent(conf)
+    cols = [Column("line", "line", "int"), Column("label", "label", "text"),
+            Column("same", "same / n", "text"), Column("sigma_deg", "psi sd (deg)"),
+            Column("interval", f"{pct} profile interval (deg)", "text")]
+    if cf.fair_xi is not None:
+        cols += [Column("design_xi", f"xi for P(sides) = {p_design:.6g}"),
+                 Column("design_thickness_mm", "thickness (mm)")]
+    body = []
+    for j, i in enumerate(cf.rows.tolist()):
+        e = exps[i]
+        row = [lines[i], e.label, f"{e.counts.same} / {e.counts.n}",
+               _deg(float(cf.fits.sigma[j])),
+               f"{_fmt_deg(float(cf.fits.low[j]))} to {_fmt_deg(float(cf.fits.high[j]))}"]
+        if cf.fair_xi is not None:
+            x = float(cf.fair_xi[j])
+            row += [x, None if e.diameter is None else x * e.diameter]
+        body.append(tuple(row))
+    notes = ["caught flips (faces only): each row is one tosser, fitted alone: psi ~ normal "
+             "about 90 deg truncated to [0, 180], the chance of the same side "
+             "P(H) / (P(H) + P(T)) (the start side as heads); a row at a bound is noted in "
+             "the machine output (sigma_note)."]
+    bounds = sum(1 for b in cf.fits.at_bound.tolist() if b)
+    if bounds:
+        notes.append(f"{_plural(bounds, 'row has', 'rows have')} the estimate at a bound "
+                     "(sd 0: no more same-side flips than a Keller flip's 1/2; inf: as many as "
+                     "psi uniform gives, or more).")
+    het = cf.heterogeneity
+    if het is not None:
+        notes.append(
+            f"one spread for all tossers: sd {_fmt_deg(het.sigma_common)} deg; do they differ? "
+            f"likelihood-ratio test of one spread per tosser against one for all: "
+            f"{het.statistic:.4g} on {het.df} df, p = {het.p_value:.3g}; random effects "
+            f"(log sd ~ normal, maximum marginal likelihood): median tosser "
+            f"{_fmt_deg(math.exp(het.mu))} deg, sd of log sd between tossers {het.tau:.3g} "
+            f"(a factor of {math.exp(het.tau):.3g}).")
+    if cf.fair_xi is not None:
+        notes.append(f"design: the xi whose chance of a side is {p_design:.6g} under each "
+                     "tosser's fitted spread (the paper's model, no bounce); the thickness for "
+                     "the row's diameter when the row gives one (coin or diameter).")
+    return _chunked("each tosser (caught rows)", cols,
+                    lambda a, b: body[a:b], len(body), 1, "\n".join(notes))
 
 def _comparison_result(res, conf: float) -> Result:
     cols = [Column("model", "model", "text"), Column("n_params", "fitted parameters", "int"),

@@ -226,9 +226,14 @@ def _read_data(path: str):
             "utf8": f"--data: {name!r} is not UTF-8 text",
         }[exc.reason]) from None
     try:
-        return parse_experiments(text)
+        exps = parse_experiments(text)
     except ValueError as exc:
         raise usage_error(f"--data {name}: {exc}") from None
+    caught = next((e for e in exps if getattr(e.counts, "caught", False)), None)
+    if caught is not None:
+        raise usage_error(f"--data {name}: line {caught.line} is caught flips (faces only), "
+                          "with no sides to plot; coin fit reads them")
+    return exps
 
 
 def sides(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickness=None,

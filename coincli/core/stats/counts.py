@@ -28,6 +28,8 @@ __all__ = [
     "CountsError",
     "Counts",
     "make_counts",
+    "Caught",
+    "make_caught",
     "Experiment",
 ]
 
@@ -157,6 +159,63 @@ def make_counts(heads=None, sides=None, tails=None, n=None) -> Counts:
     return Counts(m, s)
 
 
+class Caught(namedtuple("Caught", "n same different")):
+    """Caught flips, faces only: ``same`` landed on the side they started on, ``different`` on
+    the other (a binomial observation; see :mod:`coincli.core.stats.caught`)."""
+
+    # n: int
+    # same: int
+    # different: int
+    __slots__ = ()
+
+    faces = False
+    caught = True
+    heads = tails = sides = None
+    categories = ("same", "different")
+
+    @property
+    def values(self) -> tuple[int, ...]:
+        return (self.same, self.different)
+
+
+def make_caught(same=None, different=None, n=None) -> Caught:
+    """Validate caught faces-only counts: ``same`` and ``different`` (``n`` optional, then it
+    must be their sum), or ``same`` and ``n``.
+
+    >>> make_caught(5080, 4920)
+    Caught(n=10000, same=5080, different=4920)
+    >>> make_caught(same=51, n=100)
+    Caught(n=100, same=51, different=49)
+    """
+    vals = {}
+    for name, v in (("same", same), ("different", different), ("n", n)):
+        try:
+            vals[name] = _whole(v, name)
+        except ValueError as exc:
+            raise CountsError(str(exc), name) from None
+    s, d, m = vals["same"], vals["different"], vals["n"]
+    if s is None and d is None:
+        raise CountsError("give same and different (or n) for caught flips", "same")
+    if s is None or d is None:
+        if m is None:
+            given, missing = ("same", "different") if d is None else ("different", "same")
+            raise CountsError(f"{given} was given without {missing}; give both, or n", missing)
+        known = s if s is not None else d
+        if known > m:
+            name = "same" if s is not None else "different"
+            raise CountsError(f"{name} = {known} exceeds n = {m}", name)
+        s, d = (s, m - s) if d is None else (m - d, d)
+    total = s + d
+    if m is not None and m != total:
+        raise CountsError(f"same + different = {total} but n = {m}", "n")
+    if total == 0:
+        raise CountsError("same and different are both zero: no flips to check", "n")
+    if total > MAX_COUNT:
+        raise CountsError(f"same + different = {total}; at most {MAX_COUNT} (2**53) flips are "
+                          "allowed", "n")
+    return Caught(total, s, d)
+
+
 def _check_probs(probs, k: int, name: str = "probabilities") -> tuple[float, ...]:
     """k finite probabilities >= 0 summing to 1 within 1e-6; returned renormalized."""
     try:
@@ -176,7 +235,7 @@ def _check_probs(probs, k: int, name: str = "probabilities") -> tuple[float, ...
 # --------------------------------------------------------------------------- experiments
 
 
-class Experiment(namedtuple("Experiment", "line xi counts label")):
+class Experiment(namedtuple("Experiment", "line xi counts label diameter", defaults=(None,))):
     """One row of an experiments file: a coin's aspect ratio and its tosses.
 
     :func:`coincli.io.experiments.parse_experiments` reads them; :func:`coincli.core.stats.fit.fit`
@@ -186,6 +245,7 @@ class Experiment(namedtuple("Experiment", "line xi counts label")):
     # xi: float
     # counts: Counts
     # label: str  the label column, else a description of the coin ("nickel x3", "xi=0.583")
+    # diameter: float | None  the coin's diameter in mm when the row gives it (coin or diameter)
     __slots__ = ()
 
 
@@ -196,15 +256,20 @@ class _CountColumns:
     def __init__(self, counts: Sequence[Counts]):
         import numpy as np
 
-        if not all(isinstance(c, Counts) for c in counts):
-            bad = next(c for c in counts if not isinstance(c, Counts))
+        if not all(isinstance(c, (Counts, Caught)) for c in counts):
+            bad = next(c for c in counts if not isinstance(c, (Counts, Caught)))
             raise ValueError(f"counts must be a Counts (see make_counts), got {bad!r}")
         self.counts = counts
         self.faces = np.fromiter((c.heads is not None for c in counts), bool, len(counts))
-        self.sides = np.fromiter((c.sides for c in counts), np.int64, len(counts))
+        self.sides = np.fromiter((c.sides or 0 for c in counts), np.int64, len(counts))
         self.n = np.fromiter((c.n for c in counts), np.int64, len(counts))
         self.heads = np.fromiter((c.heads or 0 for c in counts), np.int64, len(counts))
         self.tails = np.fromiter((c.tails or 0 for c in counts), np.int64, len(counts))
+        #: caught rows (faces only, :class:`Caught`): ``same`` of ``n``; 0 elsewhere
+        self.caught = np.fromiter((isinstance(c, Caught) for c in counts), bool, len(counts))
+        self.same = np.fromiter((getattr(c, "same", 0) for c in counts), np.int64, len(counts))
+        #: rows of side counts alone (neither faces told apart nor caught)
+        self.sides_only = ~self.faces & ~self.caught
 
     def __len__(self):
         return len(self.n)

@@ -29,7 +29,7 @@ from collections.abc import Mapping, Sequence
 from coincli.core._numerics.roots import brent_minimize, brent_root
 from coincli.core._numerics.wilson import CONFIDENCE, _check_level
 from coincli.core.models import HALF_PI, Outcome
-from coincli.core.stats.counts import Counts, Experiment, _CountColumns, _LogFactorial
+from coincli.core.stats.counts import Caught, Counts, Experiment, _CountColumns, _LogFactorial
 from coincli.core.stats.tests import ALPHA, _check_method, check_many
 
 __all__ = [
@@ -39,6 +39,7 @@ __all__ = [
     "fit_spread",
     "ModelSummary",
     "FitResult",
+    "CaughtFit",
     "SPREAD_MODEL",
     "fit",
 ]
@@ -71,10 +72,14 @@ class _Likelihood:
         lf = _LogFactorial(int(np.max(cc.n, initial=0)))
         f = cc.faces
         self.faces = f
+        self.so = so = cc.sides_only
+        self.caught = c = cc.caught
         self.x = cc.matrix()[f]
-        self.k, self.m = cc.sides[~f], cc.n[~f]
+        self.k, self.m = cc.sides[so], cc.n[so]
+        self.s, self.d = cc.same[c], cc.n[c] - cc.same[c]
         const = np.concatenate([lf(cc.n[f]) - lf(self.x).sum(axis=1),
-                                lf(self.m) - (lf(self.k) + lf(self.m - self.k))])
+                                lf(self.m) - (lf(self.k) + lf(self.m - self.k)),
+                                lf(cc.n[c]) - (lf(self.s) + lf(self.d))])
         self.const = math.fsum(const.tolist())
 
     def __call__(self, heads, sides, tails) -> float:
@@ -90,11 +95,16 @@ class _Likelihood:
                 total += float(np.sum(xlogy(self.x, p)))
             if self.k.size:
                 k, m = self.k, self.m
-                ps = np.clip(sides[~f], 0.0, 1.0)
-                pf = np.clip(heads[~f] + tails[~f], 0.0, 1.0)  # not 1 - ps: a thick coin's faces
+                so = self.so
+                ps = np.clip(sides[so], 0.0, 1.0)
+                pf = np.clip(heads[so] + tails[so], 0.0, 1.0)  # not 1 - ps: a thick coin's faces
                 ll = np.where(ps <= 0.5, xlogy(k, ps) + xlog1py(m - k, -ps),
                               xlogy(m - k, pf) + xlog1py(k, -pf))
                 total += float(np.sum(ll))
+            if self.s.size:  # caught: the same side given a face
+                ph, pt = heads[self.caught], tails[self.caught]
+                total += float(np.sum(xlogy(self.s, ph / (ph + pt))
+                                      + xlogy(self.d, pt / (ph + pt))))
         return total if not math.isnan(total) else -math.inf
 
 
@@ -169,7 +179,7 @@ def fit_spread(xi: Sequence[float], counts: Sequence[Counts], *, confidence: flo
     if xs.ndim != 1 or len(xs) != len(counts) or len(xs) == 0:
         raise ValueError(f"xi and counts must be non-empty and of one length, got {len(xs)} and "
                          f"{len(counts)}")
-    if not all(isinstance(c, Counts) for c in counts):
+    if not all(isinstance(c, (Counts, Caught)) for c in counts):
         raise ValueError("counts must be Counts (see make_counts)")
     if not np.all(np.isfinite(xs) & (xs > 0)):
         raise ValueError("xi must be finite and > 0 for every experiment")
@@ -278,12 +288,22 @@ class ModelSummary(namedtuple("ModelSummary",
     __slots__ = ()
 
 
-class FitResult(namedtuple("FitResult", "rows spread models")):
+class FitResult(namedtuple("FitResult", "rows spread models caught", defaults=(None,))):
     """``coin fit``: each experiment checked, and the models compared across them."""
 
     # rows: Checks  a sequence of CheckResult (columns underneath)
     # spread: SpreadFit | None
     # models: tuple[ModelSummary, ...]
+    # caught: CaughtFit | None  the caught rows' own spreads, when the file has any
+    __slots__ = ()
+
+
+class CaughtFit(namedtuple("CaughtFit", "rows fits heterogeneity fair_xi")):
+    """The caught (faces-only) rows of a fit: their indices ``rows`` among all rows, each row's
+    own :class:`coincli.core.stats.caught.RowFits`, the :class:`~.caught.Heterogeneity` of the
+    tossers (None for one row), and each row's fair three-sided ``fair_xi`` (None unless a
+    design was asked)."""
+
     __slots__ = ()
 
 
@@ -292,7 +312,7 @@ SPREAD_MODEL = "psi-spread"  #: the model name of the fitted spread in results
 
 def fit(experiments: Sequence[Experiment], densities: Mapping[str, object] | None = None, *,
         confidence: float = CONFIDENCE, alpha: float = ALPHA, method: str = "auto",
-        spread: bool = True) -> FitResult:
+        spread: bool = True, design: float | None = None) -> FitResult:
     """Check each experiment and compare the models across all of them.
 
     Models: geometric, dynamic, each named density in ``densities`` (0 free parameters each),
@@ -300,6 +320,11 @@ def fit(experiments: Sequence[Experiment], densities: Mapping[str, object] | Non
     per-row p-values ignore that the spread was fitted to the same data, so they lean lenient).
     Every model's chances are computed once per distinct coin, and every row's tests run
     together (:func:`check_many`).
+
+    Caught rows (:class:`~coincli.core.stats.counts.Caught`, faces only) enter every
+    likelihood with the chance of the same side given a face, and are also fitted one by one
+    (:class:`CaughtFit`: each tosser's spread, the heterogeneity of the tossers and, with
+    ``design`` a chance of a side such as 1/3, each tosser's fair coin).
     """
     import numpy as np
 
@@ -337,11 +362,30 @@ def fit(experiments: Sequence[Experiment], densities: Mapping[str, object] | Non
     aics = {name: aic(lls[name], k) for name, (_, k) in per_model.items()}
     best = min(aics.values())
     freq = rows.cc.sides / rows.cc.n
+    tossed = ~rows.cc.caught  # a caught coin's sides were never observed: no SSE term
     summaries = tuple(
         ModelSummary(name, k, lls[name], aics[name],
                      (aics[name] - best) if math.isfinite(best) else math.nan,
-                     math.fsum(((freq - ch.sides) ** 2).tolist()))
+                     math.fsum(((freq - ch.sides)[tossed] ** 2).tolist()))
         for name, (ch, k) in per_model.items()
     )
-    return FitResult(rows, sp, summaries)
+    cf = None
+    if rows.cc.caught.any():
+        cf = _fit_caught(xa, rows.cc, confidence, design)
+    return FitResult(rows, sp, summaries, cf)
+
+
+def _fit_caught(xa, cc, confidence: float, design: float | None) -> CaughtFit:
+    """Each caught row's own spread, the tossers' heterogeneity, and their fair coins."""
+    import numpy as np
+
+    from coincli.core.stats import caught as cs
+
+    idx = np.flatnonzero(cc.caught)
+    xi, same, n = xa[idx], cc.same[idx], cc.n[idx]
+    chance = cs.SameChance(np.unique(xi))
+    fits = cs.fit_rows(xi, same, n, confidence=confidence, chance=chance)
+    het = cs.heterogeneity(xi, same, n, fits, chance=chance) if len(idx) > 1 else None
+    fair = cs.fair_xi(fits.sigma, design) if design is not None else None
+    return CaughtFit(idx, fits, het, fair)
 

@@ -364,9 +364,11 @@ def g_test(counts: Sequence[int], probs: Sequence[float]) -> tuple[float, int, f
     return float(g[0]), int(df[0]), float(pv[0])
 
 
-def _log_likelihoods(x, n, p, faces):
+def _log_likelihoods(x, n, p, faces, caught=None, same=None):
     """Log-probabilities of T observations: ``x`` (T x 3) counts (heads, sides, tails; only the
-    sides column is read where ``faces`` is False), ``p`` (T x 3) normalized chances."""
+    sides column is read where ``faces`` is False), ``p`` (T x 3) normalized chances.  Rows
+    marked ``caught`` are ``same`` of ``n`` caught flips, binomial with the chance
+    ``P(H) / (P(H) + P(T))`` (:mod:`coincli.core.stats.caught`)."""
     import numpy as np
     from scipy.special import xlogy
 
@@ -376,11 +378,17 @@ def _log_likelihoods(x, n, p, faces):
     faces = np.asarray(faces, dtype=bool)
     lf = _LogFactorial(int(np.max(n, initial=0)))
     out = np.empty(len(n))
+    caught = np.zeros(len(n), bool) if caught is None else np.asarray(caught, dtype=bool)
     with np.errstate(divide="ignore", invalid="ignore"):
         if np.any(faces):
             xf, pf = x[faces], p[faces]
             out[faces] = lf(n[faces]) + np.sum(xlogy(xf, pf) - lf(xf), axis=1)
-        side = ~faces
+        if np.any(caught):
+            s, m = np.asarray(same, dtype=np.int64)[caught], n[caught]
+            ph, pt = p[caught, 0], p[caught, 2]
+            out[caught] = ((lf(m) - (lf(s) + lf(m - s))) + xlogy(s, ph / (ph + pt))
+                           + xlogy(m - s, pt / (ph + pt)))
+        side = ~faces & ~caught
         if np.any(side):
             k, m = x[side, 1], n[side]
             ps, pface = p[side, 1], p[side, 0] + p[side, 2]
@@ -532,6 +540,9 @@ class _Tests:
 
 _CATS3 = ("heads", "sides", "tails")
 _CATS2 = ("sides", "faces")
+_CATS_CAUGHT = ("same", "different")
+#: the test of a caught row, named: conditioned on a face
+CAUGHT_TEST = " of same side, given a face"
 
 
 def _model_tests(cc: _CountColumns, chances, model: str, alpha: float, method: str) -> _Tests:
@@ -542,7 +553,8 @@ def _model_tests(cc: _CountColumns, chances, model: str, alpha: float, method: s
     raw, p = _chance_columns(chances, len(cc), "chances")
     faces = cc.faces
     T = len(cc)
-    # tested categories: faces told apart (heads, sides, tails); else (sides, faces)
+    # tested categories: faces told apart (heads, sides, tails); else (sides, faces); caught
+    # flips (same, different)
     x = np.where(faces[:, None], cc.matrix(),
                  np.stack([cc.sides, cc.n - cc.sides, np.zeros(T, np.int64)], axis=1))
     side, face = p[:, 1], p[:, 0] + p[:, 2]
@@ -551,6 +563,14 @@ def _model_tests(cc: _CountColumns, chances, model: str, alpha: float, method: s
     nf = cc.n.astype(float)
     expected = np.where(faces, nf * raw, np.stack([nf * raw[1], nf * (raw[0] + raw[2]),
                                                    np.zeros(T)]))
+    caught = cc.caught
+    if np.any(caught):  # conditioned on a face: same ~ Binomial(n, P(H) / (P(H) + P(T)))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            qs, qd = p[:, 0] / face, p[:, 2] / face
+        x = np.where(caught[:, None], np.stack([cc.same, cc.n - cc.same,
+                                                np.zeros(T, np.int64)], axis=1), x)
+        q = np.where(caught[:, None], np.stack([qs, qd, np.zeros(T)], axis=1), q)
+        expected = np.where(caught, np.stack([nf * qs, nf * qd, np.zeros(T)]), expected)
     g, df, p_asym = np.empty(T), np.empty(T, np.int64), np.empty(T)
     pv = np.empty(T)
     exact = np.full(T, method == "exact") | ((method == "auto") & (cc.n <= EXACT_MAX_N))
@@ -562,14 +582,19 @@ def _model_tests(cc: _CountColumns, chances, model: str, alpha: float, method: s
         pv[sel] = p_asym[sel]
         if np.any(ex):
             pv[ex] = _exact_pvalues(x[ex, :k], q[ex, :k])
-    ll = _log_likelihoods(cc.matrix(), cc.n, p, faces)
+    ll = _log_likelihoods(cc.matrix(), cc.n, p, faces, caught, cc.same)
     impossible = ll == -np.inf
     pv = np.where(impossible, 0.0, pv)
     methods = [("exact multinomial" if f else "exact binomial") if e else
                f"G-test (asymptotic chi2, df={d})"
                for f, e, d in zip(faces.tolist(), exact.tolist(), df.tolist(), strict=True)]
+    if np.any(caught):
+        methods = [m + CAUGHT_TEST if c else m for m, c in zip(methods, caught.tolist(),
+                                                                 strict=True)]
     verdicts = _verdicts(pv, a, exact, impossible)
     cats = [_CATS3 if f else _CATS2 for f in faces.tolist()]
+    if np.any(caught):
+        cats = [_CATS_CAUGHT if c else k for k, c in zip(cats, caught.tolist(), strict=True)]
     return _Tests(model, raw, cats, expected, pv, exact, methods, g, df, ll, verdicts)
 
 
@@ -653,7 +678,8 @@ class Checks(Sequence):
             raise IndexError(i)
         c = self.cc.counts[i]
         props = []
-        for name in (_CATS3 if c.faces else ("sides",)):
+        for name in (_CATS3 if c.faces else ("same",) if c.categories == _CATS_CAUGHT
+                     else ("sides",)):
             est, wl, wh, cl, ch = (float(v[i]) for v in self.intervals[name])
             conf = self.confidence
             props.append(Proportion(name, getattr(c, name), c.n, est,
@@ -691,7 +717,22 @@ def check_many(counts: Sequence[Counts], xi, chances: Mapping[str, object], *,
         cols = [k / cc.n, *(v[sel] for v in ends)]
         if name != "sides":
             cols = [np.where(cc.faces, v, np.nan) for v in cols]
+        elif np.any(cc.caught):
+            cols = [np.where(cc.caught, np.nan, v) for v in cols]
         intervals[name] = cols
+    if np.any(cc.caught):  # the chance of the same side, caught rows only; each pair once
+        c = np.flatnonzero(cc.caught)
+        sp, sinv = np.unique(np.stack([cc.same[c], cc.n[c]], axis=1), axis=0,
+                             return_inverse=True)
+        sinv = sinv.ravel()
+        ends = [*wilson_interval(sp[:, 0], sp[:, 1], conf),
+                *clopper_pearson_interval(sp[:, 0], sp[:, 1], conf)]
+        cols = []
+        for v in [sp[:, 0] / sp[:, 1], *ends]:
+            col = np.full(T, np.nan)
+            col[c] = v[sinv]
+            cols.append(col)
+        intervals["same"] = cols
     tests = [_model_tests(cc, ch, name, alpha, method) for name, ch in chances.items()]
     return Checks(xs, list(labels) if labels is not None else [""] * len(cc), cc, intervals,
                   tests, conf)
@@ -705,7 +746,9 @@ def check(counts: Counts, xi: float, chances: Mapping[str, object] | None = None
     ``chances`` maps a model name to its (heads, sides, tails); the default is
     :func:`model_chances` (geometric and dynamic).
     """
-    if not isinstance(counts, Counts):
+    from coincli.core.stats.counts import Caught
+
+    if not isinstance(counts, (Counts, Caught)):
         raise ValueError(f"counts must be a Counts (see make_counts), got {counts!r}")
     if chances is None:
         chances = model_chances(xi)
