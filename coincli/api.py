@@ -520,8 +520,12 @@ def phase(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
 
 def check(*, xi=None, quarters=None, coin=None, count=None, diameter=None, thickness=None,
           heads=None, sides=None, tails=None, tosses=None, same=None, different=None,
-          psi_dist=None, alpha=None, confidence=None) -> list[dict]:
-    """``coin check``: are the tosses of one coin consistent with the models?
+          psi_dist=None, expect=None, fair=None, landing=None, surface=None, restitution=None,
+          friction=None, torsional=None, rolling=None, release_height=None, vx=None, u=None,
+          omega=None, psi=None, seed=None, jobs=None, dt=None, t_max=None, alpha=None,
+          confidence=None) -> list[dict]:
+    """``coin check``: are the tosses of one coin consistent with the models (with stated
+    chances, with a simulated table)?
 
     Parameters
     ----------
@@ -538,7 +542,21 @@ def check(*, xi=None, quarters=None, coin=None, count=None, diameter=None, thick
         (``tosses`` may replace one): tested on the chance of the starting side given a face,
         ``P(H) / (P(H) + P(T))``.
     psi_dist : str or list of str, optional
-        psi densities to check as models too (``"normal:90:20"``, ``["uniform", "cosine"]``).
+        psi densities to check as models too (``"normal:90:20"``, ``["uniform", "cosine"]``);
+        with ``landing="bounce"``, the launch's distribution of psi instead.
+    expect : str or list, optional
+        Also test against stated chances of heads, sides and tails (``"1/3,1/3,1/3"``,
+        ``[0.3, 0.4, 0.3]``, ``"30%,40%,30%"``): the row ``model = "expected"``.  The coin is
+        then optional.
+    fair : bool, optional
+        ``expect="1/3,1/3,1/3"``.
+    landing : str, optional
+        ``"bounce"``: also test against the coin tossed on a table, simulated (MuJoCo, ten
+        times the tosses, at least 4000, at most 10^5); the row's p-value is the exact
+        conditional test that the two sets of counts share one set of chances.
+    surface, restitution, friction, torsional, rolling, release_height, vx, u, omega, psi, seed, jobs, dt, t_max : optional
+        With ``landing="bounce"``: the table, the launch and the seed of the simulated tosses,
+        as the options of the same names.
     alpha : str or float, optional
         Significance level of the verdicts (``0.05``, ``"1/20"``, ``"5%"``; default 0.05).
     confidence : str or float, optional

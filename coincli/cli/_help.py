@@ -13,12 +13,14 @@ from __future__ import annotations
 PANELS = (
     ("Coin", ("--xi", "--coin", "--count", "--quarters", "--diameter", "--thickness",
               "--p-sides", "--size", "--moments")),
-    ("Model", ("--model", "--psi", "--psi-dist", "--all", "--vs", "--no-spread", "--style")),
+    ("Model", ("--model", "--psi", "--psi-dist", "--all", "--vs", "--no-spread", "--style",
+               "--expect", "--fair", "--layout")),
     ("Toss", ("--u", "--omega", "--g", "--contact", "--z0", "--tosses", "--seed", "--stream",
               "--trajectory", "--spin", "--times", "--toss", "--flight", "--start", "--rule")),
     ("Phase grid", ("--cols", "--rows", "--resolution", "--u-range", "--omega-range", "--exact",
                     "--exact-curves", "--no-curves")),
-    ("Your tosses", ("--heads", "--sides", "--tails", "--data", "--delimiter")),
+    ("Your tosses", ("--heads", "--sides", "--tails", "--same", "--different", "--data",
+                     "--delimiter")),
     ("Table (--landing bounce)", ("--landing", "--surface", "--restitution", "--friction",
                                   "--torsional", "--rolling", "--release-height", "--vx", "--dt",
                                   "--t-max", "--jobs", "--max-tosses", "--time-limit")),
@@ -29,7 +31,8 @@ PANELS = (
 BOUNCE_PANEL = "Table (--landing bounce)"
 #: options that belong to the bouncing table in a command where they mean nothing else
 BOUNCE_ONLY = {"design": ("--u", "--omega", "--seed"), "sides": ("--seed", "--tosses"),
-               "table": ("--u", "--omega", "--tosses")}
+               "table": ("--u", "--omega", "--tosses"),
+               "check": ("--u", "--omega", "--seed", "--psi")}
 SUMMARY_LIMIT = 200  #: a command summary in a listing is its first sentence, up to this long
 
 #: the values an option completes to (shell completion); files complete as files

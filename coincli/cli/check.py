@@ -30,6 +30,32 @@ def _opt(*names: str, mv: str, help: str):
     return typer.Option(*names, metavar=mv, help=help)
 
 
+ExpectOpt = option("--expect", "H,S,T", "Also test against chances you state: heads, sides, "
+                   "tails (0.3,0.4,0.3; 1/3,1/3,1/3; 30%,40%,30%; they add up to 1).  The coin is "
+                   "then optional.")
+FairOpt = option("--fair", None, "Also test against a fair three-sided coin: --expect "
+                 "1/3,1/3,1/3.", kind=bool)
+
+
+def _check_table() -> Group:
+    """``--landing bounce`` of ``coin check``: the table your tosses are compared with, and the
+    launch of the tosses simulated on it (as ``coin simulate`` takes them)."""
+    from coincli.cli._bounce import BOUNCE
+    from coincli.cli.design import DESIGN_TABLE
+
+    return Group(
+        BOUNCE.only("landing", "surface", "restitution", "friction", "torsional", "rolling"),
+        DESIGN_TABLE.only("u", "omega"),
+        ("psi", option("--psi", "DEG", "With --landing bounce: a fixed launch angle psi "
+                       "(degrees) instead of the hand toss's spread (or --psi-dist)."), None),
+        DESIGN_TABLE.only("seed"),
+        BOUNCE.only("release_height", "vx", "jobs", "dt", "t_max"),
+    )
+
+
+CHECK_TABLE = _check_table()
+
+
 # --------------------------------------------------------------------------- check
 
 
@@ -49,6 +75,9 @@ def check(
     different: Annotated[str | None, _opt("--different", mv="D", help="Caught flips that "
                                           "landed on the other side.")] = None,
     psi_dist: PsiDistsOpt = None,
+    expect: ExpectOpt = None,
+    fair: FairOpt = False,
+    table=CHECK_TABLE,
     levels=LEVELS,
     output=OUTPUT,
 ):
@@ -61,7 +90,16 @@ def check(
     (--same and --different, faces only) are tested on the chance of the starting side given a
     face, P(H)/(P(H)+P(T)), with the tosser's fitted spread of psi in the note.
 
+    --expect (or --fair) adds a test against the chances you state.  --landing bounce adds
+    the table: tosses of your coin are simulated on the surface (MuJoCo, ten times yours, at
+    least 4000) and your counts and the simulated ones are tested for one set of chances
+    (exact conditional test), so the simulation's own error is counted; --psi-dist is then
+    the launch's.
+
     Examples: coin check --xi 0.583 --heads 35 --sides 33 --tails 32 ;
+    coin check --fair --heads 45 --sides 38 --tails 37 ;
+    coin check --landing bounce --surface felt --xi 0.5 --heads 45 --sides 38 --tails 37
+    --seed 1 ;
     coin check --xi 0.075 --same 5080 --different 4920 ;
     coin check --quarters 8 --sides 33 -n 100 ;  coin check --coin nickel --count 3 --heads 60
     --sides 9 --tails 31 --psi-dist normal:90:20 --format json
@@ -69,8 +107,8 @@ def check(
     from coincli.reports import check as report
 
     emit_all(report.check(**the_coin, heads=heads, sides=sides, tails=tails, tosses=tosses,
-                          same=same, different=different, psi_dist=psi_dist, **levels,
-                          **output), **output)
+                          same=same, different=different, psi_dist=psi_dist,
+                          expect=expect, fair=fair, **table, **levels, **output), **output)
 
 
 # --------------------------------------------------------------------------- fit

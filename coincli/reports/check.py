@@ -384,16 +384,23 @@ def check(*, xi: str | None = None, quarters: str | None = None, coin: str | Non
           count: str | None = None, diameter: str | None = None, thickness: str | None = None,
           heads: str | None = None, sides: str | None = None, tails: str | None = None,
           tosses: str | None = None, same: str | None = None, different: str | None = None,
-          psi_dist: str | None = None, alpha: str = "0.05",
+          psi_dist: str | None = None, expect: str | None = None, fair: bool = False,
+          landing: str = "catch", surface=None, restitution=None, friction=None,
+          torsional=None, rolling=None, release_height=None, vx=None, u=None, omega=None,
+          psi=None, seed=None, jobs=None, dt=None, t_max=None, alpha: str = "0.05",
           confidence: str = "0.95", fmt: str = "table", quiet: bool = False):
     """What ``coin check`` prints: the observed frequencies with their intervals, and for each
     model the expected counts, the exact test's p-value, the log-likelihood and a verdict.
 
     The options' text as ``coin check`` takes it (the coin group, ``--heads``, ``--sides``,
-    ``--tails``, ``-n/--tosses``, ``--psi-dist``, ``--alpha``, ``--confidence``).  Returns two
-    human tables (a list) for ``fmt="table"``, else the one machine :class:`Result` (its
-    ``quiet`` the p-values, one per model).  Raises InputError for a wrong input,
-    NotComputable when the models cannot be evaluated.
+    ``--tails``, ``-n/--tosses``, ``--psi-dist``, ``--alpha``, ``--confidence``).  ``expect``
+    (``1/3,1/3,1/3``) or ``fair``: also a test against stated chances (the row ``expected``;
+    the coin is then optional).  ``landing="bounce"``: also a test against a table simulated
+    with the surface and launch options (:func:`_bounce_row`: the two sets of counts tested for
+    one set of chances, so the simulation's own sampling error is counted).  Returns two human
+    tables (a list) for ``fmt="table"``, else the one machine :class:`Result` (its ``quiet``
+    the p-values, one per model).  Raises InputError for a wrong input, NotComputable when the
+    models cannot be evaluated.
     """
     from coincli.core.stats import tests as stats
     from coincli.core.stats.counts import make_counts
@@ -401,7 +408,19 @@ def check(*, xi: str | None = None, quarters: str | None = None, coin: str | Non
     fmt = check_format(fmt)
     a = _level(alpha, "--alpha")
     conf = _level(confidence, "--confidence")
-    x, label = _xi_from_options(xi, quarters, coin, count, diameter, thickness)
+    expected = _expectation(expect, fair)
+    bounce = _bounce_options(landing, surface=surface, restitution=restitution,
+                             friction=friction, torsional=torsional, rolling=rolling,
+                             height=release_height, vx=vx, jobs=jobs, dt=dt, t_max=t_max,
+                             u=u, omega=omega, psi=psi, seed=seed)
+    if bounce is not None and (same is not None or different is not None):
+        raise usage_error("--same/--different are caught flips: caught in the hand, they never "
+                          "met a table; --landing bounce checks tosses that landed on one")
+    coin_given = any(v is not None for v in (xi, quarters, coin, count, diameter, thickness))
+    if expected is not None and not coin_given and bounce is None:
+        x, label = math.nan, ""  # stated chances need no coin
+    else:
+        x, label = _xi_from_options(xi, quarters, coin, count, diameter, thickness)
     if same is not None or different is not None:
         counts = _caught_counts(x, same, different, tosses, (heads, sides, tails))
     else:
@@ -413,28 +432,165 @@ def check(*, xi: str | None = None, quarters: str | None = None, coin: str | Non
         except ValueError as exc:
             raise usage_error(str(exc)) from None
     _check_total(counts)
-    dens = _densities(psi_dist)
+    dens = _densities(psi_dist) if bounce is None else {}
+    sim = None
     try:
-        chances = stats.model_chances(x, dens)
+        chances = stats.model_chances(x, dens) if math.isfinite(x) else {}
+        if expected is not None:
+            chances["expected"] = expected
+        if bounce is not None:
+            sim = _simulate_table(bounce, x, counts, xi=xi, diameter=diameter,
+                                  thickness=thickness, coin_texts=(quarters, coin, count),
+                                  launch=(u, omega, psi, psi_dist, seed))
+            chances[sim.name] = sim.chances
         ch = stats.check_many([counts], x, chances, confidence=conf, alpha=a, labels=[label])
     except ValueError as exc:
         raise compute_error(str(exc)) from None
+    if sim is not None:
+        _two_sample(ch, sim, counts, a)
     caught = bool(ch.cc.caught[0])
     if quiet or fmt != "table":
+        if sim is not None:  # the note that names the seed is not printed: say a drawn one
+            options.report_seed(sim.seed, seed is not None)
         return Result("coin check", MACHINE_COLUMNS + (CAUGHT_MACHINE_COLUMNS if caught else []),
                       [], data=next(_machine_chunks(ch, None)),
                       quiet=[float(t.p_value[0]) for t in ch.tests])
-    coin_text = f"xi = {x:.6g}" if xi is not None else f"{label} (xi = {x:.6g})"
+    coin_text = (f"xi = {x:.6g}" if xi is not None else f"{label} (xi = {x:.6g})"
+                 if math.isfinite(x) else "against stated chances")
     title = f"coin check: {coin_text}, {_plural(counts.n, 'toss', 'tosses')}"
     if caught:
         title = f"coin check: {coin_text}, {_plural(counts.n, 'caught flip', 'caught flips')}"
-    note = _test_note(ch) + _models_note(dens)
+    note = _test_note(ch) + (_models_note(dens) if math.isfinite(x) else "")
+    if expected is not None:
+        note += (f"  expected = the chances you stated: heads {expected.heads:.6g}, sides "
+                 f"{expected.sides:.6g}, tails {expected.tails:.6g}.")
+    if sim is not None:
+        note += "\n" + sim.note
     if caught:
         note += "\n" + _caught_note(x, counts, conf)
     return [
         _observed_result(title, ch, None, conf),
         _tests_result("models", ch, None, note),
     ]
+
+
+def _expectation(expect: str | None, fair: bool):
+    """The chances ``--expect H,S,T`` states (each 0.3, 1/3 or 30%; they must sum to 1) or
+    ``--fair`` (1/3 each), as an Outcome; None when neither is given."""
+    from coincli.core.models import Outcome
+
+    if fair and expect is not None:
+        raise usage_error("--fair is --expect 1/3,1/3,1/3: give one of them")
+    if fair:
+        return Outcome(1 / 3, 1 / 3, 1 / 3)
+    if expect is None:
+        return None
+    parts = expect.split(",")
+    if len(parts) != 3:
+        raise usage_error(f"--expect takes the chances of heads, sides and tails, three numbers "
+                          f"a,b,c (0.3, 1/3 or 30% each), got {shown(expect)}")
+    try:
+        ps = [parse.parse_probability(t, "--expect") for t in parts]
+    except ValueError as exc:
+        raise usage_error(str(exc)) from None
+    total = math.fsum(ps)
+    if abs(total - 1.0) > 1e-6:
+        raise usage_error(f"--expect: the three chances must add up to 1, got {shown(expect)} "
+                          f"(sum {total:.10g})")
+    return Outcome(*(p / total for p in ps))
+
+
+class _Simulated:
+    """The simulated table a check compares with: its name, chances (the frequencies among the
+    settled tosses), counts (heads, sides, tails), and the note that says how it was made."""
+
+    def __init__(self, name, chances, counts, note, seed):
+        self.name, self.chances, self.counts, self.note = name, chances, counts, note
+        self.seed = seed
+
+
+#: the simulated tosses of ``coin check --landing bounce``: ten times the experiment's, at
+#: least 4000 (so the simulation adds little to the experiment's own error), at most 10^5
+SIM_TOSSES = (4000, 10, 100_000)
+
+
+def _bounce_options(landing, *, u, omega, psi, seed, **surface):
+    """The table of ``--landing bounce`` (a :class:`coincli.reports.bounce.Physics`), or None
+    for the catch (then no table or launch option may be given)."""
+    if landing.strip().lower() == "catch" and all(v is None for v in (
+            *surface.values(), u, omega, psi, seed)):
+        return None
+    from coincli.reports import bounce as BO
+
+    physics = BO.parse_physics(BO.landing_of(landing), **surface)
+    if physics is None:
+        extra = [name for name, v in (("--u", u), ("--omega", omega), ("--psi", psi),
+                                      ("--seed", seed)) if v is not None]
+        raise usage_error(f"{', '.join(extra)} go{'es' if len(extra) == 1 else ''} with "
+                          "--landing bounce (the tosses simulated on a table)")
+    return physics
+
+
+def _simulate_table(physics, x, counts, *, xi, diameter, thickness, coin_texts, launch):
+    """Toss the coin on the table (:func:`coincli.core.bounce.runs.simulate`), as many tosses
+    as :data:`SIM_TOSSES` says for this experiment."""
+    from coincli.core.bounce import runs
+    from coincli.core.models import Outcome
+    from coincli.limits import STANDARD_G
+    from coincli.reports import bounce as BO
+    from coincli.reports.launch import U_MAX, bounce_launch, core_call, reach
+    from coincli.reports.phase import diameter_m
+
+    u, omega, psi, psi_dist, seed = launch
+    coins = options.resolve_coin(xi, coin_texts[1], coin_texts[2], coin_texts[0], diameter,
+                                 thickness, xi_rule="finite", command="coin check")
+    dia = diameter_m(coins, diameter)
+    BO.check_coin(physics, x, dia, xi_text=xi, diameter_text=diameter, thickness_text=thickness)
+    u_spec, w_spec, psi_spec, labels = bounce_launch(psi, psi_dist, u, omega)
+    BO.check_speed(physics, reach(u_spec, U_MAX), STANDARD_G, u or "the hand toss's")
+    least, times, most = SIM_TOSSES
+    n = min(max(least, times * counts.n), most)
+    seed_v = options.seed_value(seed)
+    sim = core_call(runs.simulate, n, seed_v, xi=x, u=u_spec, omega=w_spec, psi=psi_spec,
+                    surf=physics.surface, landing="bounce", height=physics.height,
+                    vx=physics.vx, diameter=dia, g=STANDARD_G, dt=physics.dt,
+                    t_max=physics.t_max, jobs=physics.jobs)
+    h, s, t, unsettled = sim.counts
+    if h + s + t == 0:
+        raise compute_error(f"none of the {n} tosses simulated on {physics.surface.name} "
+                            f"settled within --t-max {physics.t_max:g} s: no table to compare "
+                            "with")
+    name = f"bounce on {physics.surface.name}"
+    note = (f"{name}: {n} tosses simulated (MuJoCo; seed {seed_v}; {labels}; "
+            f"{physics.describe()}), {h + s + t} settled ({unsettled} still moving at "
+            f"{physics.t_max:g} s left out): heads {h}, sides {s}, tails {t}.  Its p-value is "
+            "the test that your counts and the simulated counts share one set of chances (a 2 x "
+            "3 table: exact conditional, Freeman-Halton; a G-test when too large to "
+            "enumerate), so the simulation's own sampling error is counted, not ignored.")
+    total = h + s + t
+    return _Simulated(name, Outcome(h / total, s / total, t / total), (h, s, t), note, seed_v)
+
+
+def _two_sample(ch, sim: _Simulated, counts, alpha: float) -> None:
+    """Replace the simulated table's test (a point null at the simulated frequencies) by the
+    two-sample test of homogeneity (:func:`coincli.core.stats.homogeneity.homogeneity`)."""
+    from coincli.core.stats import tests as stats
+    from coincli.core.stats.homogeneity import homogeneity
+
+    test = next(t for t in ch.tests if t.model == sim.name)
+    h, s, t = sim.counts
+    if counts.faces:
+        mine, theirs = (counts.heads, counts.sides, counts.tails), (h, s, t)
+    else:  # sides and n: sides against faces
+        mine, theirs = (counts.sides, counts.n - counts.sides), (s, h + t)
+    r = homogeneity(mine, theirs)
+    test.p_value[0] = r.p_value
+    test.exact[0] = r.exact
+    test.g[0] = r.g
+    test.df[0] = r.df
+    test.method[0] = ("exact conditional (Freeman-Halton), your counts against the simulated"
+                      if r.exact else f"{r.method}, your counts against the simulated")
+    test.verdict[0] = stats.verdict(r.p_value, alpha, exact=r.exact)
 
 
 def _caught_counts(x: float, same, different, tosses, three):
