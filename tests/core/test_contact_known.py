@@ -212,6 +212,37 @@ def rolling_upright(contact_factory):
             "heading_max": heading, "tilt_dev_max": tilt}
 
 
+WHEEL_SPIN = 60.0  # rad/s
+
+
+def wheel_spin_up(contact_factory):
+    """A thick coin (xi 0.5) set down upright on its side spinning at 60 rad/s about its axis,
+    its centre at rest: the rim slides, sliding friction ``mu m g`` accelerates the centre at
+    ``mu g`` and slows the spin until it rolls (the bowling-ball problem); the angular momentum
+    about the contact line is kept, so it then rolls at ``v = a w0 I3 / (I3 + m a^2)``
+    (``a w0 / 3``), less rolling resistance over the 0.1 s.  The normal force stays ``m g``: the
+    coin does not lift."""
+    coin, surf = _coin(ROLL_XI), _wood()
+    c = contact_factory(coin, surf)
+    a = coin.a
+    q = _qx(-math.pi / 2)  # the axis along +y
+    c.set((0.0, 0.0, a), q, (0.0, 0.0, 0.0), (0.0, 0.0, WHEEL_SPIN))
+    lift, vs = 0.0, []
+    for _ in range(100):
+        c.step(round(1e-3 / c.dt))
+        st = c.state()
+        lift = max(lift, st[0][2] - a)
+        vs.append((c.time, math.hypot(st[2][0], st[2][1])))
+    m, _, i3 = _inertia(coin)
+    v_roll = a * WHEEL_SPIN * i3 / (i3 + m * a * a)
+    t_slip = v_roll / (surf.friction * G)
+    k = max(1, int(0.5 * t_slip / 1e-3))
+    accel = (vs[k][1] - vs[0][1]) / (vs[k][0] - vs[0][0])
+    return {"accel": accel, "accel_expected": surf.friction * G, "v_final": vs[-1][1],
+            "v_expected": v_roll - 2 * surf.rolling * G / (3 * a) * (vs[-1][0] - t_slip),
+            "lift_max": lift}
+
+
 # --------------------------------------------------------------------------- 3. Euler's disk
 
 
@@ -321,6 +352,11 @@ def report(contact_factory, name):
           f"(error {r['decel'] / r['decel_expected'] - 1:+.1%}); max slip {r['slip_max']:.1e} "
           f"m/s; max heading {r['heading_max']:.1e} rad; max tilt off 90 deg "
           f"{r['tilt_dev_max']:.1e} rad")
+    w = wheel_spin_up(contact_factory)
+    print(f"2b wheel set down spinning: slip accel {w['accel']:.3f} m/s^2, expected "
+          f"{w['accel_expected']:.3f} (error {w['accel'] / w['accel_expected'] - 1:+.1%}); "
+          f"rolling speed {w['v_final']:.4f} m/s, expected {w['v_expected']:.4f} (error "
+          f"{w['v_final'] / w['v_expected'] - 1:+.1%}); max lift {w['lift_max']:.1e} m (0)")
     for alpha in EULER_TILTS:
         e = euler_disk(contact_factory, alpha)
         print(f"3 Euler's disk at tilt {alpha:g}: Omega {e['omega']:.2f} rad/s, expected "
@@ -346,6 +382,14 @@ def mujoco_contact():
     return MujocoContact
 
 
+# MuJoCo's soft friction cone turns the friction a sliding contact asks for into normal force
+# (docs/contact-models.md): these known answers fail with the product's contact today.  strict:
+# a contact model that passes them makes these tests fail, so that the marks are removed.
+SOFT_CONE = pytest.mark.xfail(strict=True, reason="MuJoCo's soft friction cone lifts a sliding "
+                              "contact (issue 29, docs/contact-models.md)")
+
+
+@SOFT_CONE
 def test_flat_spin_does_not_tip_and_decays_by_coulomb_friction(mujoco_contact):
     f = flat_spin(mujoco_contact)
     # within the band of Coulomb friction on a flat contact, 3% on either side
@@ -356,6 +400,7 @@ def test_flat_spin_does_not_tip_and_decays_by_coulomb_friction(mujoco_contact):
     assert f["drift"] < 1e-5  # m: nor move its centre
 
 
+@SOFT_CONE
 def test_flat_slide_decelerates_at_mu_g_without_lifting(mujoco_contact):
     f = flat_slide(mujoco_contact)
     assert f["decel"] == pytest.approx(f["decel_expected"], rel=0.02)
@@ -369,6 +414,20 @@ def test_rolling_upright_keeps_its_line_and_slows_by_rolling_resistance(mujoco_c
     assert r["slip_max"] < 1e-3 * ROLL_V
     assert r["heading_max"] < 1e-3  # rad
     assert r["tilt_dev_max"] < 1e-3  # rad
+
+
+@SOFT_CONE
+def test_wheel_set_down_spinning_slips_then_rolls(mujoco_contact):
+    w = wheel_spin_up(mujoco_contact)
+    assert w["accel"] == pytest.approx(w["accel_expected"], rel=0.03)
+    assert w["v_final"] == pytest.approx(w["v_expected"], rel=0.02)
+    assert w["lift_max"] < 1e-6  # m
+
+
+def test_wheel_set_down_spinning_ends_rolling_at_a_third(mujoco_contact):
+    """The part MuJoCo gets right: the rolling speed the kept angular momentum gives."""
+    w = wheel_spin_up(mujoco_contact)
+    assert w["v_final"] == pytest.approx(w["v_expected"], rel=0.02)
 
 
 @pytest.mark.parametrize("alpha", EULER_TILTS)
