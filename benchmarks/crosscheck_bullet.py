@@ -15,7 +15,9 @@ normal:38:4 rev/s, psi ~ normal:90:10 deg, drawn block by block from the seed ex
   energy below ``m g (R - 1 um)``, rolling on the side left out for xi >= 0.3).
 
 It prints, per xi and engine, P(heads), P(sides), P(tails) among settled tosses with 95% Wilson
-intervals and heads : tails (markdown, for docs/contact-models.md).
+intervals, heads : tails, the fraction of tosses that end on the face the catch (first contact)
+gives ("as caught": how much the table remembers of the landing), and the fair xi of each engine
+by linear interpolation (markdown, for docs/contact-models.md).
 
 Bullet's set-up (issue 29 lists why each is needed):
 
@@ -209,10 +211,13 @@ class BulletTosses:
 
 
 def bullet_counts(n, seed, xi, surf, dists):
+    """Outcome counts (heads, sides, tails, unsettled), the caught outcomes' counts, and how
+    many tosses end on the face the catch (first contact) gives."""
     coin = E.Coin(xi)
     tosser = BulletTosses(coin, surf)
     counts = [0, 0, 0, 0]
     catch = [0, 0, 0, 0]
+    agree = 0
     for blk in range(-(-n // R.BLOCK)):
         count = min(R.BLOCK, n - blk * R.BLOCK)
         launches = R._block_launches(seed, blk, count, dists, coin)
@@ -221,7 +226,8 @@ def bullet_counts(n, seed, xi, surf, dists):
             code, c = tosser.run(launch, t_f)
             counts[code] += 1
             catch[c] += 1
-    return counts, catch
+            agree += code == c
+    return counts, catch, agree
 
 
 def dists_for(xi, psi=None):
@@ -252,8 +258,10 @@ def table(args):
     psi = None if args.psi is None else math.radians(args.psi)
     print(f"surface {surf.describe()}; seed {args.seed}; {args.n} tosses per engine per xi; "
           f"psi {'normal:90:10 deg' if psi is None else f'{args.psi:g} deg'}", flush=True)
-    print("\n| xi | engine | P(heads) | P(sides) | P(tails) | heads : tails | unsettled |")
-    print("|---|---|---|---|---|---|---|", flush=True)
+    print("\n| xi | engine | P(heads) | P(sides) | P(tails) | heads : tails | as caught | "
+          "unsettled |")
+    print("|---|---|---|---|---|---|---|---|", flush=True)
+    sides = {}
     for xi in args.xi:
         rows = []
         if "coin" in args.engines:
@@ -262,17 +270,43 @@ def table(args):
                            **{k: v for k, v in HAND_TOSS.items()
                               if psi is None or k != "psi"},
                            **({} if psi is None else {"psi": psi}))
-            rows.append(("coin", r.counts, time.perf_counter() - t0))
+            rows.append(("coin", r.counts, r.agree, time.perf_counter() - t0))
         if "bullet" in args.engines:
             t0 = time.perf_counter()
-            c, _ = bullet_counts(args.n, args.seed, xi, surf, dists_for(xi, psi))
-            rows.append(("Bullet", tuple(c), time.perf_counter() - t0))
-        for name, counts, secs in rows:
+            c, _, agree = bullet_counts(args.n, args.seed, xi, surf, dists_for(xi, psi))
+            rows.append(("Bullet", tuple(c), agree, time.perf_counter() - t0))
+        for name, counts, agree, secs in rows:
+            sides.setdefault(name, []).append((xi, counts))
             cells, ratio = fmt(counts)
-            print(f"| {xi:g} | {name} | {' | '.join(cells)} | {ratio} | {counts[3]} |",
-                  flush=True)
+            print(f"| {xi:g} | {name} | {' | '.join(cells)} | {ratio} | {agree / args.n:.3f} | "
+                  f"{counts[3]} |", flush=True)
             print(f"  ({name} xi {xi:g}: {secs:.0f} s, {1e3 * secs / args.n:.0f} ms/toss)",
                   file=sys.stderr, flush=True)
+    print()
+    for name, pts in sides.items():
+        if len(pts) > 1:
+            print(f"fair xi (P(sides) = 1/3, linear interpolation), {name}: {fair_xi(pts)}")
+
+
+def fair_xi(points):
+    """Where P(sides) crosses 1/3, by linear interpolation between the xi that bracket it, with
+    the crossings of the Wilson bounds as its interval: text."""
+    pts = sorted(points)
+
+    def cross(values):
+        for (x1, p1), (x2, p2) in zip(values, values[1:]):
+            if (p1 - 1 / 3) * (p2 - 1 / 3) <= 0 and p1 != p2:
+                return x1 + (1 / 3 - p1) * (x2 - x1) / (p2 - p1)
+        return math.nan
+
+    mid, lo, hi = [], [], []
+    for x, c in pts:
+        ns = c[0] + c[1] + c[2]
+        a, b = wilson_interval(c[1], ns)
+        mid.append((x, c[1] / ns))
+        lo.append((x, a))
+        hi.append((x, b))
+    return f"{cross(mid):.3f} [{cross(hi):.3f}, {cross(lo):.3f}]"
 
 
 def known(args):
