@@ -17,6 +17,9 @@ mechanics expects, its source, and the tolerance.
    Dynamics 10, 287, "The dynamics of rolling disks and sliding disks"): it rolls straight
    without slipping, ``v = a w``, and rolling resistance (a torque ``c N`` about the contact,
    ``c`` the rolling length) slows it at ``dv/dt = -c g / (1 + I3/(m a^2)) / a = -2 c g / (3 a)``.
+   Set down spinning in place on its rim, it slips, its centre speeding up at ``mu g``, until it
+   rolls at ``v = a w0 I3 / (I3 + m a^2) = a w0 / 3`` (the angular momentum about the contact
+   line is kept: the bowling-ball problem, e.g. Routh's *Rigid Dynamics*).
 3. **Euler's disk** (Moffatt 2000, Nature 404, 833, "Euler's disk and its finite-time
    singularity"; Kessler & O'Reilly 2002, Regul. Chaotic Dyn. 7, 49, "The ups and downs of
    Euler's disks"): the steady motion with its centre at rest rolls without slip and precesses
@@ -26,13 +29,18 @@ mechanics expects, its source, and the tolerance.
    of the gravity torque about the centre with ``dH/dt = Omega z x H`` gives (derived in
    :func:`euler_omega`) ``Omega^2 sin(alpha) (I1 cos(alpha) - I3 (hh/a) sin(alpha)) =
    m g (a cos(alpha) - hh sin(alpha))``.
-4. **A spinning coin dropped** (mirror symmetry): reflecting the world in the vertical plane
+4. **An oblique flat impact** (Routh's impact with friction; Stronge, *Impact Mechanics*, 2000,
+   ch. 4): a coin falling flat at 1 m/s while sliding at 1 m/s slides throughout the impact, so
+   the tangential impulse is ``mu`` times the normal one, ``dv_t = mu dv_n``; hit squarely on its
+   face, it gains no spin.
+5. **A spinning coin dropped** (mirror symmetry): reflecting the world in the vertical plane
    through the coin's axis keeps the pose and the face up and reverses the spin about the axis
    (angular velocity is a pseudovector).  So a coin dropped with spin ``+s`` and one dropped with
    ``-s`` have the same tilt at every instant and end on the same face: axial spin *by itself*
    cannot favour a face.  Dropped nearly flat (tilt 10 deg) it stays on its face (heads).
 
-CPU: about 3 s of one core.
+Each scenario ``X`` is a function ``X(contact_factory)`` returning its measured and expected
+figures; :func:`report` prints them.  CPU: about 5 s of one core.
 """
 
 from __future__ import annotations
@@ -171,6 +179,32 @@ def flat_slide(contact_factory):
     (t1, v1), (t2, v2) = vs[4], vs[34]
     return {"decel": (v1 - v2) / (t2 - t1), "decel_expected": surf.friction * G,
             "lift_max": lift, "tilt_max": tilt}
+
+
+IMPACT_VN, IMPACT_VT = 1.0, 1.0  # m/s
+
+
+def oblique_impact(contact_factory):
+    """A coin falling flat at 1 m/s and sliding at 1 m/s hits the table: Coulomb friction acts
+    through the whole impact (it slides throughout, as ``v_t > mu (1 + e) v_n``), so the
+    tangential impulse is ``mu`` times the normal one (Routh's impact with friction; Stronge,
+    Impact Mechanics, 2000, ch. 4): ``dv_t = mu dv_n``; a flat face hit squarely gains no
+    spin."""
+    coin, surf = _coin(FLAT_XI), _wood()
+    c = contact_factory(coin, surf)
+    c.set((0.0, 0.0, coin.hh + 0.5 * IMPACT_VN * c.dt), (1.0, 0.0, 0.0, 0.0),
+          (IMPACT_VT, 0.0, -IMPACT_VN), (0.0, 0.0, 0.0))
+    touched = False
+    for _ in range(2000):
+        c.step()
+        n = len(c.contacts())
+        touched = touched or n > 0
+        if touched and n == 0 and c.state()[2][2] > 0:
+            break
+    st = c.state()
+    dvn, dvt = st[2][2] + IMPACT_VN, IMPACT_VT - st[2][0]
+    return {"dvt/dvn": dvt / dvn, "expected": surf.friction, "rebound": st[2][2] / IMPACT_VN,
+            "spin": math.hypot(*_world_w(st))}
 
 
 def _inertia(coin):
@@ -347,6 +381,10 @@ def report(contact_factory, name):
     print(f"1b flat slide: decel {f['decel']:.3f} m/s^2, expected {f['decel_expected']:.3f} "
           f"(error {f['decel'] / f['decel_expected'] - 1:+.1%}); max lift {f['lift_max']:.1e} m "
           f"(0); max tilt {f['tilt_max']:.1e} rad (0)")
+    o = oblique_impact(contact_factory)
+    print(f"1c oblique flat impact: dv_t/dv_n {o['dvt/dvn']:.3f}, expected {o['expected']:.3f} "
+          f"(error {o['dvt/dvn'] / o['expected'] - 1:+.1%}); rebound {o['rebound']:.3f}; spin "
+          f"gained {o['spin']:.2f} rad/s (0)")
     r = rolling_upright(contact_factory)
     print(f"2 rolling upright: decel {r['decel']:.4f} m/s^2, expected {r['decel_expected']:.4f} "
           f"(error {r['decel'] / r['decel_expected'] - 1:+.1%}); max slip {r['slip_max']:.1e} "
@@ -398,6 +436,12 @@ def test_flat_spin_does_not_tip_and_decays_by_coulomb_friction(mujoco_contact):
     assert f["tilt_max"] < 1e-4  # rad: a torque about the vertical cannot tip it
     assert f["lift_max"] < 1e-6  # m: nor lift it (the contact's own give is ~1e-8 m)
     assert f["drift"] < 1e-5  # m: nor move its centre
+
+
+def test_oblique_flat_impact_takes_mu_times_the_normal_impulse(mujoco_contact):
+    o = oblique_impact(mujoco_contact)
+    assert o["dvt/dvn"] == pytest.approx(o["expected"], rel=0.03)
+    assert o["spin"] < 0.1  # rad/s: a square flat impact gives no turn
 
 
 @SOFT_CONE
