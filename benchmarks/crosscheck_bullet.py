@@ -23,7 +23,8 @@ Bullet's set-up (issue 29 lists why each is needed):
 
 - a multibody with a free base (a plain pybullet rigid body has no gyroscopic term), no
   damping, no sleeping, its speed limit raised from Bullet's 100 rad/s (a hand toss spins at
-  240 rad/s: at the default Bullet silently clamps it); mass and inertia the cylinder's (:func:`coincli.core.bounce.engine.inertia`);
+  240 rad/s: at the default Bullet silently clamps it); mass and inertia the cylinder's
+  (:func:`coincli.core.bounce.engine.inertia`);
 - Bullet multiplies the two bodies' restitution and sliding friction: the table has 1, the coin
   the surface's values.  Spinning and rolling friction (lengths, as in MuJoCo: a torque per unit
   normal force) it combines as ``s_coin f_table + s_table f_coin``: the table has 0 and the coin
@@ -294,7 +295,7 @@ def fair_xi(points):
     pts = sorted(points)
 
     def cross(values):
-        for (x1, p1), (x2, p2) in zip(values, values[1:]):
+        for (x1, p1), (x2, p2) in zip(values[:-1], values[1:], strict=True):
             if (p1 - 1 / 3) * (p2 - 1 / 3) <= 0 and p1 != p2:
                 return x1 + (1 / 3 - p1) * (x2 - x1) / (p2 - p1)
         return math.nan
