@@ -45,6 +45,16 @@ class Physics:
                 f"torsional {s.torsional * 1000:g} mm, rolling {s.rolling * 1000:g} mm)")
 
 
+#: How much the table's answer depends on the contact model itself (docs/contact-models.md,
+#: measured by benchmarks/crosscheck_bullet.py: the hand toss on wood, 2000 tosses per engine
+#: per xi): every answer of --landing bounce says so, beside its sampling interval.
+CONTACT_NOTE = ("The contact model is itself uncertain: a second engine (Bullet) puts the fair "
+                "xi of the hand toss on wood 0.04 lower (0.463 against 0.503) and P(sides) 0.01 "
+                "to 0.05 apart, and heads against tails differs between them (docs: 'How much "
+                "does the answer depend on the contact model?'); the intervals are sampling "
+                "error only.")
+
+
 def bounce_module():
     """:mod:`coincli.core.bounce.engine` with MuJoCo loaded, or the one-line install hint
     (exit 1)."""
@@ -386,8 +396,8 @@ def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, 
                f"ratio, from {bounce_design.DESIGN_FIRST})")
             + ("" if r.stopped_by == "tol" else
                f"; --max-tosses {r.tosses} reproduces this result") + ".  "
-            "The catch model (no --landing) gives the paper's xi.  Toss a prototype and check "
-            "it with coin check.")
+            + CONTACT_NOTE + "  The catch model (no --landing) gives the paper's xi.  Toss a "
+            "prototype and check it with coin check.")
     return DesignResult("coin design --landing bounce", columns, rows, note,
                         quiet=[row[1] for row in rows], vertical=len(rows) == 1,
                         warning=None if r.met else f"{why[r.stopped_by]}; the intervals are "

@@ -106,7 +106,8 @@ def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
             f"{base.rolling * 1000:g} mm) at each restitution and friction, D = "
             f"{dia * 1000:g} mm, {labels}; seed {seed_v}, the same launches in every cell "
             f"(common random numbers); dt = {physics.dt:g} s.  Chances among the settled tosses, "
-            f"95% Wilson intervals; 'unsettled': still moving at {physics.t_max:g} s.")
+            f"95% Wilson intervals; 'unsettled': still moving at {physics.t_max:g} s.  "
+            + BO.CONTACT_NOTE)
 
     def rows():
         bar = progress() if progress is not None else None
