@@ -18,7 +18,7 @@ import math
 import os
 import re
 
-from coincli.errors import CoinError, compute_error, usage_error
+from coincli.errors import CoinError, compute_error, shown, usage_error
 from coincli.io import grammar as parse
 from coincli.io.batches import values_option
 from coincli.io.options import (
@@ -335,7 +335,12 @@ def _box(size, moments) -> _Box:
     if size is not None:
         mm = _size_mm(size)
         b.size_mm = mm
-        b.moments = _usage(R.box_moments, tuple(v / 1000 for v in mm))  # per kg, m^2
+        try:
+            b.moments = R.box_moments(tuple(v / 1000 for v in mm))  # per kg, m^2
+        except ValueError as exc:
+            small = f" (a cube needs sides of at least {R.SMALLEST_CUBE * 1000:.2g} mm)" \
+                if "too small" in str(exc) else ""
+            raise usage_error(f"--size: {exc}{small}, got {shown(size)}") from None
         top = max(mm)
         b.sides = tuple(v / top for v in mm)
         b.label = " x ".join(_fmt(v) for v in mm) + " mm"

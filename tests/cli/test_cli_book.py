@@ -591,3 +591,42 @@ def test_the_faces_figure_ticks_do_not_overlap(moments):
     assert len(boxes) == 6
     for a, b in zip(boxes, boxes[1:]):
         assert a.x1 < b.x0, (a, b)
+
+
+# --------------------------------------------------------------------------- issue 28, item 15
+
+
+@pytest.mark.parametrize("size", ["1e-300x1e-300x1e-300", "1e-151x1e-151x1e-151",
+                                  "1e-200x1e-200x1"])
+def test_a_box_too_small_for_doubles_names_size(coin, size):
+    """Its moments underflow to 0 (or a subnormal): the message names --size as typed and says
+    why, not 'moments ... got 0, 0, 0' (options the user did not type)."""
+    err = error(coin("book", "--size", size, "--spin", "1,2,3"), 2,
+                "--size: the sides are too small for double precision",
+                "at least 3.7e-151 mm", f"got '{size}'")
+    assert "got 0, 0, 0" not in err
+
+
+def test_the_smallest_cube_is_the_bound_the_message_states(coin):
+    side = R.SMALLEST_CUBE  # the moments 2 s^2 / 12 of a cube of this side are normal doubles
+    assert min(R.box_moments((side,) * 3)) >= sys.float_info.min
+    with pytest.raises(ValueError, match="too small"):
+        R.box_moments((side * 0.99,) * 3)
+    ok(coin("book", "--size", f"{side * 1000 * 1.01!r}x{side * 1000 * 1.01!r}x"
+            f"{side * 1000 * 1.01!r}", "--spin", "1,2,3", "-f", "csv"))
+
+
+@pytest.mark.parametrize("moments, shown", [
+    ("1,1,2.0000001", "(I3 = 2.0000001 > I1 + I2 = 2)"),
+    ("1,1,2.000000000001", "(I3 = 2.000000000001 > I1 + I2 = 2)"),
+    ("3,1,1", "(I1 = 3 > I2 + I3 = 2)"),
+    ("0.1,0.2,0.30000001", "(I3 = 0.30000001 > I1 + I2 = 0.3)"),
+])
+def test_moments_that_belong_to_no_body_are_shown_with_digits_that_differ(coin, moments,
+                                                                         shown):
+    """The two sides of the inequality printed with the fewest digits (6 at least) that tell
+    them apart: never '2 > 2'."""
+    err = error(coin("book", "--moments", moments, "--spin", "1,2,3"), 2, shown,
+                "belong to no rigid body")
+    lhs, rhs = err.split("(I")[1].rstrip(")\n").split(" > ")
+    assert float(lhs.split(" = ")[1]) > float(rhs.split(" = ")[1])
