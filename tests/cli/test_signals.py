@@ -226,3 +226,45 @@ assert {s: signal.getsignal(s) for s in before} == before, "run() left a handler
     r = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
                        timeout=60)
     assert (r.returncode, r.stderr) == (0, "")
+
+
+# --------------------------------------------------------------------------- item 13: --jobs
+
+
+def test_jobs_beyond_the_cores_are_capped_with_a_note(coin, monkeypatch):
+    """--jobs 1024 on a machine of 2 cores ran 1024 workers; now the cores, said in a note, and
+    the same bytes as --jobs 2 (the results never depend on the workers)."""
+    pytest.importorskip("mujoco")
+    monkeypatch.setattr(os, "sched_getaffinity", lambda pid: {0, 1}, raising=False)
+    run = ["simulate", "--landing", "bounce", "-n", "16", "--xi", "0.577", "--seed", "3", "-f",
+           "csv"]
+    code, out, err = coin(*run, "--jobs", "1024")
+    assert (code, err) == (0, "coin: note: --jobs 1024 capped at 2, the cores this process may "
+                              "use\n")
+    assert coin(*run, "--jobs", "2") == (0, out, "")
+    from coincli.core.bounce.runs import capped_jobs
+
+    assert [capped_jobs(j) for j in (1, 2, 3, 1024)] == [1, 2, 2, 2]
+
+
+def test_jobs_1024_starts_no_more_workers_than_cores(tmp_path):
+    from coincli.core.bounce.runs import default_jobs
+
+    pytest.importorskip("mujoco")
+    p = _start(BOUNCE["simulate"][:-1] + ["1024"], tmp_path)
+    try:
+        _wait_for(lambda: len(_children(p.pid)) >= min(2, default_jobs()), p, "the workers")
+        most = 0
+        for _ in range(10):  # the pool is complete once the first worker is at work
+            most = max(most, len(_children(p.pid)))
+            time.sleep(0.05)
+        p.send_signal(TERM)
+        err = p.communicate(timeout=30)[1]
+    finally:
+        if p.poll() is None:
+            os.killpg(p.pid, signal.SIGKILL)
+            p.wait()
+    assert most <= default_jobs()
+    assert err.splitlines()[0] == (f"coin: note: --jobs 1024 capped at {default_jobs()}, the "
+                                   "cores this process may use")
+    assert p.returncode == 143

@@ -30,7 +30,7 @@ from coincli.core.toss.flight import DEFAULT_DIAMETER, NAMES, STANDARD_G, U_MAX,
 from coincli.core.toss.launch import as_dist, sample_conditions
 from coincli.core.toss.simulate import Frequency, wilson_interval
 
-__all__ = ["BounceSimulation", "simulate", "default_jobs", "BLOCK", "CHUNK"]
+__all__ = ["BounceSimulation", "simulate", "default_jobs", "capped_jobs", "BLOCK", "CHUNK"]
 
 BLOCK = 256  #: tosses per random block: the seed of block k is (seed, k), whatever the workers
 CHUNK = 16  #: tosses a worker simulates between progress reports (a fraction of a second)
@@ -166,6 +166,13 @@ def default_jobs():
         return os.cpu_count() or 1
 
 
+def capped_jobs(jobs: int) -> int:
+    """``jobs`` workers, at most :func:`default_jobs` (every core this process may use): a
+    simulated toss is pure computation, so more workers than cores only take turns, each one
+    process more.  The results do not depend on the number."""
+    return max(1, min(int(jobs), default_jobs()))
+
+
 def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=0.0, vx=0.0,
              z0=None, diameter=DEFAULT_DIAMETER, density=DEFAULT_DENSITY, g=STANDARD_G,
              dt=DEFAULT_DT, t_max=DEFAULT_T_MAX, jobs=None, level=0.95, flight="exact",
@@ -178,8 +185,8 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
     spec strings or :class:`coincli.core.toss.launch.Dist`; SI, radians); ``height`` (surface below the
     launch plane, m), ``vx`` (horizontal speed, m/s) and ``z0`` (centre above the launch plane,
     m; default the paper's for a thick coin, ``(sqrt 3/2) a + h/2``) likewise.  ``jobs`` worker
-    processes (default: every core); block ``k`` of 256 tosses draws from the seed ``(seed, k)``,
-    so the counts are the same for any number of workers.  ``stream`` (a tuple of whole numbers)
+    processes (default, and at most: every core, :func:`capped_jobs`); block ``k`` of 256
+    tosses draws from the seed ``(seed, k)``, so the counts are the same for any number of workers.  ``stream`` (a tuple of whole numbers)
     names an independent stream of the same seed (:func:`coincli.core.bounce.design.design` uses one
     per simulated point).
     Workers take chunks of ``chunk`` tosses (default :data:`CHUNK`) and ``progress(done)`` is
@@ -203,6 +210,7 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
     jobs = default_jobs() if jobs is None else int(jobs)
     if jobs < 1:
         raise ValueError(f"jobs must be >= 1, got {jobs}")
+    jobs = capped_jobs(jobs)
     damping = calibrate(coin, surf, dt, g)
     args = (coin, surf, dt, g, landing, t_max, flight, damping)
     chunk = CHUNK if chunk is None else int(chunk)
