@@ -132,6 +132,8 @@ def _stopped() -> int:
 
 
 def _fail(message: str, code: int) -> int:
+    if "\n" in message:  # a library's message over several lines: one line, always
+        message = " ".join(line.strip() for line in message.splitlines() if line.strip())
     try:
         sys.stderr.write(f"coin: error: {clip_message(message)}\n")
         sys.stderr.flush()
