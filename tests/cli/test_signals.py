@@ -268,3 +268,10 @@ def test_jobs_1024_starts_no_more_workers_than_cores(tmp_path):
     assert err.splitlines()[0] == (f"coin: note: --jobs 1024 capped at {default_jobs()}, the "
                                    "cores this process may use")
     assert p.returncode == 143
+
+
+def test_the_exit_codes_are_128_plus_the_signal():
+    from coincli.errors import ExitCode
+
+    assert (ExitCode.HUNG_UP, ExitCode.INTERRUPTED, ExitCode.TERMINATED) == (
+        128 + signal.SIGHUP, 128 + signal.SIGINT, 128 + signal.SIGTERM) == (129, 130, 143)
