@@ -1,5 +1,5 @@
-"""Peak memory, CPU time and file size of ``coin book --times ... --out FIGURE`` (issue 28, item 14),
-at this checkout against another revision, in one run.
+"""Peak memory, CPU time and file size of ``coin book --times ... --out FIGURE`` (issue 28,
+item 14), at this checkout against another revision, in one run.
 
     python benchmarks/bench_book_figure.py [--against af0b52d] [--write]
 

@@ -158,12 +158,11 @@ def box_sides(moments):
         j, k = (i + 1) % 3, (i + 2) % 3
         v = x[j] + x[k] - x[i]
         if v < -8 * _EPS:
-            d = _distinct(*m, m[j] + m[k])
-            g = lambda x: f"{x:.{d}g}"  # noqa: E731 - enough digits to show I_i > I_j + I_k
+            d = _distinct(*m, m[j] + m[k])  # enough digits to show I_i > I_j + I_k
+            a, b, c, s = (f"{x:.{d}g}" for x in (*m, m[j] + m[k]))
             raise ValueError(
-                f"moments {g(m[0])}, {g(m[1])}, {g(m[2])} belong to no rigid body: each must "
-                f"be at most the sum of the other two (I{i + 1} = {g(m[i])} > I{j + 1} + "
-                f"I{k + 1} = {g(m[j] + m[k])})")
+                f"moments {a}, {b}, {c} belong to no rigid body: each must be at most the sum "
+                f"of the other two (I{i + 1} = {(a, b, c)[i]} > I{j + 1} + I{k + 1} = {s})")
         sq.append(max(v, 0.0))
     s = [math.sqrt(v) for v in sq]
     top = max(s)

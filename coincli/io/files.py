@@ -15,8 +15,8 @@ Every file ``coin`` writes goes through :func:`write_atomic` (figures of ``coin 
    would give it), and the directory is fsynced.
 
 A failure anywhere (a full disk, ``ulimit -f``, Ctrl-C, SIGTERM or SIGHUP, an error while
-drawing) removes the temporary file and leaves the old target byte for byte as it was.  A symbolic link is followed:
-the file it points to is replaced, the link stays.
+drawing) removes the temporary file and leaves the old target byte for byte as it was.  A
+symbolic link is followed: the file it points to is replaced, the link stays.
 
 Every file ``coin`` is given (``--psi-dist table:FILE``, ``coin fit FILE``, ``coin plot sides
 --data FILE``, or ``-`` for standard input) is read by :func:`read_text`: a named file through

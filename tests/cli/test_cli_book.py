@@ -660,8 +660,8 @@ def test_a_long_series_is_thinned_to_its_pixel_columns_keeping_the_envelope():
     full_w, full_up = omega_up(ts)
     col = _columns_of(ts, 0.0, 50.0, cols)
     lines = {a.get_gid(): a for a in fig.findobj(lambda a: a.get_gid() is not None)}
-    for k, (gid, full) in enumerate([("omega:1", full_w[:, 0]), ("omega:2", full_w[:, 1]),
-                                     ("omega:3", full_w[:, 2]), ("face-up", full_up)]):
+    for gid, full in [("omega:1", full_w[:, 0]), ("omega:2", full_w[:, 1]),
+                      ("omega:3", full_w[:, 2]), ("face-up", full_up)]:
         x, y = (np.asarray(v, dtype=float) for v in lines[gid].get_data())
         if gid == "face-up":  # a step line: matplotlib's own data are the points given
             x, y = np.asarray(lines[gid].get_xdata()), np.asarray(lines[gid].get_ydata())

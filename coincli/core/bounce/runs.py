@@ -186,9 +186,9 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
     launch plane, m), ``vx`` (horizontal speed, m/s) and ``z0`` (centre above the launch plane,
     m; default the paper's for a thick coin, ``(sqrt 3/2) a + h/2``) likewise.  ``jobs`` worker
     processes (default, and at most: every core, :func:`capped_jobs`); block ``k`` of 256
-    tosses draws from the seed ``(seed, k)``, so the counts are the same for any number of workers.  ``stream`` (a tuple of whole numbers)
-    names an independent stream of the same seed (:func:`coincli.core.bounce.design.design` uses one
-    per simulated point).
+    tosses draws from the seed ``(seed, k)``, so the counts are the same for any number of
+    workers.  ``stream`` (a tuple of whole numbers) names an independent stream of the same
+    seed (:func:`coincli.core.bounce.design.design` uses one per simulated point).
     Workers take chunks of ``chunk`` tosses (default :data:`CHUNK`) and ``progress(done)`` is
     called as each completes; the results do not depend on ``chunk`` or ``jobs``.
     """
