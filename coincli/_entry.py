@@ -99,14 +99,16 @@ def stop_line():
 def main() -> None:
     """Run ``coin``; exit 128 + signal with one line on stderr if stopped while starting up."""
     gc.disable()
-    catch_signals()
+    previous = catch_signals()
     try:
         from coincli.cli import run
+
+        code = run(gc_paused=True)  # never raises; a stop can only come between its steps
     except KeyboardInterrupt:
         words, code = stop_line()
         try:
             sys.stderr.write(f"coin: error: {words}\n")
         except (AttributeError, OSError, ValueError):
             pass
-        raise SystemExit(code) from None
-    sys.exit(run(gc_paused=True))
+    release_signals(previous)  # the run is over: a signal now ends the process as by default
+    sys.exit(code)
