@@ -108,7 +108,9 @@ class ExitCode(enum.IntEnum):
     OK = 0
     ERROR = 1  #: the input is valid but the answer cannot be computed
     USAGE = 2  #: the input is wrong: a bad option, value, file line or combination
-    INTERRUPTED = 130  #: Ctrl-C
+    HUNG_UP = 129  #: SIGHUP (128 + 1): the terminal closed
+    INTERRUPTED = 130  #: Ctrl-C (128 + SIGINT)
+    TERMINATED = 143  #: SIGTERM (128 + 15): kill, timeout(1), a cancelled CI job
 
 
 class CoinError(Exception):

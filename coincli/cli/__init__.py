@@ -16,6 +16,7 @@ import sys
 import typer
 
 from coincli import __version__
+from coincli._entry import catch_signals, release_signals, stop_line
 from coincli.cli._help import prepare as _prepare
 from coincli.errors import CoinError, ExitCode, InputError, clip_message
 
@@ -118,15 +119,21 @@ def _load(modules) -> None:
         app._registered_groups.sort(key=order)
 
 
-def _interrupted() -> str:
-    """'interrupted', with the seed the run drew (if it drew one), so that it can be repeated."""
+def _stopped() -> int:
+    """One line for a run stopped by Ctrl-C, SIGTERM or SIGHUP (:mod:`coincli._entry`):
+    ``interrupted``, ``terminated (SIGTERM)`` or ``hung up (SIGHUP)``, with the seed the run
+    drew (if it drew one) so that it can be repeated; the exit code, 128 + the signal."""
+    words, code = stop_line()
     options = sys.modules.get("coincli.io.options")
     seed = getattr(options, "DRAWN_SEED", None)
-    return "interrupted" if seed is None else (f"interrupted (seed {seed}: --seed {seed} "
-                                               "repeats this run)")
+    if seed is not None:
+        words += f" (seed {seed}: --seed {seed} repeats this run)"
+    return _fail(words, code)
 
 
 def _fail(message: str, code: int) -> int:
+    if "\n" in message:  # a library's message over several lines: one line, always
+        message = " ".join(line.strip() for line in message.splitlines() if line.strip())
     try:
         sys.stderr.write(f"coin: error: {clip_message(message)}\n")
         sys.stderr.flush()
@@ -205,6 +212,10 @@ def run(argv=None, *, gc_paused: bool = False) -> int:
     (:mod:`coincli._entry`); it is resumed, with every object so far frozen, once the command is
     built.
 
+    SIGTERM and SIGHUP stop the run as Ctrl-C does (:mod:`coincli._entry`: workers ended,
+    temporary files removed, the drawn seed said, exit 143 and 129); the handlers are this
+    call's only, put back when it returns.
+
     No Python warning reaches stderr (``PYTHONWARNINGS=error`` cannot turn one into a failure):
     a library's warning is not the user's business once the answer is right; ``--traceback``
     shows them again.
@@ -213,12 +224,14 @@ def run(argv=None, *, gc_paused: bool = False) -> int:
 
     saved_traceback = os.environ.get("COIN_TRACEBACK")
     _guard_standard_streams()
+    previous = catch_signals()  # SIGTERM and SIGHUP end the run as Ctrl-C does
     try:
         with warnings.catch_warnings():
             if not saved_traceback and "--traceback" not in (argv or sys.argv):
                 warnings.simplefilter("ignore")
             return _run(argv, gc_paused)
     finally:  # --traceback lasts one run (run() is also called in-process, by tests)
+        release_signals(previous)
         if saved_traceback is None:
             os.environ.pop("COIN_TRACEBACK", None)
         else:
@@ -239,8 +252,8 @@ def _run(argv, gc_paused: bool = False) -> int:
         if gc_paused:
             _resume_gc()
         rv = command.main(argv, prog_name="coin", standalone_mode=False)
-        if rv == ExitCode.INTERRUPTED:  # typer turns Ctrl-C into a silent Exit(130)
-            return _fail(_interrupted(), ExitCode.INTERRUPTED)
+        if rv == ExitCode.INTERRUPTED:  # typer turns Ctrl-C (any Stopped) into Exit(130)
+            return _stopped()
         _flush_stdout()
         return int(rv) if isinstance(rv, int) else 0
     except CoinError as exc:
@@ -261,10 +274,12 @@ def _run(argv, gc_paused: bool = False) -> int:
         return _fail(f"{msg} (see '{where} --help')" if code == 2 else msg, code)
     except typer.Exit as exc:
         return int(exc.exit_code)
-    except typer.Abort:
+    except typer.Abort as exc:
+        if isinstance(exc.__context__, KeyboardInterrupt):
+            return _stopped()
         return _fail("aborted", ExitCode.INTERRUPTED)
-    except KeyboardInterrupt:
-        return _fail(_interrupted(), ExitCode.INTERRUPTED)
+    except KeyboardInterrupt:  # Ctrl-C, or SIGTERM/SIGHUP (coincli._entry.Stopped)
+        return _stopped()
     except BrokenPipeError:
         return _quiet_broken_pipe()
     except StdoutClosed as exc:

@@ -31,8 +31,9 @@ ReleaseHeightOpt = option("--release-height", "SPEC", "With --landing bounce: th
                           "plane.")
 VxOpt = option("--vx", "SPEC", "With --landing bounce: horizontal speed, m/s (or normal:MEAN:SD, "
                "uniform:LOW:HIGH), in a random direction.")
-JobsOpt = option("--jobs -j", "N", "Worker processes for --landing bounce (default: every core).  "
-                 "The results do not depend on it.")
+JobsOpt = option("--jobs -j", "N", "Worker processes for --landing bounce, 1 to 1024 (default: "
+                 "every core; more than the cores is capped at the cores, with a note).  The "
+                 "results do not depend on it.")
 DtOpt = option("--dt", "S", "MuJoCo's timestep, s (default 1e-4; see docs/bounce.md for the "
                "convergence study), 1e-6 to 1e-3.")
 TMaxOpt = option("--t-max", "S", "Simulated seconds after which a coin still moving counts as "

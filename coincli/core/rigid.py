@@ -78,6 +78,7 @@ Pure functions: numbers in, numbers out.  The scalar summary (:func:`motion`) ne
 from __future__ import annotations
 
 import math
+import sys
 
 from coincli.core._numerics.elliptic import _EPS, _Py, _xp, ellip_agm, ellip_f, ellip_j
 from coincli.core._numerics.quaternion import _frame_quat, _qconj, _qmul, _zxz
@@ -115,9 +116,16 @@ RULES = ("centre", "normal")
 # --------------------------------------------------------------------------- boxes
 
 
+#: the side of the smallest cube whose moments per unit mass, 2 s^2 / 12, are normal doubles
+SMALLEST_CUBE = math.nextafter(math.sqrt(6 * sys.float_info.min), math.inf)
+
+
 def box_moments(sides):
     """Principal moments per unit mass of a uniform box with sides ``(s1, s2, s3)``:
     :math:`I_1/m = (s_2^2 + s_3^2)/12` and cyclically (units: the sides' unit squared).
+
+    Sides whose moments overflow, or fall below the smallest normal double (a cube's side below
+    :data:`SMALLEST_CUBE`), raise ValueError.
 
     >>> box_moments((2.0, 2.0, 2.0))
     (0.6666666666666666, 0.6666666666666666, 0.6666666666666666)
@@ -128,6 +136,10 @@ def box_moments(sides):
     out = tuple(top * top * (x[(i + 1) % 3] ** 2 + x[(i + 2) % 3] ** 2) / 12 for i in range(3))
     if not all(math.isfinite(v) for v in out):
         raise ValueError("the box is too large: its moments overflow a double")
+    if not min(out) >= sys.float_info.min:  # 0 or subnormal: the sides' squares underflow
+        raise ValueError(f"the sides are too small for double precision: the moments per unit "
+                         f"mass (sides squared over 12) fall below {sys.float_info.min:.3g}, "
+                         "the smallest normal double")
     return out
 
 
@@ -146,10 +158,11 @@ def box_sides(moments):
         j, k = (i + 1) % 3, (i + 2) % 3
         v = x[j] + x[k] - x[i]
         if v < -8 * _EPS:
+            d = _distinct(*m, m[j] + m[k])  # enough digits to show I_i > I_j + I_k
+            a, b, c, s = (f"{x:.{d}g}" for x in (*m, m[j] + m[k]))
             raise ValueError(
-                f"moments {_g(m[0])}, {_g(m[1])}, {_g(m[2])} belong to no rigid body: each must "
-                f"be at most the sum of the other two (I{i + 1} = {_g(m[i])} > I{j + 1} + "
-                f"I{k + 1} = {_g(m[j] + m[k])})")
+                f"moments {a}, {b}, {c} belong to no rigid body: each must be at most the sum "
+                f"of the other two (I{i + 1} = {(a, b, c)[i]} > I{j + 1} + I{k + 1} = {s})")
         sq.append(max(v, 0.0))
     s = [math.sqrt(v) for v in sq]
     top = max(s)
@@ -205,6 +218,17 @@ def _positive3(values, what):
 
 def _g(x: float) -> str:
     return f"{x:.6g}"
+
+
+def _distinct(*xs: float) -> int:
+    """The fewest significant digits (6 at least, 17 at most) that show different numbers of
+    ``xs`` differently: ``2.0000001 > 2`` rather than ``2 > 2``."""
+    for digits in range(6, 17):
+        shown = [f"{x:.{digits}g}" for x in xs]
+        if all((a == b) == (x == y) for (a, x) in zip(shown, xs, strict=True)
+               for (b, y) in zip(shown, xs, strict=True)):
+            return digits
+    return 17
 
 
 # --------------------------------------------------------------------------- the motion

@@ -14,9 +14,9 @@ Every file ``coin`` writes goes through :func:`write_atomic` (figures of ``coin 
    taking the old file's permission bits (a new file gets ``0666`` less the umask, as ``open``
    would give it), and the directory is fsynced.
 
-A failure anywhere (a full disk, ``ulimit -f``, Ctrl-C, an error while drawing) removes the
-temporary file and leaves the old target byte for byte as it was.  A symbolic link is followed:
-the file it points to is replaced, the link stays.
+A failure anywhere (a full disk, ``ulimit -f``, Ctrl-C, SIGTERM or SIGHUP, an error while
+drawing) removes the temporary file and leaves the old target byte for byte as it was.  A
+symbolic link is followed: the file it points to is replaced, the link stays.
 
 Every file ``coin`` is given (``--psi-dist table:FILE``, ``coin fit FILE``, ``coin plot sides
 --data FILE``, or ``-`` for standard input) is read by :func:`read_text`: a named file through
@@ -143,10 +143,18 @@ def write_atomic(path, write: Callable | bytes) -> int:
         umask = os.umask(0)
         os.umask(umask)
         mode = 0o666 & ~umask
-    fd, tmp = tempfile.mkstemp(dir=parent, prefix="." + os.path.basename(real) + ".",
-                               suffix=".tmp")
+    held = _hold_signals()  # a stop (Ctrl-C, SIGTERM, SIGHUP) here would leave tmp unnamed
     try:
-        with os.fdopen(fd, "wb") as fh:
+        fd, tmp = tempfile.mkstemp(dir=parent, prefix="." + os.path.basename(real) + ".",
+                                   suffix=".tmp")
+    except BaseException:
+        _release_signals(held)
+        raise
+    fh = None
+    try:
+        _release_signals(held)  # a stop held until now is raised here, and cleaned up below
+        fh = os.fdopen(fd, "wb")
+        with fh:
             if callable(write):
                 write(fh)
             else:
@@ -157,6 +165,8 @@ def write_atomic(path, write: Callable | bytes) -> int:
         os.chmod(tmp, mode)
         os.replace(tmp, real)
     except BaseException:
+        if fh is None:
+            os.close(fd)
         try:
             os.unlink(tmp)
         except OSError:
@@ -179,6 +189,29 @@ def write_text_atomic(path, write: Callable) -> int:
         text.detach()
 
     return write_atomic(path, write_bytes)
+
+
+_STOP_SIGNALS = ("SIGINT", "SIGTERM", "SIGHUP")
+
+
+def _hold_signals():
+    """Block SIGINT, SIGTERM and SIGHUP while a temporary file is created and named; the mask
+    to restore (None where it cannot be set)."""
+    import signal
+
+    if not hasattr(signal, "pthread_sigmask"):
+        return None
+    held = {getattr(signal, n) for n in _STOP_SIGNALS if hasattr(signal, n)}
+    return signal.pthread_sigmask(signal.SIG_BLOCK, held)
+
+
+def _release_signals(mask) -> None:
+    """Restore the signal mask :func:`_hold_signals` saved: a signal that arrived meanwhile is
+    delivered now."""
+    if mask is not None:
+        import signal
+
+        signal.pthread_sigmask(signal.SIG_SETMASK, mask)
 
 
 def _fsync_dir(path: str) -> None:

@@ -318,7 +318,8 @@ def _exact(text: str):
 class Range:
     """An inclusive range ``start:stop:step``: its ``count`` values are ``start + k*step`` for
     k < count, the last one held to ``stop`` (which is included when within a millionth of a
-    step of it).
+    step of it).  A range of whole numbers is counted exactly: its last value is the largest
+    ``start + k*step`` that does not pass ``stop``.
 
     When ``start`` and ``step`` are short decimals or fractions, each value is the double nearest
     the exact decimal (``0.3:0.4:0.05`` gives 0.35, not 0.35000000000000003): the values are
@@ -370,12 +371,15 @@ def parse_range(text: str, what: str, *, max_rows: int = MAX_ROWS) -> Range:
         raise ValueError(f"{what} range step must be > 0, got {parts[2]!r}")
     if stop < start:
         raise ValueError(f"{what} range must have start <= stop, got {text!r}")
-    span = (stop - start) / step + 1e-6  # inf when the range is absurdly long
+    whole = all(_INT.match(p.strip()) for p in parts)
+    if whole:  # whole numbers are exact: the last value is the last start + k*step <= stop
+        span = (int(parts[1]) - int(parts[0])) // int(parts[2])
+    else:
+        span = (stop - start) / step + 1e-6  # inf when the range is absurdly long
     if not span < max_rows:  # then it has more than max_rows values (or nan, inf)
         # the exact count it would have, floor(span) + 1, while that is a sane number
         has = f"{math.floor(span) + 1}" if span < 1e18 else f"more than {max_rows}"
         raise ValueError(f"{what} range {text!r} has {has} values; at most {max_rows} are allowed")
-    whole = all(_INT.match(p.strip()) for p in parts)
     count = math.floor(span) + 1
     sdt = None
     a, b = _exact(parts[0]), _exact(parts[2])
@@ -405,8 +409,16 @@ def parse_values(text: str, what: str, item=parse_number, *, max_rows: int = MAX
             # whole numbers stay whole: counts (1:12:1) must not turn into '1.0'
             parts = s.split(":")
             a, d = int(parts[0]), int(parts[2])
-            return [item(str(a + k * d), what) for k in range(rng.count)]
-        return [item(repr(rng.value(k)), what) for k in range(rng.count)]
+            texts = (str(a + k * d) for k in range(rng.count))
+        else:
+            texts = (repr(rng.value(k)) for k in range(rng.count))
+        out = []
+        for t in texts:
+            try:
+                out.append(item(t, what))
+            except ValueError as exc:  # a value the user did not type: name the range typed
+                raise ValueError(f"{exc} (a value of the range {text.strip()!r})") from None
+        return out
     items = s.split(",")
     if len(items) > max_rows:
         raise ValueError(f"{what} lists {len(items)} values; at most {max_rows} are allowed")

@@ -18,7 +18,7 @@ import math
 import os
 import re
 
-from coincli.errors import CoinError, compute_error, usage_error
+from coincli.errors import CoinError, compute_error, shown, usage_error
 from coincli.io import grammar as parse
 from coincli.io.batches import values_option
 from coincli.io.options import (
@@ -247,8 +247,9 @@ def _figure(path: str, build) -> None:
         fig = build()
         try:
             write_figure(fig, path)
-        except ValueError as exc:  # the figure itself: nothing was written
-            raise compute_error(f"cannot draw {path!r}: {exc}") from None
+        except (ValueError, OverflowError, RuntimeError) as exc:  # the figure: nothing written
+            words = " ".join(str(exc).split())  # matplotlib's messages run over lines
+            raise compute_error(f"cannot draw {path!r}: {words}") from None
 
 
 # --------------------------------------------------------------------------- the report
@@ -335,7 +336,12 @@ def _box(size, moments) -> _Box:
     if size is not None:
         mm = _size_mm(size)
         b.size_mm = mm
-        b.moments = _usage(R.box_moments, tuple(v / 1000 for v in mm))  # per kg, m^2
+        try:
+            b.moments = R.box_moments(tuple(v / 1000 for v in mm))  # per kg, m^2
+        except ValueError as exc:
+            small = f" (a cube needs sides of at least {R.SMALLEST_CUBE * 1000:.2g} mm)" \
+                if "too small" in str(exc) else ""
+            raise usage_error(f"--size: {exc}{small}, got {shown(size)}") from None
         top = max(mm)
         b.sides = tuple(v / top for v in mm)
         b.label = " x ".join(_fmt(v) for v in mm) + " mm"
@@ -501,8 +507,14 @@ def _series(box, w, times, start, rule, figure: str | None):
     if figure is not None:
         from coincli.render import book_figures as bookplot
 
-        om, _, up = block(ts)
-        _figure(figure, lambda: bookplot.omega_figure(ts, om, up, mo, box.label, start, rule))
+        def omega_up(t):
+            om, _, up = block(t)
+            return om, up
+
+        # a long series is thinned to the figure's pixel columns, a chunk at a time: memory
+        # and file size stay bounded (10^6 times: 2.4 GB and an Agg error before)
+        _figure(figure, lambda: bookplot.omega_figure_of(ts, omega_up, mo, box.label, start,
+                                                         rule, chunk=CHUNK_ROWS))
         return []
     faces = np.array(FACES)
 

@@ -165,7 +165,12 @@ def parse_physics(landing: str, *, surface=None, restitution=None, friction=None
         j = jobs.strip()
         if not (j.isascii() and j.isdigit()) or not 1 <= int(j) <= 1024:
             raise usage_error(f"--jobs must be a whole number from 1 to 1024, got {jobs!r}")
-        p.jobs = int(j)
+        from coincli.core.bounce.runs import capped_jobs
+
+        p.jobs = capped_jobs(int(j))
+        if p.jobs < int(j):  # more workers than cores only share them, and cost a process each
+            sys.stderr.write(f"coin: note: --jobs {int(j)} capped at {p.jobs}, the cores this "
+                             "process may use\n")
     p.dt = B.DEFAULT_DT if dt is None else bounded_number(dt, "--dt", 1e-6, 1e-3)
     p.t_max = B.DEFAULT_T_MAX if t_max is None else bounded_number(t_max, "--t-max", 0.01,
                                                                     1000.0)

@@ -424,9 +424,9 @@ def check(*, xi: str | None = None, quarters: str | None = None, coin: str | Non
     if same is not None or different is not None:
         counts = _caught_counts(x, same, different, tosses, (heads, sides, tails))
     else:
-        vals = {name: _whole(v, f"--{name}" if name != "n" else "-n")
-                for name, v in (("heads", heads), ("sides", sides), ("tails", tails),
-                                ("n", tosses))}
+        vals = {name: _whole(v, f"--{name}")
+                for name, v in (("heads", heads), ("sides", sides), ("tails", tails))}
+        vals["n"] = None if tosses is None else options.tosses_value(tosses)  # as everywhere
         try:
             counts = make_counts(**vals)
         except ValueError as exc:

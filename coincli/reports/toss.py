@@ -162,7 +162,10 @@ def _values(text: str, what: str, kind: str):
                 parse.parse_range(head, what)
             except ValueError as exc:
                 raise _options.typed_range_error(exc, head, t) from None
-            return values_option(head, what, lambda s, w: _one_value(s + unit, w, kind))
+            try:
+                return values_option(head, what, lambda s, w: _one_value(s + unit, w, kind))
+            except ValueError as exc:  # the range as typed, with its unit
+                raise _options.typed_range_error(exc, head, t) from None
     bounds = (0.0, U_MAX) if kind == "u" else (0.0, sys.float_info.max)
     return values_option(t, what, lambda s, w: _one_value(s, w, kind), bounds=bounds)
 

@@ -591,3 +591,142 @@ def test_the_faces_figure_ticks_do_not_overlap(moments):
     assert len(boxes) == 6
     for a, b in zip(boxes, boxes[1:]):
         assert a.x1 < b.x0, (a, b)
+
+
+# --------------------------------------------------------------------------- issue 28, item 15
+
+
+@pytest.mark.parametrize("size", ["1e-300x1e-300x1e-300", "1e-151x1e-151x1e-151",
+                                  "1e-200x1e-200x1"])
+def test_a_box_too_small_for_doubles_names_size(coin, size):
+    """Its moments underflow to 0 (or a subnormal): the message names --size as typed and says
+    why, not 'moments ... got 0, 0, 0' (options the user did not type)."""
+    err = error(coin("book", "--size", size, "--spin", "1,2,3"), 2,
+                "--size: the sides are too small for double precision",
+                "at least 3.7e-151 mm", f"got '{size}'")
+    assert "got 0, 0, 0" not in err
+
+
+def test_the_smallest_cube_is_the_bound_the_message_states(coin):
+    side = R.SMALLEST_CUBE  # the moments 2 s^2 / 12 of a cube of this side are normal doubles
+    assert min(R.box_moments((side,) * 3)) >= sys.float_info.min
+    with pytest.raises(ValueError, match="too small"):
+        R.box_moments((side * 0.99,) * 3)
+    ok(coin("book", "--size", f"{side * 1000 * 1.01!r}x{side * 1000 * 1.01!r}x"
+            f"{side * 1000 * 1.01!r}", "--spin", "1,2,3", "-f", "csv"))
+
+
+@pytest.mark.parametrize("moments, shown", [
+    ("1,1,2.0000001", "(I3 = 2.0000001 > I1 + I2 = 2)"),
+    ("1,1,2.000000000001", "(I3 = 2.000000000001 > I1 + I2 = 2)"),
+    ("3,1,1", "(I1 = 3 > I2 + I3 = 2)"),
+    ("0.1,0.2,0.30000001", "(I3 = 0.30000001 > I1 + I2 = 0.3)"),
+])
+def test_moments_that_belong_to_no_body_are_shown_with_digits_that_differ(coin, moments,
+                                                                         shown):
+    """The two sides of the inequality printed with the fewest digits (6 at least) that tell
+    them apart: never '2 > 2'."""
+    err = error(coin("book", "--moments", moments, "--spin", "1,2,3"), 2, shown,
+                "belong to no rigid body")
+    lhs, rhs = err.split("(I")[1].rstrip(")\n").split(" > ")
+    assert float(lhs.split(" = ")[1]) > float(rhs.split(" = ")[1])
+
+
+# --------------------------------------------------------------------------- issue 28, item 14
+
+
+def _columns_of(t, t0, t1, columns):
+    return np.clip(np.floor((t - t0) * (columns / (t1 - t0))), 0, columns - 1).astype(int)
+
+
+def test_a_long_series_is_thinned_to_its_pixel_columns_keeping_the_envelope():
+    """10^6 samples of three curves (a chirp, noise-like, a step) drawn as at most four points
+    per pixel column each: in every column the thinned curve has the whole series' first and
+    last point and its smallest and largest value (the M4 rule), so the line covers the same
+    pixels; the face-up curve likewise."""
+    pytest.importorskip("matplotlib")
+    from coincli.render import book_figures as bookplot
+
+    n, cols = 1_000_000, bookplot.PIXEL_COLUMNS
+    ts = np.linspace(0.0, 50.0, n)
+
+    def omega_up(t):  # independent of coin's physics: any curves must keep their envelope
+        w = np.column_stack([np.sin(0.01 * t * t), np.sin(1e4 * t) * np.cos(7 * t),
+                             np.floor(t) % 3 - 1.0])
+        return w, (np.floor(t * 3) % 6).astype(int)
+
+    mo = R.motion((1.0, 2.0, 3.0), (0.0, 0.0, 1.0))
+    fig = bookplot.omega_figure_of(ts, omega_up, mo, "test", "+3", "centre", chunk=70_001)
+    full_w, full_up = omega_up(ts)
+    col = _columns_of(ts, 0.0, 50.0, cols)
+    lines = {a.get_gid(): a for a in fig.findobj(lambda a: a.get_gid() is not None)}
+    for gid, full in [("omega:1", full_w[:, 0]), ("omega:2", full_w[:, 1]),
+                      ("omega:3", full_w[:, 2]), ("face-up", full_up)]:
+        x, y = (np.asarray(v, dtype=float) for v in lines[gid].get_data())
+        if gid == "face-up":  # a step line: matplotlib's own data are the points given
+            x, y = np.asarray(lines[gid].get_xdata()), np.asarray(lines[gid].get_ydata())
+        assert x.size <= 4 * cols and np.all(np.diff(x) >= 0), (gid, x.size)
+        c = _columns_of(x, 0.0, 50.0, cols)
+        assert np.array_equal(np.unique(c), np.unique(col))
+        lo = np.full(cols, np.inf)
+        hi = np.full(cols, -np.inf)
+        np.minimum.at(lo, col, full)
+        np.maximum.at(hi, col, full)
+        tlo = np.full(cols, np.inf)
+        thi = np.full(cols, -np.inf)
+        np.minimum.at(tlo, c, y)
+        np.maximum.at(thi, c, y)
+        assert np.array_equal(tlo, lo) and np.array_equal(thi, hi), gid
+        starts = np.flatnonzero(np.r_[True, col[1:] != col[:-1]])
+        assert set(ts[starts]) <= set(x) and set(ts[np.r_[starts[1:] - 1, n - 1]]) <= set(x)
+
+
+def test_a_short_series_is_drawn_as_it_is():
+    """Up to THIN_ABOVE times the figure is the unthinned one (the default 2001 samples)."""
+    pytest.importorskip("matplotlib")
+    from coincli.render import book_figures as bookplot
+
+    I, w = (3.0, 4.0, 6.0), (2.0, -1.0, 1.0)
+    mo, o = R.motion(I, w), R.orbit(I, np.array(w))
+    t = np.linspace(0.0, 20.0, bookplot.THIN_ABOVE)
+
+    def omega_up(t):
+        return R.omega_at(o, t), R.face_up(R.up_vector(R.attitude_at(o, t)), R.box_sides(I))
+
+    fig = bookplot.omega_figure_of(t, omega_up, mo, "m", "+3", "centre")
+    (line,) = fig.findobj(lambda a: a.get_gid() == "omega:2")
+    assert np.array_equal(line.get_xdata(), t)
+    flips = fig.findobj(lambda a: a.get_gid() == "flip")
+    assert len(flips) == 1 and flips[0].get_xdata()[0] == pytest.approx(0.58266494, abs=1e-4)
+
+
+def test_the_figure_of_a_long_times_series_has_a_bounded_file(coin, tmp_path):
+    """`--times 0:999999:1 --out x.png` peaked at 2.4 GB and failed in Agg; the SVG of 10^6
+    points was 120 MB.  Thinned, 3 x 10^4 times make a file of the size 10^6 make (figures in
+    docs/book.md, from benchmarks/bench_book_figure.py)."""
+    pytest.importorskip("matplotlib")
+    out = tmp_path / "x.svg"
+    rc, _, err = coin("book", "--moments", "1,2,3", "--spin", "1,2,3", "--times", "0:29999:1",
+                      "--out", str(out))
+    assert (rc, err) == (0, f"coin: wrote {out} (7.5 x 5.2 inches)\n")
+    assert out.stat().st_size < 1_200_000  # 3.6 MB unthinned
+
+
+def test_a_figure_error_is_one_line(coin, tmp_path, monkeypatch):
+    """matplotlib's errors run over lines ("Exceeded cell block limit in Agg.\\n\\nPlease
+    reduce..."): one line, exit 1, nothing written."""
+    pytest.importorskip("matplotlib")
+    from coincli.render import figures
+
+    def fail(*_a, **_k):
+        raise OverflowError("Exceeded cell block limit in Agg.\n\nPlease reduce the value of "
+                            "rcParams['agg.path.chunksize'] (currently 0) or increase the\n"
+                            "path simplification threshold")
+
+    monkeypatch.setattr(figures, "save_figure", fail)
+    out = tmp_path / "x.png"
+    err = error(coin("book", "--moments", "1,2,3", "--spin", "1,2,3", "--out", str(out)), 1,
+                "cannot draw", "Exceeded cell block limit in Agg. Please reduce", "increase the "
+                "path simplification")
+    assert not out.exists() and os.listdir(tmp_path) == []
+    assert "\n" not in err[:-1]

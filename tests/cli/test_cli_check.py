@@ -132,7 +132,8 @@ def test_check_levels(capsys):
     (["--heads", "1", "--sides", "3.5", "--tails", "2"], "--sides must be a whole number >= 0"),
     (["--heads", "1", "--sides", "x", "--tails", "2"], "--sides must be a whole number"),
     (["--heads", "0", "--sides", "0", "--tails", "0"], "all zero"),
-    (["--sides", "0", "-n", "0"], "n must be >= 1"),
+    (["--sides", "0", "-n", "0"], "-n must be a whole number from 1 to 9007199254740992, "
+                                  "got '0'"),  # as every command says it (issue 28)
     (["--heads", "35", "--sides", "33", "--tails", "32", "-n", "99"], "= 100 but n = 99"),
     (["--sides", "101", "-n", "100"], "exceeds n = 100"),
     (["--sides", "3"], "give n"),

@@ -558,3 +558,51 @@ def test_a_psi_table_file_takes_ascii_digits_only(coin, tmp_path):
     f.write_text("\u03c8,weight\n0 1\n90 2\n180 1\n", encoding="utf-8")  # a header is skipped
     rc, out, err = coin("table", "--xi", "0.5", "--psi-dist", f"table:{f}", "-q")
     assert rc == 0 and len(out.split()) == 3, err
+
+
+# --------------------------------------------------------------------------- issue 28, item 12
+
+
+@pytest.mark.parametrize("text, values", [
+    ("1:10000000:1000000", [1 + 1000000 * k for k in range(10)]),  # not 10000001
+    ("0:100000000:100000001", [0]),  # the step passes the stop: one value
+    ("0:10:3", [0, 3, 6, 9]),
+    ("5:5:7", [5]),
+    ("-3:3:3", [-3, 0, 3]),
+    ("0:999999999:1000", None),  # 10^6 values, exactly: the limit, not one past it
+])
+def test_a_whole_number_range_never_passes_its_stop(text, values):
+    """The millionth-of-a-step allowance is for decimals' rounding; whole numbers are exact, so
+    the last value is the largest start + k*step <= stop (it was start + count*step past it)."""
+    from coincli.io.grammar import parse_range, parse_values
+
+    got = parse_values(text, "--omega", lambda s, w: int(s))
+    rng = parse_range(text, "--omega")
+    if values is not None:
+        assert got == values
+    assert len(got) == rng.count and max(got) <= int(text.split(":")[1])
+    assert rng.chunk(0, rng.count).tolist() == [float(v) for v in got]
+
+
+def test_whole_ranges_in_commands_end_at_or_before_their_stop(coin):
+    out = _ok(coin("toss", "--xi", "0.5", "--psi", "90", "--u", "2", "--omega",
+                   "1:10000000:1000000", "-f", "csv"))
+    omegas = [float(r["omega"]) for r in csv.DictReader(io.StringIO(out))]
+    assert omegas == [1.0 + 1e6 * k for k in range(10)]
+    assert _ok(coin("toss", "--xi", "0.5", "--psi", "90", "--omega", "40", "--u",
+                    "0:100000000:100000001", "-q")) == _ok(coin("toss", "--xi", "0.5", "--psi",
+                                                                "90", "--omega", "40", "--u",
+                                                                "0", "-q"))
+
+
+@pytest.mark.parametrize("typed, value", [
+    ("0:300000000:150000000", "'150000000'"),
+    ("0:3e8:1.5e8", "'150000000.0'"),
+    ("0:3e8:1.5e8m/s", "'150000000.0m/s'"),
+])
+def test_a_bad_value_a_range_made_names_the_range_as_typed(coin, typed, value):
+    """A value the user never typed (150000000 is neither start, stop nor step) is shown with
+    the range it came from, unit and all."""
+    _error(coin("toss", "--xi", "0.5", "--psi", "90", "--omega", "40", "--u", typed), 2,
+           f"--u must be a speed of at most 1e+08 m/s, got {value} (a value of the range "
+           f"'{typed}')")

@@ -30,7 +30,7 @@ from coincli.core.toss.flight import DEFAULT_DIAMETER, NAMES, STANDARD_G, U_MAX,
 from coincli.core.toss.launch import as_dist, sample_conditions
 from coincli.core.toss.simulate import Frequency, wilson_interval
 
-__all__ = ["BounceSimulation", "simulate", "default_jobs", "BLOCK", "CHUNK"]
+__all__ = ["BounceSimulation", "simulate", "default_jobs", "capped_jobs", "BLOCK", "CHUNK"]
 
 BLOCK = 256  #: tosses per random block: the seed of block k is (seed, k), whatever the workers
 CHUNK = 16  #: tosses a worker simulates between progress reports (a fraction of a second)
@@ -89,14 +89,58 @@ def _block_launches(seed, block, count, dists, coin, stream=(), start=0):
 _WORKER: dict = {}
 
 
-def _worker_init(args, quiet_sigint=False):
-    if quiet_sigint:  # a worker process: Ctrl-C is the parent's to handle (it ends the pool)
-        import signal
-
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
+def _worker_init(args, parent=None):
+    """One engine for this process.  ``parent``: the pid of the process that owns the pool,
+    when this is a pool worker (:func:`_bind_to_parent`)."""
+    if parent is not None:
+        _bind_to_parent(parent)
     coin, surf, dt, g, landing, t_max, flight, damping = args
     _WORKER["engine"] = Engine(coin, surf, dt=dt, g=g, landing=landing, t_max=t_max,
                                flight=flight, damping=damping)
+
+
+def _bind_to_parent(parent: int) -> None:
+    """A pool worker lives and dies with the process that started it.  Ctrl-C and SIGHUP go to
+    the whole process group: the parent handles them (it terminates the pool), so the worker
+    ignores them; SIGTERM, which the parent's ``pool.terminate()`` sends, ends it at once, with
+    no traceback (the default action, not the parent's handler it inherited).  If the parent
+    dies without ending the pool (SIGKILL), the kernel kills the worker (Linux's
+    ``PR_SET_PDEATHSIG``); elsewhere a thread checks every second that the parent is alive."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if hasattr(signal, "SIGHUP"):
+        signal.signal(signal.SIGHUP, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    if not _parent_death_signal():
+        import threading
+        import time
+
+        def watch():
+            while os.getppid() == parent:
+                time.sleep(1.0)
+            os._exit(1)
+
+        threading.Thread(target=watch, daemon=True).start()
+    if os.getppid() != parent:  # the parent died before the kernel was told to watch it
+        os._exit(1)
+
+
+def _parent_death_signal() -> bool:
+    """Ask Linux to SIGKILL this process when its parent dies; False where that is not
+    available."""
+    import sys
+
+    if not sys.platform.startswith("linux"):
+        return False
+    try:
+        import ctypes
+        import signal
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        return libc.prctl(1, int(signal.SIGKILL), 0, 0, 0) == 0  # 1: PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        return False
 
 
 def _run_block(job):
@@ -122,6 +166,13 @@ def default_jobs():
         return os.cpu_count() or 1
 
 
+def capped_jobs(jobs: int) -> int:
+    """``jobs`` workers, at most :func:`default_jobs` (every core this process may use): a
+    simulated toss is pure computation, so more workers than cores only take turns, each one
+    process more.  The results do not depend on the number."""
+    return max(1, min(int(jobs), default_jobs()))
+
+
 def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=0.0, vx=0.0,
              z0=None, diameter=DEFAULT_DIAMETER, density=DEFAULT_DENSITY, g=STANDARD_G,
              dt=DEFAULT_DT, t_max=DEFAULT_T_MAX, jobs=None, level=0.95, flight="exact",
@@ -134,10 +185,10 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
     spec strings or :class:`coincli.core.toss.launch.Dist`; SI, radians); ``height`` (surface below the
     launch plane, m), ``vx`` (horizontal speed, m/s) and ``z0`` (centre above the launch plane,
     m; default the paper's for a thick coin, ``(sqrt 3/2) a + h/2``) likewise.  ``jobs`` worker
-    processes (default: every core); block ``k`` of 256 tosses draws from the seed ``(seed, k)``,
-    so the counts are the same for any number of workers.  ``stream`` (a tuple of whole numbers)
-    names an independent stream of the same seed (:func:`coincli.core.bounce.design.design` uses one
-    per simulated point).
+    processes (default, and at most: every core, :func:`capped_jobs`); block ``k`` of 256
+    tosses draws from the seed ``(seed, k)``, so the counts are the same for any number of
+    workers.  ``stream`` (a tuple of whole numbers) names an independent stream of the same
+    seed (:func:`coincli.core.bounce.design.design` uses one per simulated point).
     Workers take chunks of ``chunk`` tosses (default :data:`CHUNK`) and ``progress(done)`` is
     called as each completes; the results do not depend on ``chunk`` or ``jobs``.
     """
@@ -159,6 +210,7 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
     jobs = default_jobs() if jobs is None else int(jobs)
     if jobs < 1:
         raise ValueError(f"jobs must be >= 1, got {jobs}")
+    jobs = capped_jobs(jobs)
     damping = calibrate(coin, surf, dt, g)
     args = (coin, surf, dt, g, landing, t_max, flight, damping)
     chunk = CHUNK if chunk is None else int(chunk)
@@ -183,7 +235,8 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
         import multiprocessing as mp
 
         ctx = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
-        pool = ctx.Pool(min(jobs, len(work)), initializer=_worker_init, initargs=(args, True))
+        pool = ctx.Pool(min(jobs, len(work)), initializer=_worker_init,
+                        initargs=(args, os.getpid()))
         try:
             it = pool.imap_unordered(_run_block, work)
             for _ in work:
@@ -197,12 +250,12 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
                 done += len(rows)
                 if progress is not None:
                     progress(done)
-        except BaseException:  # Ctrl-C or a failed toss: stop the workers now, not after
+            pool.close()
+            pool.join()
+        except BaseException:  # Ctrl-C, SIGTERM, SIGHUP or a failed toss: stop the workers now
             pool.terminate()
             pool.join()
             raise
-        pool.close()
-        pool.join()
     rows = np.array([r for block in results for r in block], dtype=float)
     code = rows[:, 0].astype(int)
     catch = rows[:, 1].astype(int)
