@@ -244,7 +244,7 @@ def test_ctrl_c_ends_a_bounce_simulation_at_once():
     import signal
     import time
 
-    p = subprocess.Popen([sys.executable, "-m", "coincli", "simulate", "-n", "1000", "--seed",
+    p = subprocess.Popen([sys.executable, "-m", "coincli", "simulate", "-n", "20000", "--seed",
                           "1", "--xi", "0.577", "--landing", "bounce", "--jobs", "2"],
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                          start_new_session=True)
@@ -257,7 +257,9 @@ def test_ctrl_c_ends_a_bounce_simulation_at_once():
                 kids = f.read().split()
         time.sleep(0.5)  # the workers at work
         p.send_signal(signal.SIGINT)
-        out, err = p.communicate(timeout=5)
+        # 20000 tosses take minutes of CPU: an answer within 20 s (a loaded machine's margin)
+        # is one that did not wait for the queued blocks
+        out, err = p.communicate(timeout=20)
     finally:
         if p.poll() is None:
             os.killpg(p.pid, signal.SIGKILL)
