@@ -95,7 +95,7 @@ def design(*, p_sides, model=None, psi=None, psi_dist=None, diameter=None, thick
            coin=None, tol=None, method=None, landing=None, surface=None, restitution=None,
            friction=None, torsional=None, rolling=None, u=None, omega=None,
            release_height=None, vx=None, seed=None, max_tosses=None, time_limit=None,
-           jobs=None, dt=None, t_max=None) -> list[dict]:
+           jobs=None, dt=None, t_max=None, calibration=None) -> list[dict]:
     """The coin that lands on a side with the chance you want: ``coin design``.
 
     Parameters
@@ -127,6 +127,10 @@ def design(*, p_sides, model=None, psi=None, psi_dist=None, diameter=None, thick
         names (``coin design --help``).
     u, omega, seed, max_tosses, time_limit, jobs, dt, t_max : optional
         With ``landing="bounce"``: the launch, the seed and the simulation's limits.
+    calibration : str, optional
+        With ``landing="bounce"``: a calibration file (``fit(..., landing="bounce",
+        save=...)``): the design is for that table, its intervals (``xi_low``, ``xi_high``,
+        ``thickness_low_mm``, ``thickness_high_mm``) hold the calibration's uncertainty too.
 
     Returns
     -------
@@ -351,7 +355,8 @@ def fair(*, diameter=None, coin=None, psi_dist=None) -> list[dict]:
 def toss(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickness=None,
          psi=None, u=None, omega=None, seed=None, g=None, contact=None, z0=None, landing=None,
          surface=None, restitution=None, friction=None, torsional=None, rolling=None,
-         release_height=None, vx=None, dt=None, t_max=None, trajectory=None) -> list[dict]:
+         release_height=None, vx=None, dt=None, t_max=None, trajectory=None,
+         calibration=None) -> list[dict]:
     """One deterministic toss a row, as ``coin toss --format json`` prints it.
 
     Parameters
@@ -408,7 +413,7 @@ def simulate(*, xi=None, coin=None, count=None, quarters=None, diameter=None, th
              u=None, omega=None, psi=None, psi_dist=None, tosses=None, seed=None, g=None,
              contact=None, landing=None, surface=None, restitution=None, friction=None,
              torsional=None, rolling=None, release_height=None, vx=None, jobs=None, dt=None,
-             t_max=None) -> list[dict]:
+             t_max=None, calibration=None) -> list[dict]:
     """Seeded tosses from random launches, as ``coin simulate --format json`` prints them:
     the frequency of each outcome with its 95% Wilson interval, next to the vigorous limit.
 
@@ -433,7 +438,8 @@ def simulate(*, xi=None, coin=None, count=None, quarters=None, diameter=None, th
     landing : {"catch", "bounce"}, optional
         ``"bounce"``: the coins land on a surface (MuJoCo), with ``surface``,
         ``restitution``, ``friction``, ``torsional``, ``rolling``, ``release_height``, ``vx``,
-        ``jobs``, ``dt``, ``t_max``.
+        ``jobs``, ``dt``, ``t_max``; or ``calibration``, a file of ``fit(..., landing="bounce",
+        save=...)``: the calibrated table instead of the surface.
 
     Returns
     -------
@@ -590,7 +596,9 @@ def check(*, xi=None, quarters=None, coin=None, count=None, diameter=None, thick
 
 
 def fit(file, *, psi_dist=None, no_spread=None, delimiter=None, design=None, alpha=None,
-        confidence=None) -> list[dict]:
+        confidence=None, landing=None, fit=None, seed=None, save=None, design_tosses=None,
+        surface=None, restitution=None, friction=None, torsional=None, rolling=None,
+        release_height=None, vx=None, jobs=None, dt=None, t_max=None) -> list[dict]:
     """``coin fit FILE``: which model do the tosses of a file of experiments follow?
 
     Parameters
@@ -612,6 +620,13 @@ def fit(file, *, psi_dist=None, no_spread=None, delimiter=None, design=None, alp
     alpha, confidence : str or float, optional
         Significance level of the verdicts (default 0.05), confidence level of the intervals
         (default 0.95).
+    landing : {"catch", "bounce"}, optional
+        ``"bounce"``: calibrate the table the prototypes were tossed on (MuJoCo): one row with
+        ``restitution``, ``restitution_low``, ``restitution_high``, ``friction``,
+        ``friction_low``, ``friction_high`` (``psi_sd_deg...`` when fitted), ``p_value``,
+        ``method``, ``seed``; with ``fit`` (``"restitution,friction"``, ``"psi-spread"``),
+        ``seed``, ``save`` (a calibration file to write), ``design_tosses`` and the surface and
+        launch options of ``simulate``.
 
     Returns
     -------

@@ -12,6 +12,7 @@ from typing import Annotated
 import typer
 
 from coincli.cli import _options, app
+from coincli.cli._bounce import BOUNCE
 from coincli.cli._options import COIN, OUTPUT, Group, option, with_groups
 from coincli.io.table import emit_all
 
@@ -113,6 +114,21 @@ def check(
 
 # --------------------------------------------------------------------------- fit
 
+#: ``coin fit --landing bounce``: calibrate the table the prototypes were tossed on
+FIT_TABLE = Group(
+    BOUNCE.only("landing"),
+    ("fit", option("--fit", "PARAMS", "With --landing bounce: what to estimate, comma-separated: "
+                   "restitution, friction (default both), psi-spread."), None),
+    ("seed", option("--seed", "SEED", "With --landing bounce: the seed of the simulated tosses "
+                    "(default: drawn, and reported)."), None),
+    ("save", option("--save", "CAL.json", "With --landing bounce: write the calibration there, "
+                    "for --calibration."), None),
+    ("design_tosses", option("--design-tosses", "N", "With --landing bounce: simulated tosses of "
+                             "each prototype at each designed table (default 256)."), None),
+    BOUNCE.only("surface", "restitution", "friction", "torsional", "rolling", "release_height",
+                "vx", "jobs", "dt", "t_max"),
+)
+
 
 @app.command()
 @with_groups
@@ -129,6 +145,7 @@ def fit(
         "--design", help="For caught rows: each tosser's coin with this chance of a side "
         "(1/3: fair three-sided) under their fitted spread.", metavar="P")] = None,
     levels=LEVELS,
+    table=FIT_TABLE,
     output=OUTPUT,
 ):
     """Which model do your tosses follow?  Checks a file of experiments and compares models.
@@ -142,10 +159,21 @@ def fit(
     flips (same and different, heads/tails with start, or hsame,hdiff,tsame,tdiff) are
     tossers: each gets its own spread, and the tossers are compared.
 
+    --landing bounce calibrates the table the prototypes were tossed on instead: its
+    restitution and friction (--fit) with 95% intervals and a test of fit, from tosses
+    simulated on designed tables; --save CAL.json keeps it for --calibration.
+
     Examples: coin fit tosses.csv ;  coin fit tosses.csv --format csv ;
-    coin fit - --psi-dist uniform,cosine < tosses.csv
+    coin fit - --psi-dist uniform,cosine < tosses.csv ;
+    coin fit tosses.csv --landing bounce --seed 1 --save table.json
     """
+    from coincli.render.progress import simulating_bar
     from coincli.reports import check as report
 
-    emit_all(report.fit(file, psi_dist=psi_dist, no_spread=no_spread, delimiter=delimiter,
-                        design=design, **levels, **output), **output)
+    result = report.fit(file, psi_dist=psi_dist, no_spread=no_spread, delimiter=delimiter,
+                        design=design, **levels, **table, **output, progress=simulating_bar)
+    emit_all(result, **output)
+    if table.landing.strip().lower() == "bounce":
+        from coincli.reports.bounce import warn_unmet
+
+        warn_unmet(result)  # after the table

@@ -50,7 +50,7 @@ DESIGN_TABLE = Group(
     ("time_limit", option("--time-limit", "S", "With --landing bounce: stop at the end of the "
                           "first round after this many seconds (default 300); the note gives "
                           "the --max-tosses that reproduces the result."), None),
-    BOUNCE.only("jobs", "dt", "t_max"),
+    BOUNCE.only("jobs", "dt", "t_max", "calibration"),
 )
 
 

@@ -51,7 +51,7 @@ XI_AXIS = Group(("log", LogOpt, False), ("xi_range", XiRangeOpt, None))
 #: ``--landing bounce`` of ``coin plot sides``: the surface, and the tosses simulated on it
 SIDES_TABLE = Group(BOUNCE.only("landing", "surface", "restitution", "friction"),
                     ("seed", _options.SeedOpt, None), ("tosses", _options.TossesOpt, None),
-                    BOUNCE.only("jobs"))
+                    BOUNCE.only("jobs", "calibration"))
 #: where the figure goes, and its size and title
 FIGURE = Group(("out", OutOpt, None), ("terminal", TerminalOpt, False), ("dpi", DpiOpt, "150"),
                ("width", WidthOpt, None), ("height", HeightOpt, None), ("title", TitleOpt, None))

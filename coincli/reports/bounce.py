@@ -37,7 +37,7 @@ from coincli.reports.launch import (
 class Physics:
     """The parsed ``--landing bounce`` options (SI)."""
 
-    __slots__ = ("surface", "height", "vx", "jobs", "dt", "t_max", "B")
+    __slots__ = ("surface", "height", "vx", "jobs", "dt", "t_max", "B", "calibration")
 
     def describe(self) -> str:
         s = self.surface
@@ -121,19 +121,28 @@ def _dist(text: str, what: str, unit: str, scale: float, hi: float):
 
 def parse_physics(landing: str, *, surface=None, restitution=None, friction=None,
                   torsional=None, rolling=None, height=None, vx=None, jobs=None, dt=None,
-                  t_max=None) -> Physics | None:
-    """The bounce options, or None for ``--landing catch`` (then none may be given)."""
+                  t_max=None, calibration=None) -> Physics | None:
+    """The bounce options, or None for ``--landing catch`` (then none may be given).
+    ``calibration``: a calibration file (:func:`coincli.reports.calibrate.apply`), the table
+    instead of the surface options."""
     if landing == "catch":
         extra = [name for name, v in (("--surface", surface), ("--restitution", restitution),
                                       ("--friction", friction), ("--torsional", torsional),
                                       ("--rolling", rolling), ("--release-height", height),
                                       ("--vx", vx),
-                                      ("--jobs", jobs), ("--dt", dt), ("--t-max", t_max))
+                                      ("--jobs", jobs), ("--dt", dt), ("--t-max", t_max),
+                                      ("--calibration", calibration))
                  if v is not None]
         if extra:
             raise usage_error(f"{', '.join(extra)} go{'es' if len(extra) == 1 else ''} with "
                               "--landing bounce (the catch ends at first contact: no surface)")
         return None
+    if calibration is not None:
+        from coincli.reports import calibrate
+
+        calibrate.refuse_surface_options(calibration, surface=surface, restitution=restitution,
+                                         friction=friction, torsional=torsional,
+                                         rolling=rolling)
     name = None if surface is None else surface.strip().lower()
     if name is not None and name not in SURFACE_NAMES:
         raise usage_error(f"--surface must be one of {', '.join(SURFACE_NAMES)}, got {surface!r}")
@@ -174,6 +183,10 @@ def parse_physics(landing: str, *, surface=None, restitution=None, friction=None
     p.dt = B.DEFAULT_DT if dt is None else bounded_number(dt, "--dt", 1e-6, 1e-3)
     p.t_max = B.DEFAULT_T_MAX if t_max is None else bounded_number(t_max, "--t-max", 0.01,
                                                                     1000.0)
+    p.calibration = None
+    if calibration is not None:
+        calibrate.apply(p, calibration, height_given=height is not None, vx_given=vx is not None,
+                        dt_given=dt is not None, t_max_given=t_max is not None)
     return p
 
 
@@ -369,13 +382,15 @@ def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, 
                       landing="bounce", height=p.height, vx=p.vx, diameter=diameter, g=g,
                       dt=p.dt, t_max=p.t_max, jobs=p.jobs, progress=tick)
     dia_mm = diameter * 1000
-    rows = [(t, x, lo, hi, dia_mm * x, float(f.p_sides(x)), f.p_value, len(f.points), r.tosses,
-             r.seed)
+    rows = [(t, x, lo, hi, dia_mm * x, dia_mm * lo, dia_mm * hi, float(f.p_sides(x)),
+             f.p_value, len(f.points), r.tosses, r.seed)
             for t, x, lo, hi, f in zip(r.targets, r.xi, r.low, r.high, r.fits, strict=True)]
     columns = [
         Column("p_sides", "P(sides) target"), Column("xi", "xi = h/D"),
         Column("xi_low", "95% low"), Column("xi_high", "95% high"),
         Column("thickness_mm", f"thickness (mm) for D = {dia_mm:g}"),
+        Column("thickness_low_mm", "thickness 95% low"),
+        Column("thickness_high_mm", "thickness 95% high"),
         Column("fitted_p_sides", "fitted P(sides)"), Column("fit_p_value", "fit p-value"),
         Column("fit_points", "aspect ratios fitted", "int"),
         Column("tosses", "tosses", "int"), Column("seed", "seed", "int"),
@@ -402,7 +417,7 @@ def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, 
             + ("" if r.stopped_by == "tol" else
                f"; --max-tosses {r.tosses} reproduces this result") + ".  "
             + CONTACT_NOTE + "  The catch model (no --landing) gives the paper's xi.  Toss a "
-            "prototype and check it with coin check.")
+            "prototype and check it with coin check.  " + PRESET_SPREAD)
     return DesignResult("coin design --landing bounce", columns, rows, note,
                         quiet=[row[1] for row in rows], vertical=len(rows) == 1,
                         warning=None if r.met else f"{why[r.stopped_by]}; the intervals are "
@@ -444,9 +459,26 @@ def bounce_design(physics, *, p_sides, psi, psi_dist, u, omega, diameter, coin, 
     u_spec, w_spec, psi_spec, labels = bounce_launch(psi, psi_dist, u, omega)
     check_coin(physics, None, dia, diameter_text=diameter)
     check_speed(physics, reach(u_spec, U_MAX), STANDARD_G, u or HAND["u"])
+    if physics.calibration is not None:  # the user's table: its uncertainty carried too
+        from coincli.reports import calibrate
+
+        return calibrate.design(physics, targets=targets, seed=seed_value(seed), tol=tol_v,
+                                max_tosses=mt, time_limit=tl, diameter=dia, g=STANDARD_G,
+                                given={"u": u_spec if u is not None else None,
+                                       "omega": w_spec if omega is not None else None,
+                                       "psi": psi_spec if psi is not None or psi_dist
+                                       is not None else None}, progress=progress)
     return design(physics, targets=targets, seed=seed_value(seed), tol=tol_v, max_tosses=mt,
                   time_limit=tl, u=u_spec, omega=w_spec, psi=psi_spec, diameter=dia,
                   g=STANDARD_G, labels=labels, progress=progress)
+
+
+#: what a design on a preset cannot say: how far another table moves it (docs/bounce.md)
+PRESET_SPREAD = ("The interval is the simulation's alone: your table is not a preset.  The fair "
+                 "xi moves from 0.445 (rice) and 0.51 (wood) to anywhere from 0.25 (friction "
+                 "0.6) to 0.81 (psi exactly 90) over docs/bounce.md's sensitivity table; "
+                 "calibrate your table from tosses of two prototypes (coin fit --landing bounce "
+                 "FILE --save CAL.json) and design with --calibration CAL.json.")
 
 
 class DesignResult(Result):

@@ -746,7 +746,13 @@ def _experiments(text: str, name: str, delimiter: str | None = None) -> list:
 
 def fit(file: str, *, psi_dist: str | None = None, no_spread: bool = False,
         delimiter: str | None = None, design: str | None = None, alpha: str = "0.05",
-        confidence: str = "0.95", fmt: str = "table", quiet: bool = False):
+        confidence: str = "0.95", landing: str = "catch", fit: str | None = None,
+        seed: str | None = None, save: str | None = None, design_tosses: str | None = None,
+        surface: str | None = None, restitution: str | None = None,
+        friction: str | None = None, torsional: str | None = None, rolling: str | None = None,
+        release_height: str | None = None, vx: str | None = None, jobs: str | None = None,
+        dt: str | None = None, t_max: str | None = None, fmt: str = "table",
+        quiet: bool = False, progress=None):
     """What ``coin fit FILE`` prints: every experiment of ``file`` checked as :func:`check`
     does, then the models compared across experiments (log-likelihood, AIC, the paper's sum of
     squared errors of the side frequencies) and the maximum-likelihood spread of psi with its
@@ -756,7 +762,33 @@ def fit(file: str, *, psi_dist: str | None = None, no_spread: bool = False,
     ``fmt="table"``, else the one machine :class:`Result`, streamed by chunks (under ``quiet``:
     the fitted spread in degrees).  Raises InputError for a wrong input or file, NotComputable
     when the fit cannot be computed.
+
+    ``landing="bounce"``: the table is calibrated instead (:func:`coincli.reports.calibrate.fit`,
+    with ``fit``, ``seed``, ``save``, ``design_tosses`` and the surface and launch options;
+    ``progress()``: a progress bar, or None).
     """
+    from coincli.reports.bounce import landing_of
+
+    bounce = {"--fit": fit, "--seed": seed, "--save": save, "--design-tosses": design_tosses,
+              "--surface": surface, "--restitution": restitution, "--friction": friction,
+              "--torsional": torsional, "--rolling": rolling, "--release-height": release_height,
+              "--vx": vx, "--jobs": jobs, "--dt": dt, "--t-max": t_max}
+    if landing_of(landing) == "bounce":
+        from coincli.reports import calibrate
+
+        if psi_dist is not None or no_spread or alpha != "0.05" or design is not None:
+            raise usage_error("--psi-dist, --no-spread, --design and --alpha go with the models "
+                              "(no --landing); --landing bounce calibrates a table")
+        return calibrate.fit(file, fit_params=fit, seed=seed, save=save,
+                             design_tosses=design_tosses, delimiter=delimiter, surface=surface,
+                             restitution=restitution, friction=friction, torsional=torsional,
+                             rolling=rolling, release_height=release_height, vx=vx, jobs=jobs,
+                             dt=dt, t_max=t_max, confidence=confidence, fmt=fmt, quiet=quiet,
+                             progress=progress)
+    extra = [k for k, v in bounce.items() if v is not None]
+    if extra:
+        raise usage_error(f"{', '.join(extra)} go{'es' if len(extra) == 1 else ''} with "
+                          "--landing bounce")
     from coincli.core.stats import fit as stats
     from coincli.io.experiments import delimiter_of
 

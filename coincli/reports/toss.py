@@ -177,7 +177,7 @@ def toss(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickn
          psi=None, u=None, omega=None, seed=None, g="9.81", contact="rim", z0=None,
          landing="catch", surface=None, restitution=None, friction=None, torsional=None,
          rolling=None, release_height=None, vx=None, dt=None, t_max=None, trajectory=None,
-         fmt="table", quiet=False) -> Result:
+         calibration=None, fmt="table", quiet=False) -> Result:
     """``coin toss``: one deterministic toss per row (lists of equal length are paired), or
     with ``landing="bounce"`` one toss onto a surface (:func:`coincli.reports.bounce.toss`).
 
@@ -187,7 +187,8 @@ def toss(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickn
     check_format(fmt)
     physics = BO.parse_physics(BO.landing_of(landing), surface=surface, restitution=restitution,
                                friction=friction, torsional=torsional, rolling=rolling,
-                               height=release_height, vx=vx, dt=dt, t_max=t_max)
+                               height=release_height, vx=vx, dt=dt, t_max=t_max,
+                               calibration=calibration)
     if physics is None and trajectory is not None:
         raise usage_error("--trajectory goes with --landing bounce (a caught toss is the "
                           "closed-form flight: coin toss prints it)")
@@ -318,7 +319,7 @@ def simulate(*, xi=None, coin=None, count=None, quarters=None, diameter=None, th
              u=None, omega=None, psi=None, psi_dist=None, tosses=None, seed=None, stream=False,
              g="9.81", contact="rim", landing="catch", surface=None, restitution=None,
              friction=None, torsional=None, rolling=None, release_height=None, vx=None,
-             jobs=None, dt=None, t_max=None, fmt="table", quiet=False,
+             jobs=None, dt=None, t_max=None, calibration=None, fmt="table", quiet=False,
              progress=None) -> Result:
     """``coin simulate``: ``tosses`` seeded tosses (10000 by default) from the launch
     distributions (:func:`coincli.reports.launch.launch`), their frequencies with 95% Wilson
@@ -335,7 +336,8 @@ def simulate(*, xi=None, coin=None, count=None, quarters=None, diameter=None, th
         raise usage_error("--stream prints one letter a line; it takes no --format or --quiet")
     physics = BO.parse_physics(BO.landing_of(landing), surface=surface, restitution=restitution,
                                friction=friction, torsional=torsional, rolling=rolling,
-                               height=release_height, vx=vx, jobs=jobs, dt=dt, t_max=t_max)
+                               height=release_height, vx=vx, jobs=jobs, dt=dt, t_max=t_max,
+                               calibration=calibration)
     if physics is not None and stream:
         raise usage_error("--stream goes with --landing catch (a bounce run prints its summary)")
     if physics is not None and contact.strip().lower() != "rim":
