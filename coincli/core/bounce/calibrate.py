@@ -344,7 +344,7 @@ def _minimize(obj, k):
 def _grid(k):
     import numpy as np
 
-    m = {1: 2001, 2: 201, 3: 41}[k]
+    m = {1: 1001, 2: 121, 3: 35}[k]
     axis = np.linspace(-1.0, 1.0, m)
     mesh = np.meshgrid(*([axis] * k), indexing="ij")
     return axis, np.column_stack([g.ravel() for g in mesh])

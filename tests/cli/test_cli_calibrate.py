@@ -1,0 +1,84 @@
+"""``coin fit --landing bounce`` on the engine, small: one prototype, friction alone, 32
+simulated tosses a designed table (160 in all); the calibration file under ``coin simulate``
+and ``coin design``; what is refused.  The method's statistics are tests/core/test_calibrate.py;
+its round trip on the engine is benchmarks/calibration_roundtrip.py."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+from cli_helpers import error
+
+from coincli import api
+
+pytest.importorskip("mujoco")
+
+FIT = ["--landing", "bounce", "--fit", "friction", "--design-tosses", "32", "--dt", "2e-4",
+       "--seed", "3"]
+
+
+@pytest.fixture(scope="module")
+def tosses(tmp_path_factory):
+    path = tmp_path_factory.mktemp("cal") / "tosses.csv"
+    path.write_text("label,coin,count,heads,sides,tails\nthree quarters,quarter,3,14,3,15\n")
+    return path
+
+
+def test_fit_saves_a_calibration_the_other_commands_take(coin, tosses, tmp_path):
+    cal = tmp_path / "table.json"
+    rc, out, err = coin("fit", tosses, *FIT, "--jobs", "2", "--save", cal, "-f", "json")
+    assert rc == 0, err
+    row = json.loads(out)[0]
+    for key in ("friction", "friction_low", "friction_high", "p_value", "method", "seed"):
+        assert key in row
+    assert row["friction_low"] <= row["friction"] <= row["friction_high"]
+    assert row["restitution"] == 0.5 and row["seed"] == 3  # wood's, fixed
+    assert row["simulated"] == 5 * 32 and row["df"] == 1
+    # the same seed gives the same row, with one worker or two, from Python too
+    assert api.fit(str(tosses), landing="bounce", fit="friction", design_tosses=32, dt=2e-4,
+                   seed=3, jobs=1) == [row]
+    saved = json.loads(cal.read_text())
+    assert saved["format"] == "coin-calibration" and saved["version"] == 1
+    assert saved["parameters"]["friction"]["estimate"] == row["friction"]
+    assert saved["diameter_mm"] == 24.26 and saved["data"][0]["heads"] == 14
+    # the calibrated table under coin simulate
+    rc, out, err = coin("simulate", "--xi", "0.5", "-n", "8", "--seed", "1", "--landing",
+                        "bounce", "--calibration", cal, "--jobs", "1", "-f", "json")
+    assert rc == 0, err
+    sim = json.loads(out)
+    assert sim[0]["surface"] == "calibrated" and sim[0]["friction"] == row["friction"]
+    # design for it: the intervals hold the calibration's uncertainty
+    rc, out, err = coin("design", "-p", "1/3", "--landing", "bounce", "--calibration", cal,
+                        "--max-tosses", "180", "--seed", "2", "--jobs", "1", "-f", "json")
+    assert rc == 0 and "stopped before --tol" in err
+    d = json.loads(out)[0]
+    assert d["xi_low"] < d["xi"] < d["xi_high"]
+    assert d["thickness_low_mm"] == pytest.approx(24.26 * d["xi_low"])
+    assert d["thickness_high_mm"] == pytest.approx(24.26 * d["xi_high"])
+    assert d["sd_ln_xi_calibration"] > 0 and d["dominant"] in ("simulation", "calibration")
+    # what does not go with a calibration
+    error(coin("simulate", "--xi", "0.5", "--landing", "bounce", "--calibration", cal,
+               "--friction", "0.4"), 2, "--friction cannot go with --calibration")
+    error(coin("simulate", "--xi", "0.5", "--landing", "bounce", "--calibration", cal,
+               "--release-height", "300"), 2, "--release-height 300 mm differs from the "
+          "calibration's 0 mm")
+    error(coin("design", "-p", "1/3", "--landing", "bounce", "--calibration", cal, "--u", "3"),
+          2, "--u 3 m/s differs from the calibration's")
+    error(coin("simulate", "--xi", "0.5", "--calibration", cal), 2,
+          "--calibration goes with --landing bounce")
+
+
+def test_fit_refuses_in_one_line(coin, tosses, tmp_path):
+    error(coin("fit", tosses, "--landing", "bounce", "--fit", "spin"), 2,
+          "--fit takes restitution, friction and psi-spread")
+    error(coin("fit", tosses, "--landing", "bounce", "--friction", "0.3"), 2,
+          "--friction cannot go with --fit restitution,friction")
+    error(coin("fit", tosses, "--seed", "1"), 2, "--seed goes with --landing bounce")
+    two = tmp_path / "two.csv"
+    two.write_text("coin,heads,sides,tails\nquarter,5,5,5\nnickel,5,5,5\n")
+    error(coin("fit", two, "--landing", "bounce"), 2, "one table and one coin size")
+    bad = tmp_path / "bad.json"
+    bad.write_text("{}")
+    error(coin("design", "-p", "1/3", "--landing", "bounce", "--calibration", bad), 2,
+          "is not a table calibration")
