@@ -12,7 +12,8 @@ The true tables are drawn from restitution uniform on [0.15, 0.8] and friction l
 [0.08, 0.8] (inside the designed range, not on its grid), seed 20261127.  The surface is the
 one ``coin fit --landing bounce --seed 1 --dt 2e-4 --design-tosses 128`` simulates for these
 prototypes (4 x 4 design, 16 groups of 8 tosses a point; dt = 2e-4 s halves the cost, and
-docs/bounce.md's convergence study finds it agrees with the default); each table's tosses have their own seed (1000 + table).  Stages
+docs/bounce.md's convergence study finds it agrees with the default); each table's tosses have
+their own seed (1000 + table).  Stages
 keep their counts in a cache (``--cache``, default /tmp/coin-calibration-roundtrip.json), so
 that ``fit`` re-reads them.
 """
@@ -115,9 +116,9 @@ def fit(cache):
         print(f"surface at xi = {xi}: deviance {sf.deviance:.1f} on {sf.df} df (common random "
               "numbers: not a chi-square)")
     print("| table | true restitution | fitted [95%] | true friction | fitted [95%] | fit p | "
-          "surface's share |\n|---|---|---|---|---|---|---|")
-    hold = {n: 0 for n in NAMES}
-    pv = []
+          "surface's share | fair xi: true table, calibrated |\n|---|---|---|---|---|---|---|---|")
+    hold = dict.fromkeys(NAMES, 0)
+    pv, gaps = [], []
     for i, t in enumerate(cache["tables"]):
         data = [(c[0], c[1], c[2], c[0] + c[1] + c[2]) for c in t["counts"]]
         f = C.fit_table(NAMES, pts, counts, data)
@@ -129,10 +130,31 @@ def fit(cache):
                       f"{f.high[name]:.3f}]{'' if ok else ' MISS'}"]
         pv.append(f.p_value)
         share = "/".join(f"{f.surface_share[n]:.2f}" for n in NAMES)
-        print(f"| {i} | " + " | ".join(cells) + f" | {f.p_value:.2f} | {share} |")
+        ft, fc = fair_xi(f.surfaces, t), fair_xi(f.surfaces, f.estimate)
+        gaps.append(abs(math.log(fc / ft)))
+        print(f"| {i} | " + " | ".join(cells) + f" | {f.p_value:.2f} | {share} | {ft:.3f}, "
+              f"{fc:.3f} |")
     k = len(cache["tables"])
     print(f"\ncoverage of the 95% intervals: restitution {hold['restitution']}/{k}, friction "
           f"{hold['friction']}/{k}; fit p < 0.05 in {sum(p < 0.05 for p in pv)}/{k}")
+    gaps.sort()
+    print(f"fair xi, calibrated against true (both read off the surface, probit in ln xi "
+          f"through the two prototypes): median |ln ratio| {gaps[len(gaps) // 2]:.3f}, "
+          f"largest {gaps[-1]:.3f}")
+
+
+def fair_xi(surfaces, params):
+    """The xi at which P(sides) = 1/3 on a table: the surface's P(sides) at the two
+    prototypes, a straight line in (ln xi, probit), solved (extrapolated when 1/3 lies
+    outside)."""
+    import numpy as np
+    from scipy.special import ndtri
+
+    u = np.array([[C.to_coords(n, params[n]) for n in NAMES]])
+    z = [float(ndtri(s.probs(u)[0][1])) for s in surfaces]
+    x = [math.log(v) for v in PROTOTYPES]
+    slope = (z[1] - z[0]) / (x[1] - x[0])
+    return math.exp(x[0] + (float(ndtri(1 / 3)) - z[0]) / slope)
 
 
 def main(argv):

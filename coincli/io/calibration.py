@@ -67,8 +67,8 @@ def load(path: str) -> dict:
     except ValueError:
         cal = None
     if not isinstance(cal, dict) or cal.get("format") != FORMAT:
-        raise CalibrationError(f"--calibration {path} is not a table calibration (expected the JSON that coin "
-                               "fit --landing bounce --save writes)")
+        raise CalibrationError(f"--calibration {path} is not a table calibration (expected the "
+                               "JSON that coin fit --landing bounce --save writes)")
     if cal.get("version") != VERSION:
         raise CalibrationError(f"--calibration {path} is a calibration of format version "
                                f"{cal.get('version')!r}; this coin reads version {VERSION} "
@@ -78,10 +78,11 @@ def load(path: str) -> dict:
         if kind is float and isinstance(v, int) and not isinstance(v, bool):
             v = cal[key] = float(v)
         if not isinstance(v, kind) or isinstance(v, bool):
-            raise CalibrationError(f"--calibration {path}: a calibration's {key!r} is missing or malformed")
+            raise CalibrationError(f"--calibration {path}: a calibration's {key!r} is missing "
+                                   "or malformed")
     for name in cal["fitted"]:
         par = cal["parameters"].get(name)
         if not (isinstance(par, dict) and isinstance(par.get("estimate"), (int, float))):
-            raise CalibrationError(f"--calibration {path}: a calibration's parameter {name!r} is missing or "
-                                   "malformed")
+            raise CalibrationError(f"--calibration {path}: a calibration's parameter {name!r} "
+                                   "is missing or malformed")
     return cal

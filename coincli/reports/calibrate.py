@@ -62,7 +62,7 @@ def _shown(v, unit: str, scale: float = 1.0) -> str:
     return f"{v.scaled(scale)} {unit}"
 
 
-# --------------------------------------------------------------------------- coin fit --landing bounce
+# --------------------------------------------------------------------------- coin fit, bounce
 
 
 def _fit_names(text: str | None) -> tuple:
@@ -417,8 +417,8 @@ def design(p, *, targets, seed, tol, max_tosses, time_limit, given, diameter, g,
         warn.append(f"the calibration's prototypes were {cal['diameter_mm']:g} mm across, this "
                     f"design is for {diameter * 1000:g} mm: the table's parameters carry over, "
                     "the fit's check on your counts does not")
-    kw = dict(u=u_spec, omega=w_spec, psi=psi_spec, landing="bounce", height=p.height, vx=p.vx,
-              diameter=diameter, g=g, dt=p.dt, t_max=p.t_max, jobs=p.jobs)
+    kw = {"u": u_spec, "omega": w_spec, "psi": psi_spec, "landing": "bounce", "height": p.height,
+          "vx": p.vx, "diameter": diameter, "g": g, "dt": p.dt, "t_max": p.t_max, "jobs": p.jobs}
     names = cal["fitted"]
     est = {n: cal["parameters"][n]["estimate"] for n in names}
     cov = np.array(cal["covariance"], dtype=float)
@@ -433,7 +433,7 @@ def design(p, *, targets, seed, tol, max_tosses, time_limit, given, diameter, g,
                                                    strict=True)):
             slope = np.zeros(len(names))
             slope_var = np.zeros(len(names))
-            for i, n in enumerate(names):
+            for i, _n in enumerate(names):
                 ends = []
                 for sgn in (-1.0, 1.0):
                     u = u_hat.copy()

@@ -92,7 +92,7 @@ def test_common_random_numbers_share_launches_across_tables_not_across_groups():
 def test_round_trip_intervals_hold_the_truth(design):
     pts, counts = design
     rng = np.random.default_rng(5)
-    hold = {n: 0 for n in NAMES}
+    hold = dict.fromkeys(NAMES, 0)
     tables = 6
     for _ in range(tables):
         e, mu = rng.uniform(0.15, 0.8), math.exp(rng.uniform(math.log(0.08), math.log(0.8)))
