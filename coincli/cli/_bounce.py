@@ -37,8 +37,8 @@ JobsOpt = option("--jobs -j", "N", "Worker processes for --landing bounce, 1 to 
 DtOpt = option("--dt", "S", "MuJoCo's timestep, s (default 1e-4; see docs/bounce.md for the "
                "convergence study), 1e-6 to 1e-3.")
 CalibrationOpt = option("--calibration", "CAL.json", "With --landing bounce: your table, "
-                        "calibrated from tosses (coin fit --landing bounce FILE --save CAL.json); it "
-                        "replaces --surface and the friction options.")
+                        "calibrated from tosses (coin fit --landing bounce FILE --save "
+                        "CAL.json); it replaces --surface and the friction options.")
 TMaxOpt = option("--t-max", "S", "Simulated seconds after which a coin still moving counts as "
                  "unsettled (default 10).")
 
