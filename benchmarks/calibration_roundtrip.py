@@ -39,6 +39,7 @@ FIXED = {"u": HAND_TOSS["u"], "omega": HAND_TOSS["omega"], "psi": HAND_TOSS["psi
          "torsional": WOOD.torsional, "rolling": WOOD.rolling, "dt": DT}
 PER_GROUP = 8  # 16 groups of 8: 128 tosses of each prototype at each design point
 SEED = 1
+DEGREE = int(os.environ.get("COIN_ROUNDTRIP_DEGREE", "2"))
 CACHE = os.environ.get("COIN_ROUNDTRIP_CACHE", "/tmp/coin-calibration-roundtrip.json")
 
 
@@ -112,7 +113,7 @@ def fit(cache):
     s = cache["surface"]
     pts, counts = [tuple(p) for p in s["points"]], np.array(s["counts"])
     for j, xi in enumerate(PROTOTYPES):
-        sf = C.fit_surface(pts, counts[j].sum(axis=1))
+        sf = C.fit_surface(pts, counts[j].sum(axis=1), degree=DEGREE)
         print(f"surface at xi = {xi}: deviance {sf.deviance:.1f} on {sf.df} df (common random "
               "numbers: not a chi-square)")
     print("| table | true restitution | fitted [95%] | true friction | fitted [95%] | fit p | "
@@ -121,7 +122,7 @@ def fit(cache):
     pv, gaps = [], []
     for i, t in enumerate(cache["tables"]):
         data = [(c[0], c[1], c[2], c[0] + c[1] + c[2]) for c in t["counts"]]
-        f = C.fit_table(NAMES, pts, counts, data)
+        f = C.fit_table(NAMES, pts, counts, data, degree=DEGREE)
         cells = []
         for name in NAMES:
             ok = f.low[name] <= t[name] <= f.high[name]

@@ -81,16 +81,29 @@ def design_points(k: int, levels: int | None = None) -> list[tuple]:
     return [tuple(p) for p in itertools.product(axis, repeat=k)]
 
 
-def _terms(u):
-    """The quadratic's terms of scaled coordinates ``u`` (rows, k columns): 1, u_i, u_i u_j."""
+def _terms(u, degree=2):
+    """The polynomial's terms of scaled coordinates ``u`` (rows, k columns): 1, u_i, u_i u_j
+    (and u_i u_j u_l for ``degree`` 3)."""
+    import itertools
+
     import numpy as np
 
     u = np.atleast_2d(np.asarray(u, dtype=float))
-    cols = [np.ones(u.shape[0])]
     k = u.shape[1]
-    cols += [u[:, i] for i in range(k)]
-    cols += [u[:, i] * u[:, j] for i in range(k) for j in range(i, k)]
+    cols = [np.ones(u.shape[0])]
+    for d in range(1, degree + 1):
+        for combo in itertools.combinations_with_replacement(range(k), d):
+            cols.append(np.prod(u[:, list(combo)], axis=1))
     return np.column_stack(cols)
+
+
+def _degree(coef, k):
+    """The degree of a surface's coefficients (2, terms) in ``k`` coordinates."""
+    n = len(coef[0])
+    for d in (1, 2, 3, 4):
+        if math.comb(k + d, d) == n:
+            return d
+    raise ValueError(f"{n} coefficients are no polynomial in {k} coordinates")
 
 
 # --------------------------------------------------------------------------- simulations
@@ -191,7 +204,10 @@ class Surface:
 
     def probs(self, u):
         """(heads, sides, tails) chances at scaled coordinates ``u`` (rows): an (n, 3) array."""
-        return _probs(self.coef, _terms(u))
+        import numpy as np
+
+        u = np.atleast_2d(u)
+        return _probs(self.coef, _terms(u, _degree(self.coef, u.shape[1])))
 
 
 def _probs(coef, X):
@@ -206,14 +222,14 @@ def _probs(coef, X):
     return np.column_stack([e0 / s, e1 / s, e2 / s])
 
 
-def fit_surface(points, counts, ridge=1e-6) -> Surface:
+def fit_surface(points, counts, ridge=1e-6, degree=2) -> Surface:
     """The multinomial logit of :class:`Surface` fitted by Newton's method to ``counts`` (an
     array (points, 3): heads, sides, tails) at ``points`` (scaled coordinates).  ``ridge``: a
     tiny penalty that keeps a cell never seen from sending its coefficients to infinity."""
     import numpy as np
     from scipy.stats import chi2
 
-    X = _terms(points)
+    X = _terms(points, degree)
     y = np.asarray(counts, dtype=float)[:, :3]
     n = y.sum(axis=1)
     k = X.shape[1]
@@ -309,7 +325,7 @@ class _Objective:
     def __call__(self, u):
         import numpy as np
 
-        X = _terms(u)
+        X = _terms(u, _degree(self.full[0], np.atleast_2d(u).shape[1]))
         G = len(self.jack)
         q = np.zeros(X.shape[0])
         for j, datum in enumerate(self.data):
@@ -361,25 +377,23 @@ def _profile(q, axis, k, i, low):
 
 
 def _crossings(axis, dev, at, crit):
-    """The interval {u : dev(u) <= crit} around ``at`` on the grid, by linear interpolation;
-    an end that does not cross stays at -1 or 1."""
+    """The smallest interval holding every u with dev(u) <= crit (a profile with two valleys
+    gives one interval over both), its ends interpolated linearly on the grid; an end that
+    does not cross stays at -1 or 1."""
     import numpy as np
 
-    i0 = int(np.argmin(np.abs(axis - at)))
-    lo = -1.0
-    for i in range(i0, 0, -1):
-        if dev[i - 1] > crit >= dev[i]:
-            lo = axis[i - 1] + (crit - dev[i - 1]) / (dev[i] - dev[i - 1]) * (axis[i] - axis[i - 1])
-            break
-    hi = 1.0
-    for i in range(i0, axis.size - 1):
-        if dev[i + 1] > crit >= dev[i]:
-            hi = axis[i] + (crit - dev[i]) / (dev[i + 1] - dev[i]) * (axis[i + 1] - axis[i])
-            break
+    inside = np.nonzero(dev <= crit)[0]
+    if inside.size == 0:
+        return float(at), float(at)
+    i, j = int(inside[0]), int(inside[-1])
+    lo = -1.0 if i == 0 else float(axis[i - 1] + (crit - dev[i - 1]) / (dev[i] - dev[i - 1])
+                                   * (axis[i] - axis[i - 1]))
+    hi = 1.0 if j == axis.size - 1 else float(axis[j] + (crit - dev[j]) / (dev[j + 1] - dev[j])
+                                              * (axis[j + 1] - axis[j]))
     return float(min(lo, at)), float(max(hi, at))
 
 
-def fit_table(names, points, counts, data, *, level=0.95) -> TableFit:
+def fit_table(names, points, counts, data, *, level=0.95, degree=2) -> TableFit:
     """Estimate the table's parameters ``names`` from ``data`` (per prototype (heads, sides,
     tails, n); heads and tails None when only sides out of n were counted) on the surfaces
     fitted to ``counts`` (:func:`run_design`'s array) at ``points``: the minimum of Q
@@ -394,12 +408,16 @@ def fit_table(names, points, counts, data, *, level=0.95) -> TableFit:
     P, _, G, _ = counts.shape
     if len(data) != P:
         raise ValueError("one count of tosses per prototype")
-    surfaces = [fit_surface(points, counts[j].sum(axis=1)) for j in range(P)]
+    # unsettled tosses are left out, as everywhere; leaving out the designed tables where many
+    # are unsettled made the engine's round trip worse (the quadratic then extrapolates there)
+    pooled = counts.sum(axis=2)  # (P, points, 4)
+    surfaces = [fit_surface(points, pooled[j], degree=degree) for j in range(P)]
     full = [s.coef for s in surfaces]
     jack = []
     for g in range(G):
         keep = [h for h in range(G) if h != g]
-        jack.append([fit_surface(points, counts[j][:, keep].sum(axis=1)).coef for j in range(P)])
+        jack.append([fit_surface(points, counts[j][:, keep].sum(axis=1), degree=degree).coef
+                     for j in range(P)])
     obj = _Objective(full, jack, data)
     u_hat, q_hat, q, axis = _minimize(obj, k)
     exact = _Objective(full, jack, data, surface_error=False)
@@ -440,7 +458,7 @@ def fit_table(names, points, counts, data, *, level=0.95) -> TableFit:
     except np.linalg.LinAlgError:  # flat in some direction: the interval's width instead
         cov = np.diag([((to_coords(n, high[n]) - to_coords(n, low[n])) / 3.92) ** 2
                        for n in names])
-    pred = [_probs(c, _terms(u_hat[None, :]))[0] for c in full]
+    pred = [_probs(c, _terms(u_hat[None, :], degree))[0] for c in full]
     cells = sum(len(_cells(d)[1]) for d in data)
     dev_total = 0.0
     for p, (hh, ss, tt, n) in zip(pred, data, strict=True):
