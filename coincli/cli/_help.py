@@ -23,7 +23,8 @@ PANELS = (
                      "--delimiter")),
     ("Table (--landing bounce)", ("--landing", "--surface", "--restitution", "--friction",
                                   "--torsional", "--rolling", "--release-height", "--vx", "--dt",
-                                  "--t-max", "--jobs", "--max-tosses", "--time-limit")),
+                                  "--t-max", "--jobs", "--max-tosses", "--time-limit",
+                                  "--calibration", "--fit", "--save", "--design-tosses")),
     ("Accuracy", ("--tol", "--method", "--alpha", "--confidence")),
     ("Figure", ("--log", "--xi-range", "--terminal", "--dpi", "--width", "--height", "--title")),
     ("Output", ("--format", "--no-headers", "--quiet", "--out")),
@@ -32,11 +33,11 @@ BOUNCE_PANEL = "Table (--landing bounce)"
 #: options that belong to the bouncing table in a command where they mean nothing else
 BOUNCE_ONLY = {"design": ("--u", "--omega", "--seed"), "sides": ("--seed", "--tosses"),
                "table": ("--u", "--omega", "--tosses"),
-               "check": ("--u", "--omega", "--seed", "--psi")}
+               "check": ("--u", "--omega", "--seed", "--psi"), "fit": ("--seed",)}
 SUMMARY_LIMIT = 200  #: a command summary in a listing is its first sentence, up to this long
 
 #: the values an option completes to (shell completion); files complete as files
-_FILES = ("--data", "--out", "file")
+_FILES = ("--data", "--out", "file", "--calibration", "--save")
 
 
 def _panel_of(command: str, param) -> str:
