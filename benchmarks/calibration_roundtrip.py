@@ -39,7 +39,7 @@ FIXED = {"u": HAND_TOSS["u"], "omega": HAND_TOSS["omega"], "psi": HAND_TOSS["psi
          "torsional": WOOD.torsional, "rolling": WOOD.rolling, "dt": DT}
 PER_GROUP = 8  # 16 groups of 8: 128 tosses of each prototype at each design point
 SEED = 1
-DEGREE = int(os.environ.get("COIN_ROUNDTRIP_DEGREE", "2"))
+DEGREE = int(os.environ.get("COIN_ROUNDTRIP_DEGREE", C.default_degree(len(NAMES))))
 CACHE = os.environ.get("COIN_ROUNDTRIP_CACHE", "/tmp/coin-calibration-roundtrip.json")
 
 

