@@ -474,7 +474,7 @@ def bounce_design(physics, *, p_sides, psi, psi_dist, u, omega, diameter, coin, 
 
 
 #: what a design on a preset cannot say: how far another table moves it (docs/bounce.md)
-PRESET_SPREAD = ("The interval is the simulation's alone: your table is not a preset.  Over "
+PRESET_SPREAD = ("Your table is not a preset either.  Over "
                  "docs/bounce.md's sensitivity table (other tables and tosses) the fair xi "
                  "runs from 0.25 (friction 0.6) to 0.81 (psi exactly 90), 0.445 on rice; "
                  "calibrate your table from tosses of two prototypes (coin fit --landing bounce "
