@@ -166,7 +166,7 @@ def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
           psi=None, psi_dist=None, all=None, vs=None, tol=None, method=None,
           seed=None, layout=None, landing=None, surface=None, restitution=None, friction=None,
           torsional=None, rolling=None, release_height=None, vx=None, u=None, omega=None,
-          tosses=None, jobs=None, dt=None, t_max=None) -> list[dict]:
+          tosses=None, jobs=None, dt=None, t_max=None, calibration=None) -> list[dict]:
     """The chances of heads, sides and tails under every model: ``coin table``; with
     ``landing="bounce"``, simulated on tables (a parameter study).
 
@@ -205,6 +205,9 @@ def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
         ranges: a row each) and the launch, as the options of the same names.
     u, omega, tosses, jobs, dt, t_max : optional
         With ``landing="bounce"``: the launch, the tosses a cell and the simulation's limits.
+    calibration : str, optional
+        With ``landing="bounce"``: a calibration file (``coin fit --landing bounce --save``):
+        its table and its launch.
 
     Returns
     -------
@@ -528,8 +531,8 @@ def check(*, xi=None, quarters=None, coin=None, count=None, diameter=None, thick
           heads=None, sides=None, tails=None, tosses=None, same=None, different=None,
           psi_dist=None, expect=None, fair=None, landing=None, surface=None, restitution=None,
           friction=None, torsional=None, rolling=None, release_height=None, vx=None, u=None,
-          omega=None, psi=None, seed=None, jobs=None, dt=None, t_max=None, alpha=None,
-          confidence=None) -> list[dict]:
+          omega=None, psi=None, seed=None, jobs=None, dt=None, t_max=None, calibration=None,
+          alpha=None, confidence=None) -> list[dict]:
     """``coin check``: are the tosses of one coin consistent with the models (with stated
     chances, with a simulated table)?
 
@@ -560,9 +563,9 @@ def check(*, xi=None, quarters=None, coin=None, count=None, diameter=None, thick
         ``"bounce"``: also test against the coin tossed on a table, simulated (MuJoCo, ten
         times the tosses, at least 4000, at most 10^5); the row's p-value is the exact
         conditional test that the two sets of counts share one set of chances.
-    surface, restitution, friction, torsional, rolling, release_height, vx, u, omega, psi, seed, jobs, dt, t_max : optional
-        With ``landing="bounce"``: the table, the launch and the seed of the simulated tosses,
-        as the options of the same names.
+    surface, restitution, friction, torsional, rolling, release_height, vx, u, omega, psi, seed, jobs, dt, t_max, calibration : optional
+        With ``landing="bounce"``: the table (or a calibration file: its table and launch),
+        the launch and the seed of the simulated tosses, as the options of the same names.
     alpha : str or float, optional
         Significance level of the verdicts (``0.05``, ``"1/20"``, ``"5%"``; default 0.05).
     confidence : str or float, optional

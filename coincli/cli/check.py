@@ -45,7 +45,8 @@ def _check_table() -> Group:
     from coincli.cli.design import DESIGN_TABLE
 
     return Group(
-        BOUNCE.only("landing", "surface", "restitution", "friction", "torsional", "rolling"),
+        BOUNCE.only("landing", "calibration", "surface", "restitution", "friction",
+                    "torsional", "rolling"),
         DESIGN_TABLE.only("u", "omega"),
         ("psi", option("--psi", "DEG", "With --landing bounce: a fixed launch angle psi "
                        "(degrees) instead of the hand toss's spread (or --psi-dist)."), None),

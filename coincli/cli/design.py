@@ -103,7 +103,8 @@ TABLE_OUTPUT = OUTPUT.but(quiet=option(
 #: ``--landing bounce`` of ``coin table``: a parameter study of tables, a row per coin and
 #: table (--restitution and --friction take lists and ranges as --xi does)
 TABLE_TABLE = Group(
-    BOUNCE.only("landing", "surface", "restitution", "friction", "torsional", "rolling").but(
+    BOUNCE.only("landing", "calibration", "surface", "restitution", "friction", "torsional",
+                "rolling").but(
         restitution=option("--restitution", "E", "With --landing bounce: the surface's "
                            "coefficient of restitution, 0.06 to 0.95; a list or a range "
                            "(0.3:0.7:0.1) is a study, a row each."),

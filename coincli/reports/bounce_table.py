@@ -22,7 +22,7 @@ from coincli.io import options
 from coincli.io.table import Column, Result
 from coincli.limits import MAX_BOUNCE_TOSSES, STANDARD_G
 from coincli.reports import bounce as BO
-from coincli.reports.launch import U_MAX, bounce_launch, bounded_number, core_call, reach
+from coincli.reports.launch import U_MAX, bounded_number, core_call, reach
 
 #: tosses a cell when -n is not given
 DEFAULT_TOSSES = 1000
@@ -59,7 +59,8 @@ def _coefficients(text: str | None, what: str, lo: float, hi: float) -> list[flo
 def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickness=None,
           psi=None, psi_dist=None, u=None, omega=None, tosses=None, seed=None, surface=None,
           restitution=None, friction=None, torsional=None, rolling=None, release_height=None,
-          vx=None, jobs=None, dt=None, t_max=None, wide=False, progress=None) -> Result:
+          vx=None, jobs=None, dt=None, t_max=None, calibration=None, wide=False,
+          progress=None) -> Result:
     """``coin table --landing bounce``: one row per coin and table (restitution, friction),
     each the frequencies of heads, sides and tails among ``tosses`` simulated tosses that
     settled, with 95% Wilson intervals, the unsettled count and the seed.  ``wide``: one row
@@ -70,7 +71,7 @@ def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
     physics = BO.parse_physics(
         "bounce", surface=surface, restitution=None if es is None else repr(es[0]),
         friction=None if mus is None else repr(mus[0]), torsional=torsional, rolling=rolling,
-        height=release_height, vx=vx, jobs=jobs, dt=dt, t_max=t_max)
+        height=release_height, vx=vx, jobs=jobs, dt=dt, t_max=t_max, calibration=calibration)
     base = physics.surface
     es = es or [base.restitution]
     mus = mus or [base.friction]
@@ -95,7 +96,9 @@ def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
     for k, x in enumerate(xis):
         BO.check_coin(physics, x, dia, xi_text=xi if len(xis) == 1 else repr(x),
                       diameter_text=diameter, thickness_text=thickness)
-    u_spec, w_spec, psi_spec, labels = bounce_launch(psi, psi_dist, u, omega)
+    from coincli.reports.calibrate import bounce_launch_for
+
+    u_spec, w_spec, psi_spec, labels = bounce_launch_for(physics, psi, psi_dist, u, omega)
     BO.check_speed(physics, reach(u_spec, U_MAX), STANDARD_G, u or "the hand toss's")
     seed_v = options.seed_value(seed)
     stacked = coins.counts is not None

@@ -384,6 +384,26 @@ def launch_of(cal: dict):
     return _dist_of(launch["u"]), _dist_of(launch["omega"]), psi
 
 
+def bounce_launch_for(p, psi, psi_dist, u, omega):
+    """The launch of a bouncing run (:func:`coincli.reports.launch.bounce_launch`: the three
+    specs and their description), or, on a calibrated table (``p.calibration``) with no launch
+    option typed, the calibration's own launch: the table was fitted for it.  A launch option
+    typed with a calibration is refused (the calibrated table holds for its launch)."""
+    from coincli.reports.launch import bounce_launch
+
+    if p.calibration is None:
+        return bounce_launch(psi, psi_dist, u, omega)
+    typed = [name for name, v in (("--u", u), ("--omega", omega), ("--psi", psi),
+                                  ("--psi-dist", psi_dist)) if v is not None]
+    path, cal = p.calibration
+    if typed:
+        raise usage_error(f"{', '.join(typed)}: the calibrated table ({path}) holds for the "
+                          "launch it was fitted with; leave the launch out, or fit the table "
+                          "again with it")
+    u_spec, w_spec, psi_spec = launch_of(cal)
+    return u_spec, w_spec, psi_spec, f"the calibration's launch ({path})"
+
+
 # --------------------------------------------------------------------------- coin design
 
 

@@ -387,7 +387,8 @@ def check(*, xi: str | None = None, quarters: str | None = None, coin: str | Non
           psi_dist: str | None = None, expect: str | None = None, fair: bool = False,
           landing: str = "catch", surface=None, restitution=None, friction=None,
           torsional=None, rolling=None, release_height=None, vx=None, u=None, omega=None,
-          psi=None, seed=None, jobs=None, dt=None, t_max=None, alpha: str = "0.05",
+          psi=None, seed=None, jobs=None, dt=None, t_max=None, calibration=None,
+          alpha: str = "0.05",
           confidence: str = "0.95", fmt: str = "table", quiet: bool = False):
     """What ``coin check`` prints: the observed frequencies with their intervals, and for each
     model the expected counts, the exact test's p-value, the log-likelihood and a verdict.
@@ -412,7 +413,7 @@ def check(*, xi: str | None = None, quarters: str | None = None, coin: str | Non
     bounce = _bounce_options(landing, surface=surface, restitution=restitution,
                              friction=friction, torsional=torsional, rolling=rolling,
                              height=release_height, vx=vx, jobs=jobs, dt=dt, t_max=t_max,
-                             u=u, omega=omega, psi=psi, seed=seed)
+                             calibration=calibration, u=u, omega=omega, psi=psi, seed=seed)
     if bounce is not None and (same is not None or different is not None):
         raise usage_error("--same/--different are caught flips: caught in the hand, they never "
                           "met a table; --landing bounce checks tosses that landed on one")
@@ -434,14 +435,15 @@ def check(*, xi: str | None = None, quarters: str | None = None, coin: str | Non
     _check_total(counts)
     dens = _densities(psi_dist) if bounce is None else {}
     sim = None
+    if bounce is not None:  # its own errors: a wrong option is exit 2, no settled toss exit 1
+        sim = _simulate_table(bounce, x, counts, xi=xi, diameter=diameter, thickness=thickness,
+                              coin_texts=(quarters, coin, count),
+                              launch=(u, omega, psi, psi_dist, seed))
     try:
         chances = stats.model_chances(x, dens) if math.isfinite(x) else {}
         if expected is not None:
             chances["expected"] = expected
-        if bounce is not None:
-            sim = _simulate_table(bounce, x, counts, xi=xi, diameter=diameter,
-                                  thickness=thickness, coin_texts=(quarters, coin, count),
-                                  launch=(u, omega, psi, psi_dist, seed))
+        if sim is not None:
             chances[sim.name] = sim.chances
         ch = stats.check_many([counts], x, chances, confidence=conf, alpha=a, labels=[label])
     except ValueError as exc:
@@ -538,7 +540,8 @@ def _simulate_table(physics, x, counts, *, xi, diameter, thickness, coin_texts, 
     from coincli.core.models import Outcome
     from coincli.limits import STANDARD_G
     from coincli.reports import bounce as BO
-    from coincli.reports.launch import U_MAX, bounce_launch, core_call, reach
+    from coincli.reports.calibrate import bounce_launch_for
+    from coincli.reports.launch import U_MAX, core_call, reach
     from coincli.reports.phase import diameter_m
 
     u, omega, psi, psi_dist, seed = launch
@@ -546,7 +549,7 @@ def _simulate_table(physics, x, counts, *, xi, diameter, thickness, coin_texts, 
                                  thickness, xi_rule="finite", command="coin check")
     dia = diameter_m(coins, diameter)
     BO.check_coin(physics, x, dia, xi_text=xi, diameter_text=diameter, thickness_text=thickness)
-    u_spec, w_spec, psi_spec, labels = bounce_launch(psi, psi_dist, u, omega)
+    u_spec, w_spec, psi_spec, labels = bounce_launch_for(physics, psi, psi_dist, u, omega)
     BO.check_speed(physics, reach(u_spec, U_MAX), STANDARD_G, u or "the hand toss's")
     least, times, most = SIM_TOSSES
     n = min(max(least, times * counts.n), most)

@@ -321,7 +321,8 @@ def table(*, xi: str | None = None, coin: str | None = None, count: str | None =
           method: str | None = None, seed: str | None = None, layout: str | None = None,
           landing: str = "catch", surface=None, restitution=None, friction=None,
           torsional=None, rolling=None, release_height=None, vx=None, u=None, omega=None,
-          tosses: str | None = None, jobs=None, dt=None, t_max=None, fmt: str = "table",
+          tosses: str | None = None, jobs=None, dt=None, t_max=None, calibration=None,
+          fmt: str = "table",
           quiet: bool = False, progress=None) -> Result:
     """``coin table``: the chances of heads, sides and tails of each coin under each model (the
     closed forms, Table I at each ``psi``, psi densities with ``psi_dist`` or ``all``); with
@@ -337,7 +338,7 @@ def table(*, xi: str | None = None, coin: str | None = None, count: str | None =
     check_format(fmt)
     wide = layout_value(layout, quiet)
     bouncing = (surface, restitution, friction, torsional, rolling, release_height, vx, jobs,
-                dt, t_max)
+                dt, t_max, calibration)
     if landing.strip().lower() != "catch" or any(v is not None for v in bouncing):
         from coincli.reports.bounce import landing_of, parse_physics
 
@@ -345,7 +346,7 @@ def table(*, xi: str | None = None, coin: str | None = None, count: str | None =
         if landing == "catch":
             parse_physics("catch", surface=surface, restitution=restitution, friction=friction,
                           torsional=torsional, rolling=rolling, height=release_height, vx=vx,
-                          jobs=jobs, dt=dt, t_max=t_max)
+                          jobs=jobs, dt=dt, t_max=t_max, calibration=calibration)
     if landing == "bounce":
         for name, v in (("--vs", vs), ("--all", all or None), ("--tol", tol),
                         ("--method", method)):
@@ -359,7 +360,8 @@ def table(*, xi: str | None = None, coin: str | None = None, count: str | None =
             thickness=thickness, psi=psi, psi_dist=psi_dist, u=u, omega=omega, tosses=tosses,
             seed=seed, surface=surface, restitution=restitution, friction=friction,
             torsional=torsional, rolling=rolling, release_height=release_height, vx=vx,
-            jobs=jobs, dt=dt, t_max=t_max, wide=wide, progress=progress)
+            jobs=jobs, dt=dt, t_max=t_max, calibration=calibration, wide=wide,
+            progress=progress)
     options.refuse_old_count(tosses, "coin table --coin quarter --count {n}")
     for name, v in (("--u", u), ("--omega", omega)):
         if v is not None:

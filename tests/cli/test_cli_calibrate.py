@@ -57,6 +57,31 @@ def test_fit_saves_a_calibration_the_other_commands_take(coin, tosses, tmp_path)
     assert d["thickness_low_mm"] == pytest.approx(24.26 * d["xi_low"])
     assert d["thickness_high_mm"] == pytest.approx(24.26 * d["xi_high"])
     assert d["sd_ln_xi_calibration"] > 0 and d["dominant"] in ("simulation", "calibration")
+    # coin table and coin check on the calibrated table, with its launch
+    rc, out, err = coin("table", "--landing", "bounce", "--xi", "0.5", "-n", "8", "--seed", "1",
+                        "--calibration", cal, "--jobs", "1", "-f", "json")
+    assert rc == 0, err
+    cell = json.loads(out)[0]
+    assert cell["surface"] == "calibrated" and cell["friction"] == row["friction"]
+    assert cell["settled"] + cell["unsettled"] == 8
+    from coincli.reports import check as R
+
+    saved_sims = R.SIM_TOSSES
+    R.SIM_TOSSES = (8, 1, 8)
+    try:
+        rc, out, err = coin("check", "--landing", "bounce", "--calibration", cal, "--xi", "0.5",
+                            "--heads", "3", "--sides", "2", "--tails", "3", "--seed", "1",
+                            "--jobs", "1", "-f", "json")
+    finally:
+        R.SIM_TOSSES = saved_sims
+    assert rc == 0, err
+    assert json.loads(out)[-1]["model"] == "bounce on calibrated"
+    for cmd in (["table", "--xi", "0.5"], ["check", "--xi", "0.5", "--heads", "1", "--sides",
+                                           "1", "--tails", "1"]):
+        error(coin(*cmd, "--landing", "bounce", "--calibration", cal, "--u", "3"), 2,
+              "--u: the calibrated table", "holds for the launch it was fitted with")
+        error(coin(*cmd, "--landing", "bounce", "--calibration", cal, "--friction", "0.4"), 2,
+              "--friction cannot go with --calibration")
     # what does not go with a calibration
     error(coin("simulate", "--xi", "0.5", "--landing", "bounce", "--calibration", cal,
                "--friction", "0.4"), 2, "--friction cannot go with --calibration")
