@@ -95,7 +95,8 @@ def design(*, p_sides, model=None, psi=None, psi_dist=None, diameter=None, thick
            coin=None, tol=None, method=None, landing=None, surface=None, restitution=None,
            friction=None, torsional=None, rolling=None, u=None, omega=None,
            release_height=None, vx=None, seed=None, max_tosses=None, time_limit=None,
-           jobs=None, dt=None, t_max=None) -> list[dict]:
+           jobs=None, scheduler=None, checkpoint=None, timeout=None, dt=None,
+           t_max=None) -> list[dict]:
     """The coin that lands on a side with the chance you want: ``coin design``.
 
     Parameters
@@ -127,6 +128,10 @@ def design(*, p_sides, model=None, psi=None, psi_dist=None, diameter=None, thick
         names (``coin design --help``).
     u, omega, seed, max_tosses, time_limit, jobs, dt, t_max : optional
         With ``landing="bounce"``: the launch, the seed and the simulation's limits.
+    scheduler, checkpoint, timeout : str, optional
+        With ``landing="bounce"``: a Dask scheduler (``"tcp://host:port"`` or ``"local"``)
+        to run the tosses on, a checkpoint file, and the cluster's timeout (s); see
+        ``docs/cluster.md``.
 
     Returns
     -------
@@ -408,7 +413,7 @@ def simulate(*, xi=None, coin=None, count=None, quarters=None, diameter=None, th
              u=None, omega=None, psi=None, psi_dist=None, tosses=None, seed=None, g=None,
              contact=None, landing=None, surface=None, restitution=None, friction=None,
              torsional=None, rolling=None, release_height=None, vx=None, jobs=None, dt=None,
-             t_max=None) -> list[dict]:
+             t_max=None, scheduler=None, checkpoint=None, timeout=None) -> list[dict]:
     """Seeded tosses from random launches, as ``coin simulate --format json`` prints them:
     the frequency of each outcome with its 95% Wilson interval, next to the vigorous limit.
 
@@ -433,7 +438,9 @@ def simulate(*, xi=None, coin=None, count=None, quarters=None, diameter=None, th
     landing : {"catch", "bounce"}, optional
         ``"bounce"``: the coins land on a surface (MuJoCo), with ``surface``,
         ``restitution``, ``friction``, ``torsional``, ``rolling``, ``release_height``, ``vx``,
-        ``jobs``, ``dt``, ``t_max``.
+        ``jobs``, ``dt``, ``t_max``; ``scheduler`` (a Dask scheduler, ``"tcp://host:port"`` or
+        ``"local"``), ``checkpoint`` (a file) and ``timeout`` (s) run them on a cluster
+        and record them (``docs/cluster.md``).
 
     Returns
     -------

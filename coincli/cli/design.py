@@ -10,7 +10,7 @@ from typing import Annotated
 import typer
 
 from coincli.cli import _accuracy, _options, app
-from coincli.cli._bounce import BOUNCE
+from coincli.cli._bounce import BOUNCE, RUNS
 from coincli.cli._options import COINS, OUTPUT, Group, option, with_groups
 from coincli.io import options
 from coincli.io.table import emit_all
@@ -50,7 +50,7 @@ DESIGN_TABLE = Group(
     ("time_limit", option("--time-limit", "S", "With --landing bounce: stop at the end of the "
                           "first round after this many seconds (default 300); the note gives "
                           "the --max-tosses that reproduces the result."), None),
-    BOUNCE.only("jobs", "dt", "t_max"),
+    BOUNCE.only(*RUNS, "dt", "t_max"),
 )
 
 

@@ -180,7 +180,9 @@ def design(p_sides: str, *, model: str | None = None, psi: str | None = None,
            omega: str | None = None, release_height: str | None = None, vx: str | None = None,
            seed: str | None = None, max_tosses: str | None = None,
            time_limit: str | None = None, jobs: str | None = None, dt: str | None = None,
-           t_max: str | None = None, fmt: str = "table", quiet: bool = False, progress=None):
+           t_max: str | None = None, scheduler: str | None = None,
+           checkpoint: str | None = None, timeout: str | None = None, fmt: str = "table",
+           quiet: bool = False, progress=None):
     """``coin design``: the aspect ratio (and size, and nearest stack of a catalog coin) that
     lands on a side with the chance ``p_sides``, under a model; one row per target.
 
@@ -193,7 +195,8 @@ def design(p_sides: str, *, model: str | None = None, psi: str | None = None,
                    "--time-limit": time_limit}
     physics = _physics(landing, surface=surface, restitution=restitution, friction=friction,
                        torsional=torsional, rolling=rolling, height=release_height, vx=vx,
-                       jobs=jobs, dt=dt, t_max=t_max) \
+                       jobs=jobs, dt=dt, t_max=t_max, scheduler=scheduler,
+                       checkpoint=checkpoint, timeout=timeout) \
         if landing.strip().lower() == "bounce" or not any(
             v is not None for v in bounce_only.values()) else None
     if physics is None:
