@@ -109,6 +109,8 @@ class Cluster:
         _silence(logging)
         self.want = versions()
         where = "a LocalCluster" if self.address == LOCAL else f"the scheduler at {self.address}"
+        if self.address != LOCAL:
+            _probe(self.address, self.timeout)
         try:
             if self.address == LOCAL:
                 from coincli.core.bounce.runs import default_jobs
@@ -120,7 +122,7 @@ class Cluster:
             else:
                 self.client = distributed.Client(self.address, timeout=self.timeout,
                                                  set_as_default=False)
-        except (OSError, TimeoutError) as exc:
+        except Exception as exc:  # noqa: BLE001 - whatever Dask raises, one line
             self.close()
             raise NotComputable(f"cannot reach {where} within {self.timeout:g} s (--timeout): "
                                 f"{_reason(exc)}") from None
@@ -214,6 +216,43 @@ class Cluster:
         except (OSError, TimeoutError) as exc:
             raise NotComputable(f"lost the scheduler at {self.address} in the middle of the "
                                 f"run: {_reason(exc)}") from None
+
+
+def _probe(address: str, timeout: float) -> None:
+    """Before Dask's client is made (it can wait forever on a port that accepts and stays
+    silent): the address takes a TCP connection within ``timeout`` s and, for ``tcp://``,
+    answers as a Dask server does, with the length of its handshake (8 bytes, little-endian)."""
+    import select
+    import socket
+    import struct
+
+    scheme, _, rest = address.rpartition("://")
+    host, _, port = rest.rpartition(":")
+    host = host.strip("[]")
+    deadline = time.monotonic() + timeout
+    try:
+        sock = socket.create_connection((host, int(port)), timeout=timeout)
+    except TimeoutError:
+        raise NotComputable(f"cannot reach the scheduler at {address} within {timeout:g} s "
+                            "(--timeout): no answer") from None
+    except OSError as exc:
+        raise NotComputable(f"cannot reach the scheduler at {address}: "
+                            f"{exc.strerror or _reason(exc)}") from None
+    with sock:
+        if scheme not in ("", "tcp"):
+            return
+        head = b""
+        while len(head) < 8:
+            left = deadline - time.monotonic()
+            ready = select.select([sock], [], [], max(left, 0.0))[0] if left > 0 else []
+            chunk = sock.recv(8 - len(head)) if ready else b""
+            if not chunk:
+                raise NotComputable(f"{address} took the connection but did not answer as a "
+                                    f"Dask scheduler within {timeout:g} s (--timeout)")
+            head += chunk
+        size = struct.unpack("<Q", head)[0]
+        if not 0 < size < 1 << 24:
+            raise NotComputable(f"{address} answered, but not as a Dask scheduler")
 
 
 def _silence(logging) -> None:
