@@ -29,6 +29,7 @@ __all__ = ["Cluster", "versions", "LOCAL"]
 
 LOCAL = "local"  #: the address that starts a LocalCluster on this machine
 POLL = 0.2  #: s between looks at the futures, the scheduler and the workers (Ctrl-C is seen)
+FETCH = 2.0  #: s to fetch a finished chunk's rows before looking again (its worker may be gone)
 
 
 def versions() -> dict:
@@ -164,6 +165,7 @@ class Cluster:
                                               for k, _ in work])
         pending = dict(zip(futures, work, strict=True))
         ready = distributed.as_completed(futures, loop=client.loop)
+        del futures  # a chunk's result is released on the cluster once it is here
         quiet_since = None  # since when the scheduler, or every worker, is gone
         try:
             while pending:
@@ -171,8 +173,12 @@ class Cluster:
                 if not done:
                     time.sleep(POLL)
                 for fut in done:
-                    job = pending.pop(fut)
-                    yield self._result(fut, job)
+                    got = self._result(fut, pending[fut])
+                    if got is None:  # lost with its worker before it was fetched: again
+                        ready.add(fut)
+                        continue
+                    del pending[fut]
+                    yield got
                 if not pending:
                     break
                 lost = self._lost()
@@ -202,10 +208,16 @@ class Cluster:
         return None
 
     def _result(self, fut, job):
+        """``(k, rows)`` of a completed chunk; None when its result was lost with the worker
+        that held it (Dask computes it again)."""
         import distributed
 
+        if fut.status not in ("finished", "error", "cancelled"):
+            return None
         try:
-            return fut.result()
+            return fut.result(timeout=FETCH)
+        except TimeoutError:
+            return None
         except distributed.KilledWorker as exc:
             raise NotComputable(f"{_tosses(job)} killed every worker that ran them (Dask's "
                                 f"KilledWorker: {_reason(exc)}); run them with --jobs 1 to see "
@@ -213,7 +225,7 @@ class Cluster:
         except distributed.client.FutureCancelledError:
             raise NotComputable(f"lost the scheduler at {self.address} in the middle of the "
                                 "run") from None
-        except (OSError, TimeoutError) as exc:
+        except OSError as exc:
             raise NotComputable(f"lost the scheduler at {self.address} in the middle of the "
                                 f"run: {_reason(exc)}") from None
 
