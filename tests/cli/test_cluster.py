@@ -4,8 +4,8 @@ A real ``dask scheduler`` and two ``dask worker`` processes (no nanny: a killed 
 dead) are started on 127.0.0.1 (a free port, every process stopped by the fixture's finalizer
 whatever happens).  The tests run in this file's order on one cluster, which they wear down: a
 worker killed, then a chunk that kills every worker, then the scheduler killed.  The runs are
-about 600 tosses in all (about 17 ms of CPU each); the processes' start-up costs as much.  The reference is always the local pool (``--jobs 2``) of the
-same seed: the same bytes.
+about 600 tosses in all (about 17 ms of CPU each); the processes' start-up costs as much.
+The reference is always the local pool (``--jobs 2``) of the same seed: the same bytes.
 """
 
 from __future__ import annotations
