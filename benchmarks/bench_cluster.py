@@ -7,7 +7,7 @@ The same run (the hand toss onto wood, xi = 0.577, seed 1) timed, interleaved, o
 - each again with a checkpoint (``--checkpoint``; a file in a temporary directory, fsynced a
   chunk at a time);
 - a ``LocalCluster`` of 1 worker (the scale-out: 1 against 2 workers);
-- the cluster with chunks of 4, 16 (the default) and 64 tosses (the block size's effect).
+- the cluster with chunks of 16 (the default) and 64 tosses (the block size's effect).
 
 Wall clock and CPU (the client's and every worker's); medians.  The cluster's start-up (a
 ``LocalCluster``, or a connection) is timed once apart: it is paid once a command.  Finally the
@@ -85,7 +85,6 @@ def main():
                ("local pool, jobs=2, checkpoint", {"jobs": 2, "checkpoint": True}),
                ("LocalCluster, 2 workers, checkpoint", {"cl": two, "checkpoint": True}),
                ("LocalCluster, 1 worker", {"cl": one}),
-               ("LocalCluster, 2 workers, chunks of 4", {"cl": two, "chunk": 4}),
                ("LocalCluster, 2 workers, chunks of 64", {"cl": two, "chunk": 64})]
     times = {name: [] for name, _ in configs}
     counts = set()
@@ -105,7 +104,7 @@ def main():
         rows.append([name, f"{wall:.2f} s", f"{n / wall:.1f}", f"{wall / base_wall:.3f}",
                      f"{cpu / n * 1e3:.1f} ms", f"{cpu / base_cpu:.3f}"])
     # the scheduler's cost a task: chunks of 1 toss against chunks of 16, same tosses
-    m = 64
+    m = 32
     w1 = median([run(m, cl=two, chunk=1)[0] for _ in range(reps)])
     w16 = median([run(m, cl=two, chunk=16)[0] for _ in range(reps)])
     per_task = max(w1 - w16, 0.0) * 2 / (m - m / 16)  # 2 workers share the extra tasks
