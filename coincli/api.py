@@ -95,7 +95,8 @@ def design(*, p_sides, model=None, psi=None, psi_dist=None, diameter=None, thick
            coin=None, tol=None, method=None, landing=None, surface=None, restitution=None,
            friction=None, torsional=None, rolling=None, u=None, omega=None,
            release_height=None, vx=None, seed=None, max_tosses=None, time_limit=None,
-           jobs=None, dt=None, t_max=None, calibration=None) -> list[dict]:
+           jobs=None, scheduler=None, checkpoint=None, timeout=None, dt=None,
+           t_max=None, calibration=None) -> list[dict]:
     """The coin that lands on a side with the chance you want: ``coin design``.
 
     Parameters
@@ -131,6 +132,10 @@ def design(*, p_sides, model=None, psi=None, psi_dist=None, diameter=None, thick
         With ``landing="bounce"``: a calibration file (``fit(..., landing="bounce",
         save=...)``): the design is for that table, its intervals (``xi_low``, ``xi_high``,
         ``thickness_low_mm``, ``thickness_high_mm``) hold the calibration's uncertainty too.
+    scheduler, checkpoint, timeout : str, optional
+        With ``landing="bounce"``: a Dask scheduler (``"tcp://host:port"`` or ``"local"``)
+        to run the tosses on, a checkpoint file, and the cluster's timeout (s); see
+        ``docs/cluster.md``.
 
     Returns
     -------
@@ -166,7 +171,8 @@ def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
           psi=None, psi_dist=None, all=None, vs=None, tol=None, method=None,
           seed=None, layout=None, landing=None, surface=None, restitution=None, friction=None,
           torsional=None, rolling=None, release_height=None, vx=None, u=None, omega=None,
-          tosses=None, jobs=None, dt=None, t_max=None, calibration=None) -> list[dict]:
+          tosses=None, jobs=None, dt=None, t_max=None, calibration=None, scheduler=None,
+          checkpoint=None, timeout=None) -> list[dict]:
     """The chances of heads, sides and tails under every model: ``coin table``; with
     ``landing="bounce"``, simulated on tables (a parameter study).
 
@@ -208,6 +214,10 @@ def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
     calibration : str, optional
         With ``landing="bounce"``: a calibration file (``coin fit --landing bounce --save``):
         its table and its launch.
+    scheduler, checkpoint, timeout : str, optional
+        With ``landing="bounce"``: a Dask scheduler (``"tcp://host:port"`` or ``"local"``)
+        to run the cells' tosses on, a checkpoint file, and the cluster's timeout (s); see
+        ``docs/cluster.md``.
 
     Returns
     -------
@@ -416,7 +426,8 @@ def simulate(*, xi=None, coin=None, count=None, quarters=None, diameter=None, th
              u=None, omega=None, psi=None, psi_dist=None, tosses=None, seed=None, g=None,
              contact=None, landing=None, surface=None, restitution=None, friction=None,
              torsional=None, rolling=None, release_height=None, vx=None, jobs=None, dt=None,
-             t_max=None, calibration=None) -> list[dict]:
+             t_max=None, calibration=None, scheduler=None, checkpoint=None,
+             timeout=None) -> list[dict]:
     """Seeded tosses from random launches, as ``coin simulate --format json`` prints them:
     the frequency of each outcome with its 95% Wilson interval, next to the vigorous limit.
 
@@ -442,7 +453,9 @@ def simulate(*, xi=None, coin=None, count=None, quarters=None, diameter=None, th
         ``"bounce"``: the coins land on a surface (MuJoCo), with ``surface``,
         ``restitution``, ``friction``, ``torsional``, ``rolling``, ``release_height``, ``vx``,
         ``jobs``, ``dt``, ``t_max``; or ``calibration``, a file of ``fit(..., landing="bounce",
-        save=...)``: the calibrated table instead of the surface.
+        save=...)``: the calibrated table instead of the surface; ``scheduler`` (a Dask
+        scheduler, ``"tcp://host:port"`` or ``"local"``), ``checkpoint`` (a file) and
+        ``timeout`` (s) run them on a cluster and record them (``docs/cluster.md``).
 
     Returns
     -------
@@ -532,7 +545,8 @@ def check(*, xi=None, quarters=None, coin=None, count=None, diameter=None, thick
           psi_dist=None, expect=None, fair=None, landing=None, surface=None, restitution=None,
           friction=None, torsional=None, rolling=None, release_height=None, vx=None, u=None,
           omega=None, psi=None, seed=None, jobs=None, dt=None, t_max=None, calibration=None,
-          alpha=None, confidence=None) -> list[dict]:
+          scheduler=None, checkpoint=None, timeout=None, alpha=None,
+          confidence=None) -> list[dict]:
     """``coin check``: are the tosses of one coin consistent with the models (with stated
     chances, with a simulated table)?
 
@@ -563,7 +577,7 @@ def check(*, xi=None, quarters=None, coin=None, count=None, diameter=None, thick
         ``"bounce"``: also test against the coin tossed on a table, simulated (MuJoCo, ten
         times the tosses, at least 4000, at most 10^5); the row's p-value is the exact
         conditional test that the two sets of counts share one set of chances.
-    surface, restitution, friction, torsional, rolling, release_height, vx, u, omega, psi, seed, jobs, dt, t_max, calibration : optional
+    surface, restitution, friction, torsional, rolling, release_height, vx, u, omega, psi, seed, jobs, dt, t_max, calibration, scheduler, checkpoint, timeout : optional
         With ``landing="bounce"``: the table (or a calibration file: its table and launch),
         the launch and the seed of the simulated tosses, as the options of the same names.
     alpha : str or float, optional

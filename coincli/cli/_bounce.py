@@ -1,6 +1,8 @@
 """``--landing bounce``: the options shared by ``coin simulate``, ``coin toss``, ``coin design``
 and ``coin plot sides`` for tosses that land on a surface (issue 16), and the progress bar of a
-bounce design.
+bounce design.  Where the tosses run (``--jobs``, ``--scheduler``, ``--checkpoint``,
+``--timeout``: issue 26) is part of the group, so a command that runs bouncing tosses takes
+them all (``BOUNCE``, or ``BOUNCE.only(*RUNS)``); ``coin toss`` (one toss) takes none.
 
 These are the typer declarations, and their :class:`~coincli.cli._options.Group`
 (:data:`BOUNCE`); :mod:`coincli.reports.bounce` parses them and runs the
@@ -34,6 +36,14 @@ VxOpt = option("--vx", "SPEC", "With --landing bounce: horizontal speed, m/s (or
 JobsOpt = option("--jobs -j", "N", "Worker processes for --landing bounce, 1 to 1024 (default: "
                  "every core; more than the cores is capped at the cores, with a note).  The "
                  "results do not depend on it.")
+SchedulerOpt = option("--scheduler", "ADDRESS", "Run the tosses on a Dask cluster: the "
+                      "scheduler's tcp://HOST:PORT, or local for a LocalCluster here (default: "
+                      "$DASK_SCHEDULER_ADDRESS, else --jobs processes; pip install "
+                      "'thickcoin[cluster]').  The results do not depend on it.")
+CheckpointOpt = option("--checkpoint", "FILE", "Record the tosses done in FILE as they complete; "
+                       "the same command run again computes only what is missing.")
+TimeoutOpt = option("--timeout", "S", "With --scheduler: seconds to wait for the scheduler, a "
+                    "worker, or a scheduler lost mid-run (default 15).")
 DtOpt = option("--dt", "S", "MuJoCo's timestep, s (default 1e-4; see docs/bounce.md for the "
                "convergence study), 1e-6 to 1e-3.")
 CalibrationOpt = option("--calibration", "CAL.json", "With --landing bounce: your table, "
@@ -43,10 +53,14 @@ TMaxOpt = option("--t-max", "S", "Simulated seconds after which a coin still mov
                  "unsettled (default 10).")
 
 
+#: where the tosses of a run are computed: the local pool, a Dask cluster, a checkpoint
+RUNS = ("jobs", "scheduler", "checkpoint", "timeout")
 #: the table's options, in the order of ``--help``; a command takes those it has
 BOUNCE = Group(("landing", LandingOpt, "catch"), ("surface", SurfaceOpt, None),
                ("restitution", RestitutionOpt, None), ("friction", FrictionOpt, None),
                ("torsional", TorsionalOpt, None), ("rolling", RollingOpt, None),
                ("release_height", ReleaseHeightOpt, None), ("vx", VxOpt, None),
-               ("jobs", JobsOpt, None), ("dt", DtOpt, None), ("t_max", TMaxOpt, None),
+               ("jobs", JobsOpt, None), ("scheduler", SchedulerOpt, None),
+               ("checkpoint", CheckpointOpt, None), ("timeout", TimeoutOpt, None),
+               ("dt", DtOpt, None), ("t_max", TMaxOpt, None),
                ("calibration", CalibrationOpt, None))

@@ -41,7 +41,7 @@ FairOpt = option("--fair", None, "Also test against a fair three-sided coin: --e
 def _check_table() -> Group:
     """``--landing bounce`` of ``coin check``: the table your tosses are compared with, and the
     launch of the tosses simulated on it (as ``coin simulate`` takes them)."""
-    from coincli.cli._bounce import BOUNCE
+    from coincli.cli._bounce import BOUNCE, RUNS
     from coincli.cli.design import DESIGN_TABLE
 
     return Group(
@@ -51,7 +51,7 @@ def _check_table() -> Group:
         ("psi", option("--psi", "DEG", "With --landing bounce: a fixed launch angle psi "
                        "(degrees) instead of the hand toss's spread (or --psi-dist)."), None),
         DESIGN_TABLE.only("seed"),
-        BOUNCE.only("release_height", "vx", "jobs", "dt", "t_max"),
+        BOUNCE.only("release_height", "vx", *RUNS, "dt", "t_max"),
     )
 
 

@@ -10,7 +10,7 @@ from typing import Annotated
 import typer
 
 from coincli.cli import _accuracy, _options, app
-from coincli.cli._bounce import BOUNCE
+from coincli.cli._bounce import BOUNCE, RUNS
 from coincli.cli._options import COINS, OUTPUT, Group, option, with_groups
 from coincli.io import options
 from coincli.io.table import emit_all
@@ -50,7 +50,7 @@ DESIGN_TABLE = Group(
     ("time_limit", option("--time-limit", "S", "With --landing bounce: stop at the end of the "
                           "first round after this many seconds (default 300); the note gives "
                           "the --max-tosses that reproduces the result."), None),
-    BOUNCE.only("jobs", "dt", "t_max", "calibration"),
+    BOUNCE.only(*RUNS, "dt", "t_max", "calibration"),
 )
 
 
@@ -113,7 +113,7 @@ TABLE_TABLE = Group(
     DESIGN_TABLE.only("u", "omega"),
     ("tosses", option("-n --n --tosses", "N", "With --landing bounce: tosses simulated in each "
                       "cell (coin x restitution x friction), default 1000."), None),
-    BOUNCE.only("release_height", "vx", "jobs", "dt", "t_max"),
+    BOUNCE.only("release_height", "vx", *RUNS, "dt", "t_max"),
 )
 LayoutOpt = option("--layout", "long|wide", "long (default): a row per coin and model (per coin "
                    "and table with --landing bounce); wide: a row per coin, the models (tables) "

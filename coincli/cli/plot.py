@@ -14,7 +14,7 @@ from typing import Annotated
 import typer
 
 from coincli.cli import _options, _phase, app
-from coincli.cli._bounce import BOUNCE
+from coincli.cli._bounce import BOUNCE, RUNS
 from coincli.cli._options import COIN, COINS, Group, option, with_groups
 from coincli.reports import plot as report
 
@@ -51,7 +51,7 @@ XI_AXIS = Group(("log", LogOpt, False), ("xi_range", XiRangeOpt, None))
 #: ``--landing bounce`` of ``coin plot sides``: the surface, and the tosses simulated on it
 SIDES_TABLE = Group(BOUNCE.only("landing", "surface", "restitution", "friction"),
                     ("seed", _options.SeedOpt, None), ("tosses", _options.TossesOpt, None),
-                    BOUNCE.only("jobs", "calibration"))
+                    BOUNCE.only(*RUNS, "calibration"))
 #: where the figure goes, and its size and title
 FIGURE = Group(("out", OutOpt, None), ("terminal", TerminalOpt, False), ("dpi", DpiOpt, "150"),
                ("width", WidthOpt, None), ("height", HeightOpt, None), ("title", TitleOpt, None))

@@ -10,7 +10,7 @@ from __future__ import annotations
 import sys
 
 from coincli.cli import _phase, app
-from coincli.cli._bounce import BOUNCE
+from coincli.cli._bounce import BOUNCE, RUNS
 from coincli.cli._options import COIN, OUTPUT, SeedOpt, TossesOpt, XisOpt, option, with_groups
 from coincli.io.table import Result, emit_all
 from coincli.render.progress import tossing_bar
@@ -35,7 +35,7 @@ TrajectoryOpt = option("--trajectory", "FILE.csv", "With --landing bounce: write
                        "CSV file.")
 
 #: one coin, or (--xi) several; the table of one toss (no worker processes)
-TOSS_COIN, TOSS_TABLE = COIN.but(xi=XisOpt), BOUNCE.without("jobs")
+TOSS_COIN, TOSS_TABLE = COIN.but(xi=XisOpt), BOUNCE.without(*RUNS)
 
 
 @app.command("toss")

@@ -37,7 +37,8 @@ from coincli.reports.launch import (
 class Physics:
     """The parsed ``--landing bounce`` options (SI)."""
 
-    __slots__ = ("surface", "height", "vx", "jobs", "dt", "t_max", "B", "calibration")
+    __slots__ = ("surface", "height", "vx", "jobs", "dt", "t_max", "B", "calibration",
+                 "scheduler", "checkpoint", "timeout")
 
     def describe(self) -> str:
         s = self.surface
@@ -121,7 +122,8 @@ def _dist(text: str, what: str, unit: str, scale: float, hi: float):
 
 def parse_physics(landing: str, *, surface=None, restitution=None, friction=None,
                   torsional=None, rolling=None, height=None, vx=None, jobs=None, dt=None,
-                  t_max=None, calibration=None) -> Physics | None:
+                  t_max=None, calibration=None, scheduler=None, checkpoint=None,
+                  timeout=None) -> Physics | None:
     """The bounce options, or None for ``--landing catch`` (then none may be given).
     ``calibration``: a calibration file (:func:`coincli.reports.calibrate.apply`), the table
     instead of the surface options."""
@@ -131,7 +133,9 @@ def parse_physics(landing: str, *, surface=None, restitution=None, friction=None
                                       ("--rolling", rolling), ("--release-height", height),
                                       ("--vx", vx),
                                       ("--jobs", jobs), ("--dt", dt), ("--t-max", t_max),
-                                      ("--calibration", calibration))
+                                      ("--calibration", calibration),
+                                      ("--scheduler", scheduler), ("--checkpoint", checkpoint),
+                                      ("--timeout", timeout))
                  if v is not None]
         if extra:
             raise usage_error(f"{', '.join(extra)} go{'es' if len(extra) == 1 else ''} with "
@@ -180,6 +184,9 @@ def parse_physics(landing: str, *, surface=None, restitution=None, friction=None
         if p.jobs < int(j):  # more workers than cores only share them, and cost a process each
             sys.stderr.write(f"coin: note: --jobs {int(j)} capped at {p.jobs}, the cores this "
                              "process may use\n")
+    from coincli.reports.executor import parse_run
+
+    parse_run(p, jobs=jobs, scheduler=scheduler, checkpoint=checkpoint, timeout=timeout)
     p.dt = B.DEFAULT_DT if dt is None else bounded_number(dt, "--dt", 1e-6, 1e-3)
     p.t_max = B.DEFAULT_T_MAX if t_max is None else bounded_number(t_max, "--t-max", 0.01,
                                                                     1000.0)
@@ -245,15 +252,18 @@ def simulate(p: Physics, *, count, seed, xi, u, omega, psi, diameter, g, labels,
     ``progress(total)``: a progress bar (a context manager giving ``tick(done)``), or None."""
     from coincli.core.bounce import runs
     from coincli.core.toss.simulate import wilson_interval
+    from coincli.reports.executor import executor
 
     if count > MAX_BOUNCE_TOSSES:
         raise usage_error(f"-n must be at most {MAX_BOUNCE_TOSSES} with --landing bounce (a "
                           f"simulated toss takes milliseconds), got {count}")
-    with (progress or no_progress)(count) as tick:
+    with executor(p, "coin simulate --landing bounce", **{
+            "-n": count, "--seed": seed, "--xi": xi, "--u": u, "--omega": omega, "--psi": psi,
+            "--diameter": diameter, "--g": g}) as run, (progress or no_progress)(count) as tick:
         sim = core_call(runs.simulate, count, seed, xi=xi, u=u, omega=omega, psi=psi,
                         surf=p.surface, landing="bounce", height=p.height, vx=p.vx,
                         diameter=diameter, g=g, dt=p.dt, t_max=p.t_max, jobs=p.jobs,
-                        progress=tick)
+                        progress=tick, executor=run)
     rows = []
     n = sim.n
     for i, f in enumerate(sim.frequencies):
@@ -375,12 +385,16 @@ def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, 
     :func:`bounce_design` prints them.  ``progress()``: a progress bar (a context manager
     giving ``tick(done, planned)``), or None."""
     from coincli.core.bounce import design as bounce_design
+    from coincli.reports.executor import executor
 
-    with (progress or no_progress)() as tick:
+    with executor(p, "coin design --landing bounce", **{
+            "--p-sides": targets, "--seed": seed, "--tol": tol, "--max-tosses": max_tosses,
+            "--time-limit": time_limit, "--u": u, "--omega": omega, "--psi": psi,
+            "--diameter": diameter, "--g": g}) as run, (progress or no_progress)() as tick:
         r = core_call(bounce_design.design, targets, seed=seed, tol=tol, max_tosses=max_tosses,
                       time_limit=time_limit, u=u, omega=omega, psi=psi, surf=p.surface,
                       landing="bounce", height=p.height, vx=p.vx, diameter=diameter, g=g,
-                      dt=p.dt, t_max=p.t_max, jobs=p.jobs, progress=tick)
+                      dt=p.dt, t_max=p.t_max, jobs=p.jobs, progress=tick, executor=run)
     dia_mm = diameter * 1000
     rows = [(t, x, lo, hi, dia_mm * x, dia_mm * lo, dia_mm * hi, float(f.p_sides(x)),
              f.p_value, len(f.points), r.tosses, r.seed)
@@ -544,15 +558,20 @@ def sides_points(p: Physics, *, seed, n, xis, u, omega, psi, diameter, g):
     from coincli.core.bounce import design as bounce_design
     from coincli.core.bounce import runs
     from coincli.render.figures import ExperimentPoint
+    from coincli.reports.executor import executor
 
     pts = []
-    for j, x in enumerate(xis):
-        r = core_call(runs.simulate, n, seed, xi=x, u=u, omega=omega, psi=psi, surf=p.surface,
-                 landing="bounce", height=p.height, vx=p.vx, diameter=diameter, g=g, dt=p.dt,
-                 t_max=p.t_max, jobs=p.jobs, stream=(0, j))
-        f = r.frequencies[1]
-        pts.append(ExperimentPoint(f"simulated bounce on {p.surface.name}", x, r.settled,
-                                   f.count, f.p, f.lo, f.hi, simulated=True))
+    with executor(p, "coin plot sides --landing bounce", **{
+            "--seed": seed, "-n": n, "--xi-range": xis, "--u": u, "--omega": omega,
+            "--psi": psi, "--diameter": diameter, "--g": g}) as run:
+        for j, x in enumerate(xis):
+            r = core_call(runs.simulate, n, seed, xi=x, u=u, omega=omega, psi=psi,
+                          surf=p.surface, landing="bounce", height=p.height, vx=p.vx,
+                          diameter=diameter, g=g, dt=p.dt, t_max=p.t_max, jobs=p.jobs,
+                          stream=(0, j), executor=run)
+            f = r.frequencies[1]
+            pts.append(ExperimentPoint(f"simulated bounce on {p.surface.name}", x, r.settled,
+                                       f.count, f.p, f.lo, f.hi, simulated=True))
     try:
         fit = bounce_design.fit_sides([(e.xi, e.n, e.sides) for e in pts])
     except ValueError as exc:

@@ -59,8 +59,8 @@ def _coefficients(text: str | None, what: str, lo: float, hi: float) -> list[flo
 def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickness=None,
           psi=None, psi_dist=None, u=None, omega=None, tosses=None, seed=None, surface=None,
           restitution=None, friction=None, torsional=None, rolling=None, release_height=None,
-          vx=None, jobs=None, dt=None, t_max=None, calibration=None, wide=False,
-          progress=None) -> Result:
+          vx=None, jobs=None, dt=None, t_max=None, calibration=None, scheduler=None,
+          checkpoint=None, timeout=None, wide=False, progress=None) -> Result:
     """``coin table --landing bounce``: one row per coin and table (restitution, friction),
     each the frequencies of heads, sides and tails among ``tosses`` simulated tosses that
     settled, with 95% Wilson intervals, the unsettled count and the seed.  ``wide``: one row
@@ -71,7 +71,8 @@ def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
     physics = BO.parse_physics(
         "bounce", surface=surface, restitution=None if es is None else repr(es[0]),
         friction=None if mus is None else repr(mus[0]), torsional=torsional, rolling=rolling,
-        height=release_height, vx=vx, jobs=jobs, dt=dt, t_max=t_max, calibration=calibration)
+        height=release_height, vx=vx, jobs=jobs, dt=dt, t_max=t_max, calibration=calibration,
+        scheduler=scheduler, checkpoint=checkpoint, timeout=timeout)
     base = physics.surface
     es = es or [base.restitution]
     mus = mus or [base.friction]
@@ -113,10 +114,16 @@ def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
             + BO.CONTACT_NOTE)
 
     def rows():
-        bar = progress() if progress is not None else None
-        try:
-            if bar is not None:
-                bar.__enter__()
+        from contextlib import ExitStack
+
+        from coincli.reports.executor import executor
+
+        with ExitStack() as stack:  # the cluster, the checkpoint and the bar, for the study
+            run = stack.enter_context(executor(physics, "coin table --landing bounce", **{
+                "-n": n, "--seed": seed_v, "--xi": xis, "cells": [
+                    f"{e!r}/{mu!r}" for e in es for mu in mus], "--u": u_spec,
+                "--omega": w_spec, "--psi": psi_spec, "--diameter": dia, "--g": STANDARD_G}))
+            bar = stack.enter_context(progress()) if progress is not None else None
             done = 0
             for k, e, mu in plan:
                 surf = replace(base, restitution=e, friction=mu)
@@ -125,12 +132,9 @@ def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
                                 psi=psi_spec, surf=surf, landing="bounce",
                                 height=physics.height, vx=physics.vx, diameter=dia,
                                 g=STANDARD_G, dt=physics.dt, t_max=physics.t_max,
-                                jobs=physics.jobs, progress=tick)
+                                jobs=physics.jobs, progress=tick, executor=run)
                 done += n
                 yield [[v] for v in _row(coins, k, xis[k], dia, surf, sim, stacked)]
-        finally:
-            if bar is not None:
-                bar.__exit__(None, None, None)
 
     if wide:
         return widen(columns, rows(), [(e, mu) for e in es for mu in mus], note)

@@ -388,7 +388,7 @@ def check(*, xi: str | None = None, quarters: str | None = None, coin: str | Non
           landing: str = "catch", surface=None, restitution=None, friction=None,
           torsional=None, rolling=None, release_height=None, vx=None, u=None, omega=None,
           psi=None, seed=None, jobs=None, dt=None, t_max=None, calibration=None,
-          alpha: str = "0.05",
+          scheduler=None, checkpoint=None, timeout=None, alpha: str = "0.05",
           confidence: str = "0.95", fmt: str = "table", quiet: bool = False):
     """What ``coin check`` prints: the observed frequencies with their intervals, and for each
     model the expected counts, the exact test's p-value, the log-likelihood and a verdict.
@@ -413,7 +413,9 @@ def check(*, xi: str | None = None, quarters: str | None = None, coin: str | Non
     bounce = _bounce_options(landing, surface=surface, restitution=restitution,
                              friction=friction, torsional=torsional, rolling=rolling,
                              height=release_height, vx=vx, jobs=jobs, dt=dt, t_max=t_max,
-                             calibration=calibration, u=u, omega=omega, psi=psi, seed=seed)
+                             calibration=calibration, scheduler=scheduler,
+                             checkpoint=checkpoint, timeout=timeout, u=u, omega=omega, psi=psi,
+                             seed=seed)
     if bounce is not None and (same is not None or different is not None):
         raise usage_error("--same/--different are caught flips: caught in the hand, they never "
                           "met a table; --landing bounce checks tosses that landed on one")
@@ -554,10 +556,15 @@ def _simulate_table(physics, x, counts, *, xi, diameter, thickness, coin_texts, 
     least, times, most = SIM_TOSSES
     n = min(max(least, times * counts.n), most)
     seed_v = options.seed_value(seed)
-    sim = core_call(runs.simulate, n, seed_v, xi=x, u=u_spec, omega=w_spec, psi=psi_spec,
-                    surf=physics.surface, landing="bounce", height=physics.height,
-                    vx=physics.vx, diameter=dia, g=STANDARD_G, dt=physics.dt,
-                    t_max=physics.t_max, jobs=physics.jobs)
+    from coincli.reports.executor import executor
+
+    with executor(physics, "coin check --landing bounce", **{
+            "-n": n, "--seed": seed_v, "--xi": x, "--u": u_spec, "--omega": w_spec,
+            "--psi": psi_spec, "--diameter": dia, "--g": STANDARD_G}) as run:
+        sim = core_call(runs.simulate, n, seed_v, xi=x, u=u_spec, omega=w_spec, psi=psi_spec,
+                        surf=physics.surface, landing="bounce", height=physics.height,
+                        vx=physics.vx, diameter=dia, g=STANDARD_G, dt=physics.dt,
+                        t_max=physics.t_max, jobs=physics.jobs, executor=run)
     h, s, t, unsettled = sim.counts
     if h + s + t == 0:
         raise compute_error(f"none of the {n} tosses simulated on {physics.surface.name} "

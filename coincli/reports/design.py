@@ -180,7 +180,9 @@ def design(p_sides: str, *, model: str | None = None, psi: str | None = None,
            omega: str | None = None, release_height: str | None = None, vx: str | None = None,
            seed: str | None = None, max_tosses: str | None = None,
            time_limit: str | None = None, jobs: str | None = None, dt: str | None = None,
-           t_max: str | None = None, calibration: str | None = None, fmt: str = "table",
+           t_max: str | None = None, calibration: str | None = None,
+           scheduler: str | None = None, checkpoint: str | None = None,
+           timeout: str | None = None, fmt: str = "table",
            quiet: bool = False, progress=None):
     """``coin design``: the aspect ratio (and size, and nearest stack of a catalog coin) that
     lands on a side with the chance ``p_sides``, under a model; one row per target.
@@ -194,7 +196,8 @@ def design(p_sides: str, *, model: str | None = None, psi: str | None = None,
                    "--time-limit": time_limit}
     physics = _physics(landing, surface=surface, restitution=restitution, friction=friction,
                        torsional=torsional, rolling=rolling, height=release_height, vx=vx,
-                       jobs=jobs, dt=dt, t_max=t_max, calibration=calibration) \
+                       jobs=jobs, dt=dt, t_max=t_max, calibration=calibration,
+                       scheduler=scheduler, checkpoint=checkpoint, timeout=timeout) \
         if landing.strip().lower() == "bounce" or not any(
             v is not None for v in bounce_only.values()) else None
     if physics is None:
@@ -322,7 +325,7 @@ def table(*, xi: str | None = None, coin: str | None = None, count: str | None =
           landing: str = "catch", surface=None, restitution=None, friction=None,
           torsional=None, rolling=None, release_height=None, vx=None, u=None, omega=None,
           tosses: str | None = None, jobs=None, dt=None, t_max=None, calibration=None,
-          fmt: str = "table",
+          scheduler=None, checkpoint=None, timeout=None, fmt: str = "table",
           quiet: bool = False, progress=None) -> Result:
     """``coin table``: the chances of heads, sides and tails of each coin under each model (the
     closed forms, Table I at each ``psi``, psi densities with ``psi_dist`` or ``all``); with
@@ -338,7 +341,7 @@ def table(*, xi: str | None = None, coin: str | None = None, count: str | None =
     check_format(fmt)
     wide = layout_value(layout, quiet)
     bouncing = (surface, restitution, friction, torsional, rolling, release_height, vx, jobs,
-                dt, t_max, calibration)
+                dt, t_max, calibration, scheduler, checkpoint, timeout)
     if landing.strip().lower() != "catch" or any(v is not None for v in bouncing):
         from coincli.reports.bounce import landing_of, parse_physics
 
@@ -346,7 +349,8 @@ def table(*, xi: str | None = None, coin: str | None = None, count: str | None =
         if landing == "catch":
             parse_physics("catch", surface=surface, restitution=restitution, friction=friction,
                           torsional=torsional, rolling=rolling, height=release_height, vx=vx,
-                          jobs=jobs, dt=dt, t_max=t_max, calibration=calibration)
+                          jobs=jobs, dt=dt, t_max=t_max, calibration=calibration,
+                          scheduler=scheduler, checkpoint=checkpoint, timeout=timeout)
     if landing == "bounce":
         for name, v in (("--vs", vs), ("--all", all or None), ("--tol", tol),
                         ("--method", method)):
@@ -360,8 +364,8 @@ def table(*, xi: str | None = None, coin: str | None = None, count: str | None =
             thickness=thickness, psi=psi, psi_dist=psi_dist, u=u, omega=omega, tosses=tosses,
             seed=seed, surface=surface, restitution=restitution, friction=friction,
             torsional=torsional, rolling=rolling, release_height=release_height, vx=vx,
-            jobs=jobs, dt=dt, t_max=t_max, calibration=calibration, wide=wide,
-            progress=progress)
+            jobs=jobs, dt=dt, t_max=t_max, calibration=calibration, scheduler=scheduler,
+            checkpoint=checkpoint, timeout=timeout, wide=wide, progress=progress)
     options.refuse_old_count(tosses, "coin table --coin quarter --count {n}")
     for name, v in (("--u", u), ("--omega", omega)):
         if v is not None:

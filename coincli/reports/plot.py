@@ -240,13 +240,14 @@ def sides(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
           p_sides=None, psi=None, psi_dist=None, data=None, log=False, xi_range=None, out=None,
           terminal=False, dpi="150", width=None, height=None, title=None, landing="catch",
           surface=None, restitution=None, friction=None, seed=None, tosses=None, jobs=None,
-          calibration=None):
+          calibration=None, scheduler=None, checkpoint=None, timeout=None):
     """``coin plot sides``: P(sides) against the aspect ratio for the geometric and dynamic
     models (Fig. 5a), the user's designs, data and psi curves marked; with
     ``landing="bounce"``, points simulated onto a surface and the probit fitted to them (said
     on stderr).  The text plot, or None when ``out`` was written."""
     physics = BO.parse_physics(BO.landing_of(landing), surface=surface, restitution=restitution,
-                               friction=friction, jobs=jobs, calibration=calibration)
+                               friction=friction, jobs=jobs, calibration=calibration,
+                               scheduler=scheduler, checkpoint=checkpoint, timeout=timeout)
     if physics is None and (seed is not None or tosses is not None):
         raise usage_error("--seed and -n go with --landing bounce")
     target = _Target(out, terminal)

@@ -319,7 +319,8 @@ def simulate(*, xi=None, coin=None, count=None, quarters=None, diameter=None, th
              u=None, omega=None, psi=None, psi_dist=None, tosses=None, seed=None, stream=False,
              g="9.81", contact="rim", landing="catch", surface=None, restitution=None,
              friction=None, torsional=None, rolling=None, release_height=None, vx=None,
-             jobs=None, dt=None, t_max=None, calibration=None, fmt="table", quiet=False,
+             jobs=None, dt=None, t_max=None, calibration=None, scheduler=None,
+             checkpoint=None, timeout=None, fmt="table", quiet=False,
              progress=None) -> Result:
     """``coin simulate``: ``tosses`` seeded tosses (10000 by default) from the launch
     distributions (:func:`coincli.reports.launch.launch`), their frequencies with 95% Wilson
@@ -337,7 +338,8 @@ def simulate(*, xi=None, coin=None, count=None, quarters=None, diameter=None, th
     physics = BO.parse_physics(BO.landing_of(landing), surface=surface, restitution=restitution,
                                friction=friction, torsional=torsional, rolling=rolling,
                                height=release_height, vx=vx, jobs=jobs, dt=dt, t_max=t_max,
-                               calibration=calibration)
+                               calibration=calibration, scheduler=scheduler,
+                               checkpoint=checkpoint, timeout=timeout)
     if physics is not None and stream:
         raise usage_error("--stream goes with --landing catch (a bounce run prints its summary)")
     if physics is not None and contact.strip().lower() != "rim":

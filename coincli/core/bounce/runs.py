@@ -177,7 +177,7 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
              z0=None, diameter=DEFAULT_DIAMETER, density=DEFAULT_DENSITY, g=STANDARD_G,
              dt=DEFAULT_DT, t_max=DEFAULT_T_MAX, jobs=None, level=0.95, flight="exact",
              progress: Callable[[int], None] | None = None, stream=(),
-             chunk=None) -> BounceSimulation:
+             chunk=None, executor=None) -> BounceSimulation:
     """Toss ``n`` coins onto ``surf`` (a :class:`Surface`, default wood) with seeded random
     launches and count the outcomes.
 
@@ -191,6 +191,10 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
     seed (:func:`coincli.core.bounce.design.design` uses one per simulated point).
     Workers take chunks of ``chunk`` tosses (default :data:`CHUNK`) and ``progress(done)`` is
     called as each completes; the results do not depend on ``chunk`` or ``jobs``.
+    ``executor`` (a checkpoint, :mod:`coincli.io.checkpoint`, or a Dask cluster,
+    :mod:`coincli.core.bounce.cluster`) supplies chunks first: ``executor.blocks(args, work)``
+    yields ``(k, rows)`` of the chunks it has or computes; the rest run here and are handed to
+    ``executor.keep(k, rows)``.
     """
     import numpy as np
 
@@ -224,11 +228,23 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
                                      tuple(stream))))
     results = [None] * len(work)
     done = 0
-    if jobs == 1 or len(work) == 1:
+    keep = None
+    if executor is not None:  # chunks from a checkpoint or a cluster; the rest run here
+        for k, rows in executor.blocks(args, work):
+            results[k] = rows
+            done += len(rows)
+            if progress is not None:
+                progress(done)
+        keep, work = executor.keep, [job for job in work if results[job[0]] is None]
+    if not work:
+        pass
+    elif jobs == 1 or len(work) == 1:
         _worker_init(args)
         for job in work:
             k, results[k] = _run_block(job)
             done += len(results[k])
+            if keep is not None:
+                keep(k, results[k])
             if progress is not None:
                 progress(done)
     else:
@@ -248,6 +264,8 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
                         continue
                 results[k] = rows
                 done += len(rows)
+                if keep is not None:
+                    keep(k, rows)
                 if progress is not None:
                     progress(done)
             pool.close()

@@ -1,0 +1,285 @@
+"""Bouncing runs on a Dask cluster: the chunks of :func:`coincli.core.bounce.runs.simulate`
+computed by the workers of a Dask scheduler (``--scheduler ADDRESS``), or of a ``LocalCluster``
+on this machine (``--scheduler local``).
+
+The work is the local pool's: chunk ``k`` of block ``b`` draws its launches from the seed
+``(seed, b)`` (:func:`coincli.core.bounce.runs._block_launches`) and runs them
+(:func:`coincli.core.bounce.runs._run_block`), whichever worker runs it, so the counts are those
+of ``--jobs N`` byte for byte.  A task is a pure function of what it is sent (the coin, the
+surface, the timestep, the launch distributions, the seed and the chunk's place): a chunk lost
+with a worker is computed again elsewhere.  Each task checks that its worker runs the client's
+``coin`` and ``mujoco-core``.
+
+:class:`Cluster` is the executor that ``simulate`` takes (``blocks(args, work)``); every fault
+is one :class:`coincli.errors.NotComputable` line: a scheduler not reached within ``timeout``
+seconds, no worker for that long, the scheduler lost mid-run, a chunk that killed every worker
+it ran on (Dask's ``KilledWorker``: the tosses are named), a worker of another version.
+``distributed`` is imported only here, and only when a cluster is used (the ``cluster`` extra).
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+import time
+
+from coincli.errors import NotComputable
+
+__all__ = ["Cluster", "versions", "LOCAL"]
+
+LOCAL = "local"  #: the address that starts a LocalCluster on this machine
+POLL = 0.2  #: s between looks at the futures, the scheduler and the workers (Ctrl-C is seen)
+FETCH = 2.0  #: s to fetch a finished chunk's rows before looking again (its worker may be gone)
+
+
+def versions() -> dict:
+    """What a worker must share with the client: ``coin``'s version and MuJoCo's."""
+    import coincli
+    from coincli.core.bounce.engine import require_mujoco
+
+    return {"coin": coincli.__version__, "mujoco-core": require_mujoco().__version__}
+
+
+_LOCK = threading.Lock()  # a worker with several threads runs one chunk at a time (one engine)
+_ENGINE_ARGS: list = [None]
+
+
+def _chunk(args, job, want):
+    """One chunk on a worker: ``(k, rows)`` as :func:`coincli.core.bounce.runs._run_block`
+    gives them, after checking that this worker runs the versions ``want``."""
+    from coincli.core.bounce import runs
+
+    got = versions()
+    if got != want:
+        raise NotComputable(_mismatch(got, want, "a worker"))
+    with _LOCK:
+        if _ENGINE_ARGS[0] != args:
+            runs._worker_init(args)
+            _ENGINE_ARGS[0] = args
+        return runs._run_block(job)
+
+
+def _mismatch(got: dict, want: dict, who: str) -> str:
+    diff = ", ".join(f"{name} {got.get(name)}" for name in want if got.get(name) != want[name])
+    here = ", ".join(f"{name} {want[name]}" for name in want if got.get(name) != want[name])
+    return (f"{who} of the cluster runs {diff}, this client {here}: install the same versions "
+            "on every worker")
+
+
+def _tosses(job) -> str:
+    """The tosses of a chunk, numbered from 1 in the run, for a message."""
+    from coincli.core.bounce.runs import BLOCK
+
+    _, (seed, block, start, stop, _count, _dists, stream) = job
+    first, last = block * BLOCK + start + 1, block * BLOCK + stop
+    which = f"toss {first}" if first == last else f"tosses {first} to {last}"
+    where = f" of stream {','.join(map(str, stream))}" if stream else ""
+    return f"{which}{where} (seed {seed})"
+
+
+class Cluster:
+    """A connection to a Dask scheduler (``address``: ``tcp://host:port``, ``host:port``, or
+    :data:`LOCAL` for a ``LocalCluster`` of ``workers`` single-threaded processes, default
+    every core), as a context manager; ``timeout`` (s) bounds the wait for the scheduler, for a
+    worker and for a scheduler lost mid-run."""
+
+    keep = None  #: chunks are never run by the client itself
+
+    def __init__(self, address: str, timeout: float = 15.0, workers: int | None = None):
+        self.address, self.timeout, self.workers = address, float(timeout), workers
+        self.client = None
+        self.local = None
+        self.want = None
+
+    def __enter__(self):
+        self.open()
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False
+
+    def open(self) -> None:
+        """Connect (or start the LocalCluster), wait for a worker, check the versions."""
+        import logging
+
+        os.environ.setdefault("DASK_LOGGING__DISTRIBUTED", "critical")  # the workers we start
+        os.environ.setdefault("DASK_DISTRIBUTED__LOGGING__DISTRIBUTED", "critical")
+        import distributed
+
+        _silence(logging)
+        self.want = versions()
+        where = "a LocalCluster" if self.address == LOCAL else f"the scheduler at {self.address}"
+        if self.address != LOCAL:
+            _probe(self.address, self.timeout)
+        try:
+            if self.address == LOCAL:
+                from coincli.core.bounce.runs import default_jobs
+
+                self.local = distributed.LocalCluster(
+                    n_workers=self.workers or default_jobs(), threads_per_worker=1,
+                    processes=True, dashboard_address=None, silence_logs=logging.CRITICAL)
+                self.client = distributed.Client(self.local, timeout=self.timeout)
+            else:
+                self.client = distributed.Client(self.address, timeout=self.timeout,
+                                                 set_as_default=False)
+        except Exception as exc:  # noqa: BLE001 - whatever Dask raises, one line
+            self.close()
+            raise NotComputable(f"cannot reach {where} within {self.timeout:g} s (--timeout): "
+                                f"{_reason(exc)}") from None
+        try:
+            self.client.wait_for_workers(1, timeout=self.timeout)
+        except (OSError, TimeoutError):
+            self.close()
+            raise NotComputable(f"no worker joined {where} within {self.timeout:g} s "
+                                "(--timeout): start some with dask worker ADDRESS") from None
+        try:
+            seen = self.client.run(versions)
+        except ImportError as exc:
+            self.close()
+            raise NotComputable(f"a worker of {where} cannot load coin ({_reason(exc)}): install "
+                                f"thickcoin {self.want['coin']} with its physics extra on every "
+                                "worker") from None
+        for addr, got in sorted(seen.items()):
+            if got != self.want:
+                self.close()
+                raise NotComputable(_mismatch(got, self.want, f"the worker {addr}"))
+
+    def close(self) -> None:
+        for thing in (self.client, self.local):
+            if thing is not None:
+                try:
+                    thing.close()
+                except Exception:  # noqa: BLE001 - already gone: nothing left to close
+                    pass
+        self.client = self.local = None
+
+    def blocks(self, args, work):
+        """Run the chunks ``work`` (``(k, job)`` pairs, as ``simulate`` cuts them) on the
+        workers and yield ``(k, rows)`` as each completes, in any order."""
+        import distributed
+
+        client = self.client
+        futures = client.map(_chunk, [args] * len(work), work, [self.want] * len(work),
+                             pure=False, key=[f"coin-chunk-{os.getpid()}-{time.time_ns()}-{k}"
+                                              for k, _ in work])
+        pending = dict(zip(futures, work, strict=True))
+        ready = distributed.as_completed(futures, loop=client.loop)
+        del futures  # a chunk's result is released on the cluster once it is here
+        quiet_since = None  # since when the scheduler, or every worker, is gone
+        try:
+            while pending:
+                done = ready.next_batch(block=False)
+                if not done:
+                    time.sleep(POLL)
+                for fut in done:
+                    got = self._result(fut, pending[fut])
+                    if got is None:  # lost with its worker before it was fetched: again
+                        ready.add(fut)
+                        continue
+                    del pending[fut]
+                    yield got
+                if not pending:
+                    break
+                lost = self._lost()
+                if lost is None:
+                    quiet_since = None
+                elif quiet_since is None:
+                    quiet_since = time.monotonic()
+                elif time.monotonic() - quiet_since > self.timeout:
+                    raise NotComputable(f"{lost} for {self.timeout:g} s (--timeout) in the "
+                                        f"middle of the run; {len(pending)} chunks of "
+                                        f"{len(work)} were not done")
+        finally:
+            if pending:  # Ctrl-C or a failure: take our tasks off the cluster
+                try:
+                    client.cancel(list(pending), force=True)
+                except Exception:  # noqa: BLE001 - the scheduler may be gone
+                    pass
+
+    def _lost(self) -> str | None:
+        """Why the run cannot progress now (the scheduler or every worker gone), or None."""
+        client = self.client
+        if client.status not in ("running", "newly-created"):
+            return f"lost the scheduler at {self.address}"
+        info = client.scheduler_info()
+        if not info.get("workers"):
+            return f"no worker at {self.address}"
+        return None
+
+    def _result(self, fut, job):
+        """``(k, rows)`` of a completed chunk; None when its result was lost with the worker
+        that held it (Dask computes it again)."""
+        import distributed
+
+        if fut.status not in ("finished", "error", "cancelled"):
+            return None
+        try:
+            return fut.result(timeout=FETCH)
+        except TimeoutError:
+            return None
+        except distributed.KilledWorker as exc:
+            raise NotComputable(f"{_tosses(job)} killed every worker that ran them (Dask's "
+                                f"KilledWorker: {_reason(exc)}); run them with --jobs 1 to see "
+                                "the error") from None
+        except distributed.client.FutureCancelledError:
+            raise NotComputable(f"lost the scheduler at {self.address} in the middle of the "
+                                "run") from None
+        except OSError as exc:
+            raise NotComputable(f"lost the scheduler at {self.address} in the middle of the "
+                                f"run: {_reason(exc)}") from None
+
+
+def _probe(address: str, timeout: float) -> None:
+    """Before Dask's client is made (it can wait forever on a port that accepts and stays
+    silent): the address takes a TCP connection within ``timeout`` s and, for ``tcp://``,
+    answers as a Dask server does, with the length of its handshake (8 bytes, little-endian)."""
+    import select
+    import socket
+    import struct
+
+    scheme, _, rest = address.rpartition("://")
+    host, _, port = rest.rpartition(":")
+    host = host.strip("[]")
+    deadline = time.monotonic() + timeout
+    try:
+        sock = socket.create_connection((host, int(port)), timeout=timeout)
+    except TimeoutError:
+        raise NotComputable(f"cannot reach the scheduler at {address} within {timeout:g} s "
+                            "(--timeout): no answer") from None
+    except OSError as exc:
+        raise NotComputable(f"cannot reach the scheduler at {address}: "
+                            f"{exc.strerror or _reason(exc)}") from None
+    with sock:
+        if scheme not in ("", "tcp"):
+            return
+        head = b""
+        while len(head) < 8:
+            left = deadline - time.monotonic()
+            ready = select.select([sock], [], [], max(left, 0.0))[0] if left > 0 else []
+            chunk = sock.recv(8 - len(head)) if ready else b""
+            if not chunk:
+                raise NotComputable(f"{address} took the connection but did not answer as a "
+                                    f"Dask scheduler within {timeout:g} s (--timeout)")
+            head += chunk
+        size = struct.unpack("<Q", head)[0]
+        if not 0 < size < 1 << 24:
+            raise NotComputable(f"{address} answered, but not as a Dask scheduler")
+
+
+def _silence(logging) -> None:
+    """No log line of Dask's reaches stderr (each of its loggers has its own level): a fault is
+    the one line this module raises."""
+    names = [n for n in list(logging.root.manager.loggerDict) if n.split(".")[0] in
+             ("distributed", "tornado", "asyncio", "dask")]
+    for name in {"distributed", "tornado", "asyncio", "dask", *names}:
+        logger = logging.getLogger(name)
+        logger.setLevel(logging.CRITICAL + 1)
+        for handler in logger.handlers:
+            handler.setLevel(logging.CRITICAL + 1)
+
+
+def _reason(exc) -> str:
+    """An exception as one short line."""
+    text = " ".join(str(exc).split()) or type(exc).__name__
+    return text if len(text) <= 200 else text[:197] + "..."

@@ -1,0 +1,206 @@
+"""``--checkpoint FILE``: the chunks of a bouncing run recorded as they complete, so that the
+same command run again computes only what is missing and prints the same bytes.
+
+The file is JSON lines.  The first line is the header: the format, ``coin``'s and MuJoCo's
+versions, the command and the values of the options that decide the tosses (the seed among
+them), with a checksum.  Each other line is one chunk of
+:func:`coincli.core.bounce.runs.simulate`: the digest of what decides it (the coin, the surface,
+the timestep, the launch distributions, the seed, the block, the chunk's place and the stream:
+:func:`chunk_key`), its rows (outcome, catch, bounces, time to settle, steps, as the engine
+gives them; floats written exactly) and a checksum.  A line is appended and fsynced as each
+chunk completes, so a run killed at any moment leaves every chunk it finished; a torn or
+damaged line is dropped (and recomputed) the next time.
+
+A checkpoint written by another command line, another ``coin`` or another MuJoCo is refused
+in one line naming what differs (:class:`Checkpoint`).  It works with the local pool
+(``--jobs``) and with a cluster (``--scheduler``) alike: a :class:`Checkpoint` is the executor
+``simulate`` takes, in front of the cluster's when there is one.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+
+from coincli.errors import compute_error, shown, usage_error
+
+__all__ = ["Checkpoint", "chunk_key", "FORMAT", "MAX_BYTES"]
+
+FORMAT = "coin-checkpoint/1"  #: the first field of the header: what reads this file
+MAX_BYTES = 1 << 30  #: the largest checkpoint read (10^6 tosses take about 50 MB)
+
+
+def _canon(value) -> str:
+    """A text that is the same for equal values in any process: floats exactly (repr),
+    dataclasses by their fields (a psi density by its spec), containers item by item."""
+    import dataclasses
+
+    if isinstance(value, float):
+        return repr(value)
+    if isinstance(value, (list, tuple)):
+        return "(" + ",".join(_canon(v) for v in value) + ")"
+    if isinstance(value, dict):
+        return "{" + ",".join(f"{_canon(k)}:{_canon(v)}" for k, v in value.items()) + "}"
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        fields = []
+        for f in dataclasses.fields(value):
+            v = getattr(value, f.name)
+            if f.name == "density" and v is not None:  # a psi density: its spec says it all
+                v = str(getattr(v, "spec", type(v).__name__))
+            fields.append(f"{f.name}={_canon(v)}")
+        return f"{type(value).__name__}({','.join(fields)})"
+    return repr(value)
+
+
+def chunk_key(args, job) -> str:
+    """The digest of what decides a chunk's rows: the engine's ``args`` and the ``job`` as
+    :func:`coincli.core.bounce.runs.simulate` cuts it (its index left out)."""
+    return hashlib.sha256(_canon((args, job[1])).encode()).hexdigest()
+
+
+def _sum(fields: dict) -> str:
+    return hashlib.sha256(json.dumps(fields, sort_keys=True).encode()).hexdigest()[:16]
+
+
+def _line(fields: dict) -> str:
+    return json.dumps({**fields, "sum": _sum(fields)}) + "\n"
+
+
+def _parse(line: str):
+    """A line's fields, or None when it is torn or its checksum does not match."""
+    try:
+        fields = json.loads(line)
+    except ValueError:
+        return None
+    if not isinstance(fields, dict):
+        return None
+    total = fields.pop("sum", None)
+    return fields if total == _sum(fields) else None
+
+
+class Checkpoint:
+    """The checkpoint ``path`` of a run described by ``header`` (``command``: the command as
+    the user would type it, ``options``: option name -> value as text, ``versions``: name ->
+    version), and ``inner``, the executor of the chunks it does not hold (a
+    :class:`coincli.core.bounce.cluster.Cluster`, or None: they run in the local pool, which
+    hands them to :meth:`keep`)."""
+
+    def __init__(self, path: str, header: dict, inner=None):
+        self.path, self.inner = path, inner
+        self.header = {"format": FORMAT, **header}
+        self.rows: dict = {}  # chunk key -> rows
+        self.keys: dict = {}  # chunk index -> key, for the run in progress
+        self.fh = None
+        self.held = 0  #: chunks found in the file when it was opened
+
+    def __enter__(self):
+        self.open()
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False
+
+    def open(self) -> None:
+        """Read the file (if any): refuse another run's, keep the good lines (rewriting the
+        file without a torn or damaged one), then open it for appending."""
+        from coincli.io.files import FileKindError, check_output_path, write_text_atomic
+
+        try:
+            check_output_path(self.path)
+        except FileKindError as exc:
+            raise usage_error(f"--checkpoint: {exc}") from None
+        except OSError as exc:
+            raise compute_error(f"cannot write {self.path!r}: {exc.strerror or exc}") from None
+        lines = self._read()
+        good = []
+        if lines:
+            head = _parse(lines[0])
+            if head is None or head.get("format") != FORMAT:
+                raise usage_error(f"--checkpoint {shown(self.path)} is not a checkpoint of "
+                                  "coin (or its first line is damaged); give another file")
+            self._compare(head)
+            good = [lines[0]]
+            for line in lines[1:]:
+                rec = _parse(line)
+                if rec is not None and isinstance(rec.get("key"), str) and \
+                        isinstance(rec.get("rows"), list):
+                    self.rows[rec["key"]] = rec["rows"]
+                    good.append(line if line.endswith("\n") else line + "\n")
+        self.held = len(self.rows)
+        try:
+            if not lines or len(good) < len(lines) or not lines[-1].endswith("\n"):
+                body = good or [_line(self.header)]
+                write_text_atomic(self.path, lambda fh: fh.writelines(body))
+            self.fh = open(self.path, "a", encoding="utf-8")  # noqa: SIM115 - closed in close()
+        except OSError as exc:
+            raise compute_error(f"cannot write {self.path!r}: {exc.strerror or exc}") from None
+
+    def _read(self) -> list:
+        from coincli.io.files import Unreadable, read_text
+
+        if not os.path.exists(self.path):
+            return []
+        try:
+            text = read_text(self.path, MAX_BYTES)
+        except Unreadable as exc:
+            raise usage_error(f"--checkpoint: {exc}") from None
+        return text.splitlines(keepends=True)
+
+    def _compare(self, head: dict) -> None:
+        """Refuse a checkpoint of another run, naming the first things that differ."""
+        mine = self.header
+        where = f"--checkpoint {shown(self.path)}"
+        for name, version in mine["versions"].items():
+            theirs = head.get("versions", {}).get(name)
+            if theirs != version:
+                raise usage_error(f"{where} was written by {name} {theirs}, this is {name} "
+                                  f"{version}: give another file (or delete it)")
+        if head.get("command") != mine["command"]:
+            raise usage_error(f"{where} was written by {head.get('command')!r}, not "
+                              f"{mine['command']!r}: give another file (or delete it)")
+        old, new = head.get("options", {}), mine["options"]
+        diff = [f"{name} {old.get(name, '(not given)')} there, "
+                f"{new.get(name, '(not given)')} here"
+                for name in dict.fromkeys([*new, *old]) if old.get(name) != new.get(name)]
+        if diff:
+            raise usage_error(f"{where} holds another run: {'; '.join(diff[:4])}"
+                              f"{'; ...' if len(diff) > 4 else ''}: run the same command "
+                              "to resume it, or give another file")
+
+    def close(self) -> None:
+        if self.fh is not None:
+            self.fh.close()
+            self.fh = None
+
+    # -- the executor of runs.simulate
+
+    def blocks(self, args, work):
+        """The chunks of ``work`` this file holds, then (with ``inner``) the others, each
+        recorded as it arrives: ``(k, rows)`` pairs."""
+        self.keys = {k: chunk_key(args, (k, job)) for k, job in work}
+        missing = []
+        for k, job in work:
+            rows = self.rows.get(self.keys[k])
+            if rows is None:
+                missing.append((k, job))
+            else:
+                yield k, [tuple(r) for r in rows]
+        if self.inner is not None and missing:
+            for k, rows in self.inner.blocks(args, missing):
+                self.keep(k, rows)
+                yield k, rows
+
+    def keep(self, k, rows) -> None:
+        """Record chunk ``k`` of the run in progress: appended, flushed and fsynced."""
+        key = self.keys[k]
+        rows = [list(r) for r in rows]
+        self.rows[key] = rows
+        try:
+            self.fh.write(_line({"key": key, "rows": rows}))
+            self.fh.flush()
+            os.fsync(self.fh.fileno())
+        except OSError as exc:
+            raise compute_error(f"cannot write the checkpoint {self.path!r}: "
+                                f"{exc.strerror or exc}") from None

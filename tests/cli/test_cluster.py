@@ -1,0 +1,321 @@
+"""Bouncing runs on a Dask cluster (``--scheduler``) and checkpoints (``--checkpoint``).
+
+A real ``dask scheduler`` and two ``dask worker`` processes (no nanny: a killed worker stays
+dead) are started on 127.0.0.1 (a free port, every process stopped by the fixture's finalizer
+whatever happens).  The tests run in this file's order on one cluster, which they wear down: a
+worker killed, then a chunk that kills every worker, then the scheduler killed.  The runs are
+about 600 tosses in all (about 17 ms of CPU each); the processes' start-up costs as much.
+The reference is always the local pool (``--jobs 2``) of the same seed: the same bytes.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from tests.cli.cli_helpers import error
+
+distributed = pytest.importorskip("distributed")
+pytest.importorskip("mujoco")
+
+ROOT = Path(__file__).resolve().parents[2]
+COIN = [sys.executable, "-m", "coincli"]
+#: 96 tosses: 6 chunks of 16 (the local pool's), from 1 block of the seed
+RUN = ["simulate", "-n", "96", "--seed", "11", "--xi", "0.577", "--landing", "bounce", "-f",
+       "csv"]
+POISON_SEED = 666  #: a seed whose chunk 2 kills the worker that runs it (the preload below)
+
+_PRELOAD = f"""
+import os
+from coincli.core.bounce import runs
+
+
+
+def _poisoned(job):
+    seed, block, start = job[1][0], job[1][1], job[1][2]
+    if seed == {POISON_SEED} and block == 0 and start == 32:
+        os._exit(1)  # a crash no Python handler sees, as a segfault would be
+    return runs._unpoisoned(job)
+
+
+if not hasattr(runs, "_unpoisoned"):  # a preload may run twice in one process
+    runs._unpoisoned = runs._run_block
+    runs._run_block = _poisoned
+"""
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def _env(**more) -> dict:
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(
+        [str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])]), **more)
+    env.pop("DASK_SCHEDULER_ADDRESS", None)
+    return env
+
+
+class Cluster:
+    """A scheduler and its workers, each a subprocess in its own session."""
+
+    def __init__(self, tmp: Path):
+        self.tmp, self.procs, self.workers = tmp, [], []
+        self.address = f"tcp://127.0.0.1:{_free_port()}"
+        (tmp / "poison.py").write_text(_PRELOAD)
+
+    def _start(self, argv, name):
+        log = open(self.tmp / f"{name}.log", "ab")  # noqa: SIM115 - closed with the process
+        p = subprocess.Popen(argv, stdout=log, stderr=subprocess.STDOUT, start_new_session=True,
+                             env=_env(DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES="1"),
+                             cwd=self.tmp)
+        log.close()
+        self.procs.append(p)
+        return p
+
+    def start(self):
+        port = self.address.rsplit(":", 1)[1]
+        self._start([sys.executable, "-m", "distributed.cli.dask_scheduler", "--host",
+                     "127.0.0.1", "--port", port, "--no-dashboard"], "scheduler")
+        for k in range(2):
+            self.add_worker(k)
+        self.wait_for(2)
+
+    def add_worker(self, k):
+        self.workers.append(self._start(
+            [sys.executable, "-m", "distributed.cli.dask_worker", self.address, "--nthreads",
+             "1", "--no-dashboard", "--no-nanny", "--name", f"w{k}", "--preload",
+             str(self.tmp / "poison.py"), "--host", "127.0.0.1"], f"worker{k}"))
+
+    def wait_for(self, n, timeout=120):
+        with distributed.Client(self.address, timeout=60, set_as_default=False) as client:
+            client.wait_for_workers(n, timeout=timeout)
+
+    def stop(self):
+        for p in reversed(self.procs):
+            if p.poll() is None:
+                try:
+                    os.killpg(p.pid, signal.SIGKILL)
+                except ProcessLookupError:
+                    pass
+            p.wait()
+
+
+@pytest.fixture(scope="module")
+def cluster(tmp_path_factory):
+    c = Cluster(tmp_path_factory.mktemp("cluster"))
+    try:
+        c.start()
+        yield c
+    finally:
+        c.stop()
+
+
+@pytest.fixture(scope="module")
+def reference():
+    """The bytes of RUN on the local pool."""
+    p = subprocess.run([*COIN, *RUN, "--jobs", "2"], capture_output=True, text=True,
+                       timeout=300, env=_env())
+    assert p.returncode == 0 and p.stderr == "", p.stderr
+    return p.stdout
+
+
+def _coin(*argv, timeout=300):
+    p = subprocess.run([*COIN, *argv], capture_output=True, text=True, timeout=timeout,
+                       env=_env())
+    return p.returncode, p.stdout, p.stderr
+
+
+def test_a_cluster_run_is_byte_for_byte_the_local_pools(cluster, reference):
+    assert reference.startswith("outcome,count,") and ",11," in reference
+    rc, out, err = _coin(*RUN, "--scheduler", cluster.address)
+    assert (rc, err) == (0, ""), err
+    assert out == reference
+
+
+TABLE = ["table", "--landing", "bounce", "--xi", "0.45,0.6", "--surface", "wood",
+         "--friction", "0.2,0.4", "-n", "24", "--seed", "11", "-f", "csv"]
+
+
+def test_a_table_study_on_the_cluster_is_the_local_pools(cluster, tmp_path):
+    """coin table --landing bounce (a parameter study) takes the cluster and the checkpoint as
+    simulate does: the same bytes as the local pool, and a re-run from its checkpoint too."""
+    local = _coin(*TABLE, "--jobs", "2")
+    assert local[0] == 0 and local[1].count("\n") == 5, local
+    ck = tmp_path / "study.ck"
+    on = _coin(*TABLE, "--scheduler", cluster.address, "--checkpoint", str(ck))
+    assert on == local
+    again = _coin(*TABLE, "--jobs", "1", "--checkpoint", str(ck))  # every chunk from the file
+    assert again == local
+    other = _coin(*[a if a != "0.2,0.4" else "0.2,0.5" for a in TABLE], "--checkpoint", str(ck))
+    assert other[0] == 2 and "cells" in other[2] and other[2].count("\n") == 1, other
+
+
+def _records(path: Path) -> int:
+    return max(0, len(path.read_text().splitlines()) - 1) if path.exists() else 0
+
+
+def test_a_checkpoint_resumes_a_killed_client_with_the_same_bytes(cluster, reference,
+                                                                  tmp_path):
+    ck = tmp_path / "run.ckpt"
+    p = subprocess.Popen([*COIN, *RUN, "--scheduler", cluster.address, "--checkpoint", str(ck)],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                         start_new_session=True, env=_env())
+    try:
+        t0 = time.monotonic()
+        while _records(ck) < 2 and p.poll() is None and time.monotonic() - t0 < 120:
+            time.sleep(0.05)
+        os.killpg(p.pid, signal.SIGKILL)  # the client dies at once, mid-run
+    finally:
+        p.communicate()
+    held = _records(ck)
+    assert 2 <= held < 6, held  # some chunks recorded, not all
+    lines = ck.read_text().splitlines()
+    header = json.loads(lines[0])
+    assert header["options"]["--seed"] == "11" and header["command"].startswith("coin simulate")
+    rc, out, err = _coin(*RUN, "--scheduler", cluster.address, "--checkpoint", str(ck))
+    assert (rc, err) == (0, ""), err
+    assert out == reference
+    assert _records(ck) == 6
+    assert ck.read_text().splitlines()[:held + 1] == lines[:held + 1]  # appended, never rewritten
+
+    # without a scheduler: a torn last line and a damaged one are recomputed by the local pool
+    lines = ck.read_text().splitlines(keepends=True)
+    damaged = lines[2].replace('"rows": [[', '"rows": [[9')
+    ck.write_text("".join([lines[0], lines[1], damaged, *lines[3:5], lines[5][:40]]))
+    rc, out, err = _coin(*RUN, "--jobs", "2", "--checkpoint", str(ck))
+    assert (rc, err) == (0, ""), err
+    assert out == reference and _records(ck) == 6
+
+    # another command line: refused in one line naming what differs
+    other = [a if a != "11" else "12" for a in RUN]
+    err = error(_coin(*other, "--jobs", "1", "--checkpoint", str(ck)), 2, "--checkpoint",
+                "--seed 11 there, 12 here")
+    assert "-n" not in err
+
+
+def test_a_worker_killed_mid_run_changes_nothing(cluster, reference, tmp_path):
+    ck = tmp_path / "run.ckpt"
+    p = subprocess.Popen([*COIN, *RUN, "--scheduler", cluster.address, "--checkpoint", str(ck)],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=_env())
+    try:
+        t0 = time.monotonic()
+        while _records(ck) < 1 and p.poll() is None and time.monotonic() - t0 < 120:
+            time.sleep(0.05)
+        os.killpg(cluster.workers[0].pid, signal.SIGKILL)  # no nanny: it does not come back
+        out, err = p.communicate(timeout=300)
+    finally:
+        if p.poll() is None:
+            p.kill()
+            p.communicate()
+    assert (p.returncode, err) == (0, ""), err
+    assert out == reference
+
+
+def test_a_chunk_that_kills_every_worker_is_named(cluster):
+    cluster.add_worker(2)  # one more: the poisoned chunk is tried twice (allowed failures 1)
+    cluster.wait_for(2)
+    poisoned = ["simulate", "-n", "64", "--seed", str(POISON_SEED), "--xi", "0.577",
+                "--landing", "bounce", "--scheduler", cluster.address]
+    err = error(_coin(*poisoned), 1, "tosses 33 to 48", f"seed {POISON_SEED}", "KilledWorker")
+    assert len(err) < 400
+
+
+def test_an_unreachable_scheduler_is_one_line_well_within_the_timeout():
+    address = f"tcp://127.0.0.1:{_free_port()}"  # nothing listens there
+    t0 = time.monotonic()
+    error(_coin(*RUN, "--scheduler", address, timeout=60), 1,
+          f"cannot reach the scheduler at {address}")
+    assert time.monotonic() - t0 < 60
+    # a port that takes the connection and never answers: the --timeout, then one line
+    with socket.socket() as silent:
+        silent.bind(("127.0.0.1", 0))
+        silent.listen()
+        address = f"tcp://127.0.0.1:{silent.getsockname()[1]}"
+        error(_coin(*RUN, "--scheduler", address, "--timeout", "1", timeout=60), 1,
+              "did not answer as a Dask scheduler within 1 s (--timeout)")
+
+
+def test_scheduler_options_refused_before_any_work(coin, monkeypatch, tmp_path):
+    sim = ["simulate", "-n", "16", "--seed", "1", "--xi", "0.577", "--landing", "bounce"]
+    error(coin(*sim, "--scheduler", "local", "--jobs", "2"), 2,
+          "--scheduler and --jobs do not go together")
+    error(coin(*sim, "--scheduler", "tcp://host"), 2, "--scheduler must be tcp://HOST:PORT",
+          "'tcp://host'")
+    error(coin(*sim, "--timeout", "0.5", "--scheduler", "local"), 2,
+          "--timeout must be a number from 1 to 3600")
+    error(coin(*sim, "--jobs", "1", "--timeout", "5"), 2, "--timeout goes with --scheduler")
+    error(coin(*sim[:-2], "--scheduler", "local"), 2, "--scheduler goes with --landing bounce")
+    error(coin(*sim, "--checkpoint", str(tmp_path)), 2, "--checkpoint")
+    monkeypatch.setenv("DASK_SCHEDULER_ADDRESS", "nowhere")
+    error(coin(*sim), 2, "DASK_SCHEDULER_ADDRESS must be tcp://HOST:PORT", "'nowhere'")
+    import importlib.util
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec",
+                        lambda name, *a: None if name == "distributed" else real(name, *a))
+    monkeypatch.delenv("DASK_SCHEDULER_ADDRESS")
+    error(coin(*sim, "--scheduler", "local"), 1,
+          "pip install -U 'thickcoin[cluster]'")
+
+
+def test_a_worker_of_another_version_is_refused_naming_it():
+    from coincli.core.bounce import cluster
+    from coincli.errors import NotComputable
+
+    want = {**cluster.versions(), "coin": "0.0.1"}
+    with pytest.raises(NotComputable, match=r"runs coin \d.*this client coin 0\.0\.1"):
+        cluster._chunk(None, None, want)
+
+
+_PROBE = r"""
+import json, sys
+from coincli.cli import run
+codes = [run(argv) for argv in json.loads(sys.argv[1])]
+print(json.dumps([codes, "distributed" in sys.modules, "mujoco" in sys.modules]),
+      file=sys.stderr)
+"""
+
+
+def test_runs_without_a_scheduler_never_import_distributed(tmp_path):
+    sim = ["simulate", "-n", "16", "--seed", "1", "--xi", "0.577", "--landing", "bounce",
+           "--jobs", "1"]
+    commands = [sim, [*sim, "--checkpoint", str(tmp_path / "c.ckpt")],
+                ["toss", "--xi", "0.577", "--psi", "90", "--u", "2", "--omega", "40",
+                 "--landing", "bounce"], ["design", "-p", "1/3"]]
+    p = subprocess.run([sys.executable, "-c", _PROBE, json.dumps(commands)],
+                       capture_output=True, text=True, timeout=300, env=_env())
+    codes, loaded, mujoco = json.loads(p.stderr.strip().splitlines()[-1])
+    assert codes == [0, 0, 0, 0] and mujoco and not loaded
+
+
+def test_a_scheduler_lost_mid_run_is_one_line_and_the_checkpoint_stays(cluster, tmp_path):
+    """Last: it ends the module's cluster."""
+    cluster.add_worker(3)  # the others were killed above
+    cluster.wait_for(1)
+    ck = tmp_path / "run.ckpt"
+    p = subprocess.Popen([*COIN, *RUN, "--scheduler", cluster.address, "--checkpoint", str(ck),
+                          "--timeout", "3"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                         text=True, env=_env())
+    try:
+        t0 = time.monotonic()
+        while _records(ck) < 1 and p.poll() is None and time.monotonic() - t0 < 120:
+            time.sleep(0.05)
+        os.killpg(cluster.procs[0].pid, signal.SIGKILL)  # the scheduler
+        out, err = p.communicate(timeout=120)
+    finally:
+        if p.poll() is None:
+            p.kill()
+            p.communicate()
+    error((p.returncode, out, err), 1, f"lost the scheduler at {cluster.address}")
+    assert 1 <= _records(ck) < 6
+    json.loads(ck.read_text().splitlines()[-1])  # whole lines only
