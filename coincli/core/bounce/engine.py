@@ -135,13 +135,30 @@ _ZOOM = 32  #: cells a cell of the flight scan is cut into when it may hold a co
 
 
 
+#: MuJoCo's warnings in this process, the last few (:func:`require_mujoco` installs the handler
+#: that keeps them here): never printed, never logged to a file
+MUJOCO_WARNINGS: list = []
+
+
+def _keep_warning(message: str) -> None:
+    """MuJoCo's warning handler (``mju_user_warning``): keep the message, print nothing.  Without
+    a handler MuJoCo prints each warning on the terminal and appends it to ``MUJOCO_LOG.TXT`` in
+    the current directory (issue 28); a warning is a symptom the commands check for themselves
+    (an unsettled toss, a refused input), not the user's business."""
+    del MUJOCO_WARNINGS[:-9]
+    MUJOCO_WARNINGS.append(message)
+
+
 def require_mujoco():
-    """Import and return :mod:`mujoco`, or raise :class:`PhysicsMissing` with the one-line hint."""
+    """Import and return :mod:`mujoco` with its warnings kept quiet (:func:`_keep_warning`), or
+    raise :class:`PhysicsMissing` with the one-line hint."""
     try:
         import mujoco
     except ImportError:
         raise PhysicsMissing("this needs the MuJoCo physics engine, an optional extra: "
                              f"{INSTALL_HINT}") from None
+    if mujoco.get_mju_user_warning() is not _keep_warning:  # global: once a process (a spawned
+        mujoco.set_mju_user_warning(_keep_warning)  # worker gets it by building its model)
     return mujoco
 
 
@@ -286,9 +303,10 @@ def smallest_xi(diameter: float, density: float = DEFAULT_DENSITY) -> float:
     return bisect(light, 1e-300, 100.0, log=True, rtol=1e-12)[1]
 
 
-def smallest_diameter(density: float = DEFAULT_DENSITY) -> float:
-    """The smallest diameter (m) MuJoCo can simulate at some xi up to 100 (at xi = 100)."""
-    return bisect(lambda d: smallest_xi(d, density) > 100.0, 1e-4, 10.0, log=True,
+def smallest_diameter(density: float = DEFAULT_DENSITY, xi: float = 100.0) -> float:
+    """The smallest diameter (m) MuJoCo can simulate at aspect ratio ``xi`` (by default 100:
+    the smallest at any aspect ratio)."""
+    return bisect(lambda d: smallest_xi(d, density) > xi, 1e-4, 10.0, log=True,
                   rtol=1e-12)[1]
 
 
