@@ -77,7 +77,7 @@ from coincli.core.toss.flight import (
     classify,
 )
 from coincli.errors import PhysicsMissing, install_hint
-from coincli.limits import LANDINGS, SURFACE_NAMES
+from coincli.limits import BOUNCE_G_MAX, BOUNCE_XI_MAX, LANDINGS, SURFACE_NAMES
 
 __all__ = [
     "PhysicsMissing",
@@ -252,7 +252,7 @@ class Coin:
     density: float = DEFAULT_DENSITY
 
     def __post_init__(self):
-        _check("xi", self.xi, 0.0, 100.0, lo_open=True)
+        _check("xi", self.xi, 0.0, BOUNCE_XI_MAX, lo_open=True)
         _check("diameter", self.diameter, 1e-4, 10.0, unit="m")
         _check("density", self.density, 1.0, 1e5, unit="kg/m^3")
 
@@ -633,7 +633,7 @@ class Engine:
         if flight not in ("exact", "mujoco"):
             raise ValueError(f"flight must be 'exact' or 'mujoco', got {flight!r}")
         _check("dt", dt, 1e-7, 1e-3, unit="s")
-        _check("g", g, 0.0, 1e3, lo_open=True, unit="m/s^2")
+        _check("g", g, 0.0, BOUNCE_G_MAX, lo_open=True, unit="m/s^2")
         _check("t_max", t_max, 0.0, 1e3, lo_open=True, unit="s")
         self.coin, self.surface, self.dt, self.g = coin, surf, dt, g
         self.landing, self.t_max, self.flight = landing, t_max, flight
