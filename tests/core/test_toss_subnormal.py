@@ -99,3 +99,16 @@ def test_subnormal_physical_parameters_give_their_limit(name):
     else:  # the tilt reaches 60 degrees first (u = 5e-324 rises 1e-314 m)
         assert r.t_f == pytest.approx(_rim(1e-10), rel=1e-12)
         assert r.outcome == ("heads" if name == "xi" else "sides")
+
+
+def test_the_commands_refuse_a_subnormal_g_naming_it():
+    """`coin toss --g 5e-324` answered t_f 0, heads; --g 1e-10 answers the reference toss."""
+    from coincli import api
+    from coincli.errors import InputError
+
+    for fn in (api.toss, api.simulate):
+        with pytest.raises(InputError, match=r"--g must be a number from 1e-300 to 1e\+100 "
+                                             r"m/s\^2, got '5e-324'"):
+            fn(xi=1, psi=90, u=0, omega=1, g="5e-324")
+    (row,) = api.toss(xi=1, psi=90, u=0, omega=1, g="1e-10")
+    assert row["outcome"] == "sides" and row["t_f"] == pytest.approx(_rim(1e-10), rel=1e-12)
