@@ -30,3 +30,20 @@ MAX_BOUNCE_TOSSES = 10**6
 MAX_BOOK_TOSSES = 10**7
 #: a normal launch distribution is checked up to MEAN + NORMAL_REACH SD (P < 1e-23 a draw)
 NORMAL_REACH = 10
+#: m/s^2, the smallest and largest ``--g``.  Below G_MIN (a subnormal g has a digit or none)
+#: ``g t^2 / 2`` loses its digits and the toss would be followed wrongly (issue 28)
+G_MIN = 1e-300
+G_MAX = 1e100
+
+# --landing bounce: the limits of the MuJoCo engine (coincli.core.bounce.engine), checked and
+# named by every bouncing command (toss, simulate, design, plot sides) before any simulation.
+#: m/s^2, the largest --g of a bounce: a stronger gravity drives MuJoCo's soft contact past
+#: what its time step resolves (the coin sinks through the surface; 'Nan, Inf or huge value')
+BOUNCE_G_MAX = 1e3
+#: rad/s, the fastest spin of a bounce (above it the contact cannot be resolved at --dt)
+BOUNCE_OMEGA_MAX = 1e4
+#: the thickest coin of a bounce, xi = h/D (MuJoCo's cylinder and inertia limits)
+BOUNCE_XI_MAX = 100.0
+#: the tosses of a bounce design (``coin design --landing bounce --max-tosses``): the default,
+#: and the most (the least is the first sweep's, coincli.core.bounce.design)
+BOUNCE_DESIGN_TOSSES = 200_000

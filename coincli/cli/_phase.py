@@ -14,6 +14,7 @@ and drawn by :mod:`coincli.reports.phase`.  No numpy, scipy or rich at import.
 from __future__ import annotations
 
 from coincli.cli._options import Group, option
+from coincli.limits import BOUNCE_G_MAX, G_MAX, G_MIN
 from coincli.reports.phase import DATA_CELLS, FIGURE_CELLS, OMEGA_DEFAULT, U_DEFAULT
 
 PsiOpt = option("--psi", "DEG", "Angle psi of the angular momentum to the normal, degrees [0, "
@@ -33,7 +34,8 @@ ExactOpt = option("--exact", None, "Boundaries at the exact contact time, not eq
 NoCurvesOpt = option("--no-curves", None, "Draw no boundary curves.", kind=bool)
 TossMarkOpt = option("--toss", "U:OMEGA", "Mark tosses: 1.2:40 (m/s:rad/s, units allowed); a list "
                      "a:b,c:d.")
-GOpt = option("--g", "G", "Gravity, m/s^2 (> 0).", kind=str)
+GOpt = option("--g", "G", f"Gravity, m/s^2, {G_MIN:g} to {G_MAX:g} (at most {BOUNCE_G_MAX:g} with "
+              "--landing bounce).", kind=str)
 ContactOpt = option("--contact", "rim|thick", "rim (the paper's) or thick (the cylinder's corner).",
                     kind=str)
 # The old spellings of coin plot phase, hidden: they still work.

@@ -12,6 +12,7 @@ import typer
 from coincli.cli import _accuracy, _options, app
 from coincli.cli._bounce import BOUNCE, RUNS
 from coincli.cli._options import COINS, OUTPUT, Group, option, with_groups
+from coincli.limits import BOUNCE_DESIGN_TOSSES, BOUNCE_OMEGA_MAX, MAX_BOUNCE_TOSSES
 from coincli.io import options
 from coincli.io.table import emit_all
 from coincli.render.progress import estimator_bar, simulating_bar
@@ -41,12 +42,14 @@ DESIGN_TABLE = Group(
                  "normal:MEAN:SD / uniform:LOW:HIGH (default the hand toss of coin simulate, "
                  "normal:2.4:0.3)."), None),
     ("omega", option("--omega", "SPEC", "With --landing bounce: precession rate, rad/s or with "
-                     "a unit (default the hand toss, normal:38:4rev/s)."), None),
+                     "a unit (default the hand toss, normal:38:4rev/s), at most "
+                     f"{BOUNCE_OMEGA_MAX:.0f} rad/s."), None),
     BOUNCE.only("release_height", "vx"),
     ("seed", option("--seed", "SEED", "With --landing bounce: the seed of the simulated tosses, "
                     "a whole number >= 0 (default: drawn, and reported)."), None),
     ("max_tosses", option("--max-tosses", "N", "With --landing bounce: stop before simulating "
-                          "more tosses than this (default 200000, at least 180)."), None),
+                          f"more tosses than this (default {BOUNCE_DESIGN_TOSSES}, from 180 to "
+                          f"{MAX_BOUNCE_TOSSES})."), None),
     ("time_limit", option("--time-limit", "S", "With --landing bounce: stop at the end of the "
                           "first round after this many seconds (default 300); the note gives "
                           "the --max-tosses that reproduces the result."), None),

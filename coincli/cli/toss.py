@@ -13,9 +13,11 @@ from coincli.cli import _phase, app
 from coincli.cli._bounce import BOUNCE, RUNS
 from coincli.cli._options import COIN, OUTPUT, SeedOpt, TossesOpt, XisOpt, option, with_groups
 from coincli.io.table import Result, emit_all
+from coincli.limits import BOUNCE_OMEGA_MAX
 from coincli.render.progress import tossing_bar
 from coincli.reports import phase as phase_report
 from coincli.reports import toss as report
+from coincli.reports.bounce import warn_unmet
 from coincli.reports.launch import HAND, SPEC_FORM
 
 # --------------------------------------------------------------------------- coin toss
@@ -23,7 +25,8 @@ from coincli.reports.launch import HAND, SPEC_FORM
 UValuesOpt = option("--u", "SPEED", "Launch speed: 2 (m/s), 240cm/s, 8.6km/h; a list, a range or "
                     "-.  Default: drawn (hand toss).")
 OmegaValuesOpt = option("--omega", "SPIN", "Spin omega_N = M/I1 of eq. (2): 40 (rad/s), 38rev/s, "
-                        "2300rpm; a list, a range or -.  Default: drawn.")
+                        "2300rpm; a list, a range or -.  Default: drawn.  At most "
+                        f"{BOUNCE_OMEGA_MAX:.0f} rad/s with --landing bounce.")
 PsiValuesOpt = option("--psi", "DEG", "Angle psi of the angular momentum to the normal, degrees "
                       "[0, 180]; a list, a range or -.  Default: drawn.")
 Z0Opt = option("--z0", "MM", "Launch height of the centre, mm or with a unit (default: (sqrt 3/2) "
@@ -71,8 +74,10 @@ def toss_cmd(
     coin toss --xi 0.577 --psi 85 --u 2.4 --omega 38 --landing bounce --surface wood
     --trajectory toss.csv
     """
-    emit_all(report.toss(**the_coin, psi=psi, u=u, omega=omega, seed=seed, **flight, z0=z0,
-                         **table, trajectory=trajectory, **output), **output)
+    result = report.toss(**the_coin, psi=psi, u=u, omega=omega, seed=seed, **flight, z0=z0,
+                         **table, trajectory=trajectory, **output)
+    emit_all(result, **output)
+    warn_unmet(result)  # a bounce that did not settle: the note, after the output
 
 
 # --------------------------------------------------------------------------- coin simulate
@@ -83,7 +88,8 @@ SpecUOpt = option(
     f"(normal:240:30cm/s).  Default: {HAND['u']} (hand toss).")
 SpecOmegaOpt = option(
     "--omega", "SPEC", f"Spin: {SPEC_FORM}, in rad/s or with a unit.  "
-    f"Default: {HAND['omega']} (hand toss).")
+    f"Default: {HAND['omega']} (hand toss).  At most {BOUNCE_OMEGA_MAX:.0f} rad/s with --landing "
+    "bounce.")
 FixedPsiOpt = option("--psi", "DEG", "A fixed angle psi, degrees [0, 180].")
 HandPsiDistOpt = option(
     "--psi-dist", "SPEC", "psi density: uniform[:LOW:HIGH], cosine, "
@@ -112,7 +118,8 @@ def simulate_cmd(
     Draws u, omega and psi (by default a natural hand toss, after Diaconis, Holmes &
     Montgomery, SIAM Review 49 (2007) 211), tosses each coin as `coin toss` does, and reports
     the frequencies of heads, sides and tails with 95% Wilson intervals next to Table I
-    averaged over the same psi (the vigorous limit).  -n is 10000 by default, at most 10^8.
+    averaged over the same psi (the vigorous limit).  -n is 10000 by default, at most 10^8
+    (10^6 with --landing bounce).
     The seed is reported; the same seed gives the same tosses.
 
     --landing bounce tosses the coins onto a surface (--surface, or --restitution and
@@ -126,10 +133,11 @@ def simulate_cmd(
     coin simulate -n 5 --seed 1 --xi 0.577 --psi 90 --stream ;
     coin simulate -n 2000 --seed 1 --xi 0.577 --psi 90 --landing bounce --surface wood
     """
-    emit_all(report.simulate(
+    result = report.simulate(
         **the_coin, u=u, omega=omega, psi=psi, psi_dist=psi_dist, tosses=tosses, seed=seed,
-        stream=stream, **flight, **table, **output, progress=tossing_bar),
-        output.fmt, output.quiet or stream)  # --stream: the letters, one a line
+        stream=stream, **flight, **table, **output, progress=tossing_bar)
+    emit_all(result, output.fmt, output.quiet or stream)  # --stream: the letters, one a line
+    warn_unmet(result)  # bounces that did not settle: the note, after the output
 
 
 # --------------------------------------------------------------------------- coin phase

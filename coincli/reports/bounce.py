@@ -17,11 +17,21 @@ from __future__ import annotations
 import math
 import sys
 
-from coincli.errors import compute_error, usage_error
+from coincli.errors import InputError, compute_error, shown, usage_error
 from coincli.io import grammar as parse
+from coincli.io import options as _options
 from coincli.io.batches import values_option
 from coincli.io.table import Column, Result
-from coincli.limits import LANDINGS, MAX_BOUNCE_TOSSES, STANDARD_G, SURFACE_NAMES
+from coincli.limits import (
+    BOUNCE_DESIGN_TOSSES,
+    BOUNCE_G_MAX,
+    BOUNCE_OMEGA_MAX,
+    BOUNCE_XI_MAX,
+    LANDINGS,
+    MAX_BOUNCE_TOSSES,
+    STANDARD_G,
+    SURFACE_NAMES,
+)
 from coincli.reports.launch import (
     HAND,
     U_MAX,
@@ -30,7 +40,6 @@ from coincli.reports.launch import (
     core_call,
     no_progress,
     reach,
-    tosses_count,
 )
 
 
@@ -38,7 +47,7 @@ class Physics:
     """The parsed ``--landing bounce`` options (SI)."""
 
     __slots__ = ("surface", "height", "vx", "jobs", "dt", "t_max", "B", "calibration",
-                 "scheduler", "checkpoint", "timeout")
+                 "scheduler", "checkpoint", "timeout", "height_text")
 
     def describe(self) -> str:
         s = self.surface
@@ -169,6 +178,7 @@ def parse_physics(landing: str, *, surface=None, restitution=None, friction=None
     except ValueError as exc:
         raise usage_error(str(exc)) from None
     p.height = 0.0 if height is None else _dist(height, "--release-height", "mm", 1e-3, 1e5)
+    p.height_text = height
     p.vx = 0.0 if vx is None else _dist(vx, "--vx", "m/s", 1.0, 100.0)
     if jobs is None:
         from coincli.core.bounce.runs import default_jobs
@@ -197,43 +207,166 @@ def parse_physics(landing: str, *, surface=None, restitution=None, friction=None
     return p
 
 
-def check_speed(p: Physics, u_top: float, g: float, text: str) -> None:
-    """Refuse a launch speed whose flight cannot end within ``--t-max``: the coin rises and
-    falls back for ``2 u / g`` seconds before it reaches a surface at the launch plane, so
-    ``u`` may be at most ``g t_max / 2`` (49 m/s at the default 10 s).  ``u_top``: the largest
-    speed the run draws (m/s); ``text``: the value as typed."""
-    u_max = g * p.t_max / 2
-    if not u_top <= u_max:
-        raise usage_error(f"--u must be at most {u_max:.3g} m/s with --landing bounce and "
-                          f"--t-max {p.t_max:g} s (the coin must land within --t-max: the "
-                          f"flight lasts 2u/g), got {text!r}")
+# --------------------------------------------------------------------------- limits
+#
+# Every limit of a bouncing run is checked here, before any simulation, by every bouncing
+# command that takes the option (toss, simulate, design, plot sides), and named as the user
+# typed it with its range for --landing bounce (issue 28).  The numbers are coincli.limits'.
+
+#: why the engine limits the coin's size (the numbers: coincli.core.bounce.engine.smallest_xi)
+_BODY = "MuJoCo's limits on a body's mass and inertia"
+
+
+def check_g(g: float, text: str) -> None:
+    """``--g`` at most :data:`coincli.limits.BOUNCE_G_MAX`: a stronger gravity presses the coin
+    into MuJoCo's soft contact further than its stiffness, set by the time step, holds."""
+    if not g <= BOUNCE_G_MAX:
+        raise usage_error(f"--g must be at most {BOUNCE_G_MAX:g} m/s^2 with --landing bounce "
+                          "(under a stronger gravity the coin sinks into the surface's soft "
+                          f"contact), got {shown(text)}")
+
+
+def check_omega(top: float, text: str) -> None:
+    """``--omega`` (the largest spin a run draws, ``top``) at most
+    :data:`coincli.limits.BOUNCE_OMEGA_MAX`: faster, the coin turns a radian or more in a
+    MuJoCo step at the default --dt, and its contacts are not followed."""
+    if not top <= BOUNCE_OMEGA_MAX:
+        raise usage_error(f"--omega must be at most {BOUNCE_OMEGA_MAX:g} rad/s with --landing "
+                          "bounce (faster, the coin turns a radian a MuJoCo step), got "
+                          f"{shown(text.strip())}")
+
+
+def bounce_tosses(text: str, what: str = "-n", low: int = 1,
+                  high: int = MAX_BOUNCE_TOSSES) -> int:
+    """A number of tosses of a bouncing run (``-n``, ``--max-tosses``): a whole number from
+    ``low`` to ``high`` (at most :data:`coincli.limits.MAX_BOUNCE_TOSSES`, about 4 hours at 75
+    tosses a second on two cores), named as typed."""
+    try:
+        return _options.tosses_value(text, low=low, high=high, what=what)
+    except InputError:
+        raise usage_error(f"{what} must be a whole number from {low} to {high} with --landing "
+                          f"bounce (a simulated toss takes milliseconds), got {shown(text)}"
+                          ) from None
+
+
+def _fall(u: float, g: float, drop: float) -> float:
+    """When a centre launched up at ``u`` has fallen ``drop`` below its start."""
+    from coincli.core._numerics.backend import M
+    from coincli.core.toss.flight import fall_time
+
+    return fall_time(M, u, g, max(drop, 0.0))
+
+
+def check_landing(p: Physics, *, u_top: float, g: float, xi: float, dia: float, u_text: str,
+                  z0: float | None = None) -> None:
+    """Refuse a launch that cannot settle by construction: the coin must land within half of
+    ``--t-max``, leaving the other half to bounce and settle (a ball landing at ``v`` on a
+    surface of restitution ``e`` bounces for ``2 v e / (g (1 - e))``: at 0.5, wood's, as long
+    again as its fall).  The landing is bounded below by the time the centre of the fastest
+    launch (``u_top``, m/s; ``u_text`` as typed), from the highest surface (``--release-height``
+    at the top of its distribution), falls on its way down to the half-diagonal ``R`` above the
+    surface: no part of the coin touches on the way down before.  The option blamed is the one whose value alone is too
+    much: ``--release-height``, else ``--u``, else ``--t-max`` (the fall from the launch height
+    alone is too long)."""
+    from coincli.core.toss.flight import default_z0
+
+    half = p.t_max / 2
+    z = default_z0(xi, dia, "thick") if z0 is None else z0
+    drop = z - math.hypot(dia / 2, xi * dia / 2)  # the centre's fall before R
+    h_top = p.height if isinstance(p.height, float) else reach(p.height, 100.0)
+    if _fall(u_top, g, drop + h_top) <= half:
+        return
+    rule = ("the coin must land within half of --t-max, leaving the other half to bounce and "
+            "settle")
+    if _fall(0.0, g, drop) > half:
+        fall = _fall(0.0, g, drop)
+        raise usage_error(f"--t-max must be at least {2 * fall:.3g} s with --landing bounce "
+                          f"({rule}; it falls for {fall:.3g} s from its launch height), got "
+                          f"{p.t_max:g} s")
+    ctx = f"with --landing bounce and --t-max {p.t_max:g} s ({rule})"
+    if h_top > 0 and _fall(u_top, g, drop) <= half:
+        h_max = g * half * half / 2 - u_top * half - drop  # (u + sqrt(u^2 + 2gd))/g = half
+        raise usage_error(f"--release-height must be at most {h_max * 1000:.4g} mm with --u "
+                          f"reaching {u_top:g} m/s, --landing bounce and --t-max {p.t_max:g} s "
+                          f"({rule}), got {shown(str(getattr(p, 'height_text', None)).strip())}")
+    u_max = g * half / 2 - max(drop, 0.0) / half
+    raise usage_error(f"--u must be at most {u_max:.3g} m/s {ctx}, got {shown(u_text.strip())}")
 
 
 def check_coin(p: Physics, xi: float | None, dia: float, *, xi_text=None, diameter_text=None,
-               thickness_text=None) -> None:
-    """Refuse, naming the option as typed, a coin MuJoCo cannot simulate: a diameter outside
-    [the smallest with a mass and inertia MuJoCo takes at xi = 100, 10 m], or an aspect ratio
-    (``xi`` None: not checked) too thin for that diameter
-    (:func:`coincli.core.bounce.engine.smallest_xi`)."""
+               thickness_text=None, count_text=None, quarters_text=None, coin_text=None,
+               count: int | None = None, xi_low: float | None = None,
+               command: str = "--landing bounce") -> None:
+    """Refuse, naming the option as typed with its range, a coin MuJoCo cannot simulate: a
+    diameter outside [the smallest with a mass and inertia MuJoCo takes at aspect ratio
+    ``xi_low`` (default 100, the most), 10 m], or an aspect ratio (``xi`` None: not checked)
+    outside [the thinnest for that diameter (:func:`coincli.core.bounce.engine.smallest_xi`),
+    :data:`coincli.limits.BOUNCE_XI_MAX`].  The option blamed is the one that gave the aspect
+    ratio: ``--thickness``, ``--count`` or ``--quarters`` (a stack of ``count`` coins; its
+    range in coins), else ``--xi``.  ``command``: how the range's context is named."""
     B = p.B
-    why = "(MuJoCo's limits on a body's mass and inertia)"
-    if not B.smallest_diameter() <= dia <= 10.0:
-        lo = B.round_up(B.smallest_diameter() * 1000)
+    low = BOUNCE_XI_MAX if xi_low is None else xi_low
+    if not B.smallest_diameter(xi=low) <= dia <= 10.0:
+        lo = B.round_up(B.smallest_diameter(xi=low) * 1000)
         what = "--diameter" if diameter_text is not None else "the coin's diameter"
         got = repr(diameter_text) if diameter_text is not None else f"{dia * 1000:g} mm"
-        raise usage_error(f"{what} must be from {lo:g} to 10000 mm with --landing bounce "
-                          f"{why}, got {got}")
+        sweep = "" if xi_low is None else f", down to xi = {xi_low:g}"
+        raise usage_error(f"{what} must be from {lo:g} to 10000 mm with {command} "
+                          f"({_BODY}{sweep}), got {got}")
     if xi is None:
         return
     lo = B.smallest_xi(dia)
-    if not xi >= lo:
-        if thickness_text is not None:
-            raise usage_error(f"--thickness must be at least {B.round_up(lo * dia * 1000):g} mm "
-                              f"with --landing bounce and a {dia * 1000:g} mm diameter {why}, "
-                              f"got {thickness_text!r}")
-        got = repr(xi_text) if xi_text is not None else f"{xi:g}"
-        raise usage_error(f"--xi must be at least {B.round_up(lo):g} with --landing bounce and "
-                          f"D = {dia * 1000:g} mm {why}, got {got}")
+    if lo <= xi <= BOUNCE_XI_MAX:
+        return
+    if thickness_text is not None:
+        raise usage_error(f"--thickness must be from {B.round_up(lo * dia * 1000):g} to "
+                          f"{BOUNCE_XI_MAX * dia * 1000:.4g} mm with {command} and a "
+                          f"{dia * 1000:g} mm diameter ({_BODY}), got {thickness_text!r}")
+    stack = count_text if count_text is not None else quarters_text
+    if stack is not None and count:
+        one = xi / count  # the aspect ratio of one coin of the stack
+        what = "--count" if count_text is not None else "--quarters"
+        c_lo, c_hi = max(1, math.ceil(lo / one)), math.floor(BOUNCE_XI_MAX / one)
+        of = f" of {coin_text.strip()} coins" if count_text is not None and coin_text else ""
+        raise usage_error(f"{what} must be from {c_lo} to {c_hi} with {command} (a stack{of} "
+                          f"up to xi = {BOUNCE_XI_MAX:g}: {_BODY}), got {stack.strip()!r}")
+    got = repr(xi_text) if xi_text is not None else f"{xi:g}"
+    raise usage_error(f"--xi must be from {B.round_up(lo):g} to {BOUNCE_XI_MAX:g} with "
+                      f"{command} and D = {dia * 1000:g} mm ({_BODY}), got {got}")
+
+
+# --------------------------------------------------------------------------- empty results
+#
+# One rule for every bouncing command: what only settled tosses can give (a frequency, a time
+# to settle, a final side) is an empty cell (None: '-' in a table, nothing in csv/tsv and -q,
+# null in json) when no toss settled, never NaN; and a note on stderr, after the output, says
+# how many tosses did not settle and why (:func:`unsettled_note`, written by warn_unmet).
+
+
+def empty(v):
+    """``v``, or None (an empty cell) for NaN."""
+    return None if isinstance(v, float) and math.isnan(v) else v
+
+
+def unsettled_note(p: Physics, unsettled: int, total: int, never_landed: int = 0,
+                   left: str | None = None) -> str | None:
+    """The note of tosses that did not settle (None when all did): how many, why, what is left
+    out (``left``: by default the frequencies), and what to change."""
+    if not unsettled:
+        return None
+    moving, by = unsettled - never_landed, f"--t-max {p.t_max:g} s"
+    if total == 1:
+        how = "never reached the surface by" if never_landed else "still moving at"
+        return (f"the toss did not settle ({how} {by}): its time to settle and final tilt "
+                "are empty; raise --t-max, or land more gently (a lower --u, --vx, "
+                "--release-height or --restitution)")
+    why = ([f"{moving} still moving at {by}"] if moving else []) + (
+        [f"{never_landed} never reached the surface by then"] if never_landed else [])
+    left = left or ("no frequency can be given (empty cells)" if unsettled == total else
+                    "they are left out of the frequencies")
+    return (f"{unsettled} of {total} tosses did not settle ({'; '.join(why)}): {left}; raise "
+            "--t-max, or land more gently (a lower --u, --vx, --release-height or "
+            "--restitution)")
 
 
 def dist_text(v, unit: str, scale: float = 1.0) -> str:
@@ -254,9 +387,9 @@ def simulate(p: Physics, *, count, seed, xi, u, omega, psi, diameter, g, labels,
     from coincli.core.toss.simulate import wilson_interval
     from coincli.reports.executor import executor
 
-    if count > MAX_BOUNCE_TOSSES:
-        raise usage_error(f"-n must be at most {MAX_BOUNCE_TOSSES} with --landing bounce (a "
-                          f"simulated toss takes milliseconds), got {count}")
+    if count > MAX_BOUNCE_TOSSES:  # (the command line's -n is checked by bounce_tosses)
+        raise usage_error(f"-n must be a whole number from 1 to {MAX_BOUNCE_TOSSES} with "
+                          f"--landing bounce (a simulated toss takes milliseconds), got {count}")
     with executor(p, "coin simulate --landing bounce", **{
             "-n": count, "--seed": seed, "--xi": xi, "--u": u, "--omega": omega, "--psi": psi,
             "--diameter": diameter, "--g": g}) as run, (progress or no_progress)(count) as tick:
@@ -266,13 +399,14 @@ def simulate(p: Physics, *, count, seed, xi, u, omega, psi, diameter, g, labels,
                         progress=tick, executor=run)
     rows = []
     n = sim.n
+    none = sim.settled == 0  # no frequency among settled tosses: empty cells, not NaN
     for i, f in enumerate(sim.frequencies):
-        rows.append((f.outcome, f.count, f.p, f.lo, f.hi, sim.catch_counts[i] / n,
-                     float(sim.vigorous[i])))
+        rows.append((f.outcome, f.count, *((None,) * 3 if none else (f.p, f.lo, f.hi)),
+                     sim.catch_counts[i] / n, float(sim.vigorous[i])))
     lo, hi = wilson_interval(sim.counts[3], n)
     rows.append(("unsettled", sim.counts[3], sim.counts[3] / n, lo, hi, None, None))
     common = ["bounce", p.surface.name, p.surface.restitution, p.surface.friction, sim.seed,
-              sim.mean_bounces, sim.mean_t_settle, sim.agree / n]
+              sim.mean_bounces, None if none else empty(sim.mean_t_settle), sim.agree / n]
     rows = [r + tuple(common) for r in rows]
     columns = [
         Column("outcome", "outcome", "text"), Column("count", "count", "int"),
@@ -293,12 +427,15 @@ def simulate(p: Physics, *, count, seed, xi, u, omega, psi, diameter, g, labels,
             f"{dist_text(p.vx, 'm/s')}; dt = {p.dt:g} s.  Frequencies among the "
             f"{sim.settled} settled tosses, 95% Wilson intervals; {sim.counts[3]} still moving "
             f"at {p.t_max:g} s are 'unsettled' (their share of all tosses).  Mean bounces "
-            f"{sim.mean_bounces:.3g}, mean time to settle {sim.mean_t_settle:.3g} s; "
-            f"{sim.agree / n:.1%} land as the catch at first contact would have said ('if "
+            f"{sim.mean_bounces:.3g}, "
+            + ("no toss settled" if none else f"mean time to settle {sim.mean_t_settle:.3g} s")
+            + f"; {sim.agree / n:.1%} land as the catch at first contact would have said ('if "
             "caught': the same tosses caught, eq. 7).  The vigorous limit is the paper's catch "
             "model averaged over psi.")
-    return Result("coin simulate --landing bounce", columns, rows, note,
-                  quiet=[r[2] for r in rows[:3]])
+    never = n - sum(sim.catch_counts)  # no first contact by t_max: no catch outcome either
+    return BounceResult("coin simulate --landing bounce", columns, rows, note,
+                        quiet=[r[2] for r in rows[:3]],
+                        notes=[unsettled_note(p, sim.counts[3], n, never)])
 
 
 # --------------------------------------------------------------------------- coin toss
@@ -321,16 +458,18 @@ def toss(p: Physics, *, xi, psi, u, omega, diameter, g, z0, trajectory, fmt,
     eng = core_call(B.Engine, coin, p.surface, dt=p.dt, g=g, landing="bounce", t_max=p.t_max)
     launch = B.Launch(u, omega, psi, z0v, p.height, p.vx, 0.0)
     t_land = eng.first_contacts([launch])[0]
-    if not t_land < p.t_max:  # a lower surface lengthens the flight past 2u/g
-        raise usage_error(f"the coin lands {t_land:.4g} s after launch, past --t-max "
-                          f"{p.t_max:g} s: lower --u or --release-height, or raise --t-max")
+    if not t_land <= p.t_max / 2:  # check_landing's rule, on the exact flight
+        raise usage_error(f"the coin lands {t_land:.4g} s after launch, past half of --t-max "
+                          f"{p.t_max:g} s (the other half is left to bounce and settle): lower "
+                          "--u or --release-height, or raise --t-max")
     r = core_call(eng.run, launch, record=trajectory is not None, t_contact=t_land)
     if trajectory is not None:
         write_csv_atomic(trajectory, B.TRAJECTORY_COLUMNS, r.trajectory)
-    names = NAMES
+    settled = r.code < B.UNSETTLED  # else: an empty time to settle, tilt and outcome cell
     data = [[xi], [math.degrees(psi)], [u], [omega], ["bounce"], [p.surface.name],
-            [r.t_first], [names[r.catch_code]], [r.bounces], [r.t_settle],
-            [math.degrees(r.alpha)], [r.outcome], [r.steps]]
+            [empty(r.t_first)], [NAMES[r.catch_code] if r.catch_code < B.UNSETTLED else None],
+            [r.bounces], [empty(r.t_settle)],
+            [math.degrees(r.alpha) if settled else None], [r.outcome], [r.steps]]
     columns = [
         Column("xi", "xi"), Column("psi_deg", "psi (deg)"), Column("u", "u (m/s)"),
         Column("omega", "omega (rad/s)"), Column("landing", "landing", "text"),
@@ -350,8 +489,10 @@ def toss(p: Physics, *, xi, psi, u, omega, diameter, g, z0, trajectory, fmt,
     if seed is not None and fmt != "table":  # drawn launch values: the seed that repeats them
         columns.append(Column("seed", "seed", "int"))
         data.append([seed])
-    return Result("coin toss --landing bounce", columns, [], note, quiet=r.outcome,
-                  vertical=True, data=data)
+    never = int(r.catch_code >= B.UNSETTLED)
+    return BounceResult("coin toss --landing bounce", columns, [], note, quiet=r.outcome,
+                        vertical=True, data=data,
+                        notes=[unsettled_note(p, int(not settled), 1, never)])
 
 
 def _output_path(path: str) -> None:
@@ -391,13 +532,21 @@ def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, 
             "--p-sides": targets, "--seed": seed, "--tol": tol, "--max-tosses": max_tosses,
             "--time-limit": time_limit, "--u": u, "--omega": omega, "--psi": psi,
             "--diameter": diameter, "--g": g}) as run, (progress or no_progress)() as tick:
-        r = core_call(bounce_design.design, targets, seed=seed, tol=tol, max_tosses=max_tosses,
-                      time_limit=time_limit, u=u, omega=omega, psi=psi, surf=p.surface,
-                      landing="bounce", height=p.height, vx=p.vx, diameter=diameter, g=g,
-                      dt=p.dt, t_max=p.t_max, jobs=p.jobs, progress=tick, executor=run)
+        try:
+            r = bounce_design.design(targets, seed=seed, tol=tol, max_tosses=max_tosses,
+                                     time_limit=time_limit, u=u, omega=omega, psi=psi,
+                                     surf=p.surface, landing="bounce", height=p.height,
+                                     vx=p.vx, diameter=diameter, g=g, dt=p.dt, t_max=p.t_max,
+                                     jobs=p.jobs, progress=tick, executor=run)
+        except (bounce_design.BeyondTheEngine, bounce_design.TooFewSettled) as exc:
+            raise _design_error(p, exc) from None
+        except ValueError as exc:
+            raise usage_error(str(exc)) from None
     dia_mm = diameter * 1000
+    outside = [(t, x) for t, x in zip(r.targets, r.xi, strict=True)
+               if not r.span[0] <= x <= r.span[1]]
     rows = [(t, x, lo, hi, dia_mm * x, dia_mm * lo, dia_mm * hi, float(f.p_sides(x)),
-             f.p_value, len(f.points), r.tosses, r.seed)
+             empty(f.p_value), len(f.points), r.tosses, r.seed)
             for t, x, lo, hi, f in zip(r.targets, r.xi, r.low, r.high, r.fits, strict=True)]
     columns = [
         Column("p_sides", "P(sides) target"), Column("xi", "xi = h/D"),
@@ -425,6 +574,10 @@ def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, 
                      "widened by the dispersion" if any(f.p_value < 0.01 for f in r.fits)
                      else "")
             + f"; 95% intervals by the delta method.  Stopped: {why[r.stopped_by]}"
+            + ("" if not outside else
+               "; " + ", ".join(f"xi = {x:.4g} for P(sides) = {t:.4g}" for t, x in outside)
+               + f" extrapolated from the aspect ratios simulated ({r.span[0]:.4g} to "
+               f"{r.span[1]:.4g})")
             + ("" if r.first >= bounce_design.DESIGN_FIRST else
                f" (--max-tosses {max_tosses} cut the first sweep to {r.first} tosses per aspect "
                f"ratio, from {bounce_design.DESIGN_FIRST})")
@@ -432,10 +585,31 @@ def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, 
                f"; --max-tosses {r.tosses} reproduces this result") + ".  "
             + CONTACT_NOTE + "  The catch model (no --landing) gives the paper's xi.  Toss a "
             "prototype and check it with coin check.  " + PRESET_SPREAD)
+    warning = [] if r.met else [f"{why[r.stopped_by]}; the intervals are wider than asked"]
+    if outside:
+        warning.append(f"{len(outside)} answer{'' if len(outside) == 1 else 's'} extrapolated "
+                       f"beyond the aspect ratios simulated ({r.span[0]:.4g} to "
+                       f"{r.span[1]:.4g}): raise --max-tosses or --time-limit to simulate "
+                       "near them")
     return DesignResult("coin design --landing bounce", columns, rows, note,
                         quiet=[row[1] for row in rows], vertical=len(rows) == 1,
-                        warning=None if r.met else f"{why[r.stopped_by]}; the intervals are "
-                        "wider than asked")
+                        warning="; ".join(warning) or None,
+                        notes=[unsettled_note(p, r.unsettled, r.tosses, r.never_landed)])
+
+
+def _design_error(p: Physics, exc):
+    """The error of a design the core could not finish, named for the user: an answer beyond
+    the engine's aspect ratios (--p-sides, exit 2), or too few settled tosses (exit 1, with the
+    unsettled note)."""
+    if isinstance(exc, bounce_design_module().BeyondTheEngine):
+        t = f"{exc.target:g}" if float(f"{exc.target:g}") == exc.target else repr(exc.target)
+        return usage_error(f"--p-sides {t} needs xi = {exc.xi:.3g}, outside the "
+                           f"aspect ratios MuJoCo can simulate for this coin ({exc.lo:.3g} to "
+                           f"{exc.hi:g}): no simulated toss could check it; give a P(sides) "
+                           "whose coin can be simulated")
+    return compute_error("no design: " + unsettled_note(
+        p, exc.unsettled, exc.tosses, exc.never_landed,
+        left="fitting P(sides) needs settled tosses at two aspect ratios or more"))
 
 
 def bounce_design(physics, *, p_sides, psi, psi_dist, u, omega, diameter, coin, tol, seed,
@@ -458,7 +632,9 @@ def bounce_design(physics, *, p_sides, psi, psi_dist, u, omega, diameter, coin, 
             raise usage_error(f"--p-sides must be strictly between 0 and 1 with --landing "
                               f"bounce, got {t:g}")
     tol_v = 0.01 if tol is None else bounded_number(tol, "--tol", 1e-4, 1.0)
-    mt = 200_000 if max_tosses is None else tosses_count(max_tosses)
+    least = bounce_design_module().DESIGN_FIRST_MIN * len(bounce_design_module().DESIGN_GRID)
+    mt = (BOUNCE_DESIGN_TOSSES if max_tosses is None else
+          bounce_tosses(max_tosses, "--max-tosses", least, MAX_BOUNCE_TOSSES))
     tl = 300.0 if time_limit is None else bounded_number(time_limit, "--time-limit", 1.0, 1e6)
     if diameter is not None:
         try:
@@ -471,8 +647,11 @@ def bounce_design(physics, *, p_sides, psi, psi_dist, u, omega, diameter, coin, 
         except ValueError as exc:
             raise usage_error(str(exc)) from None
     u_spec, w_spec, psi_spec, labels = bounce_launch(psi, psi_dist, u, omega)
-    check_coin(physics, None, dia, diameter_text=diameter)
-    check_speed(physics, reach(u_spec, U_MAX), STANDARD_G, u or HAND["u"])
+    grid = bounce_design_module().DESIGN_GRID  # the sweep's coins must be simulable
+    check_coin(physics, None, dia, diameter_text=diameter, xi_low=min(grid),
+               command="coin design --landing bounce")
+    check_landing(physics, u_top=reach(u_spec, U_MAX), g=STANDARD_G, xi=max(grid), dia=dia,
+                  u_text=u or HAND["u"])
     if physics.calibration is not None:  # the user's table: its uncertainty carried too
         from coincli.reports import calibrate
 
@@ -495,25 +674,39 @@ PRESET_SPREAD = ("Your table is not a preset either.  Over "
                  "FILE --save CAL.json) and design with --calibration CAL.json.")
 
 
-class DesignResult(Result):
-    """What ``coin design --landing bounce`` prints, and ``warning``: the line that follows it
-    on stderr when the run stopped before every interval was within ``--tol``
-    (:func:`warn_unmet` writes it, after the table)."""
+def bounce_design_module():
+    """:mod:`coincli.core.bounce.design` (numpy and MuJoCo are loaded by then)."""
+    from coincli.core.bounce import design as bounce_design
 
-    __slots__ = ("warning",)
+    return bounce_design
 
-    def __init__(self, *args, warning: str | None = None, **kwargs):
+
+class BounceResult(Result):
+    """What a bouncing command prints, and the lines that follow it on stderr
+    (:func:`warn_unmet` writes them, after the output): ``warning``, a design that stopped
+    before every interval was within ``--tol`` (``coin: warning: ...``), and ``notes``, the
+    tosses that did not settle (:func:`unsettled_note`; ``coin: note: ...``; Nones dropped)."""
+
+    __slots__ = ("warning", "notes")
+
+    def __init__(self, *args, warning: str | None = None, notes=(), **kwargs):
         super().__init__(*args, **kwargs)
         self.warning = warning
+        self.notes = [n for n in notes if n]
+
+
+DesignResult = BounceResult  #: what ``coin design --landing bounce`` returns
 
 
 def warn_unmet(results) -> None:
-    """After a report's output is written: the warning of a bounce design that stopped short
-    of ``--tol`` (:class:`DesignResult`), on stderr; nothing for any other result."""
+    """After a report's output is written: the warning and notes of a bouncing run
+    (:class:`BounceResult`), on stderr; nothing for any other result."""
     for r in [results] if isinstance(results, Result) else results:
-        if getattr(r, "warning", None):
+        lines = ([f"coin: warning: {r.warning}"] if getattr(r, "warning", None) else []) + [
+            f"coin: note: {n}" for n in getattr(r, "notes", ())]
+        if lines:
             sys.stdout.flush()
-            sys.stderr.write(f"coin: warning: {r.warning}\n")
+            sys.stderr.write("".join(line + "\n" for line in lines))
 
 
 
@@ -553,14 +746,16 @@ PLOT_XI = (0.05, 100.0)
 
 
 def sides_points(p: Physics, *, seed, n, xis, u, omega, psi, diameter, g):
-    """Simulated points (one per xi, 95% Wilson intervals) and the fitted curve, or None and
-    why not when the points do not determine one."""
+    """Simulated points (one per xi with a settled toss, 95% Wilson intervals), the fitted
+    curve (None when the points do not determine one) and a note: why there is no curve,
+    and/or the tosses that did not settle (:func:`unsettled_note`), or None."""
     from coincli.core.bounce import design as bounce_design
     from coincli.core.bounce import runs
     from coincli.render.figures import ExperimentPoint
     from coincli.reports.executor import executor
 
     pts = []
+    unsettled = never = 0
     with executor(p, "coin plot sides --landing bounce", **{
             "--seed": seed, "-n": n, "--xi-range": xis, "--u": u, "--omega": omega,
             "--psi": psi, "--diameter": diameter, "--g": g}) as run:
@@ -569,11 +764,15 @@ def sides_points(p: Physics, *, seed, n, xis, u, omega, psi, diameter, g):
                           surf=p.surface, landing="bounce", height=p.height, vx=p.vx,
                           diameter=diameter, g=g, dt=p.dt, t_max=p.t_max, jobs=p.jobs,
                           stream=(0, j), executor=run)
+            unsettled += r.counts[3]
+            never += r.n - sum(r.catch_counts)
             f = r.frequencies[1]
-            pts.append(ExperimentPoint(f"simulated bounce on {p.surface.name}", x, r.settled,
-                                       f.count, f.p, f.lo, f.hi, simulated=True))
+            if r.settled:  # an aspect ratio where no toss settled has no point (not a NaN one)
+                pts.append(ExperimentPoint(f"simulated bounce on {p.surface.name}", x,
+                                           r.settled, f.count, f.p, f.lo, f.hi, simulated=True))
+    note = unsettled_note(p, unsettled, n * len(xis), never)
     try:
         fit = bounce_design.fit_sides([(e.xi, e.n, e.sides) for e in pts])
     except ValueError as exc:
-        return pts, None, str(exc)
-    return pts, FittedSpec(fit, p.surface.name), None
+        return pts, None, str(exc) + ("" if note is None else f"; {note}")
+    return pts, FittedSpec(fit, p.surface.name), note

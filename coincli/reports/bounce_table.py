@@ -100,7 +100,9 @@ def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
     from coincli.reports.calibrate import bounce_launch_for
 
     u_spec, w_spec, psi_spec, labels = bounce_launch_for(physics, psi, psi_dist, u, omega)
-    BO.check_speed(physics, reach(u_spec, U_MAX), STANDARD_G, u or "the hand toss's")
+    for x in xis:  # every coin must land within half of --t-max (reports.bounce)
+        BO.check_landing(physics, u_top=reach(u_spec, U_MAX), g=STANDARD_G, xi=x, dia=dia,
+                         u_text=u or "the hand toss's")
     seed_v = options.seed_value(seed)
     stacked = coins.counts is not None
     columns = (_STACKED if stacked else []) + COLUMNS

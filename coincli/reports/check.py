@@ -552,7 +552,8 @@ def _simulate_table(physics, x, counts, *, xi, diameter, thickness, coin_texts, 
     dia = diameter_m(coins, diameter)
     BO.check_coin(physics, x, dia, xi_text=xi, diameter_text=diameter, thickness_text=thickness)
     u_spec, w_spec, psi_spec, labels = bounce_launch_for(physics, psi, psi_dist, u, omega)
-    BO.check_speed(physics, reach(u_spec, U_MAX), STANDARD_G, u or "the hand toss's")
+    BO.check_landing(physics, u_top=reach(u_spec, U_MAX), g=STANDARD_G, xi=x, dia=dia,
+                     u_text=u or "the hand toss's")
     least, times, most = SIM_TOSSES
     n = min(max(least, times * counts.n), most)
     seed_v = options.seed_value(seed)

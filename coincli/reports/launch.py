@@ -192,9 +192,10 @@ def launch(psi, psi_dist_text, u, omega):
 
 
 def bounce_launch(psi, psi_dist_text, u, omega):
-    """:func:`launch` for a bounce run, whose spin stays at most 10^4 rad/s."""
+    """:func:`launch` for a bounce run, whose spin stays within the engine's limit
+    (:func:`coincli.reports.bounce.check_omega`)."""
+    from coincli.reports.bounce import check_omega
+
     u_spec, w_spec, psi_spec, labels = launch(psi, psi_dist_text, u, omega)
-    if reach(w_spec, math.inf) > 1e4:
-        raise usage_error(f"--omega must stay at most 10000 rad/s with --landing bounce, got "
-                          f"{omega.strip()!r}")
+    check_omega(reach(w_spec, math.inf), omega or HAND["omega"])
     return u_spec, w_spec, psi_spec, labels

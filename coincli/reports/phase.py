@@ -23,7 +23,7 @@ from coincli.io import grammar as parse
 from coincli.io import options as _options
 from coincli.io.table import Column, Result, check_format
 from coincli.io.terminal import env_no_color, stdout_is_terminal
-from coincli.limits import OMEGA_TOP, U_MAX
+from coincli.limits import G_MAX, G_MIN, OMEGA_TOP, U_MAX
 
 U_DEFAULT = "0:3"  #: m/s
 OMEGA_DEFAULT = "0:60"  #: rad/s
@@ -123,8 +123,9 @@ def g_value(text: str) -> float:
         v = parse.parse_number(text, "--g")
     except ValueError:
         v = math.nan
-    if not 0 < v <= 1e100:  # NaN fails
-        raise usage_error(f"--g must be a number > 0 and <= 1e+100 m/s^2, got {text!r}")
+    if not G_MIN <= v <= G_MAX:  # NaN fails
+        raise usage_error(f"--g must be a number from {G_MIN:g} to {G_MAX:g} m/s^2, got "
+                          f"{text!r}")
     return v
 
 

@@ -264,7 +264,7 @@ def sides(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
     if physics is not None:
         from coincli.reports.launch import bounce_launch
 
-        count = 400 if tosses is None else _options.tosses_value(tosses, high=100_000)
+        count = 400 if tosses is None else BO.bounce_tosses(tosses, high=100_000)
         seed_v = _options.seed_value(seed)
         u_spec, w_spec, psi_spec, labels = bounce_launch(None, None, None, None)
         lo, hi = rng if rng is not None else (0.1, 2.0)
@@ -287,6 +287,8 @@ def sides(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
         else:
             curve = (f"the curve is the probit fitted to them (fit p-value "
                      f"{fitted.fit.p_value:.3g})")
+        if fitted is not None and why:  # tosses that did not settle
+            curve += f"; {why}"
         sys.stderr.write(f"coin: note: simulated points: {count} tosses at each of 8 xi from "
                          f"{lo:.4g} to {hi:.4g} onto {physics.describe()}, {labels}; seed "
                          f"{seed_v}; {curve}\n")

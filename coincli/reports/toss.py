@@ -56,14 +56,33 @@ def _mm(text: str) -> str:
         return t
 
 
-def _z0_m(text: str | None, xi_max: float, dia: float, thick: bool) -> float | None:
-    """--z0 in metres; for thick contact above h/2, or the coin would start below the plane."""
+def _in_unit_of(text: str, mm: float) -> str:
+    """``mm`` millimetres in the unit ``text`` was typed in (mm when none)."""
+    unit = parse.split_unit(text, parse._LEN_UNITS)[1] or "mm"
+    return f"{mm / float(parse._LEN_UNITS[unit]):.4g} {unit}"
+
+
+def _z0_m(text: str | None, xi_max: float, dia: float, thick: bool,
+          bounce=None) -> float | None:
+    """--z0 in metres; for thick contact above h/2, or the coin would start below the plane;
+    with --landing bounce (``bounce``: its Physics) above h/2 less the surface's depth below
+    the launch plane, or the coin would start inside the surface."""
     if text is None:
         return None
     v = core_call(parse.parse_length_mm, text, "--z0")
     if v < LENGTH_MM_MIN:
         raise usage_error(f"--z0 must be a length of at least {LENGTH_MM_MIN:g} mm, got {text!r}")
     z0 = v / 1000.0
+    if bounce is not None:
+        depth = bounce.height if isinstance(bounce.height, float) else 0.0
+        floor = xi_max * dia / 2 - depth
+        if z0 <= floor:
+            below = "" if not depth else (f" less the surface's {_in_unit_of(text, depth * 1e3)}"
+                                          " below the launch plane")
+            raise usage_error(f"--z0 must be above h/2 = {_in_unit_of(text, xi_max * dia * 500)}"
+                              f"{below} with --landing bounce (the coin is launched flat: it "
+                              f"would start inside the surface), got {_mm(text)}")
+        return z0
     floor = xi_max * dia / 2 if thick else 0.0
     if z0 <= floor:
         raise usage_error(f"--z0 must be above h/2 = {floor * 1000:g} mm with --contact thick "
@@ -76,6 +95,17 @@ def _xi_for_contact(xi_max: float, thick: bool):
     if thick and xi_max > XI_THICK_MAX:
         raise usage_error(f"--xi must be at most 1e100 with --contact thick (the launch height "
                           f"rises by h/2), got {_num(xi_max)}")
+
+
+def _bounce_coin(physics, coins, xi_v: float, dia: float, *, xi, coin, count, quarters, diameter,
+                 thickness) -> None:
+    """The engine's limits on the coin (:func:`coincli.reports.bounce.check_coin`), naming the
+    option that gave it as typed."""
+    counts = coins.counts
+    BO.check_coin(physics, xi_v, dia, xi_text=xi, diameter_text=diameter,
+                  thickness_text=thickness if count is None else None, count_text=count,
+                  quarters_text=quarters, coin_text=coin,
+                  count=int(counts[0]) if counts is not None and len(counts) else None)
 
 
 def _follow(T, xi, psi, u, omega, *, dia, g, ct, z0, got, where=""):
@@ -200,6 +230,8 @@ def toss(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickn
     ct = contact_value(contact)
     dia = diameter_m(coins, diameter)
     gv = g_value(g)
+    if physics is not None:
+        BO.check_g(gv, g)
     given = {"psi": psi, "u": u, "omega": omega}
     cols = {"xi": coins.xis}
     if psi is not None:
@@ -220,7 +252,7 @@ def toss(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickn
     xs = cols["xi"]
     xi_max = float(xs.max() if hasattr(xs, "max") else max(xs))
     _xi_for_contact(xi_max, ct == "thick")
-    z0_m = _z0_m(z0, xi_max, dia, ct == "thick")
+    z0_m = _z0_m(z0, xi_max, dia, ct == "thick", bounce=physics)
     import numpy as np
 
     from coincli.core.toss import batch as TB
@@ -256,15 +288,11 @@ def toss(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickn
             raise usage_error("coin toss --landing bounce takes one toss (one value of --xi, "
                               "--psi, --u, --omega); coin simulate --landing bounce takes many")
         xf, uf, wf = float(x[0]), float(uu[0]), float(w[0])
-        if xf == 0 or xf > 100:
-            raise usage_error(f"--xi must be above 0 and at most 100 with --landing bounce, "
-                              f"got {_num(xf)}")
-        if wf > 1e4:
-            raise usage_error(f"--omega must be at most 10000 rad/s with --landing bounce, got "
-                              f"{_num(wf)} rad/s")
-        BO.check_coin(physics, xf, dia, xi_text=xi, diameter_text=diameter,
-                      thickness_text=thickness)
-        BO.check_speed(physics, uf, gv, u if u is not None else f"{_num(uf)} m/s")
+        _bounce_coin(physics, coins, xf, dia, xi=xi, coin=coin, count=count,
+                     quarters=quarters, diameter=diameter, thickness=thickness)
+        BO.check_omega(wf, omega if omega is not None else f"{_num(wf)} rad/s")
+        BO.check_landing(physics, u_top=uf, g=gv, xi=xf, dia=dia, z0=z0_m,
+                         u_text=u if u is not None else f"{_num(uf)} m/s")
         extra = ""
         if drawn:
             what = ", ".join(f"{k} ~ {TL.HAND_TOSS_TEXT[k]}" for k in drawn)
@@ -349,14 +377,22 @@ def simulate(*, xi=None, coin=None, count=None, quarters=None, diameter=None, th
                                   xi_rule="finite", command="coin simulate")
     ct = contact_value(contact)
     dia = diameter_m(coins, diameter)
-    gv = g_value(g)
-    count_n = tosses_count(tosses) if tosses is not None else 10_000
     xv = coins.xi
+    if physics is not None:  # the engine's limits first, each named as typed
+        _bounce_coin(physics, coins, xv, dia, xi=xi, coin=coin, count=count,
+                     quarters=quarters, diameter=diameter, thickness=thickness)
+    gv = g_value(g)
+    if physics is not None:
+        BO.check_g(gv, g)
+    count_n = (10_000 if tosses is None else BO.bounce_tosses(tosses) if physics is not None
+               else tosses_count(tosses))
     _xi_for_contact(xv, ct == "thick")
     from coincli.core.toss import flight as T
     from coincli.core.toss import simulate as TS
 
     u_spec, w_spec, psi_spec, labels = launch(psi, psi_dist, u, omega)
+    if physics is not None:
+        BO.check_omega(reach(w_spec, math.inf), omega or HAND["omega"])
     seed_v = _options.seed_value(seed)
     kw = {"xi": xv, "u": u_spec, "omega": w_spec, "psi": psi_spec, "diameter": dia, "g": gv,
           "contact": ct}
@@ -370,9 +406,7 @@ def simulate(*, xi=None, coin=None, count=None, quarters=None, diameter=None, th
     _follow(T, xv, psi_hi, u_hi, w_hi, dia=dia, g=gv, ct=ct, z0=None, got=got)
     core_call(T.check_toss, xv, psi_hi, u_hi, w_hi, diameter=dia, g=gv, contact=ct)  # the same
     if physics is not None:
-        BO.check_coin(physics, xv, dia, xi_text=xi, diameter_text=diameter,
-                      thickness_text=thickness)
-        BO.check_speed(physics, u_hi, gv, u or HAND["u"])
+        BO.check_landing(physics, u_top=u_hi, g=gv, xi=xv, dia=dia, u_text=u or HAND["u"])
         if quiet:
             _options.report_seed(seed_v, seed is not None)
         bar = None if progress is None else (lambda total: progress(total, 200))

@@ -364,7 +364,8 @@ def test_design_answers_from_the_points_near_the_target(monkeypatch, curve, targ
 
     def fake(n, seed, *, xi, stream=(), **kw):
         k = int(np.random.default_rng([seed, *stream]).binomial(n, curve(xi)))
-        return type("R", (), {"settled": n, "counts": (0, k, n - k, 0)})()
+        return type("R", (), {"settled": n, "counts": (0, k, n - k, 0), "n": n,
+                              "catch_counts": (n, 0, 0)})()
 
     monkeypatch.setattr(D, "simulate", fake)
     truth = brentq(lambda x: curve(x) - target, 0.05, 3.0)
@@ -386,7 +387,8 @@ def test_design_never_passes_max_tosses(monkeypatch, cap):
     def fake(n, seed, *, xi, stream=(), **kw):
         sims.append(n)
         k = int(np.random.default_rng([seed, *stream]).binomial(n, _floor(xi)))
-        return type("R", (), {"settled": n, "counts": (0, k, n - k, 0)})()
+        return type("R", (), {"settled": n, "counts": (0, k, n - k, 0), "n": n,
+                              "catch_counts": (n, 0, 0)})()
 
     monkeypatch.setattr(D, "simulate", fake)
     r = D.design([1 / 3], seed=4, tol=1e-4, max_tosses=cap)

@@ -847,7 +847,7 @@ def test_flight_limits_is_the_check_of_toss_and_toss_many():
     import warnings
 
     cases = [  # (kwargs, problem)
-        ({}, 0), ({"omega": 1e13}, 2), ({"g": 1e-320}, 1), ({"g": 1e-300}, 2),
+        ({}, 0), ({"omega": 1e13}, 2), ({"g": 1e-300, "u": 1e8}, 1), ({"g": 1e-300}, 2),
         ({"z0": 1e297}, 2), ({"u": 0.0, "omega": 5e158, "z0": 1e-293}, 3),
         ({"u": 0.0, "omega": 5e158, "z0": 1e-293, "psi": 0.0}, 0),  # no tilt: no curvature
         ({"u": 0.0, "omega": 1e160, "g": 1e100, "diameter": 1e-293}, 3),

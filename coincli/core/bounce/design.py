@@ -12,10 +12,33 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+from coincli.core.bounce.engine import smallest_xi
 from coincli.core.bounce.runs import simulate
-from coincli.core.toss.flight import SIDES
+from coincli.core.toss.flight import DEFAULT_DIAMETER, SIDES
+from coincli.limits import BOUNCE_XI_MAX
 
-__all__ = ["SidesFit", "fit_sides", "Design", "design"]
+__all__ = ["SidesFit", "fit_sides", "Design", "design", "TooFewSettled", "BeyondTheEngine"]
+
+
+class TooFewSettled(ValueError):
+    """Too few tosses settled for a fit: fewer than two aspect ratios with a settled toss.
+    ``tosses``, ``unsettled``: the counts of the run so far; ``never_landed``: those of the
+    unsettled that never reached the surface within ``t_max``."""
+
+    def __init__(self, tosses: int, unsettled: int, never_landed: int):
+        super().__init__(f"{unsettled} of {tosses} simulated tosses did not settle: too few "
+                         "settled to fit P(sides)")
+        self.tosses, self.unsettled, self.never_landed = tosses, unsettled, never_landed
+
+
+class BeyondTheEngine(ValueError):
+    """A target's answer, ``xi``, lies outside ``(lo, hi)``, the aspect ratios the engine can
+    simulate for this coin: no simulated toss could check it (issue 28)."""
+
+    def __init__(self, target: float, xi: float, lo: float, hi: float):
+        super().__init__(f"P(sides) = {target:g} needs xi = {xi:.3g}, outside the aspect "
+                         f"ratios MuJoCo can simulate for this coin ({lo:.3g} to {hi:g})")
+        self.target, self.xi, self.lo, self.hi = target, xi, lo, hi
 
 
 @dataclass
@@ -139,6 +162,10 @@ class Design:
     unsettled: int
     fits: list = field(default_factory=list)  #: per target, the local fit its answer is from
     first: int = 200  #: tosses at each xi of the first sweep (below DESIGN_FIRST: max_tosses cut it)
+    #: the smallest and largest aspect ratios with a settled toss: an answer outside is an
+    #: extrapolation of the fitted curve (the run stopped before simulating near it)
+    span: tuple = (math.nan, math.nan)
+    never_landed: int = 0  #: unsettled tosses that never reached the surface within t_max
 
 
 #: A target's answer comes from the probit fitted to the points within this factor of its
@@ -211,14 +238,18 @@ def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, lev
     tosses = unsettled = 0
     planned = len(DESIGN_GRID) * DESIGN_FIRST
 
+    never_landed = 0
+    lo_xi = smallest_xi(kw.get("diameter", DEFAULT_DIAMETER))  # what the engine can simulate
+
     def run(xs, n, rnd):
-        nonlocal tosses, unsettled
+        nonlocal tosses, unsettled, never_landed
         for j, x in enumerate(xs):
             r = simulate(n, seed, xi=x, stream=(rnd, j), **kw)
             old = points.get(x, (0, 0))
             points[x] = (old[0] + r.settled, old[1] + r.counts[SIDES])
             tosses += n
             unsettled += r.counts[3]
+            never_landed += r.n - sum(r.catch_counts)  # no first contact: no catch outcome
             if progress is not None:
                 progress(tosses, planned)
 
@@ -233,17 +264,22 @@ def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, lev
     rnd = 0
     stopped = "tol"
     while True:
+        if sum(1 for n, _ in points.values() if n > 0) < 2:
+            raise TooFewSettled(tosses, unsettled, never_landed)
         fit = fit_sides([(x, n, k) for x, (n, k) in sorted(points.items())])
         if fit.beta <= 0:
             raise ValueError("the simulated P(sides) does not grow with xi; no design found")
         fits = [_local_fit(points, t, fit.inverse(t)) for t in targets]
         est = [f.inverse(t) for f, t in zip(fits, targets, strict=True)]
+        for t, x in zip(targets, est, strict=True):
+            if not lo_xi <= x <= BOUNCE_XI_MAX:  # no toss could check it: never an answer
+                raise BeyondTheEngine(t, x, lo_xi, BOUNCE_XI_MAX)
         ivs = [f.interval(t, level) for f, t in zip(fits, targets, strict=True)]
         met = all(hi - x <= tol and x - lo <= tol for x, (lo, hi) in zip(est, ivs, strict=True))
         if met:
             break
         nxt = sorted({round(x * f, 6) for x in est for f in (0.93, 1.0, 1.07)})
-        nxt = [x for x in nxt if 1e-3 <= x <= 100.0]
+        nxt = [x for x in nxt if lo_xi <= x <= BOUNCE_XI_MAX]
         if first < DESIGN_FIRST or tosses + len(nxt) * DESIGN_ROUND > max_tosses:
             stopped = "max_tosses"  # a cut first sweep: the cap stopped it, whatever is left
             break
@@ -253,6 +289,8 @@ def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, lev
         rnd += 1
         planned = tosses + len(nxt) * DESIGN_ROUND
         run(nxt, DESIGN_ROUND, rnd)
+    settled = [x for x, (n, _) in points.items() if n > 0]
     return Design(targets, est, [lo for lo, _ in ivs], [hi for _, hi in ivs], fit, tosses,
-                  rnd, met, stopped, seed, unsettled, fits, first)
+                  rnd, met, stopped, seed, unsettled, fits, first, (min(settled), max(settled)),
+                  never_landed)
 

@@ -77,7 +77,7 @@ from coincli.core.toss.flight import (
     classify,
 )
 from coincli.errors import PhysicsMissing, install_hint
-from coincli.limits import LANDINGS, SURFACE_NAMES
+from coincli.limits import BOUNCE_G_MAX, BOUNCE_XI_MAX, LANDINGS, SURFACE_NAMES
 
 __all__ = [
     "PhysicsMissing",
@@ -135,13 +135,30 @@ _ZOOM = 32  #: cells a cell of the flight scan is cut into when it may hold a co
 
 
 
+#: MuJoCo's warnings in this process, the last few (:func:`require_mujoco` installs the handler
+#: that keeps them here): never printed, never logged to a file
+MUJOCO_WARNINGS: list = []
+
+
+def _keep_warning(message: str) -> None:
+    """MuJoCo's warning handler (``mju_user_warning``): keep the message, print nothing.  Without
+    a handler MuJoCo prints each warning on the terminal and appends it to ``MUJOCO_LOG.TXT`` in
+    the current directory (issue 28); a warning is a symptom the commands check for themselves
+    (an unsettled toss, a refused input), not the user's business."""
+    del MUJOCO_WARNINGS[:-9]
+    MUJOCO_WARNINGS.append(message)
+
+
 def require_mujoco():
-    """Import and return :mod:`mujoco`, or raise :class:`PhysicsMissing` with the one-line hint."""
+    """Import and return :mod:`mujoco` with its warnings kept quiet (:func:`_keep_warning`), or
+    raise :class:`PhysicsMissing` with the one-line hint."""
     try:
         import mujoco
     except ImportError:
         raise PhysicsMissing("this needs the MuJoCo physics engine, an optional extra: "
                              f"{INSTALL_HINT}") from None
+    if mujoco.get_mju_user_warning() is not _keep_warning:  # global: once a process (a spawned
+        mujoco.set_mju_user_warning(_keep_warning)  # worker gets it by building its model)
     return mujoco
 
 
@@ -235,7 +252,7 @@ class Coin:
     density: float = DEFAULT_DENSITY
 
     def __post_init__(self):
-        _check("xi", self.xi, 0.0, 100.0, lo_open=True)
+        _check("xi", self.xi, 0.0, BOUNCE_XI_MAX, lo_open=True)
         _check("diameter", self.diameter, 1e-4, 10.0, unit="m")
         _check("density", self.density, 1.0, 1e5, unit="kg/m^3")
 
@@ -286,9 +303,10 @@ def smallest_xi(diameter: float, density: float = DEFAULT_DENSITY) -> float:
     return bisect(light, 1e-300, 100.0, log=True, rtol=1e-12)[1]
 
 
-def smallest_diameter(density: float = DEFAULT_DENSITY) -> float:
-    """The smallest diameter (m) MuJoCo can simulate at some xi up to 100 (at xi = 100)."""
-    return bisect(lambda d: smallest_xi(d, density) > 100.0, 1e-4, 10.0, log=True,
+def smallest_diameter(density: float = DEFAULT_DENSITY, xi: float = 100.0) -> float:
+    """The smallest diameter (m) MuJoCo can simulate at aspect ratio ``xi`` (by default 100:
+    the smallest at any aspect ratio)."""
+    return bisect(lambda d: smallest_xi(d, density) > xi, 1e-4, 10.0, log=True,
                   rtol=1e-12)[1]
 
 
@@ -615,7 +633,7 @@ class Engine:
         if flight not in ("exact", "mujoco"):
             raise ValueError(f"flight must be 'exact' or 'mujoco', got {flight!r}")
         _check("dt", dt, 1e-7, 1e-3, unit="s")
-        _check("g", g, 0.0, 1e3, lo_open=True, unit="m/s^2")
+        _check("g", g, 0.0, BOUNCE_G_MAX, lo_open=True, unit="m/s^2")
         _check("t_max", t_max, 0.0, 1e3, lo_open=True, unit="s")
         self.coin, self.surface, self.dt, self.g = coin, surf, dt, g
         self.landing, self.t_max, self.flight = landing, t_max, flight

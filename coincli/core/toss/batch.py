@@ -44,6 +44,7 @@ from coincli.core._numerics.records import _record
 from coincli.core._numerics.trig import _SIN_TAYLOR, _abs_sin_rough, _sin_into
 from coincli.core.toss.flight import (
     _EPS,
+    _FALL_TINY,
     _SQRT3_2,
     DEFAULT_DIAMETER,
     HEADS,
@@ -55,6 +56,7 @@ from coincli.core.toss.flight import (
     _check,
     _check_all,
     _first_root,
+    fall_time,
     _newton,
     _problem,
     _problem_message,
@@ -268,6 +270,8 @@ def _window_codes(np, psi, u, om, xi, dia, g, thick, bands, m):
     t_end = np.sqrt(u2 + 2.0 * g * z0)
     t_end += u
     t_end *= (1.0 + 1e-12) / g
+    if 2.0 * g * z0 < _FALL_TINY:  # may have underflowed (a subnormal g): see fall_time
+        t_end = fall_time(np, u, g, z0) * (1.0 + 1e-12)
     hom = 0.5 * om
     x1 = w2s * hom
     x2 = t_end * hom

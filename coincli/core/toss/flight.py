@@ -88,6 +88,8 @@ from coincli.core._numerics.trig import _abs_sin_rough, _half_sincos
 from coincli.limits import (  # noqa: F401 (re-read by the toss modules' users as T.NAME)
     CONTACTS,
     DEFAULT_DIAMETER,
+    G_MAX,
+    G_MIN,
     MAX_PHASE,
     MAX_TOSSES,
     STANDARD_G,
@@ -190,7 +192,7 @@ def _check_all(xi, psi, u, omega, diameter, g, contact):
     u = _check("u", u, 0.0, U_MAX, unit="m/s")
     omega = _check("omega", omega, 0.0, unit="rad/s")
     diameter = _check("diameter", diameter, 0.0, 1e100, lo_open=True, unit="m")
-    g = _check("g", g, 0.0, 1e100, lo_open=True, unit="m/s^2")
+    g = _check("g", g, G_MIN, G_MAX, unit="m/s^2")
     return xi, psi, u, omega, diameter, g, thick
 
 
@@ -288,6 +290,24 @@ class _Setup:
     step: object  # base scan step
 
 
+#: 2 g z0 below this is computed another way by :func:`fall_time` (it may have underflowed)
+_FALL_TINY = 1e-280
+
+
+def fall_time(xp, u, g, z0):
+    """``(u + sqrt(u^2 + 2 g z0)) / g``: when the centre, launched up at ``u`` from ``z0``,
+    falls back to the plane (the latest contact of a toss).  Where ``2 g z0`` is so small that
+    it may have underflowed (a subnormal ``g``, a tiny ``z0``: the time would come out 0, and
+    the toss 'land' at once), it is ``u/g + hypot(u/g, sqrt(2 z0) / sqrt(g))``, the same
+    number with no product of small numbers (issue 28); ``inf`` when the time overflows."""
+    t = (u + xp.sqrt(u * u + 2.0 * g * z0)) / g
+    tiny = 2.0 * g * z0 < _FALL_TINY
+    if isinstance(tiny, bool) and not tiny:
+        return t
+    rise = u / g
+    return xp.where(tiny, rise + xp.hypot(rise, xp.sqrt(2.0 * z0) / xp.sqrt(g)), t)
+
+
 def _setup(xp, xi, psi, u, om, diameter, g, thick, z0):
     """Per-toss constants; xp is ``math`` (via coincli.core._numerics.backend.M) or numpy."""
     a = diameter / 2
@@ -307,7 +327,7 @@ def _setup(xp, xi, psi, u, om, diameter, g, thick, z0):
     else:
         lmax = xp.where(amax >= 0.5 * math.pi, a, a * s2)
     lmax = lmax * (1.0 + 8 * _EPS)  # a rounded-down bound must not shrink the window
-    t_end = (u + xp.sqrt(u * u + 2.0 * g * z0)) / g
+    t_end = fall_time(xp, u, g, z0)
     d = lmax - z0  # > 0: the launch height is inside the window
     disc = u * u - 2.0 * g * d
     root = xp.sqrt(xp.maximum(disc, 0.0))

@@ -15,6 +15,8 @@ from coincli.core.models import Outcome
 from coincli.core.toss.batch import toss_many
 from coincli.core.toss.flight import (
     DEFAULT_DIAMETER,
+    G_MAX,
+    G_MIN,
     STANDARD_G,
     _check,
     _check_contact,
@@ -78,7 +80,7 @@ def hyperbolae(xi, psi, u, omega_max, *, g=STANDARD_G, exact=False, diameter=DEF
     thick = _check_contact(contact)
     xi = _check("xi", xi, 0.0, allow_inf=not thick)
     psi = _check("psi", psi, 0.0, math.pi, unit="rad")
-    g = _check("g", g, 0.0, lo_open=True, unit="m/s^2")
+    g = _check("g", g, G_MIN, G_MAX, unit="m/s^2")
     u = np.atleast_1d(_check("u", u, 0.0, unit="m/s"))
     omega_max = _check("omega_max", omega_max, 0.0, unit="rad/s")
     th1, th2 = _boundary_phases(xi, psi)
