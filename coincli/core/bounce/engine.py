@@ -127,9 +127,11 @@ REST_MARGIN = 1e-6  #: m: rest when the energy is below m g (R - REST_MARGIN)
 #: its lowest generator touch, as far as the contact's millimetre of give lets the tilt differ
 SIDE_TILT = 0.01
 SLIP_TOL = 2e-3  #: m/s: a contact point moving slower than this does not slip (rolls)
-#: The rolling rule applies from this aspect ratio up, where it was checked (xi = 0.3 to 1.5).
-#: A thinner coin's side is its rim, a basin a few degrees wide (4 for a quarter), and a coin
-#: rolling upright there is not shown to keep its side: it keeps the whole-energy rule.
+#: The rolling and spin rules apply from this aspect ratio up, where they were checked (xi =
+#: 0.3 to 1.5).  A thinner coin's side is its rim, a basin a few degrees wide (4 for a
+#: quarter), and a coin rolling upright there is not shown to keep its side (rolling on its rim,
+#: friction turns its spin into standing up: the spin rule decided a quarter wrongly in a test):
+#: it keeps the whole-energy rule.
 ROLLING_XI_MIN = 0.3
 _ZOOM = 32  #: cells a cell of the flight scan is cut into when it may hold a contact
 
@@ -629,9 +631,9 @@ class Engine:
         self.barrier = self.mass * g * (coin.half_diagonal - REST_MARGIN)
         #: the rest rule leaves out the energy of rolling on the side (thick coins only)
         self.rolling_rest = coin.xi >= ROLLING_XI_MIN
-        #: the rest rule leaves out the kinetic energy a spinning coin keeps at the corner
-        #: (:meth:`_spin_locked`); False gives the rules of 0.x before it, for comparisons
-        self.spin_rest = True
+        #: the rest rule leaves out the kinetic energy a spinning coin keeps at a corner
+        #: (:meth:`_spin_locked`), thick coins only; False: the rules before it (comparisons)
+        self.spin_rest = coin.xi >= ROLLING_XI_MIN
         self._corner_nz = coin.hh / coin.half_diagonal  # |n_z| balanced on a corner
         mj = self.mujoco
         self._rk4, self._implicit = mj.mjtIntegrator.mjINT_RK4, mj.mjtIntegrator.mjINT_IMPLICITFAST
@@ -728,7 +730,9 @@ class Engine:
         horizontal force, hence no friction) keeps most of its energy in ``L_z``, which it
         cannot spend on standing up.  On a real table friction at the contact changes ``L_z``
         and ``w3``, so this is an argument checked by simulation (both rules on thousands of
-        tosses run to the end, docs/bounce.md), not a proof, as the rolling rule is.
+        tosses run to the end, docs/bounce.md), not a proof, as the rolling rule is; and only
+        from ``xi = 0.3`` (:data:`ROLLING_XI_MIN`): a thin coin rolling on its rim stands up
+        as friction turns its spin into tilt, and it decided a quarter wrongly.
         """
         d = self.d
         q = d.qpos[3:7]
