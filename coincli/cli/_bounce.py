@@ -34,7 +34,7 @@ VxOpt = option("--vx", "SPEC", "With --landing bounce: horizontal speed, m/s (or
 JobsOpt = option("--jobs -j", "N", "Worker processes for --landing bounce, 1 to 1024 (default: "
                  "every core; more than the cores is capped at the cores, with a note).  The "
                  "results do not depend on it.")
-DtOpt = option("--dt", "S", "MuJoCo's timestep, s (default 1e-4; see docs/bounce.md for the "
+DtOpt = option("--dt", "S", "MuJoCo's timestep, s (default 2e-4; see docs/bounce.md for the "
                "convergence study), 1e-6 to 1e-3.")
 CalibrationOpt = option("--calibration", "CAL.json", "With --landing bounce: your table, "
                         "calibrated from tosses (coin fit --landing bounce FILE --save "

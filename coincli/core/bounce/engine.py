@@ -104,23 +104,24 @@ __all__ = [
 INSTALL_HINT = install_hint("physics")
 UNSETTLED = 3  #: outcome code of a toss still moving at t_max
 DEFAULT_DENSITY = 8920.0  #: kg/m^3, cupronickel (the US quarter's cladding, 75 Cu / 25 Ni)
-#: s.  The convergence study (docs/bounce.md, benchmarks/bounce_convergence.py): halving it
-#: to 5e-5 and 2.5e-5 moved no frequency beyond its 95% interval at xi = 0.3, 0.577 and 1.
-DEFAULT_DT = 1e-4
+#: s.  The convergence study (docs/bounce.md, benchmarks/bounce_convergence.py): 1e-4 and 5e-5
+#: moved no frequency beyond its 95% interval at xi = 0.3, 0.577 and 1, nor did 1e-4 on
+#: thousands of tosses (issue 25); half the steps of 1e-4, the default up to 0.2.0.
+DEFAULT_DT = 2e-4
 DEFAULT_T_MAX = 10.0  #: s of simulated time after launch before a toss counts as unsettled
 #: Contact stiffness: omega_n dt = 0.3, so an impact (half a period, pi / omega_n) spans about
 #: ten steps; stiffer contacts lose their restitution to the integrator, softer ones sink
-#: further (0.7 mm at 2.5 m/s and dt = 1e-4).
+#: further (0.7 mm at 2.5 m/s and dt = 1e-4, about twice that at 2e-4).
 OMEGA_DT = 0.3
 #: The impedance d of solimp, constant: the fraction of the reference acceleration the contact
 #: achieves.  0.99 (MuJoCo's default ramps 0.9 to 0.95) keeps the contact nearly hard and linear.
 IMPEDANCE = 0.99
 EDGE_TILT = 0.6  #: rad, the tilt of the edge drop of the calibration
 LEAD_STEPS = 5  #: MuJoCo starts this many steps before an exactly computed contact
-CHECK_STEPS = 20  #: steps between the checks of energy and flight (2 ms at the default dt)
+CHECK_STEPS = 20  #: steps between the checks of energy and flight (4 ms at the default dt)
 JUMP_MIN_STEPS = 30  #: a flight shorter than this many steps is stepped, not solved
 #: s: a flight counts as a bounce from this long (shorter ones are chatter); a time, not a number
-#: of steps, so that the count does not depend on the timestep (3 ms: 30 steps at the default)
+#: of steps, so that the count does not depend on the timestep (3 ms: 15 steps at the default)
 BOUNCE_MIN = 3e-3
 REST_MARGIN = 1e-6  #: m: rest when the energy is below m g (R - REST_MARGIN)
 #: |n_z| below which a coin lies on its curved side (0.57 degrees of tilt from 90): both ends of
