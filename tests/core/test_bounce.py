@@ -69,12 +69,12 @@ def test_launch_state_is_eq_3():
 def test_mujoco_flight_matches_the_exact_flight():
     """MuJoCo integrating the whole flight (RK4, from the launch state) reaches the first contact
     with the tilt of the exact solution: within 0.5 deg (one step of precession at 40 rad/s is
-    0.23 deg; MuJoCo finds contact at a step boundary).  A wrong inertia, or the angular velocity
-    in the wrong frame, turns the coin tens of degrees away within a flight."""
+    0.23 deg at dt = 1e-4; MuJoCo finds contact at a step boundary).  A wrong inertia, or the
+    angular velocity in the wrong frame, turns the coin tens of degrees away within a flight."""
     coin = B.Coin(0.577)
     surf = B.SURFACES["wood"]
-    exact = B.Engine(coin, surf, landing="catch")
-    full = B.Engine(coin, surf, landing="catch", flight="mujoco", damping=exact.damping)
+    exact = B.Engine(coin, surf, landing="catch", dt=1e-4)
+    full = B.Engine(coin, surf, landing="catch", flight="mujoco", damping=exact.damping, dt=1e-4)
     z0 = T.default_z0(0.577, contact="thick")
     worst = 0.0
     for k in range(8):
