@@ -10,7 +10,7 @@ alternately, ``--repeats`` times: the same launches (seed 1, as ``coin simulate`
 one process, CPU time (``time.process_time``), each engine at its own defaults.  The machine is
 shared, so the table gives medians, and the ratio to the median floor of all the runs.
 
-    python benchmarks/bench_bounce.py                     # this checkout against af0b52d (before issue 25)
+    python benchmarks/bench_bounce.py                     # against af0b52d (before issue 25)
     python benchmarks/bench_bounce.py --against REV -n 400 --repeats 3
     python benchmarks/bench_bounce.py --design 5          # and coin design's wall time, seeds 1-5
     python benchmarks/bench_bounce.py --write             # rewrite docs/performance.md's section
@@ -196,7 +196,7 @@ def main():
             f"CPU-second: **{speed:.2f}x** the engine before; the goal of {GOAL} floors a toss "
             f"is {'met' if s['new']['ratio'] <= GOAL else 'missed'}."]
     if args.design:
-        body += ["", f"`coin design --p-sides 1/3 --landing bounce --surface wood --seed S` at "
+        body += ["", "`coin design --p-sides 1/3 --landing bounce --surface wood --seed S` at "
                  "this checkout, every core (2), wall time (the machine is shared: the load "
                  "average when each run ended is given):", "",
                  table(["seed", "wall", "CPU (all processes)", "tosses", "xi [95%]",

@@ -728,10 +728,10 @@ class Engine:
         - I3 w3 n_z)^2 / (2 I1 (1 - c^2))``: the heavy symmetric top's effective potential.  The
         smaller of the two corners' values is returned, and the rest rule compares ``E - that``
         with the barrier, at two checks in a row and touching at the second (in the air, the
-        coin lands with a friction impulse that changes ``L_z`` and ``w3`` at once: on a lively
-        surface the rule decided two of 500 tosses wrongly in the air, none since).  A coin wobbling on its rim like Euler's disk (a steady one has no
-        horizontal force, hence no friction) keeps most of its energy in ``L_z``, which it
-        cannot spend on standing up.  On a real table friction at the contact changes ``L_z``
+        coin lands with a friction impulse that changes ``L_z`` and ``w3`` at once: read at one
+        check, the rule decided two of 500 tosses on a lively surface wrongly, in the air).  A
+        coin wobbling on its rim like Euler's disk (a steady one has no horizontal force, hence
+        no friction) keeps most of its energy in ``L_z``, which it cannot spend on standing up.  On a real table friction at the contact changes ``L_z``
         and ``w3``, so this is an argument checked by simulation (both rules on thousands of
         tosses run to the end, docs/bounce.md), not a proof, as the rolling rule is; and only
         from ``xi = 0.3`` (:data:`ROLLING_XI_MIN`): a thin coin rolling on its rim stands up
