@@ -731,9 +731,10 @@ class Engine:
         coin lands with a friction impulse that changes ``L_z`` and ``w3`` at once: read at one
         check, the rule decided two of 500 tosses on a lively surface wrongly, in the air).  A
         coin wobbling on its rim like Euler's disk (a steady one has no horizontal force, hence
-        no friction) keeps most of its energy in ``L_z``, which it cannot spend on standing up.  On a real table friction at the contact changes ``L_z``
-        and ``w3``, so this is an argument checked by simulation (both rules on thousands of
-        tosses run to the end, docs/bounce.md), not a proof, as the rolling rule is; and only
+        no friction) keeps most of its energy in ``L_z``, which it cannot spend on standing up.
+        On a real table friction at the contact changes ``L_z`` and ``w3``, so this is an
+        argument checked by simulation (both rules on thousands of tosses run to the end,
+        docs/bounce.md), not a proof, as the rolling rule is; and only
         from ``xi = 0.3`` (:data:`ROLLING_XI_MIN`): a thin coin rolling on its rim stands up
         as friction turns its spin into tilt, and it decided a quarter wrongly.
         """
