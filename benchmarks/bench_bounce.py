@@ -1,170 +1,211 @@
-"""Speed of the bounce engine (coincli.core.bounce.engine, MuJoCo): tosses per second, and where the time goes.
+"""Speed of the bounce engine (coincli.core.bounce.engine, MuJoCo): tosses per CPU-second,
+against the floor of MuJoCo's own steps, before and after, in one run.
 
-Goals of issue 16, on the project's 2-core machine with a quarter-sized coin (D = 24.26 mm):
-at least 500 bounce tosses/s and 5000 catch tosses/s with every core (``jobs=2``).  Measured for
-a real quarter (xi = 0.0725) and the paper's fair coin (xi = 0.577), the hand toss that ``coin
-simulate`` draws (coincli.core.toss.launch.HAND_TOSS: u ~ normal:2.4:0.3 m/s, omega ~ normal:38:4 rev/s,
-psi ~ normal(90, 10) deg) onto wood.
-Wall-clock rates and CPU time per toss (the workers' and the parent's); the baseline is the
-exact catch model without MuJoCo (``coincli.core.toss.simulate.simulate``, the default ``coin simulate``),
-timed in the same run.  Then a profile of bounce tosses run in one process: the share of the
-time in MuJoCo's steps, the exact flight solver, the energy checks and the rest, and how the
-steps are spread over the tosses.
+The goal of issue 25: the mean bouncing toss of the fair coin (xi = 0.577, wood, the hand toss
+of ``coin simulate``: u ~ normal:2.4:0.3 m/s, omega ~ normal:38:4 rev/s, psi ~ normal(90, 10)
+deg; a quarter-sized coin, D = 24.26 mm) costs at most 1.2 times the CPU of **the floor**: 1000
+MuJoCo steps of the same coin lying flat and sliding (from 0.3 m/s) on wood at dt = 1e-4 s, timed in
+the same process.  Each revision runs in a child process of its own (``--measure``), the two
+alternately, ``--repeats`` times: the same launches (seed 1, as ``coin simulate`` draws them),
+one process, CPU time (``time.process_time``), each engine at its own defaults.  The machine is
+shared, so the table gives medians, and the ratio to the median floor of all the runs.
 
-    python benchmarks/bench_bounce.py          # rewrites the bench_bounce section of
-                                               # docs/performance.md
+    python benchmarks/bench_bounce.py                     # against af0b52d (before issue 25)
+    python benchmarks/bench_bounce.py --against REV -n 400 --repeats 3
+    python benchmarks/bench_bounce.py --design 5          # and coin design's wall time, seeds 1-5
+    python benchmarks/bench_bounce.py --write             # rewrite docs/performance.md's section
+
+``--design K`` times ``coin design --p-sides 1/3 --landing bounce --surface wood --seed S``
+(S = 1..K, every core) at this checkout: wall and CPU time, tosses, rounds.
 """
 
 from __future__ import annotations
 
-import cProfile
+import argparse
+import json
 import os
-import pstats
 import resource
+import statistics
+import subprocess
 import sys
+import tarfile
+import tempfile
 import time
+from pathlib import Path
 
 sys.path.insert(0, os.path.dirname(__file__))
 
-from _report import fmt_rate, machine, median, table, write_section  # noqa: E402
+from _report import machine, table, write_section  # noqa: E402
 
-from coincli.core.bounce import engine as B  # noqa: E402
-from coincli.core.bounce import runs as R  # noqa: E402
-from coincli.core.toss import flight as T  # noqa: E402
-from coincli.core.toss import launch as TL  # noqa: E402
-from coincli.core.toss import simulate as TS
-
-LAUNCH = TL.HAND_TOSS
-CASES = [  # landing, xi, tosses
-    ("catch", 0.0725, 20000), ("catch", 0.577, 20000),
-    ("bounce", 0.0725, 2000), ("bounce", 0.577, 600),
-]
-GOAL = {"catch": 5000, "bounce": 500}
+ROOT = Path(__file__).resolve().parents[1]
+#: the engine before issue 25 (main at the time): dt = 1e-4, the energy and rolling rules only
+BEFORE = "af0b52d"
+XI = 0.577
+GOAL = 1.2  #: CPU per toss / CPU of the floor
 
 
-def cpu():
-    """CPU seconds of this process and of its finished children."""
-    me = resource.getrusage(resource.RUSAGE_SELF)
-    kids = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return me.ru_utime + me.ru_stime + kids.ru_utime + kids.ru_stime
+def floor_ms(B, repeats=15):
+    """CPU ms of 1000 steps of the coin lying flat and sliding on wood, dt = 1e-4 s (median)."""
+    eng = B.Engine(B.Coin(XI), B.SURFACES["wood"], dt=1e-4)
+    mj, m, d = eng.mujoco, eng.m, eng.d
+    out = []
+    for _ in range(repeats):
+        mj.mj_resetData(m, d)
+        d.qpos[2] = eng.coin.hh - eng.mass * eng.g / (eng.mass * eng.k_spring)  # at rest depth
+        d.qvel[0] = 0.3  # sliding 0.1 s (to 0.03 m/s), in micrometre hops and on 3 contacts
+        mj.mj_forward(m, d)
+        c0 = time.process_time()
+        mj.mj_step(m, d, nstep=1000)
+        out.append(time.process_time() - c0)
+        if d.qpos[2] - eng.coin.hh > 1e-4 or eng._tilt() > 0.01:
+            raise AssertionError("the floor's coin is not sliding flat on the surface")
+    return 1e3 * statistics.median(out)
 
 
-def timed(fn):
-    c0, t0 = cpu(), time.perf_counter()
-    out = fn()
-    return out, time.perf_counter() - t0, cpu() - c0
+def measure(n, seed, old_rules=False):
+    """Run in a child: n tosses in this process at the imported coincli's defaults; JSON out."""
+    import math
+
+    from coincli.core.bounce import engine as B
+    from coincli.core.bounce import runs as R
+    from coincli.core.toss import flight as T
+    from coincli.core.toss import launch as TL
+
+    coin = B.Coin(XI)
+    dt = 1e-4 if old_rules else B.DEFAULT_DT
+    eng = B.Engine(coin, B.SURFACES["wood"], dt=dt)
+    if old_rules:
+        eng.spin_rest = False
+    h = TL.HAND_TOSS
+    dists = {"u": TL.as_dist(h["u"], "u", 0, 20), "omega": TL.as_dist(h["omega"], "omega", 0, 1e5),
+             "psi": TL.as_dist(h["psi"], "psi", 0, math.pi),
+             "height": TL.as_dist(0.0, "height", 0, 1), "vx": TL.as_dist(0.0, "vx", 0, 1),
+             "z0": TL.as_dist(T.default_z0(XI, coin.diameter, "thick"), "z0", 0, 1)}
+    fl = floor_ms(B)
+    c0 = time.process_time()
+    steps, codes = [], [0, 0, 0, 0]
+    for k in range(-(-n // R.BLOCK)):
+        launches = R._block_launches(seed, k, min(R.BLOCK, n - k * R.BLOCK), dists, coin)
+        for launch, t_f in zip(launches, eng.first_contacts(launches), strict=True):
+            r = eng.run(launch, t_contact=t_f)
+            steps.append(r.steps)
+            codes[r.code] += 1
+    cpu = time.process_time() - c0
+    fl = statistics.median([fl, floor_ms(B)])  # before and after the tosses
+    print(json.dumps({"cpu_ms": 1e3 * cpu / n, "floor_ms": fl, "steps": steps, "codes": codes,
+                      "dt": dt}))
 
 
-REPEATS = 3  #: runs of each case; the table quotes medians
+def child(tree: Path, n, seed, old_rules=False):
+    env = {**os.environ, "PYTHONPATH": str(tree)}
+    argv = [sys.executable, str(ROOT / "benchmarks" / "bench_bounce.py"), "--measure", str(n),
+            "--seed", str(seed)] + (["--old-rules"] if old_rules else [])
+    out = subprocess.run(argv, env=env, cwd=tree, capture_output=True, text=True)
+    if out.returncode:
+        raise RuntimeError(f"{tree}: {out.stderr}")
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def summary(runs, floor):
+    """Medians over the runs of one revision; ``floor``: the median floor of every run (the
+    floor's model is the same at both revisions, and on a shared machine one run's floor
+    varies by 1.5x, so each toss is divided by the pooled one)."""
+    import numpy as np
+
+    steps = np.array(runs[0]["steps"])
+    cpu = statistics.median(r["cpu_ms"] for r in runs)
+    return {"cpu": cpu, "ratio": cpu / floor, "floor": floor,
+            "rate": 1e3 / cpu, "mean": steps.mean(), "median": float(np.median(steps)),
+            "p99": float(np.percentile(steps, 99)), "codes": runs[0]["codes"],
+            "dt": runs[0]["dt"]}
+
+
+def design_walls(seeds):
+    rows = []
+    for s in range(1, seeds + 1):
+        argv = [sys.executable, "-m", "coincli", "design", "--p-sides", "1/3", "--landing",
+                "bounce", "--surface", "wood", "--seed", str(s), "--format", "json"]
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        t0 = time.perf_counter()
+        out = subprocess.run(argv, cwd=ROOT, env={**os.environ, "PYTHONPATH": str(ROOT)},
+                             capture_output=True, text=True, check=True)
+        wall = time.perf_counter() - t0
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+        row = json.loads(out.stdout)[0]
+        rows.append([str(s), f"{wall:.1f} s", f"{cpu:.1f} s", str(row["tosses"]),
+                     f"{row['xi']:.4f} [{row['xi_low']:.4f}, {row['xi_high']:.4f}]",
+                     f"{os.getloadavg()[0]:.1f}"])
+        print(rows[-1], file=sys.stderr, flush=True)
+    return rows
 
 
 def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--against", default=BEFORE, help="the revision to compare with")
+    ap.add_argument("-n", type=int, default=400, help="tosses a run")
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--design", type=int, default=0, help="also time coin design, seeds 1..K")
+    ap.add_argument("--write", action="store_true", help="rewrite docs/performance.md's section")
+    ap.add_argument("--measure", type=int, help=argparse.SUPPRESS)
+    ap.add_argument("--old-rules", action="store_true", help=argparse.SUPPRESS)
+    args = ap.parse_args()
+    if args.measure:
+        measure(args.measure, args.seed, args.old_rules)
+        return 0
+    head = machine()
+    with tempfile.TemporaryDirectory() as tmp:
+        old = Path(tmp)
+        archive = subprocess.run(["git", "-C", str(ROOT), "archive", args.against],
+                                 check=True, capture_output=True).stdout
+        (old / "old.tar").write_bytes(archive)
+        with tarfile.open(old / "old.tar") as tar:
+            tar.extractall(old, filter="data")
+        runs = {"new": [], "old": []}
+        for _ in range(args.repeats):
+            for key, tree in (("new", ROOT), ("old", old)):
+                runs[key].append(child(tree, args.n, args.seed))
+                print(key, {k: v for k, v in runs[key][-1].items() if k != "steps"},
+                      file=sys.stderr, flush=True)
+    floor = statistics.median(r["floor_ms"] for v in runs.values() for r in v)
+    floors = sorted(r["floor_ms"] for v in runs.values() for r in v)
+    s = {k: summary(v, floor) for k, v in runs.items()}
     rows = []
-    for landing, xi, n in CASES:
-        B.calibrate(B.Coin(xi), B.SURFACES["wood"])  # once per run, not per toss
-        walls, cpus, bwalls = [], [], []
-        for _ in range(REPEATS):
-            r, wall, c = timed(lambda n=n, xi=xi, landing=landing: R.simulate(
-                n, 1, xi=xi, landing=landing, jobs=2, **LAUNCH))
-            _, bwall, _ = timed(lambda n=n, xi=xi: TS.simulate(n, 1, xi=xi, contact="thick",
-                                                                 **LAUNCH))
-            walls.append(wall)
-            cpus.append(c)
-            bwalls.append(bwall)
-        wall, c, bwall = median(walls), median(cpus), median(bwalls)
-        rate = n / wall
-        capacity = 2 * n / c  # two idle cores at this CPU cost per toss
-        rows.append([landing, f"{xi:g}", str(n), fmt_rate(rate), f"{1e3 * c / n:.3g} ms",
-                     fmt_rate(capacity), f"{r.steps / n:.0f}", fmt_rate(n / bwall),
-                     f"{rate / (n / bwall):.2g}",
-                     f"{GOAL[landing]}: wall {'met' if rate >= GOAL[landing] else 'missed'}, "
-                     f"CPU {'met' if capacity >= GOAL[landing] else 'missed'}"])
-        print(rows[-1], file=sys.stderr, flush=True)
+    for key, label in (("old", f"before ({args.against})"), ("new", "this checkout")):
+        r = s[key]
+        rows.append([label, f"{r['dt']:g}", f"{r['cpu']:.2f} ms", f"{r['rate']:.0f}",
+                     f"{r['ratio']:.2f}", f"{r['mean']:.0f}",
+                     f"{r['median']:.0f}", f"{r['p99']:.0f}",
+                     " / ".join(str(c) for c in r["codes"])])
+    speed = s["old"]["ratio"] / s["new"]["ratio"]
     body = ["## The bounce engine (`benchmarks/bench_bounce.py`)", "",
-            f"{machine()}.", "",
-            "The hand toss of `coin simulate` onto wood (u ~ normal:2.4:0.3 m/s, omega ~ "
-            "normal:38:4 rev/s, psi ~ normal(90, 10) deg), a quarter-sized coin (D = 24.26 "
-            f"mm), seed 1, every core (`jobs=2`), dt = 1e-4 s; medians of {REPEATS} runs.  CPU "
-            "per toss counts the workers and the parent; the wall-clock rate is what a user "
-            "gets (the machine is shared: other work runs beside it, so the wall clock can be "
-            "several times the CPU).  Baseline: the exact catch model without MuJoCo (the "
-            "default `coin simulate`), same tosses, same run.",
-            "",
-            table(["landing", "xi", "tosses", "tosses/s (wall)", "CPU per toss",
-                   "2 idle cores (2 / CPU per toss)", "MuJoCo steps per toss",
-                   "baseline tosses/s (wall)", "ratio (wall)", "goal"], rows)]
-    body += where_the_time_goes()
-    write_section("bench_bounce", "\n".join(body))
+            f"Command: `python benchmarks/bench_bounce.py -n {args.n} --repeats {args.repeats}"
+            f"{' --design ' + str(args.design) if args.design else ''} --write`.  {head}.", "",
+            f"{args.n} hand tosses of the fair coin (xi = {XI}, D = 24.26 mm) onto wood, seed "
+            f"{args.seed}, one process, CPU time; each revision at its own defaults, in its own "
+            f"process, the two alternately, medians of {args.repeats} runs.  The floor: 1000 "
+            "MuJoCo steps of the same coin lying flat and sliding from 0.3 m/s, dt = 1e-4 s, "
+            "timed in each run; the goal (issue 25) is a mean toss of at most "
+            f"{GOAL} floors.", "",
+            table(["engine", "dt (s)", "CPU per toss", "tosses per CPU-second",
+                   "toss / floor", "steps per toss (mean)", "median", "99th percentile",
+                   "heads / sides / tails / unsettled"], rows),
+            f"The floor: {floor:.2f} ms, the median of the {len(floors)} runs' floors "
+            f"({floors[0]:.2f} to {floors[-1]:.2f} ms: the machine is shared).  Tosses per "
+            f"CPU-second: **{speed:.2f}x** the engine before; the goal of {GOAL} floors a toss "
+            f"is {'met' if s['new']['ratio'] <= GOAL else 'missed'}."]
+    if args.design:
+        body += ["", "`coin design --p-sides 1/3 --landing bounce --surface wood --seed S` at "
+                 "this checkout, every core (2), wall time (the machine is shared: the load "
+                 "average when each run ended is given):", "",
+                 table(["seed", "wall", "CPU (all processes)", "tosses", "xi [95%]",
+                        "load"], design_walls(args.design))]
+    text = "\n".join(body)
+    print(text)
+    if args.write:
+        write_section("bench_bounce", text)
     return 0
-
-
-def where_the_time_goes():
-    """Profile bounce tosses in this process: where the time goes, and which tosses cost."""
-    import numpy as np
-
-    out = ["### Where the time goes (bounce, one process, profiled)", ""]
-    for xi, n in ((0.0725, 300), (0.577, 200)):
-        coin = B.Coin(xi)
-        eng = B.Engine(coin, B.SURFACES["wood"])
-        dists = {"u": LAUNCH["u"], "omega": LAUNCH["omega"], "psi": LAUNCH["psi"],
-                 "height": TL.as_dist(0.0, "height", 0, 1), "vx": TL.as_dist(0.0, "vx", 0, 1),
-                 "z0": TL.as_dist(T.default_z0(xi, coin.diameter, "thick"), "z0", 0, 1)}
-        launches = []
-        for k in range(-(-n // R.BLOCK)):
-            launches += R._block_launches(2, k, min(R.BLOCK, n - k * R.BLOCK), dists, coin)
-        t_first = eng.first_contacts(launches)
-        plain = {}  # CPU per toss without the profiler: the rolling rule on (default) and off
-        for rolling in (True, False):
-            eng.rolling_rest = rolling
-            c0 = time.process_time()
-            codes_plain = [eng.run(launch, t_contact=t).code
-                           for launch, t in zip(launches, t_first, strict=True)]
-            plain[rolling] = ((time.process_time() - c0) / n, codes_plain)
-        eng.rolling_rest = True
-        results = []
-        prof = cProfile.Profile(time.process_time)  # CPU time: the machine is shared
-        c0 = time.process_time()
-        prof.enable()
-        for launch, t in zip(launches, t_first, strict=True):
-            results.append(eng.run(launch, t_contact=t))
-        prof.disable()
-        total = time.process_time() - c0
-        st = pstats.Stats(prof)
-        tott = {}
-        for (_, _, func), (_, _, tt, _, _) in st.stats.items():
-            key = next((k for k in ("mj_step", "_first_touch", "clearance", "scan", "_energy",
-                                    "_rolling", "_flight_from_state", "_qrot", "_qmul",
-                                    "mj_forward", "mj_resetData") if func == k or
-                        func.endswith(f".{k}>")), "other")
-            tott[key] = tott.get(key, 0.0) + tt
-        prof_total = sum(tott.values())
-        steps = np.array([r.steps for r in results])
-        heavy = steps > 5000
-        share = {k: v / prof_total for k, v in tott.items()}
-        flight = sum(share.get(k, 0) for k in ("_first_touch", "clearance", "scan",
-                                                "_flight_from_state", "_qrot", "_qmul"))
-        codes = np.array([r.code for r in results])
-        python = share.get("other", 0) + share.get("mj_forward", 0) + share.get(
-            "mj_resetData", 0)
-        out += [f"xi = {xi:g}, {n} tosses: {1e3 * total / n:.3g} ms CPU per toss "
-                f"(with the profiler on); {steps.mean():.0f} MuJoCo steps per toss on average, "
-                f"median {np.median(steps):.0f}, {1e6 * tott.get('mj_step', 0) / steps.sum():.1f}"
-                f" us of CPU per step (profiled).  Time: MuJoCo steps "
-                f"{share.get('mj_step', 0):.0%}, "
-                f"exact flights {flight:.0%}, energy checks "
-                f"{share.get('_energy', 0) + share.get('_rolling', 0):.0%}, "
-                f"everything else (Python) {python:.0%}.  "
-                f"{heavy.sum()} tosses ({heavy.mean():.1%}) took more than 5000 steps and "
-                f"{steps[heavy].sum() / steps.sum():.0%} of all steps; "
-                f"{np.sum(heavy & (codes == 1))} of them ended on a side.  Without the "
-                f"profiler: {1e3 * plain[True][0]:.3g} ms CPU per toss; the same tosses "
-                f"without the rolling rule (the rest rule on the whole energy): "
-                f"{1e3 * plain[False][0]:.3g} ms, {plain[False][0] / plain[True][0]:.2g}x "
-                f"as long; outcomes that differ: "
-                f"{sum(a != b for a, b in zip(*(plain[k][1] for k in plain), strict=True))} "
-                f"(unsettled at 10 s without the rule: {plain[False][1].count(B.UNSETTLED)}).",
-                ""]
-    return out
 
 
 if __name__ == "__main__":

@@ -481,7 +481,8 @@ def toss(p: Physics, *, xi, psi, u, omega, diameter, g, z0, trajectory, fmt,
     note = (f"One toss onto {p.describe()} (MuJoCo, dt = {p.dt:g} s), the surface "
             f"{p.height * 1000:g} mm below the launch plane; D = {diameter * 1000:g} mm.  "
             "'settled at': when the coin's energy (less that of rolling, when it rolls on its "
-            "side without slipping) fell below what it needs to cross a corner, so the side "
+            "side without slipping, or the kinetic energy its spin keeps at a corner, for a thick "
+            "coin) fell below what it needs to cross a corner, so the side "
             "could no longer change.  'if caught': the paper's catch at the first contact.")
     if trajectory is not None:
         note += f"  Trajectory: {trajectory} ({len(r.trajectory)} rows)."

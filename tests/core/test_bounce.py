@@ -69,12 +69,12 @@ def test_launch_state_is_eq_3():
 def test_mujoco_flight_matches_the_exact_flight():
     """MuJoCo integrating the whole flight (RK4, from the launch state) reaches the first contact
     with the tilt of the exact solution: within 0.5 deg (one step of precession at 40 rad/s is
-    0.23 deg; MuJoCo finds contact at a step boundary).  A wrong inertia, or the angular velocity
-    in the wrong frame, turns the coin tens of degrees away within a flight."""
+    0.23 deg at dt = 1e-4; MuJoCo finds contact at a step boundary).  A wrong inertia, or the
+    angular velocity in the wrong frame, turns the coin tens of degrees away within a flight."""
     coin = B.Coin(0.577)
     surf = B.SURFACES["wood"]
-    exact = B.Engine(coin, surf, landing="catch")
-    full = B.Engine(coin, surf, landing="catch", flight="mujoco", damping=exact.damping)
+    exact = B.Engine(coin, surf, landing="catch", dt=1e-4)
+    full = B.Engine(coin, surf, landing="catch", flight="mujoco", damping=exact.damping, dt=1e-4)
     z0 = T.default_z0(0.577, contact="thick")
     worst = 0.0
     for k in range(8):
@@ -239,6 +239,95 @@ def test_rolling_rule_changes_no_outcome():
         assert old.code in (new.code, B.UNSETTLED), (launch, new, old)
         assert new.steps <= old.steps
     assert fired >= 4
+
+
+def _wobbling(eng, tilt, spin_z, w3, vx=0.0):
+    """The coin on its rim at ``tilt`` (about x), turning about the vertical at ``spin_z`` and
+    about its own axis at ``w3`` (rad/s), its centre moving along x at ``vx``."""
+    coin, d = eng.coin, eng.d
+    eng.mujoco.mj_resetData(eng.m, d)
+    q = (math.cos(tilt / 2), math.sin(tilt / 2), 0.0, 0.0)
+    d.qpos[:3] = (0.0, 0.0, coin.a * math.sin(tilt) + coin.hh * math.cos(tilt) - 1e-6)
+    d.qpos[3:7] = q
+    d.qvel[:3] = (vx, 0.0, 0.0)
+    body = _qrot(_qconj(q), (0.0, 0.0, spin_z))
+    d.qvel[3:6] = (body[0], body[1], body[2] + w3)
+    eng.mujoco.mj_forward(eng.m, d)
+
+
+@pytest.mark.parametrize("tilt,spin_z,w3", [(0.4, 60.0, 0.0), (0.4, 60.0, 25.0),
+                                            (1.2, -30.0, 80.0), (0.05, 0.0, 0.0)])
+def test_spin_locked_is_the_least_kinetic_energy_at_a_corner(tilt, spin_z, w3):
+    """The closed form of _spin_locked against a direct minimisation: over every angular
+    velocity at a corner balance (n_z = +-c) with the same spin w3 and the same L_z (computed
+    from MuJoCo's own rotation matrix and inertia), the least kinetic energy."""
+    import numpy as np
+    from scipy.optimize import minimize_scalar
+
+    coin = B.Coin(0.577)
+    eng = B.Engine(coin, B.SURFACES["wood"])
+    _wobbling(eng, tilt, spin_z, w3)
+    d = eng.d
+    rot = np.empty(9)
+    mujoco.mju_quat2Mat(rot, d.qpos[3:7])
+    inertia = np.diag(eng.m.body_inertia[1])
+    w_body = np.array(d.qvel[3:6])
+    lz = (rot.reshape(3, 3) @ inertia @ w_body)[2]
+    c = coin.hh / coin.half_diagonal
+    best = math.inf
+    for nz in (c, -c):
+        # the corner pose: the axis tilted so that n = (0, -sqrt(1 - nz^2), nz) (about x)
+        t = math.acos(nz)
+        r = np.array([[1, 0, 0], [0, math.cos(t), -math.sin(t)], [0, math.sin(t), math.cos(t)]])
+
+        row = (r @ inertia)[2]  # L_z = row . w (body frame); w2 from it, given w1 and w3
+
+        def ke(w1, r=r, row=row):
+            w = np.array([w1, (lz - row[0] * w1 - row[2] * w_body[2]) / row[1], w_body[2]])
+            return 0.5 * w @ inertia @ w
+
+        best = min(best, minimize_scalar(ke, bracket=(-100.0, 100.0), tol=1e-12).fun)
+    assert eng._spin_locked() == pytest.approx(best, rel=1e-5, abs=1e-12)
+
+
+def test_spin_rule_is_exact_without_friction():
+    """On a frictionless plane L_z and w3 are kept, so a coin the spin rule decides cannot reach
+    a corner: wobbling on its rim at 0.4 rad with 60 rad/s about the vertical, above the
+    barrier, it stays in its basin for 0.5 s (and the whole-energy rule alone would not have
+    decided it)."""
+    coin = B.Coin(0.577)
+    eng = B.Engine(coin, B.Surface(0.5, 0.0, 0.0, 0.0))
+    _wobbling(eng, 0.4, 60.0, 0.0)
+    e = eng._energy()
+    assert e > eng.barrier and e - eng._spin_locked() < eng.barrier
+    for _ in range(250):
+        eng.mujoco.mj_step(eng.m, eng.d, nstep=10)
+        assert T.classify(eng._tilt(), 0.577) == T.HEADS
+
+
+def test_spin_rule_changes_no_outcome():
+    """The rest rule with the spin rule decides the same side as without it, for every toss the
+    latter settles: 48 hand tosses at xi = 0.3 and 48 of the fair coin (docs/bounce.md gives
+    the check on thousands), a good part of them decided earlier.  A quarter keeps the rules
+    without it: it decided one of 48 quarters wrongly."""
+    assert not B.Engine(B.Coin(0.0725), B.SURFACES["wood"]).spin_rest
+    for xi in (0.3, 0.577):
+        coin = B.Coin(xi)
+        eng = B.Engine(coin, B.SURFACES["wood"])
+        dists = {**TL.HAND_TOSS, "height": TL.as_dist(0.0, "height", 0, 1),
+                 "vx": TL.as_dist(0.0, "vx", 0, 1),
+                 "z0": TL.as_dist(T.default_z0(xi, contact="thick"), "z0", 0, 1)}
+        fired = 0
+        for launch in R._block_launches(6, 0, 48, dists, coin):
+            eng.spin_rest = True
+            new = eng.run(launch)
+            eng.spin_rest = False
+            old = eng.run(launch)
+            fired += new.steps < old.steps
+            assert new.code != B.UNSETTLED
+            assert old.code in (new.code, B.UNSETTLED), (launch, new, old)
+            assert new.steps <= old.steps
+        assert fired >= 10, (xi, fired)
 
 
 def test_determinism_across_workers():
