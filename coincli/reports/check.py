@@ -176,8 +176,11 @@ def _machine_chunks(ch, lines, extra=None, tail_rows=(), caught_extra=None, row_
     def per_exp_list(seq):
         return lambda a, b: [v for v in seq[a:b] for _ in range(M)]
 
-    def per_test(stack):
-        return lambda a, b: _values(stack[a:b].ravel())
+    def per_test_of(column):
+        """A column of every model's test (``column(t, a, b)``: its rows a to b), stacked a chunk
+        at a time: a file of 10^5 rows never holds T x M cells of it at once."""
+        return lambda a, b: _values(np.stack([column(t, a, b) for t in tests],
+                                             axis=1).ravel())
 
     def per_test_list(lists):
         return lambda a, b: [lst[i] for i in range(a, b) for lst in lists]
@@ -187,14 +190,19 @@ def _machine_chunks(ch, lines, extra=None, tail_rows=(), caught_extra=None, row_
 
     tests = ch.tests
     nan = np.nan
-    raw = [np.stack([t.raw[j] for t in tests], axis=1) for j in range(3)]
-    exp_cols = []
-    for j in range(3):
-        e = np.stack([t.expected[j] if j != 1 else
-                      np.where(faces, t.expected[1], t.expected[0]) for t in tests], axis=1)
-        if j != 1:
-            e = np.where(faces[:, None], e, nan)
-        exp_cols.append(e)
+
+    def expected_of(j, caught=None):
+        """Expected heads (j = 0), sides (1) or tails (2); NaN where not counted (and on caught
+        rows, when ``caught`` is given)."""
+        def column(t, a, b):
+            f = faces[a:b]
+            e = t.expected[j, a:b] if j != 1 else np.where(f, t.expected[1, a:b],
+                                                           t.expected[0, a:b])
+            if j != 1:
+                e = np.where(f, e, nan)
+            return e if caught is None else np.where(caught[a:b], nan, e)
+        return per_test_of(column)
+
     makers = [
         const("experiment"),
         per_exp_list(lines) if lines is not None else const(None),
@@ -205,14 +213,14 @@ def _machine_chunks(ch, lines, extra=None, tail_rows=(), caught_extra=None, row_
         per_exp(cc.sides),
         per_exp(np.where(faces, cc.tails, nan) if not faces.all() else cc.tails),
         lambda a, b: [t.model for _ in range(a, b) for t in tests],
-        per_test(raw[0]), per_test(raw[1]), per_test(raw[2]),
-        per_test(exp_cols[0]), per_test(exp_cols[1]), per_test(exp_cols[2]),
+        *(per_test_of(lambda t, a, b, j=j: t.raw[j, a:b]) for j in range(3)),
+        *(expected_of(j) for j in range(3)),
         per_test_list([t.method for t in tests]),
-        per_test(np.stack([t.exact for t in tests], axis=1)),
-        per_test(np.stack([t.p_value for t in tests], axis=1)),
-        per_test(np.stack([t.g for t in tests], axis=1)),
-        per_test(np.stack([t.df for t in tests], axis=1)),
-        per_test(np.stack([t.log_likelihood for t in tests], axis=1)),
+        per_test_of(lambda t, a, b: t.exact[a:b]),
+        per_test_of(lambda t, a, b: t.p_value[a:b]),
+        per_test_of(lambda t, a, b: t.g[a:b]),
+        per_test_of(lambda t, a, b: t.df[a:b]),
+        per_test_of(lambda t, a, b: t.log_likelihood[a:b]),
         per_test_list([t.verdict for t in tests]),
     ]
     for name in _OUTCOMES:
@@ -226,18 +234,20 @@ def _machine_chunks(ch, lines, extra=None, tail_rows=(), caught_extra=None, row_
     if cc.caught.any():
         caught = cc.caught
         makers[6] = _ints(per_exp(np.where(caught, nan, cc.sides)))
-        face = [t.raw[0] + t.raw[2] for t in tests]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            p_same = np.stack([np.where(caught, t.raw[0] / f, nan)
-                               for t, f in zip(tests, face, strict=True)], axis=1)
-        e_same = np.stack([np.where(caught, t.expected[0], nan) for t in tests], axis=1)
-        e_diff = np.stack([np.where(caught, t.expected[1], nan) for t in tests], axis=1)
+
+        def p_same(t, a, b):
+            with np.errstate(divide="ignore", invalid="ignore"):
+                return np.where(caught[a:b], t.raw[0, a:b] / (t.raw[0, a:b] + t.raw[2, a:b]),
+                                nan)
+
         for j in range(3):  # a caught row has no expected heads, sides or tails
-            makers[12 + j] = per_test(np.where(caught[:, None], nan, exp_cols[j]))
+            makers[12 + j] = expected_of(j, caught)
         makers += [
             _ints(per_exp(np.where(caught, cc.same, nan))),
             _ints(per_exp(np.where(caught, cc.n - cc.same, nan))),
-            per_test(p_same), per_test(e_same), per_test(e_diff),
+            per_test_of(p_same),
+            per_test_of(lambda t, a, b: np.where(caught[a:b], t.expected[0, a:b], nan)),
+            per_test_of(lambda t, a, b: np.where(caught[a:b], t.expected[1, a:b], nan)),
             *(per_exp(v) for v in ch.intervals["same"]),
         ]
         if caught_extra is not None:

@@ -585,12 +585,20 @@ def _model_tests(cc: _CountColumns, chances, model: str, alpha: float, method: s
     ll = _log_likelihoods(cc.matrix(), cc.n, p, faces, caught, cc.same)
     impossible = ll == -np.inf
     pv = np.where(impossible, 0.0, pv)
-    methods = [("exact multinomial" if f else "exact binomial") if e else
-               f"G-test (asymptotic chi2, df={d})"
-               for f, e, d in zip(faces.tolist(), exact.tolist(), df.tolist(), strict=True)]
-    if np.any(caught):
-        methods = [m + CAUGHT_TEST if c else m for m, c in zip(methods, caught.tolist(),
-                                                                 strict=True)]
+    # each distinct method named once (a file of 10^5 rows holds references, not 10^5 texts)
+    words: dict = {}
+
+    def named(f, e, d, c):
+        key = (f, e, d, c)
+        m = words.get(key)
+        if m is None:
+            m = (("exact multinomial" if f else "exact binomial") if e else
+                 f"G-test (asymptotic chi2, df={d})")
+            m = words[key] = m + CAUGHT_TEST if c else m
+        return m
+
+    methods = [named(*key) for key in zip(faces.tolist(), exact.tolist(), df.tolist(),
+                                          caught.tolist(), strict=True)]
     verdicts = _verdicts(pv, a, exact, impossible)
     cats = [_CATS3 if f else _CATS2 for f in faces.tolist()]
     if np.any(caught):
