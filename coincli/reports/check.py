@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 import sys
 
-from coincli.errors import compute_error, shown, usage_error
+from coincli.errors import InputError, compute_error, shown, usage_error
 from coincli.io import grammar as parse
 from coincli.io import options
 from coincli.io.files import FileKindError, read_capped, read_regular, stream_reader
@@ -744,16 +744,14 @@ def _file_name(path: str) -> str:
     return _clipped(path, 4096)
 
 
-def _experiments(text: str, name: str, delimiter: str | None = None) -> list:
-    """The experiments of ``text``; each count, and each row's total, at most 2**53."""
-    from coincli.io.experiments import parse_experiments
+def _experiments(text: str, name: str, delimiter: str | None = None):
+    """The experiments of ``text`` as columns (:class:`ExperimentColumns`: a file of 10^5 rows
+    holds numbers, not row objects); each count, and each row's total, at most 2**53."""
+    from coincli.io.experiments import parse_experiment_columns
 
     name = _file_name(name)
-    try:
-        exps = parse_experiments(text, delimiter=delimiter)
-    except ValueError as exc:
-        raise usage_error(f"{name} {exc}") from None
-    for e in exps:
+
+    def each(e):
         c = e.counts
         for column in ("heads", "sides", "tails", "n"):
             v = getattr(c, column)
@@ -762,7 +760,13 @@ def _experiments(text: str, name: str, delimiter: str | None = None) -> list:
                                   f"whole number from 0 to {parse.MAX_COUNT} (2**53), got "
                                   f"{_clipped(str(v))}")
         _check_total(c, f"{name} line {e.line}: ")
-    return exps
+
+    try:
+        return parse_experiment_columns(text, delimiter=delimiter, each=each)
+    except InputError:
+        raise
+    except ValueError as exc:
+        raise usage_error(f"{name} {exc}") from None
 
 
 def fit(file: str, *, psi_dist: str | None = None, no_spread: bool = False,
@@ -827,13 +831,14 @@ def fit(file: str, *, psi_dist: str | None = None, no_spread: bool = False,
     text, name = _read_text(file)
     exps = _experiments(text, name, sep)
     del text
-    thick = [e for e in exps if getattr(e.counts, "caught", False)]
-    if thick:
+    is_caught = exps.cc.caught
+    if is_caught.any():
         from coincli.core.stats.caught import CAUGHT_XI_LIMIT
 
-        over = [e for e in thick if e.xi > CAUGHT_XI_LIMIT]
-        if over:
-            _warn_thick(over[0].xi, f"{_file_name(name)} line {over[0].line}"
+        over = (is_caught & (exps.xi > CAUGHT_XI_LIMIT)).nonzero()[0]
+        if len(over):
+            first = exps[int(over[0])]
+            _warn_thick(first.xi, f"{_file_name(name)} line {first.line}"
                         + (f" and {len(over) - 1} more rows" if len(over) > 1 else "") + ": ")
     elif p_design is not None:
         raise usage_error("--design gives each tosser's fair coin from caught flips (same and "
@@ -846,8 +851,8 @@ def fit(file: str, *, psi_dist: str | None = None, no_spread: bool = False,
     sp = res.spread
     if quiet:
         return Result("coin fit", FIT_COLUMNS, [], quiet=_deg(sp.sigma))
-    lines = [e.line for e in exps]
-    n_total = sum(e.counts.n for e in exps)
+    lines = exps.line.tolist()
+    n_total = sum(exps.cc.n.tolist())
     cf = res.caught
     if fmt == "table":
         out = [

@@ -31,6 +31,7 @@ __all__ = [
     "Caught",
     "make_caught",
     "Experiment",
+    "ExperimentColumns",
 ]
 
 
@@ -249,6 +250,67 @@ class Experiment(namedtuple("Experiment", "line xi counts label diameter", defau
     __slots__ = ()
 
 
+class ExperimentColumns(Sequence):
+    """Many :class:`Experiment` rows held as columns (numpy arrays, and a list of labels): a
+    file of 10^5 rows in a few MB instead of 10^5 row objects.  ``rows[i]`` builds row ``i``'s
+    :class:`Experiment` on demand.
+
+    Columns: ``line`` (int), ``xi`` (float), ``diameter`` (float, NaN when the row gives
+    none), ``labels`` (list of str) and ``cc`` (the counts, :class:`_CountColumns`)."""
+
+    def __init__(self, line, xi, labels, diameter, cc):
+        self.line, self.xi, self.labels, self.diameter, self.cc = line, xi, labels, diameter, cc
+
+    @classmethod
+    def from_rows(cls, rows) -> ExperimentColumns:
+        """Collect an iterable of :class:`Experiment` (each dropped once read)."""
+        from array import array
+
+        import numpy as np
+
+        line, xi, diameter = array("q"), array("d"), array("d")
+        n, sides, heads, tails, same = (array("q") for _ in range(5))
+        faces, caught = array("b"), array("b")
+        labels = []
+        for e in rows:
+            c = e.counts
+            line.append(e.line)
+            xi.append(e.xi)
+            diameter.append(math.nan if e.diameter is None else e.diameter)
+            labels.append(e.label)
+            n.append(c.n)
+            sides.append(c.sides or 0)
+            heads.append(c.heads or 0)
+            tails.append(c.tails or 0)
+            is_caught = isinstance(c, Caught)
+            same.append(c.same if is_caught else 0)
+            faces.append(c.heads is not None)
+            caught.append(is_caught)
+
+        def ints(a):
+            return np.frombuffer(a, dtype=np.int64).copy() if len(a) else np.zeros(0, np.int64)
+
+        cc = _CountColumns.from_arrays(
+            faces=np.array(faces, dtype=bool), sides=ints(sides), n=ints(n), heads=ints(heads),
+            tails=ints(tails), caught=np.array(caught, dtype=bool), same=ints(same))
+        return cls(ints(line), np.array(xi, dtype=float), labels, np.array(diameter, dtype=float),
+                   cc)
+
+    def __len__(self):
+        return len(self.xi)
+
+    def __getitem__(self, i):
+        if isinstance(i, slice):
+            return [self[k] for k in range(*i.indices(len(self)))]
+        if i < 0:
+            i += len(self)
+        if not 0 <= i < len(self):
+            raise IndexError(i)
+        d = float(self.diameter[i])
+        return Experiment(int(self.line[i]), float(self.xi[i]), self.cc.count(i),
+                          self.labels[i], None if math.isnan(d) else d)
+
+
 class _CountColumns:
     """Counts of many experiments as arrays: heads, sides, tails (0 where faces were not told
     apart), n, and ``faces``."""
@@ -270,6 +332,28 @@ class _CountColumns:
         self.same = np.fromiter((getattr(c, "same", 0) for c in counts), np.int64, len(counts))
         #: rows of side counts alone (neither faces told apart nor caught)
         self.sides_only = ~self.faces & ~self.caught
+
+    @classmethod
+    def from_arrays(cls, *, faces, sides, n, heads, tails, caught, same) -> _CountColumns:
+        """Columns given as arrays (0 where a count is absent); ``count(i)`` rebuilds a row."""
+        self = cls.__new__(cls)
+        self.counts = None
+        self.faces, self.sides, self.n, self.heads, self.tails = faces, sides, n, heads, tails
+        self.caught, self.same = caught, same
+        self.sides_only = ~faces & ~caught
+        return self
+
+    def count(self, i: int):
+        """Row ``i``'s :class:`Counts` (or :class:`Caught`)."""
+        if self.counts is not None:
+            return self.counts[i]
+        n = int(self.n[i])
+        if self.caught[i]:
+            same = int(self.same[i])
+            return Caught(n, same, n - same)
+        if self.faces[i]:
+            return Counts(n, int(self.sides[i]), int(self.heads[i]), int(self.tails[i]))
+        return Counts(n, int(self.sides[i]))
 
     def __len__(self):
         return len(self.n)

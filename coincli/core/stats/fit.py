@@ -29,7 +29,14 @@ from collections.abc import Mapping, Sequence
 from coincli.core._numerics.roots import brent_minimize, brent_root
 from coincli.core._numerics.wilson import CONFIDENCE, _check_level
 from coincli.core.models import HALF_PI, Outcome
-from coincli.core.stats.counts import Caught, Counts, Experiment, _CountColumns, _LogFactorial
+from coincli.core.stats.counts import (
+    Caught,
+    Counts,
+    Experiment,
+    ExperimentColumns,
+    _CountColumns,
+    _LogFactorial,
+)
 from coincli.core.stats.tests import ALPHA, _check_method, check_many
 
 __all__ = [
@@ -179,14 +186,15 @@ def fit_spread(xi: Sequence[float], counts: Sequence[Counts], *, confidence: flo
     if xs.ndim != 1 or len(xs) != len(counts) or len(xs) == 0:
         raise ValueError(f"xi and counts must be non-empty and of one length, got {len(xs)} and "
                          f"{len(counts)}")
-    if not all(isinstance(c, (Counts, Caught)) for c in counts):
+    columns = isinstance(counts, _CountColumns)
+    if not columns and not all(isinstance(c, (Counts, Caught)) for c in counts):
         raise ValueError("counts must be Counts (see make_counts)")
     if not np.all(np.isfinite(xs) & (xs > 0)):
         raise ValueError("xi must be finite and > 0 for every experiment")
     if int(grid) < 5:
         raise ValueError(f"grid must be >= 5, got {grid!r}")
     ux, inv = np.unique(xs, return_inverse=True)  # rows share coins: chances once per coin
-    like = _Likelihood(_CountColumns(counts))
+    like = _Likelihood(counts if columns else _CountColumns(counts))
     cache: dict[float, float] = {}
     best: list = [-math.inf, None, None]  # log L, u and chances of the best try so far
 
@@ -333,8 +341,12 @@ def fit(experiments: Sequence[Experiment], densities: Mapping[str, object] | Non
     if not experiments:
         raise ValueError("experiments is empty: nothing to fit")
     _check_method(method)
-    counts = [e.counts for e in experiments]
-    xa = np.fromiter((e.xi for e in experiments), float, len(experiments))
+    if isinstance(experiments, ExperimentColumns):  # a file's rows as columns: no row objects
+        counts, xa, labels = experiments.cc, experiments.xi, experiments.labels
+    else:
+        counts = [e.counts for e in experiments]
+        xa = np.fromiter((e.xi for e in experiments), float, len(experiments))
+        labels = [e.label for e in experiments]
     ux, inv = np.unique(xa, return_inverse=True)
 
     def per_row(ch) -> Outcome:
@@ -355,7 +367,7 @@ def fit(experiments: Sequence[Experiment], densities: Mapping[str, object] | Non
         per_model[SPREAD_MODEL] = (sp.chances, 1)
     rows = check_many(counts, xa, {name: ch for name, (ch, _) in per_model.items()},
                       confidence=confidence, alpha=alpha, method=method,
-                      labels=[e.label for e in experiments])
+                      labels=labels)
     lls = {t.model: math.fsum(t.log_likelihood.tolist()) for t in rows.tests}
     if sp is not None:
         lls[SPREAD_MODEL] = sp.log_likelihood  # the same number, without re-summing rounding

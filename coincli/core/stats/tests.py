@@ -684,7 +684,7 @@ class Checks(Sequence):
             i += len(self)
         if not 0 <= i < len(self):
             raise IndexError(i)
-        c = self.cc.counts[i]
+        c = self.cc.count(i)
         props = []
         for name in (_CATS3 if c.faces else ("same",) if c.categories == _CATS_CAUGHT
                      else ("sides",)):
@@ -708,7 +708,7 @@ def check_many(counts: Sequence[Counts], xi, chances: Mapping[str, object], *,
     _check_method(method)
     conf = _check_level(confidence, "confidence")
     _check_level(alpha, "alpha")
-    cc = _CountColumns(counts)
+    cc = counts if isinstance(counts, _CountColumns) else _CountColumns(counts)
     xs = np.broadcast_to(np.asarray(xi, dtype=float), (len(cc),))
     # the intervals depend on (count, n) alone: each distinct pair once
     ks = np.concatenate([cc.heads, cc.sides, cc.tails])
@@ -727,7 +727,10 @@ def check_many(counts: Sequence[Counts], xi, chances: Mapping[str, object], *,
             cols = [np.where(cc.faces, v, np.nan) for v in cols]
         elif np.any(cc.caught):
             cols = [np.where(cc.caught, np.nan, v) for v in cols]
-        intervals[name] = cols
+        # an outcome no row counted (heads of a file of caught flips): one read-only NaN
+        # broadcast, not T of them
+        intervals[name] = [np.broadcast_to(np.nan, (T,)) if np.isnan(v).all() else v
+                           for v in cols]
     if np.any(cc.caught):  # the chance of the same side, caught rows only; each pair once
         c = np.flatnonzero(cc.caught)
         sp, sinv = np.unique(np.stack([cc.same[c], cc.n[c]], axis=1), axis=0,
