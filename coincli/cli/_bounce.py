@@ -13,6 +13,7 @@ numpy, scipy, rich or mujoco at import time; ``--landing catch`` (the default) n
 from __future__ import annotations
 
 from coincli.cli._options import Group, option
+from coincli.limits import BOUNCE_OMEGA_MAX
 
 LandingOpt = option("--landing", "catch|bounce", "catch (the paper's: caught at first contact, "
                     "the exact model) or bounce (lands on a surface, bounces and settles; "
@@ -64,3 +65,16 @@ BOUNCE = Group(("landing", LandingOpt, "catch"), ("surface", SurfaceOpt, None),
                ("checkpoint", CheckpointOpt, None), ("timeout", TimeoutOpt, None),
                ("dt", DtOpt, None), ("t_max", TMaxOpt, None),
                ("calibration", CalibrationOpt, None))
+
+#: the launch of the tosses a command simulates on a table when it also has a catch meaning
+#: for ``--psi`` (``coin design``, ``coin table``, ``coin check``): speed, spin and the seed
+LAUNCH = Group(
+    ("u", option("--u", "SPEC", "With --landing bounce: launch speed, m/s, a value or "
+                 "normal:MEAN:SD / uniform:LOW:HIGH (default the hand toss of coin simulate, "
+                 "normal:2.4:0.3)."), None),
+    ("omega", option("--omega", "SPEC", "With --landing bounce: precession rate, rad/s or with "
+                     "a unit (default the hand toss, normal:38:4rev/s), at most "
+                     f"{BOUNCE_OMEGA_MAX:.0f} rad/s."), None),
+    ("seed", option("--seed", "SEED", "With --landing bounce: the seed of the simulated tosses, "
+                    "a whole number >= 0 (default: drawn, and reported)."), None),
+)

@@ -41,16 +41,15 @@ FairOpt = option("--fair", None, "Also test against a fair three-sided coin: --e
 def _check_table() -> Group:
     """``--landing bounce`` of ``coin check``: the table your tosses are compared with, and the
     launch of the tosses simulated on it (as ``coin simulate`` takes them)."""
-    from coincli.cli._bounce import BOUNCE, RUNS
-    from coincli.cli.design import DESIGN_TABLE
+    from coincli.cli._bounce import BOUNCE, LAUNCH, RUNS
 
     return Group(
         BOUNCE.only("landing", "calibration", "surface", "restitution", "friction",
                     "torsional", "rolling"),
-        DESIGN_TABLE.only("u", "omega"),
+        LAUNCH.only("u", "omega"),
         ("psi", option("--psi", "DEG", "With --landing bounce: a fixed launch angle psi "
                        "(degrees) instead of the hand toss's spread (or --psi-dist)."), None),
-        DESIGN_TABLE.only("seed"),
+        LAUNCH.only("seed"),
         BOUNCE.only("release_height", "vx", *RUNS, "dt", "t_max"),
     )
 

@@ -10,9 +10,9 @@ from typing import Annotated
 import typer
 
 from coincli.cli import _accuracy, _options, app
-from coincli.cli._bounce import BOUNCE, RUNS
+from coincli.cli._bounce import BOUNCE, LAUNCH, RUNS
 from coincli.cli._options import COINS, OUTPUT, Group, option, with_groups
-from coincli.limits import BOUNCE_DESIGN_TOSSES, BOUNCE_OMEGA_MAX, MAX_BOUNCE_TOSSES
+from coincli.limits import BOUNCE_DESIGN_TOSSES, MAX_BOUNCE_TOSSES
 from coincli.io import options
 from coincli.io.table import emit_all
 from coincli.render.progress import estimator_bar, simulating_bar
@@ -38,15 +38,9 @@ SizedThicknessOpt = option("--thickness -t", "H", "Thickness (mm or a unit); the
 #: ``--landing bounce`` of ``coin design``: the table, and the tosses simulated on it
 DESIGN_TABLE = Group(
     BOUNCE.only("landing", "surface", "restitution", "friction", "torsional", "rolling"),
-    ("u", option("--u", "SPEC", "With --landing bounce: launch speed, m/s, a value or "
-                 "normal:MEAN:SD / uniform:LOW:HIGH (default the hand toss of coin simulate, "
-                 "normal:2.4:0.3)."), None),
-    ("omega", option("--omega", "SPEC", "With --landing bounce: precession rate, rad/s or with "
-                     "a unit (default the hand toss, normal:38:4rev/s), at most "
-                     f"{BOUNCE_OMEGA_MAX:.0f} rad/s."), None),
+    LAUNCH.only("u", "omega"),
     BOUNCE.only("release_height", "vx"),
-    ("seed", option("--seed", "SEED", "With --landing bounce: the seed of the simulated tosses, "
-                    "a whole number >= 0 (default: drawn, and reported)."), None),
+    LAUNCH.only("seed"),
     ("max_tosses", option("--max-tosses", "N", "With --landing bounce: stop before simulating "
                           f"more tosses than this (default {BOUNCE_DESIGN_TOSSES}, from 180 to "
                           f"{MAX_BOUNCE_TOSSES})."), None),
@@ -113,7 +107,7 @@ TABLE_TABLE = Group(
                            "(0.3:0.7:0.1) is a study, a row each."),
         friction=option("--friction", "MU", "With --landing bounce: the sliding friction "
                         "coefficient, 0 to 10; a list or a range is a study, a row each.")),
-    DESIGN_TABLE.only("u", "omega"),
+    LAUNCH.only("u", "omega"),
     ("tosses", option("-n --n --tosses", "N", "With --landing bounce: tosses simulated in each "
                       "cell (coin x restitution x friction), default 1000."), None),
     BOUNCE.only("release_height", "vx", *RUNS, "dt", "t_max"),
