@@ -25,6 +25,7 @@ from tests.cli.cli_helpers import error
 
 distributed = pytest.importorskip("distributed")
 pytest.importorskip("mujoco")
+pytestmark = pytest.mark.xdist_group("cluster")  # one worker: one cluster for the module
 
 ROOT = Path(__file__).resolve().parents[2]
 COIN = [sys.executable, "-m", "coincli"]

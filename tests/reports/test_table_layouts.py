@@ -15,6 +15,8 @@ import pytest
 from coincli import api
 from coincli.errors import InputError
 
+pytestmark = pytest.mark.xdist_group("bounce-study")  # one worker: its module fixture once
+
 
 def _csv(coin, *argv, stdin=None):
     rc, out, err = coin("table", *argv, "--format", "csv", stdin=stdin)
