@@ -13,6 +13,7 @@ import typer
 
 from coincli.cli import _options, app
 from coincli.cli._bounce import BOUNCE
+from coincli.cli._bounce import BOUNCE, LAUNCH, RUNS
 from coincli.cli._options import COIN, OUTPUT, Group, option, with_groups
 from coincli.io.table import emit_all
 
@@ -38,23 +39,17 @@ FairOpt = option("--fair", None, "Also test against a fair three-sided coin: --e
                  "1/3,1/3,1/3.", kind=bool)
 
 
-def _check_table() -> Group:
-    """``--landing bounce`` of ``coin check``: the table your tosses are compared with, and the
-    launch of the tosses simulated on it (as ``coin simulate`` takes them)."""
-    from coincli.cli._bounce import BOUNCE, LAUNCH, RUNS
-
-    return Group(
-        BOUNCE.only("landing", "calibration", "surface", "restitution", "friction",
-                    "torsional", "rolling"),
-        LAUNCH.only("u", "omega"),
-        ("psi", option("--psi", "DEG", "With --landing bounce: a fixed launch angle psi "
-                       "(degrees) instead of the hand toss's spread (or --psi-dist)."), None),
-        LAUNCH.only("seed"),
-        BOUNCE.only("release_height", "vx", *RUNS, "dt", "t_max"),
-    )
-
-
-CHECK_TABLE = _check_table()
+#: ``--landing bounce`` of ``coin check``: the table your tosses are compared with, and the
+#: launch of the tosses simulated on it (as ``coin simulate`` takes them)
+CHECK_TABLE = Group(
+    BOUNCE.only("landing", "calibration", "surface", "restitution", "friction", "torsional",
+                "rolling"),
+    LAUNCH.only("u", "omega"),
+    ("psi", option("--psi", "DEG", "With --landing bounce: a fixed launch angle psi (degrees) "
+                   "instead of the hand toss's spread (or --psi-dist)."), None),
+    LAUNCH.only("seed"),
+    BOUNCE.only("release_height", "vx", *RUNS, "dt", "t_max"),
+)
 
 
 # --------------------------------------------------------------------------- check

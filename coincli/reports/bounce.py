@@ -65,6 +65,18 @@ CONTACT_NOTE = ("The contact model is itself uncertain: a second engine (Bullet)
                 "error only.")
 
 
+def design_columns(dia_mm: float) -> list[Column]:
+    """The leading columns of every ``coin design --landing bounce`` answer (on a preset or a
+    calibrated table): the target, xi with its interval, the thickness with its interval."""
+    return [
+        Column("p_sides", "P(sides) target"), Column("xi", "xi = h/D"),
+        Column("xi_low", "95% low"), Column("xi_high", "95% high"),
+        Column("thickness_mm", f"thickness (mm) for D = {dia_mm:g}"),
+        Column("thickness_low_mm", "thickness 95% low"),
+        Column("thickness_high_mm", "thickness 95% high"),
+    ]
+
+
 def bounce_module():
     """:mod:`coincli.core.bounce.engine` with MuJoCo loaded, or the one-line install hint
     (exit 1)."""
@@ -550,11 +562,7 @@ def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, 
              empty(f.p_value), len(f.points), r.tosses, r.seed)
             for t, x, lo, hi, f in zip(r.targets, r.xi, r.low, r.high, r.fits, strict=True)]
     columns = [
-        Column("p_sides", "P(sides) target"), Column("xi", "xi = h/D"),
-        Column("xi_low", "95% low"), Column("xi_high", "95% high"),
-        Column("thickness_mm", f"thickness (mm) for D = {dia_mm:g}"),
-        Column("thickness_low_mm", "thickness 95% low"),
-        Column("thickness_high_mm", "thickness 95% high"),
+        *design_columns(dia_mm),
         Column("fitted_p_sides", "fitted P(sides)"), Column("fit_p_value", "fit p-value"),
         Column("fit_points", "aspect ratios fitted", "int"),
         Column("tosses", "tosses", "int"), Column("seed", "seed", "int"),

@@ -495,12 +495,10 @@ def design(p, *, targets, seed, tol, max_tosses, time_limit, given, diameter, g,
                          math.sqrt(var_sim), math.sqrt(var_cal), dominant,
                          float(f.p_sides(x)), f.p_value, r.tosses + 2 * len(names) * n_b,
                          r.seed))
+    from coincli.reports.bounce import design_columns
+
     columns = [
-        Column("p_sides", "P(sides) target"), Column("xi", "xi = h/D"),
-        Column("xi_low", "95% low"), Column("xi_high", "95% high"),
-        Column("thickness_mm", f"thickness (mm) for D = {diameter * 1000:g}"),
-        Column("thickness_low_mm", "thickness 95% low"),
-        Column("thickness_high_mm", "thickness 95% high"),
+        *design_columns(diameter * 1000),
         Column("sd_ln_xi_simulation", "sd of ln xi: simulation"),
         Column("sd_ln_xi_calibration", "sd of ln xi: calibration"),
         Column("dominant", "dominant", "text"),
