@@ -37,7 +37,9 @@ WOOD = B.SURFACES["wood"]
 DT = 2e-4  # half the default's cost; docs/bounce.md's convergence study finds it agrees
 FIXED = {"u": HAND_TOSS["u"], "omega": HAND_TOSS["omega"], "psi": HAND_TOSS["psi"],
          "torsional": WOOD.torsional, "rolling": WOOD.rolling, "dt": DT}
-PER_GROUP = 8  # 16 groups of 8: 128 tosses of each prototype at each design point
+# 16 groups of 8: 128 tosses of each prototype at each design point (COIN_ROUNDTRIP_PER_GROUP=16
+# gives the default 256, used with 1000 tosses a prototype)
+PER_GROUP = int(os.environ.get("COIN_ROUNDTRIP_PER_GROUP", 8))
 SEED = 1
 DEGREE = int(os.environ.get("COIN_ROUNDTRIP_DEGREE", C.default_degree(len(NAMES))))
 CACHE = os.environ.get("COIN_ROUNDTRIP_CACHE", "/tmp/coin-calibration-roundtrip.json")
