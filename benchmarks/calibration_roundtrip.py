@@ -116,8 +116,8 @@ def fit(cache):
     pts, counts = [tuple(p) for p in s["points"]], np.array(s["counts"])
     for j, xi in enumerate(PROTOTYPES):
         sf = C.fit_surface(pts, counts[j].sum(axis=1), degree=DEGREE)
-        print(f"surface at xi = {xi}: deviance {sf.deviance:.1f} on {sf.df} df (common random "
-              "numbers: not a chi-square)")
+        print(f"surface at xi = {xi}: deviance {sf.deviance:.1f} on {sf.df} df, lack of fit "
+              f"tau2 = {C.discrepancy(sf, counts[j][:, :, :3].sum() / len(pts)):.2e}")
     print("| table | true restitution | fitted [95%] | true friction | fitted [95%] | fit p | "
           "surface's share | fair xi: true table, calibrated |\n|---|---|---|---|---|---|---|---|")
     hold = dict.fromkeys(NAMES, 0)
