@@ -307,6 +307,11 @@ def _warnings(f, exps) -> str | None:
     if math.isfinite(f.p_value) and f.p_value < 0.05:
         out.append(f"the simulated table does not fit your counts (p = {f.p_value:.2g}): the "
                    "model is rejected; its numbers are the nearest table, not yours")
+    elif not math.isfinite(f.p_value) and f.reach_p < 0.05:
+        out.append(f"no table in the designed range gives your counts (Q = {f.statistic:.4g} at "
+                   f"the nearest; a table that gives them leaves a chi-square on "
+                   f"{f.df + len(f.names)} df, p <= {f.reach_p:.2g}): the model is rejected; its "
+                   "numbers are the nearest table, not yours")
     elif not math.isfinite(f.p_value):
         out.append("no test of fit: as many parameters as independent counts (toss more "
                    "prototypes)")

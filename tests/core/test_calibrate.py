@@ -127,6 +127,17 @@ def test_counts_no_table_gives_are_rejected(design):
     data = [(100, 300, 600, 1000), (80, 420, 500, 1000)]
     f = C.fit_table(NAMES, pts, counts, data)
     assert f.p_value < 1e-6
+    assert f.p_value <= f.reach_p < 1e-6  # the bound on every cell is the weaker test
+    # one prototype, heads/sides/tails: two cells for two parameters leave no df, but a table
+    # that gave the counts would leave Q ~ chi-square(2), and the nearest leaves far more
+    one = C.fit_table(NAMES, pts, counts[:1], data[:1])
+    assert one.df == 0 and math.isnan(one.p_value) and one.reach_p < 1e-6
+    from coincli.reports.calibrate import _warnings
+    assert "no table in the designed range gives your counts" in _warnings(one, [None])
+    # counts a table does give: no df, no rejection
+    fine = C.fit_table(NAMES, pts, counts[:1], _data(np.random.default_rng(4), 0.5, 0.3)[:1])
+    assert fine.df == 0 and fine.reach_p > 0.05
+    assert "no test of fit" in _warnings(fine, [None])
 
 
 

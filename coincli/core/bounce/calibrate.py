@@ -313,6 +313,10 @@ class TableFit:
     profile: dict = field(default_factory=dict)  #: name -> (natural values, profile of Q)
     level: float = 0.95
     tau2: list = field(default_factory=list)  #: per prototype: the surface's lack of fit
+    #: P(chi-square on every free cell > Q at the estimate): at the true table Q is that
+    #: chi-square and the estimate's Q is no larger, so this bounds the chance that a table in
+    #: the range gives counts this far off; it tests the fit even with no df left
+    reach_p: float = math.nan
 
 
 def _cells(datum):
@@ -523,4 +527,4 @@ def fit_table(names, points, counts, data, *, level=0.95, degree=None,
                                    for n, v in zip(names, u, strict=True)))
     return TableFit(names, est, low, high, dlow, dhigh, edge, cov.tolist(), q_hat, dev_total,
                     df, p_value, pinned, ridge, [tuple(float(x) for x in p) for p in pred],
-                    surfaces, share, profile, level, tau2)
+                    surfaces, share, profile, level, tau2, float(chi2.sf(q_hat, cells)))
