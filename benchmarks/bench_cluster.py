@@ -6,8 +6,12 @@ The same run (the hand toss onto wood, xi = 0.577, seed 1) timed, interleaved, o
 - a ``LocalCluster`` of 2 single-threaded worker processes (``--scheduler local``);
 - each again with a checkpoint (``--checkpoint``; a file in a temporary directory, fsynced a
   chunk at a time);
-- a ``LocalCluster`` of 1 worker (the scale-out: 1 against 2 workers);
-- the cluster with chunks of 16 (the default) and 64 tosses (the block size's effect).
+- the local pool with the cluster's chunks (what the chunk's size does without a cluster);
+- the cluster with chunks of 16 (the local pool's) to 256 tosses (the block size's effect);
+- a ``LocalCluster`` of 1 worker (the scale-out: 1 against 2 workers, the same chunks).
+
+The cluster's default chunk is sized from the run and its workers
+(:func:`coincli.core.bounce.cluster.chunk_for`).
 
 Wall clock and CPU (the client's and every worker's); medians.  The cluster's start-up (a
 ``LocalCluster``, or a connection) is timed once apart: it is paid once a command.  Finally the
@@ -68,6 +72,10 @@ def run(n, *, jobs=2, cl=None, checkpoint=False, chunk=None):
     return wall, cpu, sim.counts
 
 
+def _load() -> str:
+    return ", ".join(f"{v:.2f}" for v in os.getloadavg())
+
+
 def main():
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 256
     reps = int(sys.argv[2]) if len(sys.argv) > 2 else 3
@@ -80,37 +88,51 @@ def main():
     start1 = time.perf_counter() - t0
     for cl in (one, two):  # each worker builds its engine once: not part of a run
         run(32, cl=cl)
-    configs = [("local pool, jobs=2 (baseline)", {"jobs": 2}),
-               ("LocalCluster, 2 workers", {"cl": two}),
+    sized = two.chunk(n)  # the chunk a run of n tosses takes on 2 workers (chunk_for)
+    configs = [("local pool, jobs=2, chunks of 16 (baseline: --jobs 2)", {"jobs": 2}),
+               (f"LocalCluster, 2 workers, chunks of {sized} (--scheduler's default)",
+                {"cl": two}),
                ("local pool, jobs=2, checkpoint", {"jobs": 2, "checkpoint": True}),
-               ("LocalCluster, 2 workers, checkpoint", {"cl": two, "checkpoint": True}),
-               ("LocalCluster, 1 worker", {"cl": one}),
-               ("LocalCluster, 2 workers, chunks of 64", {"cl": two, "chunk": 64})]
+               (f"LocalCluster, 2 workers, chunks of {sized}, checkpoint",
+                {"cl": two, "checkpoint": True}),
+               (f"local pool, jobs=2, chunks of {sized}", {"jobs": 2, "chunk": sized})]
+    configs += [(f"LocalCluster, 2 workers, chunks of {c}", {"cl": two, "chunk": c})
+                for c in (16, 32, 128, 256) if c != sized]
+    configs += [(f"LocalCluster, 1 worker, chunks of {sized}", {"cl": one, "chunk": sized})]
     times = {name: [] for name, _ in configs}
     counts = set()
+    loads = [_load()]
     for _ in range(reps):
         for name, kw in configs:
             wall, cpu, c = run(n, **kw)
             times[name].append((wall, cpu))
             counts.add(c)
             print(f"{name}: {wall:.2f} s wall, {cpu:.2f} s CPU", file=sys.stderr)
-    assert len(counts) == 1, counts  # the same tosses everywhere
+        loads.append(_load())
+    assert len(counts) == 1, counts  # the same tosses everywhere, whatever the chunks
     base_wall = median([w for w, _ in times[configs[0][0]]])
     base_cpu = median([c for _, c in times[configs[0][0]]])
     rows = []
     for name, _ in configs:
         wall = median([w for w, _ in times[name]])
         cpu = median([c for _, c in times[name]])
+        # the ratio of each repetition to the baseline timed just before it, then the median
+        rw = median([w / b[0] for (w, _), b in zip(times[name], times[configs[0][0]])])
+        rc = median([c / b[1] for (_, c), b in zip(times[name], times[configs[0][0]])])
         rows.append([name, f"{wall:.2f} s", f"{n / wall:.1f}", f"{wall / base_wall:.3f}",
-                     f"{cpu / n * 1e3:.1f} ms", f"{cpu / base_cpu:.3f}"])
+                     f"{rw:.3f}", f"{cpu / n * 1e3:.1f} ms", f"{cpu / base_cpu:.3f}",
+                     f"{rc:.3f}"])
     # the scheduler's cost a task: chunks of 1 toss against chunks of 16, same tosses
     m = 32
     w1 = median([run(m, cl=two, chunk=1)[0] for _ in range(reps)])
     w16 = median([run(m, cl=two, chunk=16)[0] for _ in range(reps)])
     per_task = max(w1 - w16, 0.0) * 2 / (m - m / 16)  # 2 workers share the extra tasks
+    loads.append(_load())
     one.close()
     two.close()
     per_toss = base_cpu / n
+    busy = {c: c * per_toss / per_task if per_task > 0 else float("inf")
+            for c in (16, 64, 256)}
     body = "\n".join([
         "## A Dask cluster (`benchmarks/bench_cluster.py`)",
         "",
@@ -119,21 +141,22 @@ def main():
         f"The hand toss onto wood, xi = {XI}, seed {SEED}, {n} tosses a run, {reps} runs of "
         "each configuration interleaved, medians; CPU counts the client, the pool's processes "
         "and every worker.  The machine is shared with other work, so the wall clock can be "
-        "several times the CPU; the ratios compare runs made side by side.  Every run gives "
-        "the same counts (checked).",
+        "several times the CPU; the ratios compare runs made side by side (\"median ratio\": "
+        "the median over the repetitions of each run's ratio to the baseline run just before "
+        "it).  Every run gives the same counts (checked), whatever its chunks.  Load averages "
+        f"(1, 5, 15 min) after each round: {'; '.join(loads)}.",
         "",
-        table(["run", "wall", "tosses/s", "wall / baseline", "CPU per toss",
-               "CPU / baseline"], rows),
+        table(["run", "wall", "tosses/s", "wall / baseline", "median ratio", "CPU per toss",
+               "CPU / baseline", "median ratio"], rows),
         "",
         f"Start-up, paid once a command: a LocalCluster of 2 workers {start2:.2f} s, of 1 "
         f"worker {start1:.2f} s (the workers import numpy, MuJoCo and Dask); a connection to a "
         "running scheduler is a fraction of that.",
         "",
         f"The scheduler's cost a task (chunks of 1 toss against 16, {m} tosses): about "
-        f"{per_task * 1e3:.1f} ms of wall time a task.  A chunk of 16 tosses is about "
-        f"{16 * per_toss * 1e3:.0f} ms of CPU, so one scheduler keeps about "
-        f"{16 * per_toss / per_task if per_task > 0 else float('inf'):.0f} workers busy with "
-        "chunks of 16.",
+        f"{per_task * 1e3:.1f} ms of wall time a task.  A toss is about {per_toss * 1e3:.0f} ms "
+        f"of CPU, so one such scheduler keeps about {busy[16]:.0f} workers busy with chunks of "
+        f"16, {busy[64]:.0f} with chunks of 64 and {busy[256]:.0f} with chunks of 256.",
     ])
     write_section("bench_cluster", body)
 

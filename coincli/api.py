@@ -615,7 +615,8 @@ def check(*, xi=None, quarters=None, coin=None, count=None, diameter=None, thick
 def fit(file, *, psi_dist=None, no_spread=None, delimiter=None, design=None, alpha=None,
         confidence=None, landing=None, fit=None, seed=None, save=None, design_tosses=None,
         surface=None, restitution=None, friction=None, torsional=None, rolling=None,
-        release_height=None, vx=None, jobs=None, dt=None, t_max=None) -> list[dict]:
+        release_height=None, vx=None, jobs=None, dt=None, t_max=None, scheduler=None,
+        checkpoint=None, timeout=None) -> list[dict]:
     """``coin fit FILE``: which model do the tosses of a file of experiments follow?
 
     Parameters
@@ -643,7 +644,9 @@ def fit(file, *, psi_dist=None, no_spread=None, delimiter=None, design=None, alp
         ``friction_low``, ``friction_high`` (``psi_sd_deg...`` when fitted), ``p_value``,
         ``method``, ``seed``; with ``fit`` (``"restitution,friction"``, ``"psi-spread"``),
         ``seed``, ``save`` (a calibration file to write), ``design_tosses`` and the surface and
-        launch options of ``simulate``.
+        launch options of ``simulate``; ``scheduler`` (a Dask scheduler, ``"tcp://host:port"``
+        or ``"local"``), ``checkpoint`` (a file) and ``timeout`` (s): where the design's tosses
+        run, as for ``simulate``.
 
     Returns
     -------

@@ -121,7 +121,7 @@ FIT_TABLE = Group(
     ("design_tosses", option("--design-tosses", "N", "With --landing bounce: simulated tosses of "
                              "each prototype at each designed table (default 256)."), None),
     BOUNCE.only("surface", "restitution", "friction", "torsional", "rolling", "release_height",
-                "vx", "jobs", "dt", "t_max"),
+                "vx", *RUNS, "dt", "t_max"),
 )
 
 

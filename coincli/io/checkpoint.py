@@ -4,12 +4,16 @@ same command run again computes only what is missing and prints the same bytes.
 The file is JSON lines.  The first line is the header: the format, ``coin``'s and MuJoCo's
 versions, the command and the values of the options that decide the tosses (the seed among
 them), with a checksum.  Each other line is one chunk of
-:func:`coincli.core.bounce.runs.simulate`: the digest of what decides it (the coin, the surface,
-the timestep, the launch distributions, the seed, the block, the chunk's place and the stream:
-:func:`chunk_key`), its rows (outcome, catch, bounces, time to settle, steps, as the engine
-gives them; floats written exactly) and a checksum.  A line is appended and fsynced as each
-chunk completes, so a run killed at any moment leaves every chunk it finished; a torn or
-damaged line is dropped (and recomputed) the next time.
+:func:`coincli.core.bounce.runs.simulate`: the digest of what decides its block's tosses (the
+coin, the surface, the timestep, the launch distributions, the seed, the block and the stream:
+:func:`block_key`), the chunk's first toss in the block, its rows (outcome, catch, bounces, time
+to settle, steps, as the engine gives them; floats written exactly) and a checksum.  No toss
+depends on how its block is cut into chunks, so a run resumed with other chunks (the local
+pool's 16 tosses, a cluster's more: :func:`coincli.core.bounce.cluster.chunk_for`) takes what the
+file holds toss by toss, and computes again only the chunks it does not hold whole.  A line of a
+calibration's design point is the digest of the task (:func:`task_key`) and its counts.  A line
+is appended and fsynced as each chunk completes, so a run killed at any moment leaves every
+chunk it finished; a torn or damaged line is dropped (and recomputed) the next time.
 
 A checkpoint written by another command line, another ``coin`` or another MuJoCo is refused
 in one line naming what differs (:class:`Checkpoint`).  It works with the local pool
@@ -25,7 +29,7 @@ import os
 
 from coincli.errors import compute_error, shown, usage_error
 
-__all__ = ["Checkpoint", "chunk_key", "FORMAT", "MAX_BYTES"]
+__all__ = ["Checkpoint", "block_key", "task_key", "FORMAT", "MAX_BYTES"]
 
 FORMAT = "coin-checkpoint/1"  #: the first field of the header: what reads this file
 MAX_BYTES = 1 << 30  #: the largest checkpoint read (10^6 tosses take about 50 MB)
@@ -53,10 +57,22 @@ def _canon(value) -> str:
     return repr(value)
 
 
-def chunk_key(args, job) -> str:
-    """The digest of what decides a chunk's rows: the engine's ``args`` and the ``job`` as
-    :func:`coincli.core.bounce.runs.simulate` cuts it (its index left out)."""
-    return hashlib.sha256(_canon((args, job[1])).encode()).hexdigest()
+def block_key(args, job) -> str:
+    """The digest of what decides the tosses of a chunk's block: the engine's ``args`` and the
+    ``job`` as :func:`coincli.core.bounce.runs.simulate` cuts it, less the chunk's index and
+    place (its first and last toss), on which no toss depends."""
+    seed, block, _start, _stop, count, dists, stream = job[1]
+    return _digest(("block", args, (seed, block, count, dists, stream)))
+
+
+def task_key(fn, task) -> str:
+    """The digest of a task of another kind (a design point of a calibration, ``fn(task)``):
+    the function's name and everything it is sent."""
+    return _digest(("task", f"{fn.__module__}.{fn.__qualname__}", task))
+
+
+def _digest(value) -> str:
+    return hashlib.sha256(_canon(value).encode()).hexdigest()
 
 
 def _sum(fields: dict) -> str:
@@ -89,10 +105,10 @@ class Checkpoint:
     def __init__(self, path: str, header: dict, inner=None):
         self.path, self.inner = path, inner
         self.header = {"format": FORMAT, **header}
-        self.rows: dict = {}  # chunk key -> rows
-        self.keys: dict = {}  # chunk index -> key, for the run in progress
+        self.rows: dict = {}  # block key -> {first toss: rows}; task key -> result
+        self.keys: dict = {}  # chunk or task index -> (key, first toss or None), this run
         self.fh = None
-        self.held = 0  #: chunks found in the file when it was opened
+        self.held = 0  #: records (chunks, tasks) found in the file when it was opened
 
     def __enter__(self):
         self.open()
@@ -124,11 +140,18 @@ class Checkpoint:
             good = [lines[0]]
             for line in lines[1:]:
                 rec = _parse(line)
-                if rec is not None and isinstance(rec.get("key"), str) and \
-                        isinstance(rec.get("rows"), list):
+                if rec is None or not isinstance(rec.get("key"), str) or \
+                        not isinstance(rec.get("rows"), list):
+                    continue
+                start = rec.get("start")
+                if start is None:
                     self.rows[rec["key"]] = rec["rows"]
-                    good.append(line if line.endswith("\n") else line + "\n")
-        self.held = len(self.rows)
+                elif isinstance(start, int) and start >= 0:
+                    self.rows.setdefault(rec["key"], {})[start] = rec["rows"]
+                else:
+                    continue
+                good.append(line if line.endswith("\n") else line + "\n")
+                self.held += 1
         try:
             if not lines or len(good) < len(lines) or not lines[-1].endswith("\n"):
                 body = good or [_line(self.header)]
@@ -176,29 +199,80 @@ class Checkpoint:
 
     # -- the executor of runs.simulate
 
+    def chunk(self, n: int) -> int:
+        """The chunk of a run of ``n`` tosses: the cluster's, else the local pool's.  A chunk
+        is found in the file whatever chunks wrote it (:meth:`_held`)."""
+        from coincli.core.bounce.runs import CHUNK
+
+        return self.inner.chunk(n) if hasattr(self.inner, "chunk") else CHUNK
+
     def blocks(self, args, work):
         """The chunks of ``work`` this file holds, then (with ``inner``) the others, each
         recorded as it arrives: ``(k, rows)`` pairs."""
-        self.keys = {k: chunk_key(args, (k, job)) for k, job in work}
+        self.keys = {k: (block_key(args, (k, job)), job[2]) for k, job in work}
         missing = []
         for k, job in work:
-            rows = self.rows.get(self.keys[k])
+            rows = self._held(self.keys[k][0], job[2], job[3])
             if rows is None:
                 missing.append((k, job))
             else:
-                yield k, [tuple(r) for r in rows]
+                yield k, rows
         if self.inner is not None and missing:
             for k, rows in self.inner.blocks(args, missing):
                 self.keep(k, rows)
                 yield k, rows
 
+    def _held(self, key, start, stop):
+        """Tosses ``start`` to ``stop`` of the block ``key`` as the file holds them, from
+        chunks of any size (a run of chunks of 16 resumed in chunks of 64, or the reverse), or
+        None when one is missing."""
+        parts = self.rows.get(key)
+        if not parts:
+            return None
+        out = []
+        at = start
+        while at < stop:
+            for first, rows in parts.items():
+                if first <= at < first + len(rows):
+                    take = rows[at - first:stop - first]
+                    out.extend(tuple(r) for r in take)
+                    at += len(take)
+                    break
+            else:
+                return None
+        return out
+
+    def tasks(self, fn, items):
+        """The results of ``fn(task)`` for the ``(k, task)`` pairs ``items`` (a calibration's
+        design points) this file holds, then (with ``inner``, a cluster) the others, each
+        recorded as it arrives: ``(k, result)`` pairs; the caller computes the rest and hands
+        them to :meth:`keep`."""
+        self.keys = {k: (task_key(fn, task), None) for k, task in items}
+        missing = []
+        for k, task in items:
+            held = self.rows.get(self.keys[k][0])
+            if held is None:
+                missing.append((k, task))
+            else:
+                yield k, held
+        if self.inner is not None and missing:
+            for k, got in self.inner.run(fn, missing):
+                self.keep(k, got)
+                yield k, got
+
     def keep(self, k, rows) -> None:
-        """Record chunk ``k`` of the run in progress: appended, flushed and fsynced."""
-        key = self.keys[k]
-        rows = [list(r) for r in rows]
-        self.rows[key] = rows
+        """Record chunk (or task) ``k`` of the run in progress: appended, flushed and
+        fsynced."""
+        key, start = self.keys[k]
+        rows = [list(r) if isinstance(r, (list, tuple)) else r for r in rows]
+        if start is None:
+            self.rows[key] = rows
+            fields = {"key": key, "rows": rows}
+        else:
+            self.rows.setdefault(key, {})[start] = rows
+            fields = {"key": key, "start": start, "rows": rows}
         try:
-            self.fh.write(_line({"key": key, "rows": rows}))
+            self.fh.write(_line(fields))
             self.fh.flush()
             os.fsync(self.fh.fileno())
         except OSError as exc:

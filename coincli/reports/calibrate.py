@@ -110,7 +110,8 @@ def fit(file: str, *, fit_params: str | None = None, seed: str | None = None,
         save: str | None = None, design_tosses: str | None = None, delimiter=None,
         surface=None, restitution=None, friction=None, torsional=None, rolling=None,
         release_height=None, vx=None, jobs=None, dt=None, t_max=None, confidence="0.95",
-        fmt: str = "table", quiet: bool = False, progress=None):
+        fmt: str = "table", quiet: bool = False, progress=None, scheduler=None,
+        checkpoint=None, timeout=None):
     """``coin fit --landing bounce FILE``: the table's restitution and friction (and psi's
     spread) from the tosses of the prototypes in ``file``, with 95% intervals, a goodness of
     fit and the warnings of :func:`_warnings`; ``save``: write the calibration there."""
@@ -121,6 +122,7 @@ def fit(file: str, *, fit_params: str | None = None, seed: str | None = None,
     from coincli.io.options import seed_value
     from coincli.reports import bounce as BO
     from coincli.reports import check as CK
+    from coincli.reports.executor import executor
     from coincli.reports.launch import no_progress
 
     names = _fit_names(fit_params)
@@ -136,7 +138,8 @@ def fit(file: str, *, fit_params: str | None = None, seed: str | None = None,
                                                and friction is not None) else "wood"
     p = BO.parse_physics("bounce", surface=name0, restitution=restitution, friction=friction,
                          torsional=torsional, rolling=rolling, height=release_height, vx=vx,
-                         jobs=jobs, dt=dt, t_max=t_max)
+                         jobs=jobs, dt=dt, t_max=t_max, scheduler=scheduler,
+                         checkpoint=checkpoint, timeout=timeout)
     if save is not None:
         from coincli.io.files import refuse_unwritable
 
@@ -171,11 +174,15 @@ def fit(file: str, *, fit_params: str | None = None, seed: str | None = None,
         fixed["friction"] = p.surface.friction
     points = C.design_points(len(names), 4 if len(names) == 2 else None)
     planned = len(exps) * len(points) * per_group * C.GROUPS
-    with (progress or no_progress)() as tick:
+    # the design's tosses on the local pool, a cluster (--scheduler), from a --checkpoint
+    with executor(p, "coin fit --landing bounce", **{
+            "--seed": seed_v, "--fit": ",".join(names), "--design-tosses": per_group * C.GROUPS,
+            "FILE's prototypes (xi)": [e.xi for e in exps], "--diameter": dia}) as run, \
+            (progress or no_progress)() as tick:
         try:
             counts = C.run_design([e.xi for e in exps], names, points, seed=seed_v,
                                   per_group=per_group, fixed=fixed, jobs=p.jobs,
-                                  simulate=_simulate,
+                                  simulate=_simulate, executor=run,
                                   progress=lambda d, t: tick(d * per_group * C.GROUPS, planned))
         except ValueError as exc:
             raise usage_error(str(exc)) from None

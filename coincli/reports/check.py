@@ -776,7 +776,8 @@ def fit(file: str, *, psi_dist: str | None = None, no_spread: bool = False,
         surface: str | None = None, restitution: str | None = None,
         friction: str | None = None, torsional: str | None = None, rolling: str | None = None,
         release_height: str | None = None, vx: str | None = None, jobs: str | None = None,
-        dt: str | None = None, t_max: str | None = None, fmt: str = "table",
+        dt: str | None = None, t_max: str | None = None, scheduler: str | None = None,
+        checkpoint: str | None = None, timeout: str | None = None, fmt: str = "table",
         quiet: bool = False, progress=None):
     """What ``coin fit FILE`` prints: every experiment of ``file`` checked as :func:`check`
     does, then the models compared across experiments (log-likelihood, AIC, the paper's sum of
@@ -789,15 +790,17 @@ def fit(file: str, *, psi_dist: str | None = None, no_spread: bool = False,
     when the fit cannot be computed.
 
     ``landing="bounce"``: the table is calibrated instead (:func:`coincli.reports.calibrate.fit`,
-    with ``fit``, ``seed``, ``save``, ``design_tosses`` and the surface and launch options;
-    ``progress()``: a progress bar, or None).
+    with ``fit``, ``seed``, ``save``, ``design_tosses``, the surface and launch options and
+    where the design's tosses run, ``scheduler``, ``checkpoint``, ``timeout``; ``progress()``: a
+    progress bar, or None).
     """
     from coincli.reports.bounce import landing_of
 
     bounce = {"--fit": fit, "--seed": seed, "--save": save, "--design-tosses": design_tosses,
               "--surface": surface, "--restitution": restitution, "--friction": friction,
               "--torsional": torsional, "--rolling": rolling, "--release-height": release_height,
-              "--vx": vx, "--jobs": jobs, "--dt": dt, "--t-max": t_max}
+              "--vx": vx, "--jobs": jobs, "--dt": dt, "--t-max": t_max,
+              "--scheduler": scheduler, "--checkpoint": checkpoint, "--timeout": timeout}
     if landing_of(landing) == "bounce":
         from coincli.reports import calibrate
 
@@ -809,7 +812,8 @@ def fit(file: str, *, psi_dist: str | None = None, no_spread: bool = False,
                              restitution=restitution, friction=friction, torsional=torsional,
                              rolling=rolling, release_height=release_height, vx=vx, jobs=jobs,
                              dt=dt, t_max=t_max, confidence=confidence, fmt=fmt, quiet=quiet,
-                             progress=progress)
+                             progress=progress, scheduler=scheduler, checkpoint=checkpoint,
+                             timeout=timeout)
     extra = [k for k, v in bounce.items() if v is not None]
     if extra:
         raise usage_error(f"{', '.join(extra)} go{'es' if len(extra) == 1 else ''} with "

@@ -204,6 +204,94 @@ def test_a_checkpoint_resumes_a_killed_client_with_the_same_bytes(cluster, refer
     assert "-n" not in err
 
 
+def _resumed_from(path: Path) -> list:
+    return [json.loads(line) for line in path.read_text().splitlines()[1:]]
+
+
+def test_a_checkpoint_of_other_chunks_resumes_toss_by_toss(cluster, reference, tmp_path):
+    """A checkpoint holds tosses, not a chunking: one written in chunks of 16 (the local pool)
+    and rewritten in chunks of 32, one of them lost and half of it held in a chunk of 16, is
+    resumed on the cluster computing only the one chunk of 16 it does not hold."""
+    ck = tmp_path / "run.ckpt"
+    assert _coin(*RUN, "--jobs", "2", "--checkpoint", str(ck)) == (0, reference, "")
+    head, *recs = ck.read_text().splitlines(keepends=True)
+    from coincli.io.checkpoint import _line
+
+    by = {json.loads(r)["start"]: json.loads(r) for r in recs}
+    assert sorted(by) == [0, 16, 32, 48, 64, 80]  # one block, the local pool's chunks of 16
+    key = by[0]["key"]
+    pairs = [_line({"key": key, "start": s, "rows": by[s]["rows"] + by[s + 16]["rows"]})
+             for s in (0, 64)]  # tosses 1-32 and 65-96 in chunks of 32; 33-48 alone
+    ck.write_text("".join([head, *pairs, _line({"key": key, "start": 32,
+                                                 "rows": by[32]["rows"]})]))
+    rc, out, err = _coin(*RUN, "--scheduler", cluster.address, "--checkpoint", str(ck))
+    assert (rc, err) == (0, ""), err
+    assert out == reference
+    added = _resumed_from(ck)[3:]
+    assert [(r["start"], r["rows"]) for r in added] == [(48, by[48]["rows"])]
+
+
+def test_ctrl_c_on_a_cluster_run_keeps_the_checkpoint_and_the_seed(cluster, tmp_path):
+    """SIGINT to the client of a cluster run: exit 130 at once, one line with the drawn seed,
+    whole lines in the checkpoint; that seed and checkpoint then give the uninterrupted
+    bytes."""
+    ck = tmp_path / "run.ckpt"
+    run = [a for a in RUN if a not in ("--seed", "11")]
+    run[run.index("96")] = "128"  # 8 chunks of 16 on 2 workers
+    p = subprocess.Popen([*COIN, *run, "--scheduler", cluster.address, "--checkpoint", str(ck)],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         start_new_session=True, env=_env())
+    try:
+        t0 = time.monotonic()
+        while _records(ck) < 2 and p.poll() is None and time.monotonic() - t0 < 120:
+            time.sleep(0.05)
+        p.send_signal(signal.SIGINT)
+        out, err = p.communicate(timeout=60)
+    finally:
+        if p.poll() is None:
+            os.killpg(p.pid, signal.SIGKILL)
+            p.communicate()
+    assert (p.returncode, out) == (130, ""), err
+    seed = json.loads(ck.read_text().splitlines()[0])["options"]["--seed"]
+    assert err == f"coin: error: interrupted (seed {seed}: --seed {seed} repeats this run)\n"
+    held = ck.read_text().splitlines(keepends=True)
+    assert 2 <= len(held) - 1 < 8 and all(line.endswith("\n") for line in held)
+    for line in held:
+        json.loads(line)
+    rc, out, err = _coin(*run, "--seed", seed, "--scheduler", cluster.address, "--checkpoint",
+                         str(ck))
+    assert (rc, err) == (0, ""), err
+    assert ck.read_text().splitlines(keepends=True)[:len(held)] == held
+    assert _records(ck) == 8
+    assert (0, out, "") == _coin(*run, "--seed", seed, "--jobs", "2")
+
+
+FIT = ["fit", "--landing", "bounce", "--fit", "friction", "--design-tosses", "32", "--dt",
+       "2e-4", "--t-max", "2.5", "--seed", "3", "-f", "json"]  # 5 points x 32 tosses
+
+
+def test_a_calibration_on_the_cluster_is_the_local_pools(cluster, tmp_path):
+    """coin fit --landing bounce: the design's tosses on the cluster, then from its
+    checkpoint, give the bytes of --jobs 2; the checkpoint of another design is refused."""
+    data = tmp_path / "tosses.csv"
+    data.write_text("label,coin,count,heads,sides,tails\nthree quarters,quarter,3,14,3,15\n")
+    local = _coin(*FIT[:1], str(data), *FIT[1:], "--jobs", "2")
+    assert local[0] == 0 and json.loads(local[1])[0]["simulated"] == 160, local
+    ck = tmp_path / "fit.ckpt"
+    on = _coin(*FIT[:1], str(data), *FIT[1:], "--scheduler", cluster.address, "--checkpoint",
+               str(ck))
+    assert on == local
+    assert _records(ck) == 5  # one line a design point
+    from coincli import api
+
+    rows = api.fit(str(data), landing="bounce", fit="friction", design_tosses=32, dt=2e-4,
+                   t_max=2.5, seed=3, checkpoint=str(ck), jobs=1)  # every point from the file
+    assert rows == json.loads(local[1])
+    other = [a if a != "32" else "48" for a in FIT]
+    error(_coin(*other[:1], str(data), *other[1:], "--checkpoint", str(ck)), 2,
+          "--design-tosses 32 there, 48 here")
+
+
 def test_a_worker_killed_mid_run_changes_nothing(cluster, reference, tmp_path):
     ck = tmp_path / "run.ckpt"
     p = subprocess.Popen([*COIN, *RUN, "--scheduler", cluster.address, "--checkpoint", str(ck)],
@@ -275,7 +363,46 @@ def test_a_worker_of_another_version_is_refused_naming_it():
 
     want = {**cluster.versions(), "coin": "0.0.1"}
     with pytest.raises(NotComputable, match=r"runs coin \d.*this client coin 0\.0\.1"):
-        cluster._chunk(None, None, want)
+        cluster._task(b"", want)
+
+
+def test_no_toss_depends_on_the_chunks_and_a_checkpoint_takes_any(monkeypatch, tmp_path):
+    """Blocks of 16 tosses (patched, to be cheap): the rows of every toss, recorded in
+    checkpoints, are the same in chunks of 1, 4 or 16 (the cluster's chunks are sized, the local
+    pool's are 16); a run in chunks of 16 takes a checkpoint written in chunks of 4 without
+    computing a toss; the cluster's chunk grows with the tosses a worker."""
+    from coincli.core.bounce import cluster, runs
+    from coincli.core.toss.launch import HAND_TOSS
+    from coincli.io.checkpoint import Checkpoint
+
+    monkeypatch.setattr(runs, "BLOCK", 16)
+    head = {"versions": cluster.versions(), "command": "test", "options": {}}
+
+    def sim(chunk, path):
+        with Checkpoint(str(path), head) as ck:
+            return runs.simulate(40, 7, xi=0.577, jobs=1, chunk=chunk, executor=ck,
+                                 **{k: HAND_TOSS[k] for k in ("u", "omega", "psi")}), ck.held
+
+    def tosses(path):
+        return {(r["key"], r["start"] + i): row for r in _resumed_from(path)
+                for i, row in enumerate(r["rows"])}
+
+    first, _ = sim(4, tmp_path / "c4")
+    assert len(tosses(tmp_path / "c4")) == 40 and first.counts[3] < 40
+    for chunk in (1, 16):
+        again, _ = sim(chunk, tmp_path / f"c{chunk}")
+        assert tosses(tmp_path / f"c{chunk}") == tosses(tmp_path / "c4")
+        assert (again.counts, again.steps) == (first.counts, first.steps)
+
+    def no_toss(job):
+        raise AssertionError(f"computed {job}")
+
+    monkeypatch.setattr(runs, "_run_block", no_toss)
+    resumed, held = sim(16, tmp_path / "c4")
+    assert held == 10 and (resumed.counts, resumed.steps) == (first.counts, first.steps)
+    monkeypatch.undo()
+    assert [cluster.chunk_for(n, w) for n, w in ((96, 2), (768, 2), (768, 1), (10**5, 100),
+                                                  (10**6, 100))] == [16, 64, 128, 128, 256]
 
 
 _PROBE = r"""

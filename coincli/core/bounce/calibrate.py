@@ -128,6 +128,17 @@ def _simulate_point(task):
     return [simulate(xi, params, m, seed, (j, g), kw) for g in range(groups)]
 
 
+def _describe_point(task) -> str:
+    """A design point's tosses, for a message (a cluster's task that killed every worker)."""
+    _, xi, params, m, seed, j, groups, _ = task
+    table = ", ".join(f"{k} {v:.4g}" for k, v in params.items())
+    return (f"the {m * groups} tosses of prototype {j + 1} (xi {xi:g}) on the designed table "
+            f"{table} (seed {seed})")
+
+
+_simulate_point.describe = _describe_point
+
+
 def engine_simulate(xi, params, n, seed, stream, kw):
     """The engine's counts (heads, sides, tails, unsettled) of ``n`` tosses of a coin of aspect
     ratio ``xi`` onto a table of ``params`` (restitution, friction, psi_sd_deg if fitted) and
@@ -148,7 +159,7 @@ def engine_simulate(xi, params, n, seed, stream, kw):
 
 
 def run_design(prototypes, names, points, *, seed, per_group, groups=GROUPS, fixed=None,
-               jobs=1, simulate: Callable | None = None, progress=None):
+               jobs=1, simulate: Callable | None = None, progress=None, executor=None):
     """The counts of every prototype at every design point: an int array of shape
     (prototypes, points, groups, 4) (heads, sides, tails, unsettled).
 
@@ -157,7 +168,10 @@ def run_design(prototypes, names, points, *, seed, per_group, groups=GROUPS, fix
     ``groups`` groups, group ``g`` of prototype ``j`` seeded ``(seed, j, g)`` at every point
     (common random numbers); ``fixed``: the values passed through to ``simulate`` (default
     :func:`engine_simulate`); ``jobs`` worker processes (the counts do not depend on it);
-    ``progress(done, total)`` after each point."""
+    ``progress(done, total)`` after each point.  ``executor`` (a checkpoint,
+    :mod:`coincli.io.checkpoint`, or a Dask cluster, :mod:`coincli.core.bounce.cluster`)
+    supplies points first (``executor.tasks(fn, items)``, or a cluster's ``run``); the rest run
+    here and are handed to ``executor.keep(k, counts)``."""
     import numpy as np
 
     simulate = simulate or engine_simulate
@@ -168,23 +182,42 @@ def run_design(prototypes, names, points, *, seed, per_group, groups=GROUPS, fix
             params = {n: from_coords(n, u) for n, u in zip(names, p, strict=True)}
             tasks.append((simulate, float(xi), params, int(per_group), seed, j, groups, fixed))
     out = [None] * len(tasks)
-    if jobs <= 1 or len(tasks) == 1:
-        for i, t in enumerate(tasks):
-            out[i] = _simulate_point(t)
+    done, keep = 0, None
+    if executor is not None:  # points from a checkpoint or a cluster; the rest run here
+        supply = getattr(executor, "tasks", None) or executor.run
+        for i, res in supply(_simulate_point, list(enumerate(tasks))):
+            out[i] = res
+            done += 1
             if progress is not None:
-                progress(i + 1, len(tasks))
+                progress(done, len(tasks))
+        keep = getattr(executor, "keep", None)
+    todo = [i for i in range(len(tasks)) if out[i] is None]
+    if not todo:
+        pass
+    elif jobs <= 1 or len(todo) == 1:
+        for i in todo:
+            out[i] = _simulate_point(tasks[i])
+            done += 1
+            if keep is not None:
+                keep(i, out[i])
+            if progress is not None:
+                progress(done, len(tasks))
     else:
         import multiprocessing as mp
 
         from coincli.core.bounce.runs import _worker_init  # noqa: F401  (the engine imports)
 
         ctx = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
-        pool = ctx.Pool(min(jobs, len(tasks)), initializer=_quiet_worker)
+        pool = ctx.Pool(min(jobs, len(todo)), initializer=_quiet_worker)
         try:
-            for i, res in enumerate(pool.imap(_simulate_point, tasks)):
+            for i, res in zip(todo, pool.imap(_simulate_point, [tasks[i] for i in todo]),
+                              strict=True):
                 out[i] = res
+                done += 1
+                if keep is not None:
+                    keep(i, res)
                 if progress is not None:
-                    progress(i + 1, len(tasks))
+                    progress(done, len(tasks))
         except BaseException:
             pool.terminate()
             pool.join()

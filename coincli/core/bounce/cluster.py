@@ -28,7 +28,8 @@ from coincli.errors import NotComputable
 __all__ = ["Cluster", "versions", "LOCAL"]
 
 LOCAL = "local"  #: the address that starts a LocalCluster on this machine
-POLL = 0.2  #: s between looks at the futures, the scheduler and the workers (Ctrl-C is seen)
+POLL = 0.2  #: s at most between looks at the futures (Ctrl-C is seen); a result wakes it
+LOOK = 1.0  #: s at most between looks at the scheduler and its workers while nothing arrives
 FETCH = 2.0  #: s to fetch a finished chunk's rows before looking again (its worker may be gone)
 
 
@@ -40,23 +41,52 @@ def versions() -> dict:
     return {"coin": coincli.__version__, "mujoco-core": require_mujoco().__version__}
 
 
-_LOCK = threading.Lock()  # a worker with several threads runs one chunk at a time (one engine)
-_ENGINE_ARGS: list = [None]
+_LOCK = threading.Lock()  # a worker with several threads runs one task at a time (one engine)
+_ENGINE: list = [None, None]  # the args of the engine _chunk built, and that engine
 
 
-def _chunk(args, job, want):
-    """One chunk on a worker: ``(k, rows)`` as :func:`coincli.core.bounce.runs._run_block`
-    gives them, after checking that this worker runs the versions ``want``."""
-    from coincli.core.bounce import runs
+def _task(sent: bytes, want):
+    """``fn(task)`` on a worker, ``sent`` the pickle of ``(fn, task)`` (bytes: Dask reads no
+    tuple of it as a task of its graph), after checking that the worker runs the versions
+    ``want``; one task at a time in a worker process (the engine is the process's)."""
+    import pickle
 
     got = versions()
     if got != want:
         raise NotComputable(_mismatch(got, want, "a worker"))
+    fn, task = pickle.loads(sent)
     with _LOCK:
-        if _ENGINE_ARGS[0] != args:
-            runs._worker_init(args)
-            _ENGINE_ARGS[0] = args
-        return runs._run_block(job)
+        return fn(task)
+
+
+def _chunk(task):
+    """One chunk of ``simulate``, ``task`` = ``(args, job)``: ``(k, rows)`` as
+    :func:`coincli.core.bounce.runs._run_block` gives them.  The engine is built once a worker
+    for a run's ``args`` (and again when another task, a calibration's, replaced it)."""
+    from coincli.core.bounce import runs
+
+    args, job = task
+    if _ENGINE[0] != args or runs._WORKER.get("engine") is not _ENGINE[1]:
+        runs._worker_init(args)
+        _ENGINE[:] = [args, runs._WORKER["engine"]]
+    return runs._run_block(job)
+
+
+def chunk_for(n: int, workers: int) -> int:
+    """The tosses of a chunk of a run of ``n`` tosses on ``workers`` workers: the largest power
+    of two from :data:`coincli.core.bounce.runs.CHUNK` to a block (256) that still gives every
+    worker :data:`PER_WORKER` chunks, so that a round trip to the scheduler is paid once per
+    that many tosses while the last chunks still spread over the workers.  The tosses'
+    numbers do not depend on it (nor does a checkpoint: :mod:`coincli.io.checkpoint`)."""
+    from coincli.core.bounce.runs import BLOCK, CHUNK
+
+    size = CHUNK
+    while size * 2 <= BLOCK and -(-n // (size * 2)) >= PER_WORKER * max(1, workers):
+        size *= 2
+    return size
+
+
+PER_WORKER = 4  #: chunks a worker at least, when the chunk is sized (:func:`chunk_for`)
 
 
 def _mismatch(got: dict, want: dict, who: str) -> str:
@@ -66,11 +96,14 @@ def _mismatch(got: dict, want: dict, who: str) -> str:
             "on every worker")
 
 
-def _tosses(job) -> str:
-    """The tosses of a chunk, numbered from 1 in the run, for a message."""
+def _what(fn, task) -> str:
+    """What a task computes, for a message: the tosses of a chunk, numbered from 1 in the run;
+    else the task's own ``describe`` (a design point of a calibration)."""
     from coincli.core.bounce.runs import BLOCK
 
-    _, (seed, block, start, stop, _count, _dists, stream) = job
+    if fn is not _chunk:
+        return getattr(fn, "describe", lambda t: "a task")(task)
+    _, (seed, block, start, stop, _count, _dists, stream) = task[1]
     first, last = block * BLOCK + start + 1, block * BLOCK + stop
     which = f"toss {first}" if first == last else f"tosses {first} to {last}"
     where = f" of stream {','.join(map(str, stream))}" if stream else ""
@@ -90,6 +123,7 @@ class Cluster:
         self.client = None
         self.local = None
         self.want = None
+        self.nworkers = 1  #: the workers when the cluster was reached (the chunk's size)
 
     def __enter__(self):
         self.open()
@@ -140,6 +174,7 @@ class Cluster:
             raise NotComputable(f"a worker of {where} cannot load coin ({_reason(exc)}): install "
                                 f"thickcoin {self.want['coin']} with its physics extra on every "
                                 "worker") from None
+        self.nworkers = max(1, len(seen))
         for addr, got in sorted(seen.items()):
             if got != self.want:
                 self.close()
@@ -154,42 +189,73 @@ class Cluster:
                     pass
         self.client = self.local = None
 
+    def chunk(self, n: int) -> int:
+        """The chunk of a run of ``n`` tosses on this cluster (:func:`chunk_for` its workers
+        when it was reached)."""
+        return chunk_for(n, self.nworkers)
+
     def blocks(self, args, work):
         """Run the chunks ``work`` (``(k, job)`` pairs, as ``simulate`` cuts them) on the
         workers and yield ``(k, rows)`` as each completes, in any order."""
+        for _, got in self.run(_chunk, [(k, (args, (k, job))) for k, job in work]):
+            yield got
+
+    def run(self, fn, items):
+        """``fn(task)`` for the ``(k, task)`` pairs ``items`` on the workers (``fn`` module-level,
+        pickled by name; ``task`` is all it is sent): ``(k, result)`` as each completes, in any
+        order.  A task lost with a worker is computed again elsewhere; a fault is one line."""
+        import pickle
+
         import distributed
 
         client = self.client
-        futures = client.map(_chunk, [args] * len(work), work, [self.want] * len(work),
-                             pure=False, key=[f"coin-chunk-{os.getpid()}-{time.time_ns()}-{k}"
-                                              for k, _ in work])
-        pending = dict(zip(futures, work, strict=True))
+        stamp = f"{os.getpid()}-{time.time_ns()}"
+        futures = client.map(_task, [pickle.dumps((fn, t)) for _, t in items],
+                             [self.want] * len(items), pure=False,
+                             key=[f"coin-{fn.__name__}-{stamp}-{k}" for k, _ in items])
+        pending = dict(zip(futures, items, strict=True))
         ready = distributed.as_completed(futures, loop=client.loop)
-        del futures  # a chunk's result is released on the cluster once it is here
+        wake = getattr(ready, "thread_condition", None)  # notified as a task completes
+        del futures  # a task's result is released on the cluster once it is here
         quiet_since = None  # since when the scheduler, or every worker, is gone
+        looked = time.monotonic()
         try:
             while pending:
                 done = ready.next_batch(block=False)
                 if not done:
-                    time.sleep(POLL)
+                    if wake is None:
+                        time.sleep(POLL)
+                    else:
+                        with wake:
+                            if ready.queue.empty():
+                                wake.wait(POLL)
+                    done = ready.next_batch(block=False)
                 for fut in done:
-                    got = self._result(fut, pending[fut])
+                    k, task = pending[fut]
+                    got = self._result(fut, fn, task)
                     if got is None:  # lost with its worker before it was fetched: again
                         ready.add(fut)
                         continue
                     del pending[fut]
-                    yield got
+                    yield k, got
                 if not pending:
                     break
+                now = time.monotonic()
+                if done:
+                    looked, quiet_since = now, None
+                    continue
+                if now - looked < LOOK:  # the scheduler is asked at most once a LOOK
+                    continue
+                looked = now
                 lost = self._lost()
                 if lost is None:
                     quiet_since = None
                 elif quiet_since is None:
-                    quiet_since = time.monotonic()
-                elif time.monotonic() - quiet_since > self.timeout:
+                    quiet_since = now
+                elif now - quiet_since > self.timeout:
                     raise NotComputable(f"{lost} for {self.timeout:g} s (--timeout) in the "
-                                        f"middle of the run; {len(pending)} chunks of "
-                                        f"{len(work)} were not done")
+                                        f"middle of the run; {len(pending)} tasks of "
+                                        f"{len(items)} were not done")
         finally:
             if pending:  # Ctrl-C or a failure: take our tasks off the cluster
                 try:
@@ -207,9 +273,9 @@ class Cluster:
             return f"no worker at {self.address}"
         return None
 
-    def _result(self, fut, job):
-        """``(k, rows)`` of a completed chunk; None when its result was lost with the worker
-        that held it (Dask computes it again)."""
+    def _result(self, fut, fn, task):
+        """The result of a completed task; None when it was lost with the worker that held it
+        (Dask computes it again)."""
         import distributed
 
         if fut.status not in ("finished", "error", "cancelled"):
@@ -219,7 +285,7 @@ class Cluster:
         except TimeoutError:
             return None
         except distributed.KilledWorker as exc:
-            raise NotComputable(f"{_tosses(job)} killed every worker that ran them (Dask's "
+            raise NotComputable(f"{_what(fn, task)} killed every worker that ran them (Dask's "
                                 f"KilledWorker: {_reason(exc)}); run them with --jobs 1 to see "
                                 "the error") from None
         except distributed.client.FutureCancelledError:

@@ -189,7 +189,7 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
     tosses draws from the seed ``(seed, k)``, so the counts are the same for any number of
     workers.  ``stream`` (a tuple of whole numbers) names an independent stream of the same
     seed (:func:`coincli.core.bounce.design.design` uses one per simulated point).
-    Workers take chunks of ``chunk`` tosses (default :data:`CHUNK`) and ``progress(done)`` is
+    Workers take chunks of ``chunk`` tosses (default :data:`CHUNK`, or ``executor.chunk(n)``) and ``progress(done)`` is
     called as each completes; the results do not depend on ``chunk`` or ``jobs``.
     ``executor`` (a checkpoint, :mod:`coincli.io.checkpoint`, or a Dask cluster,
     :mod:`coincli.core.bounce.cluster`) supplies chunks first: ``executor.blocks(args, work)``
@@ -217,7 +217,9 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
     jobs = capped_jobs(jobs)
     damping = calibrate(coin, surf, dt, g)
     args = (coin, surf, dt, g, landing, t_max, flight, damping)
-    chunk = CHUNK if chunk is None else int(chunk)
+    if chunk is None:  # a cluster sizes its chunks from the run and its workers
+        chunk = executor.chunk(n) if hasattr(executor, "chunk") else CHUNK
+    chunk = int(chunk)
     if not 1 <= chunk <= BLOCK:
         raise ValueError(f"chunk must be from 1 to {BLOCK}, got {chunk}")
     work = []
