@@ -117,8 +117,10 @@ def main():
         wall = median([w for w, _ in times[name]])
         cpu = median([c for _, c in times[name]])
         # the ratio of each repetition to the baseline timed just before it, then the median
-        rw = median([w / b[0] for (w, _), b in zip(times[name], times[configs[0][0]])])
-        rc = median([c / b[1] for (_, c), b in zip(times[name], times[configs[0][0]])])
+        rw = median([w / b[0] for (w, _), b in zip(times[name], times[configs[0][0]],
+                                                                  strict=True)])
+        rc = median([c / b[1] for (_, c), b in zip(times[name], times[configs[0][0]],
+                                                                  strict=True)])
         rows.append([name, f"{wall:.2f} s", f"{n / wall:.1f}", f"{wall / base_wall:.3f}",
                      f"{rw:.3f}", f"{cpu / n * 1e3:.1f} ms", f"{cpu / base_cpu:.3f}",
                      f"{rc:.3f}"])

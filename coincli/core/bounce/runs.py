@@ -189,8 +189,9 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
     tosses draws from the seed ``(seed, k)``, so the counts are the same for any number of
     workers.  ``stream`` (a tuple of whole numbers) names an independent stream of the same
     seed (:func:`coincli.core.bounce.design.design` uses one per simulated point).
-    Workers take chunks of ``chunk`` tosses (default :data:`CHUNK`, or ``executor.chunk(n)``) and ``progress(done)`` is
-    called as each completes; the results do not depend on ``chunk`` or ``jobs``.
+    Workers take chunks of ``chunk`` tosses (default :data:`CHUNK`; a cluster's
+    ``executor.chunk(n)``) and ``progress(done)`` is called as each completes; the results
+    do not depend on ``chunk`` or ``jobs``.
     ``executor`` (a checkpoint, :mod:`coincli.io.checkpoint`, or a Dask cluster,
     :mod:`coincli.core.bounce.cluster`) supplies chunks first: ``executor.blocks(args, work)``
     yields ``(k, rows)`` of the chunks it has or computes; the rest run here and are handed to
