@@ -210,17 +210,23 @@ class Checkpoint:
         """The chunks of ``work`` this file holds, then (with ``inner``) the others, each
         recorded as it arrives: ``(k, rows)`` pairs."""
         self.keys = {k: (block_key(args, (k, job)), job[2]) for k, job in work}
+        yield from self._supply(work, lambda k, job: self._held(self.keys[k][0], job[2], job[3]),
+                                lambda missing: self.inner.blocks(args, missing))
+
+    def _supply(self, items, held, compute):
+        """``(k, result)``: what ``held(k, item)`` finds in the file, then what ``compute`` (the
+        inner executor) gives for the rest, each recorded as it arrives."""
         missing = []
-        for k, job in work:
-            rows = self._held(self.keys[k][0], job[2], job[3])
-            if rows is None:
-                missing.append((k, job))
+        for k, item in items:
+            got = held(k, item)
+            if got is None:
+                missing.append((k, item))
             else:
-                yield k, rows
+                yield k, got
         if self.inner is not None and missing:
-            for k, rows in self.inner.blocks(args, missing):
-                self.keep(k, rows)
-                yield k, rows
+            for k, got in compute(missing):
+                self.keep(k, got)
+                yield k, got
 
     def _held(self, key, start, stop):
         """Tosses ``start`` to ``stop`` of the block ``key`` as the file holds them, from
@@ -248,17 +254,8 @@ class Checkpoint:
         recorded as it arrives: ``(k, result)`` pairs; the caller computes the rest and hands
         them to :meth:`keep`."""
         self.keys = {k: (task_key(fn, task), None) for k, task in items}
-        missing = []
-        for k, task in items:
-            held = self.rows.get(self.keys[k][0])
-            if held is None:
-                missing.append((k, task))
-            else:
-                yield k, held
-        if self.inner is not None and missing:
-            for k, got in self.inner.run(fn, missing):
-                self.keep(k, got)
-                yield k, got
+        yield from self._supply(items, lambda k, _task: self.rows.get(self.keys[k][0]),
+                                lambda missing: self.inner.run(fn, missing))
 
     def keep(self, k, rows) -> None:
         """Record chunk (or task) ``k`` of the run in progress: appended, flushed and
