@@ -19,6 +19,8 @@ scheduler's cost per task (chunks of one toss) gives the chunk size that keeps 1
 
     python benchmarks/bench_cluster.py [TOSSES] [REPEATS]   # rewrites the bench_cluster
                                                             # section of docs/performance.md
+    python benchmarks/bench_cluster.py pairs [TOSSES] [PAIRS]   # the headline alone:
+                                # --jobs 2 against the cluster's default, pair by pair
 """
 
 from __future__ import annotations
@@ -76,7 +78,55 @@ def _load() -> str:
     return ", ".join(f"{v:.2f}" for v in os.getloadavg())
 
 
+def pairs(n: int, reps: int) -> None:
+    """Only the headline: ``--jobs 2`` against the cluster's default, ``reps`` pairs, the order
+    alternated (AB, BA, ...) so that a drift of the machine's load falls on both."""
+    head = machine()
+    two = C.Cluster(C.LOCAL, workers=2).__enter__()
+    run(32, cl=two)
+    sized = two.chunk(n)
+    ratios, base, clus, loads = [], [], [], [_load()]
+    for i in range(reps):
+        order = [("base", {"jobs": 2}), ("cluster", {"cl": two})]
+        got = {}
+        for name, kw in (order if i % 2 == 0 else order[::-1]):
+            got[name] = run(n, **kw)
+            print(f"{name}: {got[name][0]:.2f} s wall, {got[name][1]:.2f} s CPU", file=sys.stderr)
+        assert got["base"][2] == got["cluster"][2]
+        base.append(got["base"][:2])
+        clus.append(got["cluster"][:2])
+        ratios.append((got["cluster"][0] / got["base"][0], got["cluster"][1] / got["base"][1]))
+        loads.append(_load())
+    two.close()
+    rw, rc = sorted(r[0] for r in ratios), sorted(r[1] for r in ratios)
+    rows = [["`--jobs 2` (chunks of 16)", f"{median([b[0] for b in base]):.2f} s",
+             f"{median([b[1] for b in base]) / n * 1e3:.1f} ms", "", ""],
+            [f"LocalCluster, 2 workers (chunks of {sized})",
+             f"{median([c[0] for c in clus]):.2f} s",
+             f"{median([c[1] for c in clus]) / n * 1e3:.1f} ms",
+             f"{median(rw):.3f} ({rw[0]:.3f} to {rw[-1]:.3f})",
+             f"{median(rc):.3f} ({rc[0]:.3f} to {rc[-1]:.3f})"]]
+    body = "\n".join([
+        "### The cluster's overhead, pair by pair (`bench_cluster.py pairs`)",
+        "",
+        head,
+        "",
+        f"{reps} pairs of runs of {n} tosses (the hand toss onto wood, xi = {XI}, seed {SEED}), "
+        "`--jobs 2` and `--scheduler local` (2 workers, its default chunks) one after the "
+        "other, the order alternated; the ratio of each pair, then their median (and range). "
+        f"Load averages (1, 5, 15 min) after each pair: {'; '.join(loads)}.",
+        "",
+        table(["run", "wall (median)", "CPU per toss (median)", "wall / --jobs 2",
+               "CPU / --jobs 2"], rows),
+    ])
+    write_section("bench_cluster_pairs", body)
+
+
 def main():
+    if sys.argv[1:2] == ["pairs"]:
+        pairs(int(sys.argv[2]) if len(sys.argv) > 2 else 768,
+              int(sys.argv[3]) if len(sys.argv) > 3 else 6)
+        return
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 256
     reps = int(sys.argv[2]) if len(sys.argv) > 2 else 3
     head = machine()
