@@ -97,6 +97,14 @@ def pairs(n: int, reps: int) -> None:
         clus.append(got["cluster"][:2])
         ratios.append((got["cluster"][0] / got["base"][0], got["cluster"][1] / got["base"][1]))
         loads.append(_load())
+    # a task's cost: chunks of 1 toss on the cluster against the local pool's chunks of 1 (the
+    # same tosses, the same work a chunk), pair by pair; the difference over the tasks
+    m = 64
+    per_task = []
+    for _ in range(reps):
+        a, b = run(m, cl=two, chunk=1), run(m, jobs=2, chunk=1)
+        per_task.append(((a[0] - b[0]) * 2 / m, (a[1] - b[1]) / m))  # 2 workers share the wall
+    loads.append(_load())
     two.close()
     rw, rc = sorted(r[0] for r in ratios), sorted(r[1] for r in ratios)
     rows = [["`--jobs 2` (chunks of 16)", f"{median([b[0] for b in base]):.2f} s",
@@ -118,6 +126,11 @@ def pairs(n: int, reps: int) -> None:
         "",
         table(["run", "wall (median)", "CPU per toss (median)", "wall / --jobs 2",
                "CPU / --jobs 2"], rows),
+        "",
+        f"A task's cost ({reps} pairs of {m} tosses in chunks of 1, the cluster against the "
+        f"local pool; medians): {median([w for w, _ in per_task]) * 1e3:.1f} ms of wall time "
+        f"and {median([c for _, c in per_task]) * 1e3:.1f} ms of CPU (client, scheduler and "
+        "worker together) a task.",
     ])
     write_section("bench_cluster_pairs", body)
 
