@@ -1,8 +1,9 @@
 """Where the tosses of a bouncing run are computed: ``--scheduler``, ``--checkpoint`` and
-``--timeout`` of every command that runs them (``simulate``, ``design`` and ``plot sides`` with
-``--landing bounce``), parsed (:func:`parse_run`) and turned into the executor that
-:func:`coincli.core.bounce.runs.simulate` takes (:func:`executor`): None (the local pool of
-``--jobs``), a checkpoint (:mod:`coincli.io.checkpoint`), a Dask cluster
+``--timeout`` of every command that runs them (``simulate``, ``design``, ``plot sides``,
+``table``, ``check`` and ``fit`` with ``--landing bounce``), parsed (:func:`parse_run`) and
+turned into the executor that :func:`coincli.core.bounce.runs.simulate` and
+:func:`coincli.core.bounce.calibrate.run_design` take (:func:`executor`): None (the local pool
+of ``--jobs``), a checkpoint (:mod:`coincli.io.checkpoint`), a Dask cluster
 (:mod:`coincli.core.bounce.cluster`), or a checkpoint in front of a cluster.
 
 ``DASK_SCHEDULER_ADDRESS`` is honoured as Dask's own tools honour it: the scheduler of a run
