@@ -615,8 +615,8 @@ def check(*, xi=None, quarters=None, coin=None, count=None, diameter=None, thick
 def fit(file, *, psi_dist=None, no_spread=None, delimiter=None, design=None, alpha=None,
         confidence=None, landing=None, fit=None, seed=None, save=None, design_tosses=None,
         surface=None, restitution=None, friction=None, torsional=None, rolling=None,
-        release_height=None, vx=None, jobs=None, dt=None, t_max=None, scheduler=None,
-        checkpoint=None, timeout=None) -> list[dict]:
+        release_height=None, vx=None, u=None, omega=None, psi=None, jobs=None, dt=None,
+        t_max=None, scheduler=None, checkpoint=None, timeout=None) -> list[dict]:
     """``coin fit FILE``: which model do the tosses of a file of experiments follow?
 
     Parameters
@@ -627,7 +627,8 @@ def fit(file, *, psi_dist=None, no_spread=None, delimiter=None, design=None, alp
         ``sides``, ``tails``, or ``sides`` and ``n``; optionally a ``label``), or ``"-"`` to
         read standard input.
     psi_dist : str or list of str, optional
-        psi densities to compare as models too.
+        psi densities to compare as models too; with ``landing="bounce"`` one density, the
+        launch's (``"uniform"``: a tumbling toss).
     no_spread : bool, optional
         Skip the fit of the spread of psi.
     delimiter : str, optional
@@ -644,9 +645,10 @@ def fit(file, *, psi_dist=None, no_spread=None, delimiter=None, design=None, alp
         ``friction_low``, ``friction_high`` (``psi_sd_deg...`` when fitted), ``p_value``,
         ``method``, ``seed``; with ``fit`` (``"restitution,friction"``, ``"psi-spread"``),
         ``seed``, ``save`` (a calibration file to write), ``design_tosses`` and the surface and
-        launch options of ``simulate``; ``scheduler`` (a Dask scheduler, ``"tcp://host:port"``
-        or ``"local"``), ``checkpoint`` (a file) and ``timeout`` (s): where the design's tosses
-        run, as for ``simulate``.
+        launch options of ``simulate``: ``u``, ``omega`` and ``psi`` (or ``psi_dist``), how
+        the prototypes were tossed (the hand toss by default), recorded in the calibration;
+        ``scheduler`` (a Dask scheduler, ``"tcp://host:port"`` or ``"local"``), ``checkpoint``
+        (a file) and ``timeout`` (s): where the design's tosses run, as for ``simulate``.
 
     Returns
     -------

@@ -67,7 +67,9 @@ BOUNCE = Group(("landing", LandingOpt, "catch"), ("surface", SurfaceOpt, None),
                ("calibration", CalibrationOpt, None))
 
 #: the launch of the tosses a command simulates on a table when it also has a catch meaning
-#: for ``--psi`` (``coin design``, ``coin table``, ``coin check``): speed, spin and the seed
+#: for ``--psi`` (``coin design``, ``coin table``, ``coin check``, ``coin fit``): speed, spin,
+#: a fixed psi (``coin check``, ``coin fit``: their ``--psi-dist`` is a list of catch models
+#: without ``--landing bounce``, the launch's with it) and the seed
 LAUNCH = Group(
     ("u", option("--u", "SPEC", "With --landing bounce: launch speed, m/s, a value or "
                  "normal:MEAN:SD / uniform:LOW:HIGH (default the hand toss of coin simulate, "
@@ -75,6 +77,8 @@ LAUNCH = Group(
     ("omega", option("--omega", "SPEC", "With --landing bounce: precession rate, rad/s or with "
                      "a unit (default the hand toss, normal:38:4rev/s), at most "
                      f"{BOUNCE_OMEGA_MAX:.0f} rad/s."), None),
+    ("psi", option("--psi", "DEG", "With --landing bounce: a fixed launch angle psi (degrees) "
+                   "instead of the hand toss's spread (or --psi-dist)."), None),
     ("seed", option("--seed", "SEED", "With --landing bounce: the seed of the simulated tosses, "
                     "a whole number >= 0 (default: drawn, and reported)."), None),
 )

@@ -12,7 +12,6 @@ from typing import Annotated
 import typer
 
 from coincli.cli import _options, app
-from coincli.cli._bounce import BOUNCE
 from coincli.cli._bounce import BOUNCE, LAUNCH, RUNS
 from coincli.cli._options import COIN, OUTPUT, Group, option, with_groups
 from coincli.io.table import emit_all
@@ -44,10 +43,7 @@ FairOpt = option("--fair", None, "Also test against a fair three-sided coin: --e
 CHECK_TABLE = Group(
     BOUNCE.only("landing", "calibration", "surface", "restitution", "friction", "torsional",
                 "rolling"),
-    LAUNCH.only("u", "omega"),
-    ("psi", option("--psi", "DEG", "With --landing bounce: a fixed launch angle psi (degrees) "
-                   "instead of the hand toss's spread (or --psi-dist)."), None),
-    LAUNCH.only("seed"),
+    LAUNCH.only("u", "omega", "psi", "seed"),
     BOUNCE.only("release_height", "vx", *RUNS, "dt", "t_max"),
 )
 
@@ -120,8 +116,9 @@ FIT_TABLE = Group(
                     "for --calibration."), None),
     ("design_tosses", option("--design-tosses", "N", "With --landing bounce: simulated tosses of "
                              "each prototype at each designed table (default 256)."), None),
-    BOUNCE.only("surface", "restitution", "friction", "torsional", "rolling", "release_height",
-                "vx", *RUNS, "dt", "t_max"),
+    BOUNCE.only("surface", "restitution", "friction", "torsional", "rolling"),
+    LAUNCH.only("u", "omega", "psi"),
+    BOUNCE.only("release_height", "vx", *RUNS, "dt", "t_max"),
 )
 
 
@@ -156,11 +153,14 @@ def fit(
 
     --landing bounce calibrates the table the prototypes were tossed on instead: its
     restitution and friction (--fit) with 95% intervals and a test of fit, from tosses
-    simulated on designed tables; --save CAL.json keeps it for --calibration.
+    simulated on designed tables; --save CAL.json keeps it for --calibration.  The launch
+    (--u, --omega, --psi or --psi-dist, --release-height, --vx; the hand toss by default) is
+    how the prototypes were tossed, and is recorded in the calibration.
 
     Examples: coin fit tosses.csv ;  coin fit tosses.csv --format csv ;
     coin fit - --psi-dist uniform,cosine < tosses.csv ;
-    coin fit tosses.csv --landing bounce --seed 1 --save table.json
+    coin fit tosses.csv --landing bounce --seed 1 --save table.json ;
+    coin fit sim.csv --landing bounce --fit friction --restitution 0.7 --psi-dist uniform
     """
     from coincli.render.progress import simulating_bar
     from coincli.reports import check as report

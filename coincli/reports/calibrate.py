@@ -29,14 +29,23 @@ _UNITS = {"restitution": "", "friction": "", "psi_sd_deg": " deg"}
 
 
 def _dist_dict(v):
+    """A launch value (a float or a Dist) as JSON; a psi density as its spec, which
+    :func:`coincli.io.grammar.parse_density` reads back."""
     if isinstance(v, (int, float)):
         return {"kind": "fixed", "p1": float(v), "p2": 0.0, "lo": None, "hi": None}
+    if v.kind == "density":
+        return {"kind": "density", "spec": str(v), "p1": None, "p2": None, "lo": None,
+                "hi": None}
     return {"kind": v.kind, "p1": v.p1, "p2": v.p2, "lo": v.lo, "hi": v.hi}
 
 
 def _dist_of(d):
     from coincli.core.toss.launch import Dist
 
+    if d["kind"] == "density":
+        from coincli.io.grammar import parse_density
+
+        return Dist.from_density(parse_density(str(d["spec"])))
     lo = -math.inf if d.get("lo") is None else float(d["lo"])
     hi = math.inf if d.get("hi") is None else float(d["hi"])
     if d["kind"] == "fixed" and d.get("lo") is None:
@@ -44,22 +53,71 @@ def _dist_of(d):
     return Dist(d["kind"], float(d["p1"]), float(d["p2"]), lo, hi)
 
 
+def _key(v):
+    """A launch value as (kind, numbers): a fixed value, a normal (mean, sd), a uniform (low,
+    high); a psi density given as normal or uniform is that distribution, any other its spec."""
+    if isinstance(v, (int, float)):
+        return "fixed", (float(v),)
+    if v.kind == "density":
+        d = v.density
+        if hasattr(d, "mean") and hasattr(d, "sd"):
+            return "normal", (d.mean, d.sd)
+        if str(v) == "uniform":
+            return "uniform", (0.0, math.pi)
+        return str(v), ()
+    if v.is_fixed:
+        return "fixed", (v.p1,)
+    return v.kind, (v.p1, v.p2)
+
+
 def _same(a, b) -> bool:
-    """Two launch values (floats or Dists) alike to a part in 10^9."""
-    if isinstance(a, (int, float)) and isinstance(b, (int, float)):
-        return math.isclose(a, b, rel_tol=1e-9, abs_tol=1e-12)
-    if isinstance(a, (int, float)) or isinstance(b, (int, float)):
-        x, y = (a, b) if isinstance(b, (int, float)) else (b, a)
-        return x.is_fixed and math.isclose(x.p1, y, rel_tol=1e-9, abs_tol=1e-12)
-    return a.kind == b.kind and all(
-        math.isclose(p, q, rel_tol=1e-9, abs_tol=1e-12) or p == q
-        for p, q in ((a.p1, b.p1), (a.p2, b.p2)))
+    """Two launch values (floats, Dists or psi densities) alike to a part in 10^9."""
+    (ka, xa), (kb, xb) = _key(a), _key(b)
+    return ka == kb and len(xa) == len(xb) and all(
+        math.isclose(p, q, rel_tol=1e-9, abs_tol=1e-12) for p, q in zip(xa, xb, strict=True))
 
 
 def _shown(v, unit: str, scale: float = 1.0) -> str:
     if isinstance(v, (int, float)):
         return f"{v * scale:g} {unit}"
+    if v.kind == "density":
+        return f"{v} deg"
     return f"{v.scaled(scale)} {unit}"
+
+
+#: the launch options a calibration records: (key, option, unit shown, scale to it)
+_LAUNCH_OPTS = (("u", "--u", "m/s", 1.0), ("omega", "--omega", "rad/s", 1.0),
+                ("psi", "--psi/--psi-dist", "deg", 180.0 / math.pi))
+
+
+def check_launch(path: str, cal: dict, given: dict) -> None:
+    """Refuse a launch option typed with a calibration (``given``: the parsed u, omega, psi,
+    None where not typed) that differs from the calibration's: the calibrated table holds for
+    the launch it was fitted with (its parameters absorb it).  The same launch typed is
+    accepted."""
+    theirs = dict(zip(("u", "omega", "psi"), launch_of(cal), strict=True))
+    for key, opt, unit, scale in _LAUNCH_OPTS:
+        mine = given.get(key)
+        if mine is not None and not _same(mine, theirs[key]):
+            raise usage_error(f"{opt} {_shown(mine, unit, scale).strip()} differs from the "
+                              f"calibration's {_shown(theirs[key], unit, scale).strip()} "
+                              f"({path}): a calibrated table holds for the launch it was "
+                              "fitted with; leave it out, or fit the table again with it")
+
+
+def launch_text(cal: dict) -> str:
+    """The calibration's launch in words (a file of coin 0.x before the launch options says
+    nothing: it was the hand toss)."""
+    text = cal["launch"].get("text")
+    if not isinstance(text, str):
+        from coincli.core.toss.launch import HAND_TOSS_TEXT as H
+
+        text = f"u ~ {H['u']}, omega ~ {H['omega']}, psi ~ {H['psi']} (the hand toss)"
+    if "psi_sd_deg" in cal["fitted"]:
+        text = text.split(", psi")[0] + (f", psi ~ normal(90, "
+                                         f"{cal['parameters']['psi_sd_deg']['estimate']:.3g}) "
+                                         "deg (its spread calibrated)")
+    return text
 
 
 # --------------------------------------------------------------------------- coin fit, bounce
@@ -109,23 +167,29 @@ def _diameter_of(exps, name: str) -> float:
 def fit(file: str, *, fit_params: str | None = None, seed: str | None = None,
         save: str | None = None, design_tosses: str | None = None, delimiter=None,
         surface=None, restitution=None, friction=None, torsional=None, rolling=None,
-        release_height=None, vx=None, jobs=None, dt=None, t_max=None, confidence="0.95",
-        fmt: str = "table", quiet: bool = False, progress=None, scheduler=None,
-        checkpoint=None, timeout=None):
+        release_height=None, vx=None, u=None, omega=None, psi=None, psi_dist=None, jobs=None,
+        dt=None, t_max=None, confidence="0.95", fmt: str = "table", quiet: bool = False,
+        progress=None, scheduler=None, checkpoint=None, timeout=None):
     """``coin fit --landing bounce FILE``: the table's restitution and friction (and psi's
     spread) from the tosses of the prototypes in ``file``, with 95% intervals, a goodness of
-    fit and the warnings of :func:`_warnings`; ``save``: write the calibration there."""
+    fit and the warnings of :func:`_warnings`; ``save``: write the calibration there.  The
+    launch (``u``, ``omega``, ``psi`` or ``psi_dist``, as ``coin simulate --landing bounce``
+    takes them; the hand toss for what is not given) is the prototypes' toss, recorded in the
+    calibration."""
     from coincli import __version__
     from coincli.core.bounce import calibrate as C
-    from coincli.core.toss.launch import HAND_TOSS
     from coincli.io.experiments import delimiter_of
     from coincli.io.options import seed_value
+    from coincli.limits import STANDARD_G
     from coincli.reports import bounce as BO
     from coincli.reports import check as CK
     from coincli.reports.executor import executor
-    from coincli.reports.launch import no_progress
+    from coincli.reports.launch import HAND, U_MAX, bounce_launch, no_progress, reach
 
     names = _fit_names(fit_params)
+    if "psi_sd_deg" in names and (psi is not None or psi_dist is not None):
+        raise usage_error("--psi and --psi-dist cannot go with --fit psi-spread: the spread of "
+                          "psi about 90 deg is what it estimates")
     clash = [f"--{n}" for n in ("restitution", "friction")
              if n in names and {"restitution": restitution, "friction": friction}[n] is not None]
     if clash:
@@ -162,10 +226,17 @@ def fit(file: str, *, fit_params: str | None = None, seed: str | None = None,
         except Exception as exc:  # an InputError naming --xi: say the line instead
             raise usage_error(f"{name} line {e.line}: the prototype {e.label} is outside the "
                               f"engine's limits ({str(exc).split(' (')[0]})") from None
+    u_spec, w_spec, psi_spec, labels = bounce_launch(psi, psi_dist, u, omega)
+    if getattr(psi_spec, "kind", None) == "density" and str(psi_spec).startswith("table:"):
+        raise usage_error(f"--psi-dist {psi_dist.strip()}: a calibration records its launch, "
+                          "and a table of psi is a file it cannot hold; give uniform, "
+                          "uniform:LOW:HIGH, cosine or normal:MEAN:SD")
+    for e in exps:
+        BO.check_landing(p, u_top=reach(u_spec, U_MAX), g=STANDARD_G, xi=e.xi, dia=dia,
+                         u_text=u or HAND["u"])
     data = [(e.counts.heads, e.counts.sides, e.counts.tails, e.counts.n) for e in exps]
     seed_v = seed_value(seed)
-    psi = HAND_TOSS["psi"]
-    fixed = {"u": HAND_TOSS["u"], "omega": HAND_TOSS["omega"], "psi": psi,
+    fixed = {"u": u_spec, "omega": w_spec, "psi": psi_spec,
              "torsional": p.surface.torsional, "rolling": p.surface.rolling,
              "height": p.height, "vx": p.vx, "diameter": dia, "dt": p.dt, "t_max": p.t_max}
     if "restitution" not in names:
@@ -177,7 +248,8 @@ def fit(file: str, *, fit_params: str | None = None, seed: str | None = None,
     # the design's tosses on the local pool, a cluster (--scheduler), from a --checkpoint
     with executor(p, "coin fit --landing bounce", **{
             "--seed": seed_v, "--fit": ",".join(names), "--design-tosses": per_group * C.GROUPS,
-            "FILE's prototypes (xi)": [e.xi for e in exps], "--diameter": dia}) as run, \
+            "FILE's prototypes (xi)": [e.xi for e in exps], "--diameter": dia,
+            "launch": labels}) as run, \
             (progress or no_progress)() as tick:
         try:
             counts = C.run_design([e.xi for e in exps], names, points, seed=seed_v,
@@ -213,7 +285,8 @@ def fit(file: str, *, fit_params: str | None = None, seed: str | None = None,
                     "lack_of_fit_tau2": list(f.tau2),
                     "counts": counts.tolist(), "unsettled": unsettled},
         "launch": {"u": _dist_dict(fixed["u"]), "omega": _dist_dict(fixed["omega"]),
-                   "psi": _dist_dict(psi), "release_height_m": _dist_dict(p.height),
+                   "psi": _dist_dict(psi_spec), "text": labels,
+                   "release_height_m": _dist_dict(p.height),
                    "vx_ms": _dist_dict(p.vx), "dt": p.dt, "t_max": p.t_max},
         "fixed": {k: fixed[k] for k in ("torsional", "rolling", "restitution", "friction")
                   if k in fixed},
@@ -283,11 +356,10 @@ def _fit_result(f, cal, exps, name, p, points, per_group, unsettled, save):
             f"{per}).  Simulated table (MuJoCo): {sims} tosses ({unsettled} unsettled, left "
             f"out), seed {cal['seed']}: each prototype at {len(points)} designed tables, the "
             f"same {per_group * GROUPS} launches at each (common random numbers, {GROUPS} "
-            "groups); the hand toss (u ~ normal:2.4:0.3 m/s, omega ~ normal:38:4 rev/s, psi ~ "
-            + ("normal(90, fitted) deg" if "psi_sd_deg" in f.names else "normal:90:10 deg")
-            + f"), D = {cal['diameter_mm']:g} mm, surface {_shown(p.height, 'mm', 1000)} below "
-            f"the launch plane, torsional {p.surface.torsional * 1000:g} mm, rolling "
-            f"{p.surface.rolling * 1000:g} mm, dt = {p.dt:g} s.  Method: a "
+            f"groups); the launch: {launch_text(cal)}; D = {cal['diameter_mm']:g} mm, "
+            f"surface {_shown(p.height, 'mm', 1000)} below the launch plane, torsional "
+            f"{p.surface.torsional * 1000:g} mm, rolling {p.surface.rolling * 1000:g} mm, "
+            f"dt = {p.dt:g} s.  Method: a "
             + ("cubic" if len(f.names) <= 2 else "quadratic")
             + " multinomial logit fitted to the simulated counts of each prototype; the estimate "
             "minimizes Q, the chi-square of your counts against it with the surface's own "
@@ -404,22 +476,49 @@ def launch_of(cal: dict):
 
 def bounce_launch_for(p, psi, psi_dist, u, omega):
     """The launch of a bouncing run (:func:`coincli.reports.launch.bounce_launch`: the three
-    specs and their description), or, on a calibrated table (``p.calibration``) with no launch
-    option typed, the calibration's own launch: the table was fitted for it.  A launch option
-    typed with a calibration is refused (the calibrated table holds for its launch)."""
+    specs and their description), or, on a calibrated table (``p.calibration``), the
+    calibration's own launch: the table was fitted for it.  A launch option typed with a
+    calibration must be the calibration's (:func:`check_launch`): another is refused."""
     from coincli.reports.launch import bounce_launch
 
     if p.calibration is None:
         return bounce_launch(psi, psi_dist, u, omega)
-    typed = [name for name, v in (("--u", u), ("--omega", omega), ("--psi", psi),
-                                  ("--psi-dist", psi_dist)) if v is not None]
     path, cal = p.calibration
-    if typed:
-        raise usage_error(f"{', '.join(typed)}: the calibrated table ({path}) holds for the "
-                          "launch it was fitted with; leave the launch out, or fit the table "
-                          "again with it")
+    if any(v is not None for v in (psi, psi_dist, u, omega)):
+        u_spec, w_spec, psi_spec, _ = bounce_launch(psi, psi_dist, u, omega)
+        check_launch(path, cal, {"u": u_spec if u is not None else None,
+                                 "omega": w_spec if omega is not None else None,
+                                 "psi": psi_spec if (psi, psi_dist) != (None, None) else None})
     u_spec, w_spec, psi_spec = launch_of(cal)
-    return u_spec, w_spec, psi_spec, f"the calibration's launch ({path})"
+    return u_spec, w_spec, psi_spec, f"the calibration's launch ({path}: {launch_text(cal)})"
+
+
+def launch_on(p, psi, psi_dist, u, omega):
+    """The launch of ``coin simulate --landing bounce`` on a calibrated table: the toss typed,
+    what is not typed from the calibration's launch (not the hand toss); and a note when the
+    toss typed is not the calibration's (it is tossed: "this toss on my table", but the table
+    was fitted for another).  Returns the three specs, their description and the note (or
+    None)."""
+    from coincli.reports.launch import bounce_launch
+
+    path, cal = p.calibration
+    mine = dict(zip(("u", "omega", "psi"), bounce_launch(psi, psi_dist, u, omega)[:3],
+                    strict=True))
+    theirs = dict(zip(("u", "omega", "psi"), launch_of(cal), strict=True))
+    typed = {"u": ("--u", u), "omega": ("--omega", omega),
+             "psi": ("--psi", psi) if psi is not None else ("--psi-dist", psi_dist)}
+    out = {k: mine[k] if typed[k][1] is not None else theirs[k] for k in theirs}
+    other = [f"{opt} {text.strip()}" for k, (opt, text) in typed.items()
+             if text is not None and not _same(mine[k], theirs[k])]
+    shown = [f"{opt} {text.strip()}" for opt, text in typed.values() if text is not None]
+    text = (f"the calibration's launch ({path}: {launch_text(cal)})" if not shown else
+            f"{', '.join(shown)}, the rest of the calibration's launch ({path})")
+    note = None
+    if other:
+        note = (f"{', '.join(other)} is not the launch the table was calibrated with "
+                f"({launch_text(cal)}): its parameters absorb that launch, so this run is "
+                "your toss on a table fitted for another")
+    return out["u"], out["omega"], out["psi"], text, note
 
 
 # --------------------------------------------------------------------------- coin design
@@ -444,15 +543,8 @@ def design(p, *, targets, seed, tol, max_tosses, time_limit, given, diameter, g,
     from coincli.reports.launch import core_call, no_progress
 
     path, cal = p.calibration
+    check_launch(path, cal, given)
     u_spec, w_spec, psi_spec = launch_of(cal)
-    for opt, mine, theirs, unit in (("--u", given["u"], u_spec, "m/s"),
-                                    ("--omega", given["omega"], w_spec, "rad/s"),
-                                    ("--psi", given["psi"], psi_spec, "rad")):
-        if mine is not None and not _same(mine, theirs):
-            raise usage_error(f"{opt} {_shown(mine, unit).strip()} differs from the "
-                              f"calibration's {_shown(theirs, unit).strip()} ({path}): a "
-                              "calibrated table holds for the launch it was fitted with; leave "
-                              "it out")
     warn = []
     if not math.isclose(diameter * 1000, cal["diameter_mm"], rel_tol=1e-6):
         warn.append(f"the calibration's prototypes were {cal['diameter_mm']:g} mm across, this "

@@ -775,7 +775,8 @@ def fit(file: str, *, psi_dist: str | None = None, no_spread: bool = False,
         seed: str | None = None, save: str | None = None, design_tosses: str | None = None,
         surface: str | None = None, restitution: str | None = None,
         friction: str | None = None, torsional: str | None = None, rolling: str | None = None,
-        release_height: str | None = None, vx: str | None = None, jobs: str | None = None,
+        release_height: str | None = None, vx: str | None = None, u: str | None = None,
+        omega: str | None = None, psi: str | None = None, jobs: str | None = None,
         dt: str | None = None, t_max: str | None = None, scheduler: str | None = None,
         checkpoint: str | None = None, timeout: str | None = None, fmt: str = "table",
         quiet: bool = False, progress=None):
@@ -799,19 +800,21 @@ def fit(file: str, *, psi_dist: str | None = None, no_spread: bool = False,
     bounce = {"--fit": fit, "--seed": seed, "--save": save, "--design-tosses": design_tosses,
               "--surface": surface, "--restitution": restitution, "--friction": friction,
               "--torsional": torsional, "--rolling": rolling, "--release-height": release_height,
-              "--vx": vx, "--jobs": jobs, "--dt": dt, "--t-max": t_max,
-              "--scheduler": scheduler, "--checkpoint": checkpoint, "--timeout": timeout}
+              "--vx": vx, "--u": u, "--omega": omega, "--psi": psi, "--jobs": jobs, "--dt": dt,
+              "--t-max": t_max, "--scheduler": scheduler, "--checkpoint": checkpoint,
+              "--timeout": timeout}
     if landing_of(landing) == "bounce":
         from coincli.reports import calibrate
 
-        if psi_dist is not None or no_spread or alpha != "0.05" or design is not None:
-            raise usage_error("--psi-dist, --no-spread, --design and --alpha go with the models "
-                              "(no --landing); --landing bounce calibrates a table")
+        if no_spread or alpha != "0.05" or design is not None:
+            raise usage_error("--no-spread, --design and --alpha go with the models (no "
+                              "--landing); --landing bounce calibrates a table")
         return calibrate.fit(file, fit_params=fit, seed=seed, save=save,
                              design_tosses=design_tosses, delimiter=delimiter, surface=surface,
                              restitution=restitution, friction=friction, torsional=torsional,
-                             rolling=rolling, release_height=release_height, vx=vx, jobs=jobs,
-                             dt=dt, t_max=t_max, confidence=confidence, fmt=fmt, quiet=quiet,
+                             rolling=rolling, release_height=release_height, vx=vx, u=u,
+                             omega=omega, psi=psi, psi_dist=psi_dist, jobs=jobs, dt=dt,
+                             t_max=t_max, confidence=confidence, fmt=fmt, quiet=quiet,
                              progress=progress, scheduler=scheduler, checkpoint=checkpoint,
                              timeout=timeout)
     extra = [k for k, v in bounce.items() if v is not None]

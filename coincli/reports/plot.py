@@ -262,11 +262,11 @@ def sides(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
     target.check_matplotlib()
     bounce = None
     if physics is not None:
-        from coincli.reports.launch import bounce_launch
+        from coincli.reports.calibrate import bounce_launch_for
 
         count = 400 if tosses is None else BO.bounce_tosses(tosses, high=100_000)
         seed_v = _options.seed_value(seed)
-        u_spec, w_spec, psi_spec, labels = bounce_launch(None, None, None, None)
+        u_spec, w_spec, psi_spec, labels = bounce_launch_for(physics, None, None, None, None)
         lo, hi = rng if rng is not None else (0.1, 2.0)
         lo, hi = max(lo, BO.PLOT_XI[0]), min(hi, BO.PLOT_XI[1])
         if not lo < hi:

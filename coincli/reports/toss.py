@@ -391,6 +391,11 @@ def simulate(*, xi=None, coin=None, count=None, quarters=None, diameter=None, th
     from coincli.core.toss import simulate as TS
 
     u_spec, w_spec, psi_spec, labels = launch(psi, psi_dist, u, omega)
+    cal_note = None
+    if physics is not None and physics.calibration is not None:  # its launch, not the hand's
+        from coincli.reports.calibrate import launch_on
+
+        u_spec, w_spec, psi_spec, labels, cal_note = launch_on(physics, psi, psi_dist, u, omega)
     if physics is not None:
         BO.check_omega(reach(w_spec, math.inf), omega or HAND["omega"])
     seed_v = _options.seed_value(seed)
@@ -410,9 +415,11 @@ def simulate(*, xi=None, coin=None, count=None, quarters=None, diameter=None, th
         if quiet:
             _options.report_seed(seed_v, seed is not None)
         bar = None if progress is None else (lambda total: progress(total, 200))
-        return BO.simulate(physics, count=count_n, seed=seed_v, xi=xv, u=u_spec, omega=w_spec,
-                           psi=psi_spec, diameter=dia, g=gv, labels=labels, fmt=fmt,
-                           progress=bar)
+        r = BO.simulate(physics, count=count_n, seed=seed_v, xi=xv, u=u_spec, omega=w_spec,
+                        psi=psi_spec, diameter=dia, g=gv, labels=labels, fmt=fmt, progress=bar)
+        if cal_note:
+            r.notes.append(cal_note)
+        return r
     if stream:
         _options.report_seed(seed_v, seed is not None)
         return Result("coin simulate --stream", [Column("outcome", "outcome", "text")], [],
