@@ -439,10 +439,16 @@ def apply(p, path: str, *, height_given: bool, vx_given: bool, dt_given: bool,
     except CalibrationError as exc:
         raise usage_error(str(exc)) from None
     launch = cal["launch"]
-    checks = (("--release-height", height_given, "height", _dist_of(launch["release_height_m"]),
-               "mm", 1000.0), ("--vx", vx_given, "vx", _dist_of(launch["vx_ms"]), "m/s", 1.0),
-              ("--dt", dt_given, "dt", float(launch["dt"]), "s", 1.0),
-              ("--t-max", t_max_given, "t_max", float(launch["t_max"]), "s", 1.0))
+    try:  # the whole launch is read here, once: a malformed one is one line, not a traceback
+        checks = (("--release-height", height_given, "height",
+                   _dist_of(launch["release_height_m"]), "mm", 1000.0),
+                  ("--vx", vx_given, "vx", _dist_of(launch["vx_ms"]), "m/s", 1.0),
+                  ("--dt", dt_given, "dt", float(launch["dt"]), "s", 1.0),
+                  ("--t-max", t_max_given, "t_max", float(launch["t_max"]), "s", 1.0))
+        launch_of(cal)
+    except (KeyError, TypeError, ValueError, AttributeError) as exc:
+        raise usage_error(f"--calibration {path}: its launch is malformed ({exc!s:.80})"
+                          ) from None
     for opt, given, attr, theirs, unit, scale in checks:
         if given and not _same(getattr(p, attr), theirs):
             raise usage_error(f"{opt} {_shown(getattr(p, attr), unit, scale).strip()} differs "

@@ -95,6 +95,11 @@ def test_fit_saves_a_calibration_the_other_commands_take(coin, tosses, tmp_path)
           2, "--u 3 m/s differs from the calibration's")
     error(coin("simulate", "--xi", "0.5", "--calibration", cal), 2,
           "--calibration goes with --landing bounce")
+    saved["launch"]["psi"]["spec"] = "sideways"  # a launch this coin cannot read: one line
+    bad = tmp_path / "bad_launch.json"
+    bad.write_text(json.dumps(saved))
+    error(coin("simulate", "--xi", "0.5", "--landing", "bounce", "--calibration", bad), 2,
+          f"--calibration {bad}: its launch is malformed")
 
 
 def test_fit_refuses_in_one_line(coin, tosses, tmp_path):
