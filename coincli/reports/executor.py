@@ -100,8 +100,8 @@ def _text(v, scale: float = 1.0) -> str:
         return ",".join(_text(x, scale) for x in v)
     if isinstance(v, float):
         return repr(v * scale)
-    if hasattr(v, "scaled") and scale != 1.0:
-        return str(v.scaled(scale))
+    if hasattr(v, "scaled") and scale != 1.0 and getattr(v, "kind", None) != "density":
+        return str(v.scaled(scale))  # a psi density is shown as its spec, in degrees
     return str(v)
 
 
