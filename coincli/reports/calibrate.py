@@ -342,7 +342,8 @@ def _fit_result(f, cal, exps, name, p, points, per_group, unsettled, save):
              Column("simulated", "simulated tosses", "int"),
              Column("design_points", "design points", "int"), Column("method", "method", "text"),
              Column("seed", "seed", "int")]
-    row += [f.p_value if math.isfinite(f.p_value) else None, f.statistic, f.df, f.deviance,
+    row += [f.p_value if math.isfinite(f.p_value) else None, f.statistic,
+            f.df if f.df >= 0 else None, f.deviance,
             ",".join(f.pinned) or "none", len(exps), sum(e.counts.n for e in exps), sims,
             len(points), METHOD, cal["seed"]]
     per = "; ".join(
@@ -366,8 +367,10 @@ def _fit_result(f, cal, exps, name, p, points, per_group, unsettled, save):
             "variance (a jackknife over the launch groups) and its lack of fit ("
             + ", ".join(f"deviance {s.deviance:.1f} on {s.df} df" for s in f.surfaces)
             + ", carried as extra variance) added; 95% intervals where Q's "
-            "profile rises by 3.84; the fit p-value is Q's on "
-            f"{f.df} df.  Share of each interval's width due to the simulation: {shares} "
+            "profile rises by 3.84; "
+            + (f"the fit p-value is Q's on {f.df} df" if f.df > 0 else
+               "no df is left for a test of fit (as many parameters as counts, or more)")
+            + f".  Share of each interval's width due to the simulation: {shares} "
             "(more --design-tosses narrows it).  docs/calibration.md has the method, its "
             "assumptions and its round trip on the engine, where these 95% intervals held "
             "the truth in 20 of 20 tables (restitution) and 19 of 20 (friction), 1000 tosses "
