@@ -98,6 +98,7 @@ def _worker_init(args, parent=None):
     coin, surf, dt, g, landing, t_max, flight, damping = args
     _WORKER["engine"] = Engine(coin, surf, dt=dt, g=g, landing=landing, t_max=t_max,
                                flight=flight, damping=damping)
+    _WORKER["args"] = args  # what it was built for (:func:`_run_job` reuses it)
 
 
 def _bind_to_parent(parent: int) -> None:
@@ -306,7 +307,6 @@ def _run_job(item):
     args, job = item
     if _WORKER.get("args") != args:
         _worker_init(args)
-        _WORKER["args"] = args
     return _run_block(job)[1]
 
 
