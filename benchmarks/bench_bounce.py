@@ -16,7 +16,11 @@ shared, so the table gives medians, and the ratio to the median floor of all the
     python benchmarks/bench_bounce.py --write             # rewrite docs/performance.md's section
 
 ``--design K`` times ``coin design --p-sides 1/3 --landing bounce --surface wood --seed S``
-(S = 1..K, every core) at this checkout: wall and CPU time, tosses, rounds.
+(S = 1..K, every core) at ``--against`` and at this checkout, seed by seed, alternately: wall
+and CPU time (all processes), tosses, the answer, the load; ``--no-tosses`` times the designs
+alone (its own section of docs/performance.md), ``--max-tosses N`` shortens them.
+
+    python benchmarks/bench_bounce.py --against main --design 5 --no-tosses --write
 """
 
 from __future__ import annotations
@@ -120,23 +124,36 @@ def summary(runs, floor):
             "dt": runs[0]["dt"]}
 
 
-def design_walls(seeds):
+def design_run(tree: Path, seed, max_tosses=None):
+    """One ``coin design --p-sides 1/3 --landing bounce --surface wood --seed S`` at ``tree``,
+    every core: wall and CPU time (all its processes), its JSON row, the load after it."""
+    argv = [sys.executable, "-m", "coincli", "design", "--p-sides", "1/3", "--landing",
+            "bounce", "--surface", "wood", "--seed", str(seed), "--format", "json",
+            "--time-limit", "100000"]  # the answer never cut by the load (default 300 s)
+    if max_tosses:
+        argv += ["--max-tosses", str(max_tosses)]
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t0 = time.perf_counter()
+    out = subprocess.run(argv, cwd=tree, env={**os.environ, "PYTHONPATH": str(tree)},
+                         capture_output=True, text=True, check=True)
+    wall = time.perf_counter() - t0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return wall, cpu, json.loads(out.stdout)[0], os.getloadavg()[0]
+
+
+def design_walls(seeds, trees, max_tosses=None):
+    """The design at each tree (``(label, path)`` pairs), seed by seed, the trees alternately:
+    table rows."""
     rows = []
     for s in range(1, seeds + 1):
-        argv = [sys.executable, "-m", "coincli", "design", "--p-sides", "1/3", "--landing",
-                "bounce", "--surface", "wood", "--seed", str(s), "--format", "json"]
-        before = resource.getrusage(resource.RUSAGE_CHILDREN)
-        t0 = time.perf_counter()
-        out = subprocess.run(argv, cwd=ROOT, env={**os.environ, "PYTHONPATH": str(ROOT)},
-                             capture_output=True, text=True, check=True)
-        wall = time.perf_counter() - t0
-        after = resource.getrusage(resource.RUSAGE_CHILDREN)
-        cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-        row = json.loads(out.stdout)[0]
-        rows.append([str(s), f"{wall:.1f} s", f"{cpu:.1f} s", str(row["tosses"]),
-                     f"{row['xi']:.4f} [{row['xi_low']:.4f}, {row['xi_high']:.4f}]",
-                     f"{os.getloadavg()[0]:.1f}"])
-        print(rows[-1], file=sys.stderr, flush=True)
+        for label, tree in trees:
+            wall, cpu, row, load = design_run(tree, s, max_tosses)
+            rows.append([str(s), label, f"{wall:.1f} s", f"{cpu:.1f} s", str(row["tosses"]),
+                         f"{1e3 * cpu / row['tosses']:.1f} ms",
+                         f"{row['xi']:.4f} [{row['xi_low']:.4f}, {row['xi_high']:.4f}]",
+                         f"{load:.1f}"])
+            print(rows[-1], file=sys.stderr, flush=True)
     return rows
 
 
@@ -146,7 +163,11 @@ def main():
     ap.add_argument("-n", type=int, default=400, help="tosses a run")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--design", type=int, default=0, help="also time coin design, seeds 1..K")
+    ap.add_argument("--design", type=int, default=0,
+                    help="also time coin design, seeds 1..K, here and at --against")
+    ap.add_argument("--max-tosses", type=int, help="the designs' --max-tosses (a shorter run)")
+    ap.add_argument("--no-tosses", action="store_true",
+                    help="time the designs only, not the tosses")
     ap.add_argument("--write", action="store_true", help="rewrite docs/performance.md's section")
     ap.add_argument("--measure", type=int, help=argparse.SUPPRESS)
     ap.add_argument("--old-rules", action="store_true", help=argparse.SUPPRESS)
@@ -163,11 +184,39 @@ def main():
         with tarfile.open(old / "old.tar") as tar:
             tar.extractall(old, filter="data")
         runs = {"new": [], "old": []}
-        for _ in range(args.repeats):
+        for _ in range(0 if args.no_tosses else args.repeats):
             for key, tree in (("new", ROOT), ("old", old)):
                 runs[key].append(child(tree, args.n, args.seed))
                 print(key, {k: v for k, v in runs[key][-1].items() if k != "steps"},
                       file=sys.stderr, flush=True)
+        designs = (design_walls(args.design, [(args.against, old), ("this checkout", ROOT)],
+                                args.max_tosses) if args.design else [])
+    body = [] if args.no_tosses else tosses_section(args, head, runs)
+    if args.design:
+        if args.no_tosses:
+            body += ["## A bouncing design (`benchmarks/bench_bounce.py --design`)", "",
+                     f"Command: `python benchmarks/bench_bounce.py --against {args.against} "
+                     f"--design {args.design} --no-tosses"
+                     f"{' --max-tosses ' + str(args.max_tosses) if args.max_tosses else ''} "
+                     "--write`."]
+        body += ["", f"`coin design --p-sides 1/3 --landing bounce --surface wood --seed S"
+                 f"{' --max-tosses ' + str(args.max_tosses) if args.max_tosses else ''} "
+                 "--time-limit 100000` at "
+                 f"{args.against} and at this checkout, seed by seed, the two alternately, "
+                 "every core (2); wall time and the CPU time of all its processes (the "
+                 "machine is shared: the load average when each run ended is given).  "
+                 f"{head}.", "",
+                 table(["seed", "revision", "wall", "CPU (all processes)", "tosses",
+                        "CPU per toss", "xi [95%]", "load"], designs)]
+    text = "\n".join(body)
+    print(text)
+    if args.write:
+        write_section("bench_bounce_design" if args.no_tosses else "bench_bounce", text)
+    return 0
+
+
+def tosses_section(args, head, runs):
+    """The per-toss table, as docs/performance.md gives it: lines of Markdown."""
     floor = statistics.median(r["floor_ms"] for v in runs.values() for r in v)
     floors = sorted(r["floor_ms"] for v in runs.values() for r in v)
     s = {k: summary(v, floor) for k, v in runs.items()}
@@ -180,8 +229,8 @@ def main():
                      " / ".join(str(c) for c in r["codes"])])
     speed = s["old"]["ratio"] / s["new"]["ratio"]
     body = ["## The bounce engine (`benchmarks/bench_bounce.py`)", "",
-            f"Command: `python benchmarks/bench_bounce.py -n {args.n} --repeats {args.repeats}"
-            f"{' --design ' + str(args.design) if args.design else ''} --write`.  {head}.", "",
+            f"Command: `python benchmarks/bench_bounce.py --against {args.against} -n {args.n} "
+            f"--repeats {args.repeats} --write`.  {head}.", "",
             f"{args.n} hand tosses of the fair coin (xi = {XI}, D = 24.26 mm) onto wood, seed "
             f"{args.seed}, one process, CPU time; each revision at its own defaults, in its own "
             f"process, the two alternately, medians of {args.repeats} runs.  The floor: 1000 "
@@ -195,17 +244,7 @@ def main():
             f"({floors[0]:.2f} to {floors[-1]:.2f} ms: the machine is shared).  Tosses per "
             f"CPU-second: **{speed:.2f}x** the engine before; the goal of {GOAL} floors a toss "
             f"is {'met' if s['new']['ratio'] <= GOAL else 'missed'}."]
-    if args.design:
-        body += ["", "`coin design --p-sides 1/3 --landing bounce --surface wood --seed S` at "
-                 "this checkout, every core (2), wall time (the machine is shared: the load "
-                 "average when each run ended is given):", "",
-                 table(["seed", "wall", "CPU (all processes)", "tosses", "xi [95%]",
-                        "load"], design_walls(args.design))]
-    text = "\n".join(body)
-    print(text)
-    if args.write:
-        write_section("bench_bounce", text)
-    return 0
+    return body
 
 
 if __name__ == "__main__":

@@ -344,6 +344,26 @@ def test_determinism_across_workers():
         R.simulate(10, 5, chunk=0, **kw)
 
 
+def test_runs_sharing_workers_give_each_run_alone():
+    """simulate_many (a design's round: several coins' runs on one pool, their calibrations
+    side by side, their chunks in one queue; the pool kept for the next round) gives each run
+    the result simulate gives it alone, field for field; and another coin's cached engine in a
+    worker never leaks into a run (two surfaces, interleaved chunks)."""
+    import dataclasses
+
+    kw = dict(psi=math.pi / 2, **HAND)
+    specs = [dict(n=40, seed=9, xi=x, surf=B.SURFACES[s], stream=(1, j), chunk=8, **kw)
+             for j, (x, s) in enumerate(((0.4, "wood"), (0.9, "felt"), (0.4, "felt")))]
+    alone = [R.simulate(jobs=1, **spec) for spec in specs]
+    ticks = []
+    with R.Workers(2) as workers:
+        shared = R.simulate_many(specs, workers=workers, progress=ticks.append)
+        again = R.simulate_many(specs[:1], workers=workers)  # the same pool, a second round
+    for a, b in zip(alone, [*shared, *again], strict=False):
+        assert dataclasses.asdict(a) == dataclasses.asdict(b)
+    assert again[0] == shared[0] and ticks[-1] == 120 and len(ticks) == 15
+
+
 def test_trajectory_is_recorded():
     coin = B.Coin(0.577)
     eng = B.Engine(coin, B.SURFACES["wood"])

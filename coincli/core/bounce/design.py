@@ -12,8 +12,9 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+from coincli.core.bounce import runs as _runs
 from coincli.core.bounce.engine import smallest_xi
-from coincli.core.bounce.runs import simulate
+from coincli.core.bounce.runs import Workers, simulate, simulate_many
 from coincli.core.toss.flight import DEFAULT_DIAMETER, SIDES
 from coincli.limits import BOUNCE_XI_MAX
 
@@ -241,17 +242,31 @@ def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, lev
     never_landed = 0
     lo_xi = smallest_xi(kw.get("diameter", DEFAULT_DIAMETER))  # what the engine can simulate
 
+    run_kw = {k: v for k, v in kw.items() if k not in ("jobs", "executor")}
+
     def run(xs, n, rnd):
+        # the round's points at once, on the design's workers (one pool for the design)
         nonlocal tosses, unsettled, never_landed
-        for j, x in enumerate(xs):
-            r = simulate(n, seed, xi=x, stream=(rnd, j), **kw)
+        before = tosses
+
+        def tick(done):
+            if progress is not None:
+                progress(before + done, planned)
+
+        specs = [dict(n=n, seed=seed, xi=x, stream=(rnd, j), **run_kw)
+                 for j, x in enumerate(xs)]
+        if simulate is _runs.simulate:  # the engine: the round's points in one queue
+            sims = simulate_many(specs, workers=workers, executor=kw.get("executor"),
+                                 progress=tick)
+        else:  # a stand-in for the engine (the tests' counts without MuJoCo): point by point
+            sims = [simulate(**spec, **{k: v for k, v in kw.items() if k not in run_kw})
+                    for spec in specs]
+        for x, r in zip(xs, sims, strict=True):
             old = points.get(x, (0, 0))
             points[x] = (old[0] + r.settled, old[1] + r.counts[SIDES])
             tosses += n
             unsettled += r.counts[3]
             never_landed += r.n - sum(r.catch_counts)  # no first contact: no catch outcome
-            if progress is not None:
-                progress(tosses, planned)
 
     first = min(DESIGN_FIRST, int(max_tosses) // len(DESIGN_GRID))
     if first < DESIGN_FIRST_MIN:
@@ -260,35 +275,38 @@ def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, lev
                          f"{len(DESIGN_GRID)} aspect ratios of the first sweep), got "
                          f"{max_tosses}")
     planned = len(DESIGN_GRID) * first
-    run(DESIGN_GRID, first, 0)
-    rnd = 0
-    stopped = "tol"
-    while True:
-        if sum(1 for n, _ in points.values() if n > 0) < 2:
-            raise TooFewSettled(tosses, unsettled, never_landed)
-        fit = fit_sides([(x, n, k) for x, (n, k) in sorted(points.items())])
-        if fit.beta <= 0:
-            raise ValueError("the simulated P(sides) does not grow with xi; no design found")
-        fits = [_local_fit(points, t, fit.inverse(t)) for t in targets]
-        est = [f.inverse(t) for f, t in zip(fits, targets, strict=True)]
-        for t, x in zip(targets, est, strict=True):
-            if not lo_xi <= x <= BOUNCE_XI_MAX:  # no toss could check it: never an answer
-                raise BeyondTheEngine(t, x, lo_xi, BOUNCE_XI_MAX)
-        ivs = [f.interval(t, level) for f, t in zip(fits, targets, strict=True)]
-        met = all(hi - x <= tol and x - lo <= tol for x, (lo, hi) in zip(est, ivs, strict=True))
-        if met:
-            break
-        nxt = sorted({round(x * f, 6) for x in est for f in (0.93, 1.0, 1.07)})
-        nxt = [x for x in nxt if lo_xi <= x <= BOUNCE_XI_MAX]
-        if first < DESIGN_FIRST or tosses + len(nxt) * DESIGN_ROUND > max_tosses:
-            stopped = "max_tosses"  # a cut first sweep: the cap stopped it, whatever is left
-            break
-        if clock() - start > time_limit:
-            stopped = "time_limit"
-            break
-        rnd += 1
-        planned = tosses + len(nxt) * DESIGN_ROUND
-        run(nxt, DESIGN_ROUND, rnd)
+    workers = Workers(kw.get("jobs"))
+    with workers:
+        run(DESIGN_GRID, first, 0)
+        rnd = 0
+        stopped = "tol"
+        while True:
+            if sum(1 for n, _ in points.values() if n > 0) < 2:
+                raise TooFewSettled(tosses, unsettled, never_landed)
+            fit = fit_sides([(x, n, k) for x, (n, k) in sorted(points.items())])
+            if fit.beta <= 0:
+                raise ValueError("the simulated P(sides) does not grow with xi; no design found")
+            fits = [_local_fit(points, t, fit.inverse(t)) for t in targets]
+            est = [f.inverse(t) for f, t in zip(fits, targets, strict=True)]
+            for t, x in zip(targets, est, strict=True):
+                if not lo_xi <= x <= BOUNCE_XI_MAX:  # no toss could check it: never an answer
+                    raise BeyondTheEngine(t, x, lo_xi, BOUNCE_XI_MAX)
+            ivs = [f.interval(t, level) for f, t in zip(fits, targets, strict=True)]
+            met = all(hi - x <= tol and x - lo <= tol
+                      for x, (lo, hi) in zip(est, ivs, strict=True))
+            if met:
+                break
+            nxt = sorted({round(x * f, 6) for x in est for f in (0.93, 1.0, 1.07)})
+            nxt = [x for x in nxt if lo_xi <= x <= BOUNCE_XI_MAX]
+            if first < DESIGN_FIRST or tosses + len(nxt) * DESIGN_ROUND > max_tosses:
+                stopped = "max_tosses"  # a cut first sweep: the cap stopped it, whatever is left
+                break
+            if clock() - start > time_limit:
+                stopped = "time_limit"
+                break
+            rnd += 1
+            planned = tosses + len(nxt) * DESIGN_ROUND
+            run(nxt, DESIGN_ROUND, rnd)
     settled = [x for x, (n, _) in points.items() if n > 0]
     return Design(targets, est, [lo for lo, _ in ivs], [hi for _, hi in ivs], fit, tosses,
                   rnd, met, stopped, seed, unsettled, fits, first, (min(settled), max(settled)),

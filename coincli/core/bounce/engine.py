@@ -551,6 +551,11 @@ def drop_restitution(coin: Coin, surf: Surface, dt, b, *, tilt=0.0, speed=1.0, g
 _CALIBRATION: dict = {}
 
 
+def _calibration_key(coin: Coin, surf: Surface, dt, g):
+    """What decides :func:`calibrate`'s answer (its cache's key)."""
+    return (coin, surf.restitution, surf.friction, surf.torsional, surf.rolling, dt, g)
+
+
 def calibrate(coin: Coin, surf: Surface, dt=DEFAULT_DT, g=STANDARD_G):
     """The contact damping ``b`` (1/s) at which this coin's drops rebound at
     ``surf.restitution`` (:func:`drop_restitution`, the mean of a flat and an edge drop):
@@ -562,7 +567,7 @@ def calibrate(coin: Coin, surf: Surface, dt=DEFAULT_DT, g=STANDARD_G):
     force would pull) and the discrete steps shift that by up to 0.1 in ``e``, hence the
     bisection, bracketed by ``b = 0.003 omega_n`` and the explicit-damping limit ``b = 1/dt``.
     """
-    key = (coin, surf.restitution, surf.friction, surf.torsional, surf.rolling, dt, g)
+    key = _calibration_key(coin, surf, dt, g)
     if key in _CALIBRATION:
         return _CALIBRATION[key]
     e = surf.restitution
@@ -680,12 +685,14 @@ class Engine:
         give back (three contacts of a flat coin share the mass, so this over-counts: safe).
         """
         d = self.d
-        e = float(d.energy[0]) + float(d.energy[1])
+        e0, e1 = d.energy.tolist()
+        e = e0 + e1
         spring = 0.0
-        for i in range(d.ncon):
-            r = -float(d.contact[i].dist)
-            if r > 0:
-                spring += r * r
+        if d.ncon:  # the contacts' distances as one array (an MjContact each is slow to make)
+            for dist in d.contact.dist.tolist():
+                r = -dist
+                if r > 0:
+                    spring += r * r
         return e + 0.5 * self.mass * self.k_spring * spring
 
     def _rolling(self):
@@ -708,21 +715,16 @@ class Engine:
         on the same tosses, docs/bounce.md), not a proof.
         """
         d = self.d
-        q = d.qpos[3:7]
-        qw, qx, qy, qz = float(q[0]), float(q[1]), float(q[2]), float(q[3])
+        px, py, pz, qw, qx, qy, qz = d.qpos.tolist()
         # the axis n = R e3 (world)
         nx, ny = 2.0 * (qx * qz + qw * qy), 2.0 * (qy * qz - qw * qx)
         nz = 1.0 - 2.0 * (qx * qx + qy * qy)
-        if d.ncon == 0 or abs(nz) > SIDE_TILT:
+        if abs(nz) > SIDE_TILT or d.ncon == 0:
             return 0.0
-        wb = d.qvel[3:6]
-        w3 = float(wb[2])
-        ww = _qrot((qw, qx, qy, qz), (float(wb[0]), float(wb[1]), w3))  # world angular velocity
-        vx, vy = float(d.qvel[0]), float(d.qvel[1])
-        px, py, pz = float(d.qpos[0]), float(d.qpos[1]), float(d.qpos[2])
-        for i in range(d.ncon):
-            c = d.contact[i].pos
-            rx, ry, rz = float(c[0]) - px, float(c[1]) - py, float(c[2]) - pz
+        vx, vy, _, w1, w2, w3 = d.qvel.tolist()
+        ww = _qrot((qw, qx, qy, qz), (w1, w2, w3))  # world angular velocity
+        for cx, cy, cz in d.contact.pos.tolist():
+            rx, ry, rz = cx - px, cy - py, cz - pz
             sx = vx + ww[1] * rz - ww[2] * ry
             sy = vy + ww[2] * rx - ww[0] * rz
             if sx * sx + sy * sy > SLIP_TOL * SLIP_TOL:
@@ -756,18 +758,17 @@ class Engine:
         from ``xi = 0.3`` (:data:`ROLLING_XI_MIN`): a thin coin rolling on its rim stands up
         as friction turns its spin into tilt, and it decided a quarter wrongly.
         """
-        d = self.d
-        q = d.qpos[3:7]
-        qw, qx, qy, qz = float(q[0]), float(q[1]), float(q[2]), float(q[3])
-        wb = d.qvel[3:6]
-        s = self.i3 * float(wb[2])  # I3 w3, the angular momentum along the axis
+        _, _, _, qw, qx, qy, qz = self.d.qpos.tolist()
+        _, _, _, w1, w2, w3 = self.d.qvel.tolist()
+        i1 = self.i1
+        s = self.i3 * w3  # I3 w3, the angular momentum along the axis
         # L_z: the third row of the rotation matrix times L in the body frame
-        lz = (2.0 * (qx * qz - qw * qy) * self.i1 * float(wb[0])
-              + 2.0 * (qy * qz + qw * qx) * self.i1 * float(wb[1])
+        lz = (2.0 * (qx * qz - qw * qy) * i1 * w1
+              + 2.0 * (qy * qz + qw * qx) * i1 * w2
               + (1.0 - 2.0 * (qx * qx + qy * qy)) * s)
         c = self._corner_nz
-        return 0.5 * s * float(wb[2]) + 0.5 * min((lz - s * c) ** 2, (lz + s * c) ** 2) / (
-            self.i1 * (1.0 - c * c))
+        return 0.5 * s * w3 + 0.5 * min((lz - s * c) ** 2, (lz + s * c) ** 2) / (
+            i1 * (1.0 - c * c))
 
     def _touching(self):
         d = self.d
@@ -833,15 +834,16 @@ class Engine:
         no_jump_until = -math.inf  # a flight found too short to solve: step it out
         lift_lo, lift_state = None, None  # lift-off bracket and state, when seen at a check
         spin_held = False  # the spin rule held at the last check
+        step, barrier, mujoco_flight = mj.mj_step, self.barrier, self.flight == "mujoco"
         while True:
             if airborne is None:
-                mj.mj_step(m, d, nstep=CHECK_STEPS)
+                step(m, d, nstep=CHECK_STEPS)
             else:
                 # In the air at the last check (or just placed before a solved landing): step
                 # one at a time, so that a landing shorter than the checks' spacing is seen and
                 # the flight it ends is counted.  The same steps as nstep=CHECK_STEPS.
                 for _ in range(CHECK_STEPS):
-                    mj.mj_step(m, d)
+                    step(m, d)
                     if d.ncon > 0:
                         if airborne is not None:
                             # a bounce is a flight of at least BOUNCE_MIN; shorter is chatter
@@ -855,12 +857,13 @@ class Engine:
             if record:
                 self._record(traj, "mujoco")
             energy = self._energy()
+            touching = d.ncon > 0
             # the spin rule: held at this check and the last, touching now (a coin in the air
             # lands with a friction impulse that can change L_z and w3 at once)
             spin, spin_held = spin_held, (self.spin_rest and energy - self._spin_locked()
-                                          < self.barrier)
-            if energy < self.barrier or (spin and spin_held and d.ncon > 0) or (
-                    self.rolling_rest and energy - self._rolling() < self.barrier):
+                                          < barrier)
+            if energy < barrier or (spin and spin_held and touching) or (
+                    self.rolling_rest and energy - self._rolling() < barrier):
                 alpha = self._tilt()
                 code = int(classify(alpha, coin.xi))
                 return self._result(code, t_first, float(d.time), bounces, steps, catch_code,
@@ -868,15 +871,16 @@ class Engine:
             if d.time > self.t_max:
                 return self._result(UNSETTLED, t_first, math.nan, bounces, steps, catch_code,
                                     traj, self._tilt())
-            if self._touching():
+            if touching:
                 airborne = None  # (a landing in the air's steps was counted there)
-                m.opt.integrator = self._implicit
+                if mujoco_flight:  # (RK4 only in the air's steps)
+                    m.opt.integrator = self._implicit
                 continue
             if airborne is None:
                 # it left the surface since the last check, at a time in (lift_lo, airborne]
                 airborne, lift_lo = float(d.time), float(d.time) - CHECK_STEPS * dt
                 lift_state = (d.qpos.copy(), d.qvel.copy())
-            if self.flight == "mujoco":
+            if mujoco_flight:
                 m.opt.integrator = self._rk4
                 continue
             if d.time < no_jump_until:

@@ -30,7 +30,8 @@ from coincli.core.toss.flight import DEFAULT_DIAMETER, NAMES, STANDARD_G, U_MAX,
 from coincli.core.toss.launch import as_dist, sample_conditions
 from coincli.core.toss.simulate import Frequency, wilson_interval
 
-__all__ = ["BounceSimulation", "simulate", "default_jobs", "capped_jobs", "BLOCK", "CHUNK"]
+__all__ = ["BounceSimulation", "simulate", "simulate_many", "Workers", "default_jobs",
+           "capped_jobs", "BLOCK", "CHUNK"]
 
 BLOCK = 256  #: tosses per random block: the seed of block k is (seed, k), whatever the workers
 CHUNK = 16  #: tosses a worker simulates between progress reports (a fraction of a second)
@@ -97,6 +98,7 @@ def _worker_init(args, parent=None):
     coin, surf, dt, g, landing, t_max, flight, damping = args
     _WORKER["engine"] = Engine(coin, surf, dt=dt, g=g, landing=landing, t_max=t_max,
                                flight=flight, damping=damping)
+    _WORKER["args"] = args  # what it was built for (:func:`_run_job` reuses it)
 
 
 def _bind_to_parent(parent: int) -> None:
@@ -173,11 +175,216 @@ def capped_jobs(jobs: int) -> int:
     return max(1, min(int(jobs), default_jobs()))
 
 
+@dataclass
+class _Plan:
+    """One run of :func:`simulate`, cut into chunks: what the workers need (``args``, the
+    ``work``) and what its summary needs."""
+
+    n: int
+    seed: int
+    coin: Coin
+    surf: Surface
+    dt: float
+    g: float
+    landing: str
+    t_max: float
+    flight: str
+    dists: dict
+    level: float
+    work: list
+    damping: float = math.nan
+
+    @property
+    def args(self):
+        return (self.coin, self.surf, self.dt, self.g, self.landing, self.t_max, self.flight,
+                self.damping)
+
+
+def _plan(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=0.0, vx=0.0,
+          z0=None, diameter=DEFAULT_DIAMETER, density=DEFAULT_DENSITY, g=STANDARD_G,
+          dt=DEFAULT_DT, t_max=DEFAULT_T_MAX, level=0.95, flight="exact", stream=(),
+          chunk=None, executor=None) -> _Plan:
+    """A run's launches distributions and chunks, its input checked (its contact damping is
+    found later, :func:`_calibrate_all`); ``executor``: a cluster sizes the chunks."""
+    from coincli.core.toss.flight import _count
+
+    n = _count(n)
+    coin = Coin(float(xi), float(diameter), float(density))
+    surf = SURFACES["wood"] if surf is None else surf
+    if z0 is None:
+        z0 = default_z0(coin.xi, coin.diameter, "thick")
+    dists = {"u": as_dist(u, "u", 0.0, U_MAX), "omega": as_dist(omega, "omega", 0.0, 1e5),
+             "psi": as_dist(psi, "psi", 0.0, math.pi)}
+    for name, val in (("height", height), ("vx", vx), ("z0", z0)):
+        lo, hi = _DOMAINS[name]
+        dists[name] = as_dist(val, name, lo, hi)
+    if chunk is None:  # a cluster sizes its chunks from the run and its workers
+        chunk = executor.chunk(n) if hasattr(executor, "chunk") else CHUNK
+    chunk = int(chunk)
+    if not 1 <= chunk <= BLOCK:
+        raise ValueError(f"chunk must be from 1 to {BLOCK}, got {chunk}")
+    work = []
+    for b in range(-(-n // BLOCK)):
+        count = min(BLOCK, n - b * BLOCK)
+        for s in range(0, count, chunk):
+            work.append((len(work), (seed, b, s, min(s + chunk, count), count, dists,
+                                     tuple(stream))))
+    return _Plan(n, seed, coin, surf, dt, g, landing, t_max, flight, dists, level, work)
+
+
+def _check_jobs(jobs):
+    jobs = default_jobs() if jobs is None else int(jobs)
+    if jobs < 1:
+        raise ValueError(f"jobs must be >= 1, got {jobs}")
+    return capped_jobs(jobs)
+
+
+class Workers:
+    """Worker processes shared by the runs of :func:`simulate_many` calls (a design's rounds),
+    started when first needed: a context manager that ends them.  ``jobs``: as
+    :func:`simulate` takes it.  One process (``jobs`` 1) runs everything here, in this
+    process.  A worker keeps the engine of the run it last worked on, so chunks of several
+    runs (other coins, other surfaces) can be mixed; the counts never depend on which worker
+    runs which chunk."""
+
+    def __init__(self, jobs=None):
+        self.jobs = _check_jobs(jobs)
+        self.pool = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, kind, exc, tb):
+        self.close(kind is not None)
+
+    def close(self, failed=False):
+        """End the workers: at once when ``failed`` (Ctrl-C, SIGTERM, a failed toss)."""
+        pool, self.pool = self.pool, None
+        if pool is not None:
+            if failed:
+                pool.terminate()
+            else:
+                pool.close()
+            pool.join()
+
+    def map(self, fn, items, size):
+        """``(i, fn(items[i]))`` as each completes, in any order; in this process when one
+        worker (or one item) is enough.  ``size``: the processes the pool would start at most
+        (``min(jobs, items)`` for a single run, as :func:`simulate` always did)."""
+        if self.jobs == 1 or size <= 1 and self.pool is None:
+            for i, item in enumerate(items):
+                yield i, fn(item)
+            return
+        import multiprocessing as mp
+
+        if self.pool is None:
+            ctx = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
+            self.pool = ctx.Pool(min(self.jobs, size), initializer=_bind_to_parent,
+                                 initargs=(os.getpid(),))
+        try:
+            it = self.pool.imap_unordered(_indexed, [(fn, i, item) for i, item in
+                                                     enumerate(items)])
+            for _ in items:
+                while True:  # a timeout, so that Ctrl-C is seen at once on every platform
+                    try:
+                        yield it.next(timeout=0.2)
+                        break
+                    except mp.TimeoutError:
+                        continue
+        except BaseException:  # Ctrl-C, SIGTERM, SIGHUP or a failed toss: stop the workers now
+            self.close(failed=True)
+            raise
+
+
+def _indexed(task):
+    fn, i, item = task
+    return i, fn(item)
+
+
+def _run_job(item):
+    """A chunk of any run: ``(args, (k, job))`` -> ``rows`` (the worker's engine rebuilt when
+    the run changes)."""
+    args, job = item
+    if _WORKER.get("args") != args:
+        _worker_init(args)
+    return _run_block(job)[1]
+
+
+def _calibration(key):
+    coin, surf, dt, g = key
+    return calibrate(coin, surf, dt, g)
+
+
+def _calibrate_all(plans, workers, parallel=True):
+    """Each run's contact damping (:func:`coincli.core.bounce.engine.calibrate`): those not
+    known in this process yet are found by the workers, side by side (a calibration is
+    deterministic: the same number wherever it runs), and kept here; ``parallel`` False: all
+    here, one after another."""
+    from coincli.core.bounce import engine
+
+    def key(p):
+        return (p.coin, p.surf, p.dt, p.g)
+
+    missing = []
+    for p in plans if parallel else ():
+        if engine._calibration_key(*key(p)) not in engine._CALIBRATION and key(p) not in missing:
+            missing.append(key(p))
+    if len(missing) > 1:
+        for i, b in workers.map(_calibration, missing, len(missing)):
+            engine._CALIBRATION[engine._calibration_key(*missing[i])] = b
+    for p in plans:
+        p.damping = calibrate(p.coin, p.surf, p.dt, p.g)
+
+
+def simulate_many(runs, *, jobs=None, workers=None, executor=None,
+                  progress: Callable[[int], None] | None = None) -> list:
+    """Several :func:`simulate` runs at once: ``runs``, the keyword arguments of each
+    (``n``, ``seed``, ``xi``, ...: those of :func:`simulate` but ``jobs``, ``progress``,
+    ``executor``), share ``workers`` (a :class:`Workers`; by default one for this call, of
+    ``jobs`` processes), their calibrations run side by side and their chunks in one queue, so
+    that no worker waits for another run's last chunk.  Each result is the one
+    :func:`simulate` gives for the same arguments, byte for byte.  ``progress(done)``: the
+    tosses done, all runs together.  With an ``executor`` (a checkpoint or a cluster) the runs
+    go one after another, each through it as :func:`simulate` sends it."""
+    plans = [_plan(**kw, executor=executor) for kw in runs]
+    if workers is None:
+        with Workers(jobs) as own:
+            return simulate_many(runs, workers=own, executor=executor, progress=progress)
+    _calibrate_all(plans, workers, parallel=executor is None)  # (a cluster: no local pool)
+    results = [[None] * len(p.work) for p in plans]
+    done = 0
+
+    def tick(rows):
+        nonlocal done
+        done += len(rows)
+        if progress is not None:
+            progress(done)
+
+    if executor is not None:  # chunks from a checkpoint or a cluster; the rest run here
+        for p, res in zip(plans, results, strict=True):
+            for k, rows in executor.blocks(p.args, p.work):
+                res[k] = rows
+                tick(rows)
+            rest = [job for job in p.work if res[job[0]] is None]
+            for i, rows in workers.map(_run_job, [(p.args, job) for job in rest], len(rest)):
+                res[rest[i][0]] = rows
+                executor.keep(rest[i][0], rows)
+                tick(rows)
+    else:
+        items = [(j, job) for j, p in enumerate(plans) for job in p.work]
+        for i, rows in workers.map(_run_job, [(plans[j].args, job) for j, job in items],
+                                   len(items)):
+            j, (k, _) = items[i]
+            results[j][k] = rows
+            tick(rows)
+    return [_summary(p, res) for p, res in zip(plans, results, strict=True)]
+
+
 def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=0.0, vx=0.0,
              z0=None, diameter=DEFAULT_DIAMETER, density=DEFAULT_DENSITY, g=STANDARD_G,
              dt=DEFAULT_DT, t_max=DEFAULT_T_MAX, jobs=None, level=0.95, flight="exact",
              progress: Callable[[int], None] | None = None, stream=(),
-             chunk=None, executor=None) -> BounceSimulation:
+             chunk=None, executor=None, workers=None) -> BounceSimulation:
     """Toss ``n`` coins onto ``surf`` (a :class:`Surface`, default wood) with seeded random
     launches and count the outcomes.
 
@@ -195,88 +402,24 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
     ``executor`` (a checkpoint, :mod:`coincli.io.checkpoint`, or a Dask cluster,
     :mod:`coincli.core.bounce.cluster`) supplies chunks first: ``executor.blocks(args, work)``
     yields ``(k, rows)`` of the chunks it has or computes; the rest run here and are handed to
-    ``executor.keep(k, rows)``.
+    ``executor.keep(k, rows)``.  ``workers``: a :class:`Workers` to run on (several runs
+    sharing their processes); ``jobs`` is then theirs.
     """
+    kw = {"n": n, "seed": seed, "xi": xi, "u": u, "omega": omega, "psi": psi, "surf": surf,
+          "landing": landing, "height": height, "vx": vx, "z0": z0, "diameter": diameter,
+          "density": density, "g": g, "dt": dt, "t_max": t_max, "level": level,
+          "flight": flight, "stream": stream, "chunk": chunk}
+    return simulate_many([kw], jobs=jobs, workers=workers, executor=executor,
+                         progress=progress)[0]
+
+
+def _summary(plan: _Plan, results) -> BounceSimulation:
+    """The counts of a run from its chunks' rows (in chunk order)."""
     import numpy as np
 
-    from coincli.core.toss.flight import _count
     from coincli.core.toss.simulate import vigorous_limit
 
-    n = _count(n)
-    coin = Coin(float(xi), float(diameter), float(density))
-    surf = SURFACES["wood"] if surf is None else surf
-    if z0 is None:
-        z0 = default_z0(coin.xi, coin.diameter, "thick")
-    dists = {"u": as_dist(u, "u", 0.0, U_MAX), "omega": as_dist(omega, "omega", 0.0, 1e5),
-             "psi": as_dist(psi, "psi", 0.0, math.pi)}
-    for name, val in (("height", height), ("vx", vx), ("z0", z0)):
-        lo, hi = _DOMAINS[name]
-        dists[name] = as_dist(val, name, lo, hi)
-    jobs = default_jobs() if jobs is None else int(jobs)
-    if jobs < 1:
-        raise ValueError(f"jobs must be >= 1, got {jobs}")
-    jobs = capped_jobs(jobs)
-    damping = calibrate(coin, surf, dt, g)
-    args = (coin, surf, dt, g, landing, t_max, flight, damping)
-    if chunk is None:  # a cluster sizes its chunks from the run and its workers
-        chunk = executor.chunk(n) if hasattr(executor, "chunk") else CHUNK
-    chunk = int(chunk)
-    if not 1 <= chunk <= BLOCK:
-        raise ValueError(f"chunk must be from 1 to {BLOCK}, got {chunk}")
-    work = []
-    for b in range(-(-n // BLOCK)):
-        count = min(BLOCK, n - b * BLOCK)
-        for s in range(0, count, chunk):
-            work.append((len(work), (seed, b, s, min(s + chunk, count), count, dists,
-                                     tuple(stream))))
-    results = [None] * len(work)
-    done = 0
-    keep = None
-    if executor is not None:  # chunks from a checkpoint or a cluster; the rest run here
-        for k, rows in executor.blocks(args, work):
-            results[k] = rows
-            done += len(rows)
-            if progress is not None:
-                progress(done)
-        keep, work = executor.keep, [job for job in work if results[job[0]] is None]
-    if not work:
-        pass
-    elif jobs == 1 or len(work) == 1:
-        _worker_init(args)
-        for job in work:
-            k, results[k] = _run_block(job)
-            done += len(results[k])
-            if keep is not None:
-                keep(k, results[k])
-            if progress is not None:
-                progress(done)
-    else:
-        import multiprocessing as mp
-
-        ctx = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
-        pool = ctx.Pool(min(jobs, len(work)), initializer=_worker_init,
-                        initargs=(args, os.getpid()))
-        try:
-            it = pool.imap_unordered(_run_block, work)
-            for _ in work:
-                while True:  # a timeout, so that Ctrl-C is seen at once on every platform
-                    try:
-                        k, rows = it.next(timeout=0.2)
-                        break
-                    except mp.TimeoutError:
-                        continue
-                results[k] = rows
-                done += len(rows)
-                if keep is not None:
-                    keep(k, rows)
-                if progress is not None:
-                    progress(done)
-            pool.close()
-            pool.join()
-        except BaseException:  # Ctrl-C, SIGTERM, SIGHUP or a failed toss: stop the workers now
-            pool.terminate()
-            pool.join()
-            raise
+    n, level, coin = plan.n, plan.level, plan.coin
     rows = np.array([r for block in results for r in block], dtype=float)
     code = rows[:, 0].astype(int)
     catch = rows[:, 1].astype(int)
@@ -295,5 +438,6 @@ def simulate(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=
         n=n, counts=counts, frequencies=freqs, catch_counts=catch_counts,
         agree=int(np.sum(code == catch)), mean_bounces=float(rows[:, 2].mean()),
         mean_t_settle=float(rows[settled, 3].mean()) if ns else math.nan,
-        steps=int(rows[:, 4].sum()), seed=seed, landing=landing, surface=surf, damping=damping,
-        dt=dt, level=level, vigorous=vigorous_limit(coin.xi, dists["psi"]))
+        steps=int(rows[:, 4].sum()), seed=plan.seed, landing=plan.landing, surface=plan.surf,
+        damping=plan.damping, dt=plan.dt, level=level,
+        vigorous=vigorous_limit(coin.xi, plan.dists["psi"]))
