@@ -176,6 +176,13 @@ def _machine_chunks(ch, lines, extra=None, tail_rows=(), caught_extra=None, row_
     def per_exp(arr):
         return lambda a, b: [v for v in _values(arr[a:b]) for _ in range(M)]
 
+    def per_exp_where(mask, arr, keep=True):
+        """``arr`` where ``mask`` is ``keep``, NaN elsewhere, made a chunk at a time."""
+        def make(a, b):
+            m = mask[a:b] if keep else ~mask[a:b]
+            return [v for v in _values(np.where(m, arr[a:b], np.nan)) for _ in range(M)]
+        return make
+
     def per_exp_list(seq):
         return lambda a, b: [v for v in seq[a:b] for _ in range(M)]
 
@@ -215,9 +222,9 @@ def _machine_chunks(ch, lines, extra=None, tail_rows=(), caught_extra=None, row_
         per_exp_list(ch.labels),
         per_exp(np.asarray(ch.xi, dtype=float)),
         per_exp(cc.n),
-        per_exp(np.where(faces, cc.heads, nan) if not faces.all() else cc.heads),
+        per_exp_where(faces, cc.heads) if not faces.all() else per_exp(cc.heads),
         per_exp(cc.sides),
-        per_exp(np.where(faces, cc.tails, nan) if not faces.all() else cc.tails),
+        per_exp_where(faces, cc.tails) if not faces.all() else per_exp(cc.tails),
         lambda a, b: models * (b - a),
         *(per_test_of(lambda t, a, b, j=j: t.raw[j]) for j in range(3)),
         *(expected_of(j) for j in range(3)),
@@ -239,7 +246,7 @@ def _machine_chunks(ch, lines, extra=None, tail_rows=(), caught_extra=None, row_
     makers[5], makers[7] = _ints(makers[5]), _ints(makers[7])
     if cc.caught.any():
         caught = cc.caught
-        makers[6] = _ints(per_exp(np.where(caught, nan, cc.sides)))
+        makers[6] = _ints(per_exp_where(caught, cc.sides, keep=False))
 
         def p_same(t, a, b):
             with np.errstate(divide="ignore", invalid="ignore"):
@@ -248,8 +255,8 @@ def _machine_chunks(ch, lines, extra=None, tail_rows=(), caught_extra=None, row_
         for j in range(3):  # a caught row has no expected heads, sides or tails
             makers[12 + j] = expected_of(j, caught)
         makers += [
-            _ints(per_exp(np.where(caught, cc.same, nan))),
-            _ints(per_exp(np.where(caught, cc.n - cc.same, nan))),
+            _ints(per_exp_where(caught, cc.same)),
+            _ints(lambda a, b: per_exp_where(caught[a:b], cc.n[a:b] - cc.same[a:b])(0, b - a)),
             per_test_of(p_same),
             per_test_of(lambda t, a, b: np.where(caught[a:b], t.expected[0], nan)),
             per_test_of(lambda t, a, b: np.where(caught[a:b], t.expected[1], nan)),
@@ -962,8 +969,7 @@ def _caught_fit_result(res, exps, lines, extra, tail, spread_cells, p_design,
     models = res.rows.models
     M = len(models)
     k_spread = models.index(stats.SPREAD_MODEL) if stats.SPREAD_MODEL in models else None
-    own = np.full((T, 3), np.nan)
-    own[cf.rows] = np.degrees(np.stack([cf.fits.sigma, cf.fits.low, cf.fits.high], axis=1))
+    own = (cf.fits.sigma, cf.fits.low, cf.fits.high)  # radians, of the caught rows alone
     is_caught = res.rows.cc.caught
     bound = np.zeros(T, np.int8)
     bound[cf.rows] = cf.fits.at_bound
@@ -978,9 +984,11 @@ def _caught_fit_result(res, exps, lines, extra, tail, spread_cells, p_design,
         pooled = spread_cells[c]
 
         def make(a, b):
+            j0, j1 = np.searchsorted(cf.rows, [a, b]).tolist()  # the chunk's caught rows
+            mine = np.full(b - a, np.nan)
+            mine[cf.rows[j0:j1] - a] = np.degrees(own[c][j0:j1])
             out = []
-            for i, caught_i, v in zip(range(a, b), is_caught[a:b].tolist(),
-                                      own[a:b, c].tolist(), strict=True):
+            for caught_i, v in zip(is_caught[a:b].tolist(), mine.tolist(), strict=True):
                 for k in range(M):
                     if k != k_spread:
                         out.append(None)

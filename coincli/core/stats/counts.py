@@ -291,6 +291,10 @@ class ExperimentColumns(Sequence):
         def ints(a):  # the array's own buffer, not a copy
             return np.frombuffer(a, dtype=np.int64) if len(a) else np.zeros(0, np.int64)
 
+        def counts(a):  # a count no row has (heads of caught flips): one read-only 0
+            v = ints(a)
+            return np.broadcast_to(np.int64(0), v.shape) if not v.any() else v
+
         def floats(a):
             return np.frombuffer(a, dtype=float) if len(a) else np.zeros(0)
 
@@ -298,8 +302,8 @@ class ExperimentColumns(Sequence):
             return np.array(a, dtype=bool)
 
         cc = _CountColumns.from_arrays(
-            faces=bools(faces), sides=ints(sides), n=ints(n), heads=ints(heads),
-            tails=ints(tails), caught=bools(caught), same=ints(same))
+            faces=bools(faces), sides=counts(sides), n=ints(n), heads=counts(heads),
+            tails=counts(tails), caught=bools(caught), same=counts(same))
         return cls(ints(line), floats(xi), labels, floats(diameter), cc)
 
     def __len__(self):
