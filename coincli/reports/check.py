@@ -193,8 +193,10 @@ def _machine_chunks(ch, lines, extra=None, tail_rows=(), caught_extra=None, row_
                                              axis=1).ravel())
 
     def per_test_list(attr):
-        return lambda a, b: [v for i in range(b - a)
-                             for v in (getattr(t, attr)[i] for t in now["tests"])]
+        def make(a, b):
+            lists = [getattr(t, attr) for t in now["tests"]]
+            return [lst[i] for i in range(b - a) for lst in lists]
+        return make
 
     def per_interval(name, j):
         return lambda a, b: [v for v in _values(now["intervals"][name][j]) for _ in range(M)]
