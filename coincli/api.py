@@ -616,7 +616,8 @@ def fit(file, *, psi_dist=None, no_spread=None, delimiter=None, design=None, alp
         confidence=None, landing=None, fit=None, seed=None, save=None, design_tosses=None,
         surface=None, restitution=None, friction=None, torsional=None, rolling=None,
         release_height=None, vx=None, u=None, omega=None, psi=None, jobs=None, dt=None,
-        t_max=None, scheduler=None, checkpoint=None, timeout=None) -> list[dict]:
+        t_max=None, scheduler=None, checkpoint=None, timeout=None,
+        calibration=None) -> list[dict]:
     """``coin fit FILE``: which model do the tosses of a file of experiments follow?
 
     Parameters
@@ -636,6 +637,14 @@ def fit(file, *, psi_dist=None, no_spread=None, delimiter=None, design=None, alp
     design : str or float, optional
         For caught rows: each tosser's coin with this chance of a side (``"1/3"``: the fair
         three-sided coin) under their fitted spread (``design_xi``, ``design_thickness_mm``).
+    calibration : str or path-like, optional
+        With ``design``: a calibration file (``fit(..., landing="bounce", save=...)``); each
+        tosser's coin is designed on that table too, a bouncing design per tosser (MuJoCo; at
+        most ``design_tosses`` tosses each, default 2000; ``seed``, ``jobs``):
+        ``table_design_xi`` with ``table_design_xi_low``/``_high`` (the simulation's and the
+        calibration's uncertainty), ``table_design_thickness_mm`` (and its interval),
+        ``table_design_diameter_mm``, ``table_design_dominant``, ``table_design_tosses``,
+        ``table_design_seed``.
     alpha, confidence : str or float, optional
         Significance level of the verdicts (default 0.05), confidence level of the intervals
         (default 0.95).

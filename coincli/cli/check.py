@@ -110,15 +110,21 @@ FIT_TABLE = Group(
     BOUNCE.only("landing"),
     ("fit", option("--fit", "PARAMS", "With --landing bounce: what to estimate, comma-separated: "
                    "restitution, friction (default both), psi-spread."), None),
-    ("seed", option("--seed", "SEED", "With --landing bounce: the seed of the simulated tosses "
-                    "(default: drawn, and reported)."), None),
+    ("seed", option("--seed", "SEED", "With --landing bounce or --calibration: the seed of the "
+                    "simulated tosses (default: drawn, and reported)."), None),
     ("save", option("--save", "CAL.json", "With --landing bounce: write the calibration there, "
                     "for --calibration."), None),
     ("design_tosses", option("--design-tosses", "N", "With --landing bounce: simulated tosses of "
-                             "each prototype at each designed table (default 256)."), None),
+                             "each prototype at each designed table (default 256).  With "
+                             "--calibration: the most tosses of each tosser's design (default "
+                             "2000)."), None),
     BOUNCE.only("surface", "restitution", "friction", "torsional", "rolling"),
     LAUNCH.only("u", "omega", "psi"),
     BOUNCE.only("release_height", "vx", *RUNS, "dt", "t_max"),
+    ("calibration", option("--calibration", "CAL.json", "With --design: each tosser's coin "
+                           "designed on your table too, calibrated from tosses (coin fit "
+                           "--landing bounce FILE --save CAL.json): a bouncing design per "
+                           "tosser (MuJoCo), at most --design-tosses tosses each."), None),
 )
 
 

@@ -141,7 +141,6 @@ def _checked(rows, each):
 def _rows(text: str, max_rows: int, delimiter: str | None):
     """The experiments of ``text``, one at a time (see :func:`parse_experiments`)."""
     import csv
-    import io
 
     from coincli.core import coins
     from coincli.io.grammar import parse_length_mm, parse_number
@@ -150,7 +149,7 @@ def _rows(text: str, max_rows: int, delimiter: str | None):
         text = text[1:]
     sep = delimiter_of(delimiter) if delimiter is not None else None
     if sep is None:
-        for raw_line in text.splitlines():
+        for raw_line in (piece for chunk in _lines(text) for piece in chunk.splitlines()):
             if raw_line.strip() and not raw_line.lstrip().startswith("#"):
                 sep = _sniff(raw_line)
                 break
@@ -158,7 +157,8 @@ def _rows(text: str, max_rows: int, delimiter: str | None):
             sep = ","
     read_as = (f"read as {_DELIMITER_NAMES[sep]}-separated"
                + ("" if delimiter is not None else ", the separator sniffed from the header"))
-    reader = csv.reader(io.StringIO(text), delimiter=sep, skipinitialspace=True, strict=True)
+    # the text's lines one at a time, as io.StringIO(text) gives them (no copy of the text)
+    reader = csv.reader(_lines(text), delimiter=sep, skipinitialspace=True, strict=True)
     header: list[str] | None = None
     header_line = 0
     rows = 0
@@ -222,6 +222,17 @@ def _rows(text: str, max_rows: int, delimiter: str | None):
         raise _err(1, None, "the file is empty (expected a header such as xi,heads,sides,tails)")
     if not rows:
         raise _err(header_line, None, "no experiments after the header")
+
+
+def _lines(text: str):
+    """The lines of ``text``, each with its ``\n``, one at a time (what iterating
+    ``io.StringIO(text)`` gives, without its copy of the text: four bytes a character)."""
+    find, start, end = text.find, 0, len(text)
+    while start < end:
+        stop = find("\n", start)
+        stop = end if stop < 0 else stop + 1
+        yield text[start:stop]
+        start = stop
 
 
 def _fast_count(text: str, name: str) -> int:

@@ -533,14 +533,17 @@ def launch_on(p, psi, psi_dist, u, omega):
 # --------------------------------------------------------------------------- coin design
 
 
-def design(p, *, targets, seed, tol, max_tosses, time_limit, given, diameter, g, progress=None):
+def design(p, *, targets, seed, tol, max_tosses, time_limit, given, diameter, g, progress=None,
+           psi=None):
     """``coin design --landing bounce --calibration CAL.json``: the design on the calibrated
     table (its estimate), then the calibration's uncertainty carried to each answer: the
     chance of a side is simulated at the answer's xi on tables one standard deviation either
     side of the estimate along each fitted parameter (the same launches for all: common
     random numbers), its probit slope per parameter read off, and the variance of ln xi from
     the calibration's covariance (delta method) added to the simulation's.  ``given``: the
-    launch options typed (u, omega, psi), which must agree with the calibration's."""
+    launch options typed (u, omega, psi), which must agree with the calibration's.  ``psi``: a
+    launch's psi (a Dist) that replaces the calibration's (``coin fit --design --calibration``:
+    each tosser's own spread); a fitted psi-spread of the calibration is then not varied."""
     import numpy as np
     from scipy.special import ndtri
     from scipy.stats import norm
@@ -554,6 +557,8 @@ def design(p, *, targets, seed, tol, max_tosses, time_limit, given, diameter, g,
     path, cal = p.calibration
     check_launch(path, cal, given)
     u_spec, w_spec, psi_spec = launch_of(cal)
+    if psi is not None:
+        psi_spec = psi
     warn = []
     if not math.isclose(diameter * 1000, cal["diameter_mm"], rel_tol=1e-6):
         warn.append(f"the calibration's prototypes were {cal['diameter_mm']:g} mm across, this "
@@ -567,6 +572,7 @@ def design(p, *, targets, seed, tol, max_tosses, time_limit, given, diameter, g,
     u_hat = np.array([C.to_coords(n, est[n]) for n in names])
     sd = np.sqrt(np.clip(np.diag(cov), 0.0, None))
     n_b = max(32, min(400, int(max_tosses) // 4))  # each of 2 x parameters tables
+    varied = sum(psi is None or n != "psi_sd_deg" for n in names)  # parameters varied
     with (progress or no_progress)() as tick:
         r = core_call(bounce_design.design, targets, seed=seed, tol=tol, max_tosses=max_tosses,
                       time_limit=time_limit, surf=p.surface, progress=tick, **kw)
@@ -576,6 +582,8 @@ def design(p, *, targets, seed, tol, max_tosses, time_limit, given, diameter, g,
             slope = np.zeros(len(names))
             slope_var = np.zeros(len(names))
             for i, _n in enumerate(names):
+                if psi is not None and _n == "psi_sd_deg":
+                    continue  # the launch's psi is given, not the calibration's
                 ends = []
                 for sgn in (-1.0, 1.0):
                     u = u_hat.copy()
@@ -612,7 +620,8 @@ def design(p, *, targets, seed, tol, max_tosses, time_limit, given, diameter, g,
             dia_mm = diameter * 1000
             rows.append((t, x, xlo, xhi, dia_mm * x, dia_mm * xlo, dia_mm * xhi,
                          math.sqrt(var_sim), math.sqrt(var_cal), dominant,
-                         float(f.p_sides(x)), f.p_value, r.tosses + 2 * len(names) * n_b,
+                         float(f.p_sides(x)), f.p_value,
+                         r.tosses + 2 * varied * n_b,
                          r.seed))
     from coincli.reports.bounce import design_columns
 

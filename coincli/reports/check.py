@@ -160,35 +160,50 @@ def _machine_chunks(ch, lines, extra=None, tail_rows=(), caught_extra=None, row_
     """The machine table a chunk at a time (lists of columns, at most CHUNK_ROWS rows): one
     row per experiment and model (experiment-major), then ``tail_rows`` (tuples).
     ``extra(k)`` gives the fit's extra cells of model ``k``.  A file of 10^5 experiments is
-    written without ever holding its 10^5 x models x 45 cells.  With caught rows the
-    :data:`CAUGHT_MACHINE_COLUMNS` follow (then ``caught_extra``, makers of the fit's caught
-    columns); ``row_extra`` maps a column index to a maker that replaces it."""
+    written without ever holding its 10^5 x models x 45 cells, nor every row's tests: each
+    chunk's are computed when it is written (:meth:`Checks.part`).  ``lines``: each row's line
+    (an array), or None.  With caught rows the :data:`CAUGHT_MACHINE_COLUMNS` follow (then
+    ``caught_extra``, makers of the fit's caught columns); ``row_extra`` maps a column index to
+    a maker that replaces it.  A maker takes ``(a, b)``, the rows of the chunk."""
     import numpy as np
 
-    M = len(ch.tests)
+    M = len(ch.models)
     T = len(ch)
     cc = ch.cc
     faces = cc.faces
+    now = {}  # the chunk being written: its tests and intervals (ch.part)
 
     def per_exp(arr):
         return lambda a, b: [v for v in _values(arr[a:b]) for _ in range(M)]
+
+    def per_exp_where(mask, arr, keep=True):
+        """``arr`` where ``mask`` is ``keep``, NaN elsewhere, made a chunk at a time."""
+        def make(a, b):
+            m = mask[a:b] if keep else ~mask[a:b]
+            return [v for v in _values(np.where(m, arr[a:b], np.nan)) for _ in range(M)]
+        return make
 
     def per_exp_list(seq):
         return lambda a, b: [v for v in seq[a:b] for _ in range(M)]
 
     def per_test_of(column):
-        """A column of every model's test (``column(t, a, b)``: its rows a to b), stacked a chunk
-        at a time: a file of 10^5 rows never holds T x M cells of it at once."""
-        return lambda a, b: _values(np.stack([column(t, a, b) for t in tests],
+        """A column of every model's test (``column(t, a, b)``: the chunk's test ``t``, and
+        rows a to b of the whole), stacked a model at a time."""
+        return lambda a, b: _values(np.stack([column(t, a, b) for t in now["tests"]],
                                              axis=1).ravel())
 
-    def per_test_list(lists):
-        return lambda a, b: [lst[i] for i in range(a, b) for lst in lists]
+    def per_test_list(attr):
+        def make(a, b):
+            lists = [getattr(t, attr) for t in now["tests"]]
+            return [lst[i] for i in range(b - a) for lst in lists]
+        return make
+
+    def per_interval(name, j):
+        return lambda a, b: [v for v in _values(now["intervals"][name][j]) for _ in range(M)]
 
     def const(v):
         return lambda a, b: [v] * ((b - a) * M)
 
-    tests = ch.tests
     nan = np.nan
 
     def expected_of(j, caught=None):
@@ -196,35 +211,35 @@ def _machine_chunks(ch, lines, extra=None, tail_rows=(), caught_extra=None, row_
         rows, when ``caught`` is given)."""
         def column(t, a, b):
             f = faces[a:b]
-            e = t.expected[j, a:b] if j != 1 else np.where(f, t.expected[1, a:b],
-                                                           t.expected[0, a:b])
+            e = t.expected[j] if j != 1 else np.where(f, t.expected[1], t.expected[0])
             if j != 1:
                 e = np.where(f, e, nan)
             return e if caught is None else np.where(caught[a:b], nan, e)
         return per_test_of(column)
 
+    models = ch.models
     makers = [
         const("experiment"),
-        per_exp_list(lines) if lines is not None else const(None),
+        per_exp(lines) if lines is not None else const(None),
         per_exp_list(ch.labels),
         per_exp(np.asarray(ch.xi, dtype=float)),
         per_exp(cc.n),
-        per_exp(np.where(faces, cc.heads, nan) if not faces.all() else cc.heads),
+        per_exp_where(faces, cc.heads) if not faces.all() else per_exp(cc.heads),
         per_exp(cc.sides),
-        per_exp(np.where(faces, cc.tails, nan) if not faces.all() else cc.tails),
-        lambda a, b: [t.model for _ in range(a, b) for t in tests],
-        *(per_test_of(lambda t, a, b, j=j: t.raw[j, a:b]) for j in range(3)),
+        per_exp_where(faces, cc.tails) if not faces.all() else per_exp(cc.tails),
+        lambda a, b: models * (b - a),
+        *(per_test_of(lambda t, a, b, j=j: t.raw[j]) for j in range(3)),
         *(expected_of(j) for j in range(3)),
-        per_test_list([t.method for t in tests]),
-        per_test_of(lambda t, a, b: t.exact[a:b]),
-        per_test_of(lambda t, a, b: t.p_value[a:b]),
-        per_test_of(lambda t, a, b: t.g[a:b]),
-        per_test_of(lambda t, a, b: t.df[a:b]),
-        per_test_of(lambda t, a, b: t.log_likelihood[a:b]),
-        per_test_list([t.verdict for t in tests]),
+        per_test_list("method"),
+        per_test_of(lambda t, a, b: t.exact),
+        per_test_of(lambda t, a, b: t.p_value),
+        per_test_of(lambda t, a, b: t.g),
+        per_test_of(lambda t, a, b: t.df),
+        per_test_of(lambda t, a, b: t.log_likelihood),
+        per_test_list("verdict"),
     ]
     for name in _OUTCOMES:
-        makers += [per_exp(v) for v in ch.intervals[name]]
+        makers += [per_interval(name, j) for j in range(5)]
     if extra is not None:
         for c in range(len(extra(0))):
             cells = [extra(k)[c] for k in range(M)]
@@ -233,22 +248,21 @@ def _machine_chunks(ch, lines, extra=None, tail_rows=(), caught_extra=None, row_
     makers[5], makers[7] = _ints(makers[5]), _ints(makers[7])
     if cc.caught.any():
         caught = cc.caught
-        makers[6] = _ints(per_exp(np.where(caught, nan, cc.sides)))
+        makers[6] = _ints(per_exp_where(caught, cc.sides, keep=False))
 
         def p_same(t, a, b):
             with np.errstate(divide="ignore", invalid="ignore"):
-                return np.where(caught[a:b], t.raw[0, a:b] / (t.raw[0, a:b] + t.raw[2, a:b]),
-                                nan)
+                return np.where(caught[a:b], t.raw[0] / (t.raw[0] + t.raw[2]), nan)
 
         for j in range(3):  # a caught row has no expected heads, sides or tails
             makers[12 + j] = expected_of(j, caught)
         makers += [
-            _ints(per_exp(np.where(caught, cc.same, nan))),
-            _ints(per_exp(np.where(caught, cc.n - cc.same, nan))),
+            _ints(per_exp_where(caught, cc.same)),
+            _ints(lambda a, b: per_exp_where(caught[a:b], cc.n[a:b] - cc.same[a:b])(0, b - a)),
             per_test_of(p_same),
-            per_test_of(lambda t, a, b: np.where(caught[a:b], t.expected[0, a:b], nan)),
-            per_test_of(lambda t, a, b: np.where(caught[a:b], t.expected[1, a:b], nan)),
-            *(per_exp(v) for v in ch.intervals["same"]),
+            per_test_of(lambda t, a, b: np.where(caught[a:b], t.expected[0], nan)),
+            per_test_of(lambda t, a, b: np.where(caught[a:b], t.expected[1], nan)),
+            *(per_interval("same", j) for j in range(5)),
         ]
         if caught_extra is not None:
             makers += caught_extra
@@ -257,7 +271,11 @@ def _machine_chunks(ch, lines, extra=None, tail_rows=(), caught_extra=None, row_
             makers[c] = make
     step = max(1, min(CHUNK_ROWS, 8192) // M)  # 45 columns: 8192 rows of cells at a time
     for a in range(0, T, step):
-        yield [make(a, min(a + step, T)) for make in makers]
+        b = min(a + step, T)
+        part = ch.part(a, b)
+        now["tests"], now["intervals"] = part.tests, part.intervals
+        yield [make(a, b) for make in makers]
+    now.clear()
     if tail_rows:
         yield [list(col) for col in zip(*tail_rows, strict=True)]
 
@@ -299,14 +317,16 @@ def _observed_result(title: str, ch, lines, confidence: float) -> Result:
     names = _OUTCOMES + (("same",) if caught.any() else ())
 
     def rows(a: int, b: int) -> list[tuple]:
-        per = {name: [v[a:b].tolist() for v in ch.intervals[name]] for name in names}
+        iv = ch.part(a, b, tests=False).intervals
+        per = {name: [v.tolist() for v in iv[name]] for name in names}
+        line = lines[a:b].tolist() if with_line else None
         counts = {"heads": cc.heads[a:b].tolist(), "sides": cc.sides[a:b].tolist(),
                   "tails": cc.tails[a:b].tolist(), "same": cc.same[a:b].tolist()}
         xi = ch.xi[a:b].tolist()
         body = []
         for j, (f, c) in enumerate(zip(cc.faces[a:b].tolist(), caught[a:b].tolist(),
                                        strict=True)):
-            lead = [lines[a + j], ch.labels[a + j], xi[j]] if with_line else []
+            lead = [line[j], ch.labels[a + j], xi[j]] if with_line else []
             for name in (_OUTCOMES if f else ("same",) if c else ("sides",)):
                 est, wl, wh, cl, chh = (col[j] for col in per[name])
                 body.append((*lead, name, counts[name][j], est, _interval_text(wl, wh),
@@ -349,13 +369,14 @@ def _tests_result(title: str, ch, lines, note: str) -> Result:
              Column("log_likelihood", "log-likelihood"), Column("verdict", "verdict", "text")]
 
     def rows(a: int, b: int) -> list[tuple]:
-        tests = [(t.model, t.raw[:, a:b].T.tolist(), t.expected[:, a:b].T.tolist(),
-                  t.p_value[a:b].tolist(), t.log_likelihood[a:b].tolist(), t.verdict[a:b])
-                 for t in ch.tests]
+        tests = [(t.model, t.raw.T.tolist(), t.expected.T.tolist(), t.p_value.tolist(),
+                  t.log_likelihood.tolist(), t.verdict)
+                 for t in ch.part(a, b, intervals=False).tests]
+        line = lines[a:b].tolist() if with_line else None
         body = []
         for j, (f, c) in enumerate(zip(ch.cc.faces[a:b].tolist(), caught[a:b].tolist(),
                                        strict=True)):
-            lead = [lines[a + j], ch.labels[a + j]] if with_line else []
+            lead = [line[j], ch.labels[a + j]] if with_line else []
             for model, raw, exp, pv, ll, ver in tests:
                 e = exp[j]
                 shown = e if f else (e[0], e[1]) if c else (None, e[0], None)
@@ -368,11 +389,11 @@ def _tests_result(title: str, ch, lines, note: str) -> Result:
                              pv[j], ll[j], ver[j]))
         return body
 
-    return _chunked(title, cols, rows, len(ch), len(ch.tests), note)
+    return _chunked(title, cols, rows, len(ch), len(ch.models), note)
 
 
 def _test_note(ch) -> str:
-    tests = sorted({m for t in ch.tests for m in set(t.method)})
+    tests = sorted(ch.methods())
     return (
         f"test: {', '.join(tests)}; p = the chance, under the model, of counts no more likely "
         "than those observed.  'consistent' means the tosses do not contradict the model, not "
@@ -778,8 +799,9 @@ def fit(file: str, *, psi_dist: str | None = None, no_spread: bool = False,
         release_height: str | None = None, vx: str | None = None, u: str | None = None,
         omega: str | None = None, psi: str | None = None, jobs: str | None = None,
         dt: str | None = None, t_max: str | None = None, scheduler: str | None = None,
-        checkpoint: str | None = None, timeout: str | None = None, fmt: str = "table",
-        quiet: bool = False, progress=None):
+        checkpoint: str | None = None, timeout: str | None = None,
+        calibration: str | None = None, fmt: str = "table", quiet: bool = False,
+        progress=None):
     """What ``coin fit FILE`` prints: every experiment of ``file`` checked as :func:`check`
     does, then the models compared across experiments (log-likelihood, AIC, the paper's sum of
     squared errors of the side frequencies) and the maximum-likelihood spread of psi with its
@@ -794,6 +816,10 @@ def fit(file: str, *, psi_dist: str | None = None, no_spread: bool = False,
     with ``fit``, ``seed``, ``save``, ``design_tosses``, the surface and launch options and
     where the design's tosses run, ``scheduler``, ``checkpoint``, ``timeout``; ``progress()``: a
     progress bar, or None).
+
+    ``design`` with ``calibration`` (a calibration file): each tosser's coin is designed on the
+    calibrated table too (:func:`_table_designs`: a bouncing design per tosser, at most
+    ``design_tosses`` tosses each, ``seed``, ``jobs``).
     """
     from coincli.reports.bounce import landing_of
 
@@ -806,6 +832,9 @@ def fit(file: str, *, psi_dist: str | None = None, no_spread: bool = False,
     if landing_of(landing) == "bounce":
         from coincli.reports import calibrate
 
+        if calibration is not None:
+            raise usage_error("--calibration goes with --design (each tosser's coin on your "
+                              "calibrated table); --landing bounce fits a calibration (--save)")
         if no_spread or alpha != "0.05" or design is not None:
             raise usage_error("--no-spread, --design and --alpha go with the models (no "
                               "--landing); --landing bounce calibrates a table")
@@ -817,10 +846,23 @@ def fit(file: str, *, psi_dist: str | None = None, no_spread: bool = False,
                              t_max=t_max, confidence=confidence, fmt=fmt, quiet=quiet,
                              progress=progress, scheduler=scheduler, checkpoint=checkpoint,
                              timeout=timeout)
-    extra = [k for k, v in bounce.items() if v is not None]
+    with_table = ("--seed", "--design-tosses", "--jobs", "--dt", "--t-max", "--release-height",
+                  "--vx", "--surface", "--restitution", "--friction", "--torsional", "--rolling")
+    extra = [k for k, v in bounce.items() if v is not None
+             and (calibration is None or k not in with_table)]
     if extra:
         raise usage_error(f"{', '.join(extra)} go{'es' if len(extra) == 1 else ''} with "
-                          "--landing bounce")
+                          "--landing bounce" + (" (or --seed, --design-tosses and --jobs with "
+                                                "--calibration)" if calibration else ""))
+    physics = None
+    if calibration is not None:
+        if design is None:
+            raise usage_error("--calibration goes with --design P: each tosser's coin, "
+                              "designed on your calibrated table too")
+        physics = _table_physics(calibration, surface=surface, restitution=restitution,
+                                 friction=friction, torsional=torsional, rolling=rolling,
+                                 release_height=release_height, vx=vx, jobs=jobs, dt=dt,
+                                 t_max=t_max)
     from coincli.core.stats import fit as stats
     from coincli.io.experiments import delimiter_of
 
@@ -858,8 +900,12 @@ def fit(file: str, *, psi_dist: str | None = None, no_spread: bool = False,
     sp = res.spread
     if quiet:
         return Result("coin fit", FIT_COLUMNS, [], quiet=_deg(sp.sigma))
-    lines = exps.line.tolist()
-    n_total = sum(exps.cc.n.tolist())
+    table = None
+    if physics is not None:
+        table = _table_designs(physics, res.caught, exps, p_design, seed=seed,
+                               design_tosses=design_tosses, progress=progress)
+    lines = exps.line
+    n_total = _total(exps.cc.n)
     cf = res.caught
     if fmt == "table":
         out = [
@@ -870,11 +916,11 @@ def fit(file: str, *, psi_dist: str | None = None, no_spread: bool = False,
             _comparison_result(res, conf),
         ]
         if cf is not None:
-            out.append(_tossers_result(exps, cf, lines, conf, p_design))
+            out.append(_tossers_result(exps, cf, lines, conf, p_design, table))
         return out
     spread_cells = ([_deg(sp.sigma), _deg(sp.low), _deg(sp.high)] if sp is not None
                     else [None] * 3)
-    models = [t.model for t in res.rows.tests]
+    models = res.rows.models
 
     def extra(k):
         return [None] * 4 + (spread_cells if models[k] == stats.SPREAD_MODEL else [None] * 3)
@@ -891,7 +937,7 @@ def fit(file: str, *, psi_dist: str | None = None, no_spread: bool = False,
     if cf is None:
         return Result("coin fit", FIT_COLUMNS, [],
                       chunks=_machine_chunks(res.rows, lines, extra, tail))
-    return _caught_fit_result(res, exps, lines, extra, tail, spread_cells, p_design)
+    return _caught_fit_result(res, exps, lines, extra, tail, spread_cells, p_design, table)
 
 
 def _design(text: str | None) -> float | None:
@@ -911,44 +957,45 @@ def _design(text: str | None) -> float | None:
 _N_CAUGHT_FIT = len(CAUGHT_FIT_COLUMNS)
 
 
-def _caught_fit_result(res, exps, lines, extra, tail, spread_cells, p_design) -> Result:
+def _caught_fit_result(res, exps, lines, extra, tail, spread_cells, p_design,
+                       table=None) -> Result:
     """The machine table of a fit with caught rows: every column, the caught ones last; each
     caught row's psi-spread line carries its own spread; a row of scope ``all`` the tossers'
-    heterogeneity."""
+    heterogeneity.  Each row's cells are made from arrays when its chunk is written."""
     import numpy as np
 
     from coincli.core.stats import fit as stats
 
     cf = res.caught
     T = len(res.rows)
-    models = [t.model for t in res.rows.tests]
+    models = res.rows.models
     M = len(models)
     k_spread = models.index(stats.SPREAD_MODEL) if stats.SPREAD_MODEL in models else None
-    own = np.full((T, 3), np.nan)
-    own[cf.rows] = np.degrees(np.stack([cf.fits.sigma, cf.fits.low, cf.fits.high], axis=1))
+    own = (cf.fits.sigma, cf.fits.low, cf.fits.high)  # radians, of the caught rows alone
     is_caught = res.rows.cc.caught
-    notes = [None] * T
-    for i, b in zip(cf.rows.tolist(), cf.fits.at_bound.tolist(), strict=True):
-        notes[i] = _bound_note(int(b)) or None
-    design = [None] * T
+    bound = np.zeros(T, np.int8)
+    bound[cf.rows] = cf.fits.at_bound
+    notes = {b: _bound_note(b) or None for b in (-1, 0, 1)}
+    design_xi = None
     if cf.fair_xi is not None:
-        for i, x in zip(cf.rows.tolist(), cf.fair_xi.tolist(), strict=True):
-            d = exps[i].diameter
-            design[i] = (p_design, x, None if d is None else x * d)
+        design_xi = np.full(T, np.nan)
+        design_xi[cf.rows] = cf.fair_xi
     base = len(FIT_COLUMNS)  # the sigma columns are the last three of FIT_COLUMNS
 
     def sigma_maker(c):
         pooled = spread_cells[c]
 
         def make(a, b):
+            j0, j1 = np.searchsorted(cf.rows, [a, b]).tolist()  # the chunk's caught rows
+            mine = np.full(b - a, np.nan)
+            mine[cf.rows[j0:j1] - a] = np.degrees(own[c][j0:j1])
             out = []
-            for i in range(a, b):
+            for caught_i, v in zip(is_caught[a:b].tolist(), mine.tolist(), strict=True):
                 for k in range(M):
                     if k != k_spread:
                         out.append(None)
-                    elif is_caught[i]:
-                        v = own[i, c]
-                        out.append(None if v != v else float(v))
+                    elif caught_i:
+                        out.append(None if v != v else v)
                     else:
                         out.append(pooled)
             return out
@@ -956,40 +1003,158 @@ def _caught_fit_result(res, exps, lines, extra, tail, spread_cells, p_design) ->
 
     def row_cells(j):
         def make(a, b):
-            out = []
-            for i in range(a, b):
-                if j == 0:
-                    cells = [notes[i] if k == k_spread else None for k in range(M)]
-                elif design[i] is not None and 8 <= j <= 10:
-                    cells = [design[i][j - 8]] * M
-                else:
-                    cells = [None] * M
-                out += cells
-            return out
+            if j == 0:
+                return [notes[v] if k == k_spread else None for v in bound[a:b].tolist()
+                        for k in range(M)]
+            if design_xi is None or not 8 <= j <= 10:
+                return [None] * ((b - a) * M)
+            xs, cs = design_xi[a:b].tolist(), is_caught[a:b].tolist()
+            if j == 8:
+                cells = [p_design if c else None for c in cs]
+            elif j == 9:
+                cells = [x if c else None for x, c in zip(xs, cs, strict=True)]
+            else:
+                cells = [(None if d != d else x * d) if c else None
+                         for x, c, d in zip(xs, cs, exps.diameter[a:b].tolist(), strict=True)]
+            return [v for v in cells for _ in range(M)]
         return make
 
     caught_extra = [row_cells(j) for j in range(_N_CAUGHT_FIT)]
+    table_columns = []
+    if table is not None:  # each tosser's coin on the calibrated table
+        table_columns = TABLE_DESIGN_COLUMNS
+        for c in range(len(table_columns)):
+            col = np.full(T, None, dtype=object)
+            col[cf.rows] = [row[c] for row in table.rows]
+            caught_extra.append(lambda a, b, col=col: [v for v in col[a:b].tolist()
+                                                       for _ in range(M)])
     row_extra = {base - 3 + c: sigma_maker(c) for c in range(3)}
-    n_caught = len(CAUGHT_MACHINE_COLUMNS) + _N_CAUGHT_FIT
+    n_caught = len(CAUGHT_MACHINE_COLUMNS) + _N_CAUGHT_FIT + len(table_columns)
     tail = [t + (None,) * n_caught for t in tail]
     het = cf.heterogeneity
     if het is not None:
         from coincli.core.stats.caught import HETEROGENEITY_METHOD
 
-        n_c = int(res.rows.cc.n[cf.rows].sum())
+        n_c = _total(res.rows.cc.n[cf.rows])
         cells = ["all", None, "caught rows", None, n_c] + [None] * 3 + [stats.SPREAD_MODEL]
         cells += [None] * (base - len(cells) - 3)
         cells += [_deg(het.sigma_common), None, None]
         cells += [None] * len(CAUGHT_MACHINE_COLUMNS)
         cells += [None, HETEROGENEITY_METHOD, het.statistic, het.df, het.p_value,
                   _deg(het.sigma_common), _deg(math.exp(het.mu)), het.tau, None, None, None]
+        cells += [None] * len(table_columns)
         tail.append(tuple(cells))
-    return Result("coin fit", FIT_COLUMNS + CAUGHT_MACHINE_COLUMNS + CAUGHT_FIT_COLUMNS, [],
+    return Result("coin fit", FIT_COLUMNS + CAUGHT_MACHINE_COLUMNS + CAUGHT_FIT_COLUMNS
+                  + table_columns, [], note="" if table is None else table.note,
                   chunks=_machine_chunks(res.rows, lines, extra, tail, caught_extra,
                                          row_extra))
 
 
-def _tossers_result(exps, cf, lines, conf: float, p_design) -> Result:
+def _total(n) -> int:
+    """The sum of an int64 array of counts, exact (a Python int: 10^5 counts of up to 2**53
+    overflow int64), a block at a time."""
+    return sum(sum(n[a:a + 4096].tolist()) for a in range(0, len(n), 4096))
+
+
+#: the columns of each tosser's coin on a calibrated table (``coin fit --design P
+#: --calibration CAL.json``), after every other column
+TABLE_DESIGN_COLUMNS = [
+    Column("table_design_xi", "xi on your table"),
+    Column("table_design_xi_low", "95% low"),
+    Column("table_design_xi_high", "95% high"),
+    Column("table_design_diameter_mm", "diameter (mm)"),
+    Column("table_design_thickness_mm", "thickness (mm) on your table"),
+    Column("table_design_thickness_low_mm", "thickness 95% low"),
+    Column("table_design_thickness_high_mm", "thickness 95% high"),
+    Column("table_design_dominant", "larger uncertainty", "text"),
+    Column("table_design_tosses", "tosses simulated", "int"),
+    Column("table_design_seed", "seed", "int"),
+]
+#: the most tosses of each tosser's design on a calibrated table (``--design-tosses``)
+TABLE_DESIGN_TOSSES = 2000
+
+
+class _TableDesigns:
+    """Each caught row's coin on the calibrated table: ``rows`` (one tuple of
+    :data:`TABLE_DESIGN_COLUMNS` per caught row, in order) and the ``note`` that says how."""
+
+    def __init__(self, rows, note):
+        self.rows, self.note = rows, note
+
+
+def _table_physics(calibration: str, *, release_height, **opts):
+    """The calibrated table of ``--calibration`` (the surface options refused with it)."""
+    from coincli.reports.bounce import parse_physics
+
+    return parse_physics("bounce", calibration=calibration, height=release_height, **opts)
+
+
+def _table_designs(physics, cf, exps, p_design: float, *, seed, design_tosses,
+                   progress=None) -> _TableDesigns:
+    """Each tosser's coin with the chance of a side ``p_design`` on the calibrated table
+    (:func:`coincli.reports.calibrate.design`, as ``coin design --landing bounce --calibration``
+    makes it): the calibration's launch (speed and spin) with psi ~ normal(90 deg, the
+    tosser's fitted sd) truncated to [0, 180] (sd 0: psi = 90 deg; inf: uniform), the row's
+    diameter (else the calibration's prototypes'), at most ``design_tosses`` tosses
+    (:data:`TABLE_DESIGN_TOSSES`) and no time limit, so that the seed repeats it.  Tossers of
+    one spread and diameter share one design.  Its interval holds the simulation's and the
+    calibration's uncertainty (added in variance), not that of the tosser's own sd."""
+    from coincli.core.bounce import design as BD
+    from coincli.core.toss.launch import Dist
+    from coincli.io.options import seed_value
+    from coincli.limits import MAX_BOUNCE_TOSSES, STANDARD_G
+    from coincli.reports import calibrate
+    from coincli.reports.bounce import bounce_tosses, check_coin, check_landing
+    from coincli.reports.launch import U_MAX, reach
+
+    least = BD.DESIGN_FIRST_MIN * len(BD.DESIGN_GRID)
+    most = (TABLE_DESIGN_TOSSES if design_tosses is None else
+            bounce_tosses(design_tosses, "--design-tosses", least, MAX_BOUNCE_TOSSES))
+    seed_v = seed_value(seed)
+    path, cal = physics.calibration
+    u_spec = calibrate.launch_of(cal)[0]
+    done: dict = {}
+    rows = []
+    for j, i in enumerate(cf.rows.tolist()):
+        sigma = float(cf.fits.sigma[j])
+        d = float(exps.diameter[i])
+        dia_mm = float(cal["diameter_mm"]) if math.isnan(d) else d
+        key = (sigma, dia_mm)
+        if key not in done:
+            psi = (math.pi / 2 if sigma == 0 else
+                   Dist("uniform", 0.0, math.pi, 0.0, math.pi) if math.isinf(sigma) else
+                   Dist("normal", math.pi / 2, sigma, 0.0, math.pi))
+            dia = dia_mm / 1000
+            check_coin(physics, None, dia, xi_low=min(BD.DESIGN_GRID),
+                       command="coin fit --design --calibration")
+            check_landing(physics, u_top=reach(u_spec, U_MAX), g=STANDARD_G,
+                          xi=max(BD.DESIGN_GRID), dia=dia, u_text="the calibration's")
+            r = calibrate.design(physics, targets=[p_design], seed=seed_v, tol=0.01,
+                                 max_tosses=most, time_limit=1e9, diameter=dia, g=STANDARD_G,
+                                 given={"u": None, "omega": None, "psi": None},
+                                 progress=progress, psi=psi)
+            v = dict(zip((c.name for c in r.columns), r.rows[0], strict=True))
+            done[key] = (v["xi"], v["xi_low"], v["xi_high"], dia_mm, v["thickness_mm"],
+                         v["thickness_low_mm"], v["thickness_high_mm"], v["dominant"],
+                         v["tosses"], v["seed"])
+        rows.append(done[key])
+    tab = ", ".join(f"{n} {cal['parameters'][n]['estimate']:.3g}" for n in cal["fitted"])
+    note = (f"on your table: each tosser's coin with P(sides) = {p_design:.6g} designed on the "
+            f"calibrated table ({path}: {tab}), simulated (MuJoCo): the calibration's launch "
+            "(speed, spin) with psi ~ normal about 90 deg with the tosser's fitted sd, "
+            f"truncated to [0, 180]; {len(done)} bouncing design"
+            f"{'' if len(done) == 1 else 's'} (one per distinct sd and diameter), at most "
+            f"{most} tosses each (--design-tosses) and more on tables either side of the "
+            f"calibration, {sum(v[8] for v in done.values())} tosses in all, seed {seed_v}.  "
+            "Each interval holds the "
+            "simulation's and the calibration's uncertainty (delta method, added in variance; "
+            "table_design_dominant says which is larger), not that of the tosser's own sd.  "
+            "A row with no diameter is designed for the calibration's prototypes "
+            f"({float(cal['diameter_mm']):g} mm).")
+    return _TableDesigns(rows, note)
+
+
+def _tossers_result(exps, cf, lines, conf: float, p_design, table=None) -> Result:
     """The human table of the caught rows: each tosser's spread (and fair coin)."""
     from coincli.core.stats.tests import percent
 
@@ -1000,21 +1165,34 @@ def _tossers_result(exps, cf, lines, conf: float, p_design) -> Result:
     if cf.fair_xi is not None:
         cols += [Column("design_xi", f"xi for P(sides) = {p_design:.6g}"),
                  Column("design_thickness_mm", "thickness (mm)")]
-    body = []
-    for j, i in enumerate(cf.rows.tolist()):
-        e = exps[i]
-        row = [lines[i], e.label, f"{e.counts.same} / {e.counts.n}",
-               _deg(float(cf.fits.sigma[j])),
-               f"{_fmt_deg(float(cf.fits.low[j]))} to {_fmt_deg(float(cf.fits.high[j]))}"]
-        if cf.fair_xi is not None:
-            x = float(cf.fair_xi[j])
-            row += [x, None if e.diameter is None else x * e.diameter]
-        body.append(tuple(row))
+    if table is not None:
+        cols += [Column("table_design_xi", "xi on your table"),
+                 Column("table_interval", "95% interval", "text"),
+                 Column("table_design_thickness_mm", "thickness (mm) on your table")]
+    rows_of = cf.rows
+
+    def body(a: int, b: int) -> list[tuple]:
+        """Caught rows ``a`` to ``b`` (of the caught rows alone)."""
+        out = []
+        for j, i in enumerate(rows_of[a:b].tolist(), start=a):
+            e = exps[i]
+            row = [int(lines[i]), e.label, f"{e.counts.same} / {e.counts.n}",
+                   _deg(float(cf.fits.sigma[j])),
+                   f"{_fmt_deg(float(cf.fits.low[j]))} to {_fmt_deg(float(cf.fits.high[j]))}"]
+            if cf.fair_xi is not None:
+                x = float(cf.fair_xi[j])
+                row += [x, None if e.diameter is None else x * e.diameter]
+            if table is not None:
+                t = table.rows[j]
+                row += [t[0], f"{t[1]:.4g} to {t[2]:.4g}", t[4]]
+            out.append(tuple(row))
+        return out
+
     notes = ["caught flips (faces only): each row is one tosser, fitted alone: psi ~ normal "
              "about 90 deg truncated to [0, 180], the chance of the same side "
              "P(H) / (P(H) + P(T)) (the start side as heads); a row at a bound is noted in "
              "the machine output (sigma_note)."]
-    bounds = sum(1 for b in cf.fits.at_bound.tolist() if b)
+    bounds = int((cf.fits.at_bound != 0).sum())
     if bounds:
         notes.append(f"{_plural(bounds, 'row has', 'rows have')} the estimate at a bound "
                      "(sd 0: no more same-side flips than a Keller flip's 1/2; inf: as many as "
@@ -1032,8 +1210,9 @@ def _tossers_result(exps, cf, lines, conf: float, p_design) -> Result:
         notes.append(f"design: the xi whose chance of a side is {p_design:.6g} under each "
                      "tosser's fitted spread (the paper's model, no bounce); the thickness for "
                      "the row's diameter when the row gives one (coin or diameter).")
-    return _chunked("each tosser (caught rows)", cols,
-                    lambda a, b: body[a:b], len(body), 1, "\n".join(notes))
+    if table is not None:
+        notes.append(table.note)
+    return _chunked("each tosser (caught rows)", cols, body, len(rows_of), 1, "\n".join(notes))
 
 def _comparison_result(res, conf: float) -> Result:
     cols = [Column("model", "model", "text"), Column("n_params", "fitted parameters", "int"),

@@ -310,7 +310,7 @@ def _fit_distinct(k, s, m, conf, chance):
     qinf = chance.q_inf[k]
     half = np.full(s.shape, 0.5)
     q_hat = np.clip(s / m, half, qinf)
-    bound = np.where(s / m <= 0.5, -1, np.where(s / m >= qinf, 1, 0))
+    bound = np.where(s / m <= 0.5, -1, np.where(s / m >= qinf, 1, 0)).astype(np.int8)
     q_lo, q_hi = _lr_ends(s, d, q_hat, half, qinf.copy(), conf)
 
     def to_sigma(q, at_hi):

@@ -271,7 +271,7 @@ class ExperimentColumns(Sequence):
         line, xi, diameter = array("q"), array("d"), array("d")
         n, sides, heads, tails, same = (array("q") for _ in range(5))
         faces, caught = array("b"), array("b")
-        labels = []
+        labels = _Labels()
         for e in rows:
             c = e.counts
             line.append(e.line)
@@ -286,15 +286,25 @@ class ExperimentColumns(Sequence):
             same.append(c.same if is_caught else 0)
             faces.append(c.heads is not None)
             caught.append(is_caught)
+        labels.close()
 
-        def ints(a):
-            return np.frombuffer(a, dtype=np.int64).copy() if len(a) else np.zeros(0, np.int64)
+        def ints(a):  # the array's own buffer, not a copy
+            return np.frombuffer(a, dtype=np.int64) if len(a) else np.zeros(0, np.int64)
+
+        def counts(a):  # a count no row has (heads of caught flips): one read-only 0
+            v = ints(a)
+            return np.broadcast_to(np.int64(0), v.shape) if not v.any() else v
+
+        def floats(a):
+            return np.frombuffer(a, dtype=float) if len(a) else np.zeros(0)
+
+        def bools(a):
+            return np.array(a, dtype=bool)
 
         cc = _CountColumns.from_arrays(
-            faces=np.array(faces, dtype=bool), sides=ints(sides), n=ints(n), heads=ints(heads),
-            tails=ints(tails), caught=np.array(caught, dtype=bool), same=ints(same))
-        return cls(ints(line), np.array(xi, dtype=float), labels, np.array(diameter, dtype=float),
-                   cc)
+            faces=bools(faces), sides=counts(sides), n=ints(n), heads=counts(heads),
+            tails=counts(tails), caught=bools(caught), same=counts(same))
+        return cls(ints(line), floats(xi), labels, floats(diameter), cc)
 
     def __len__(self):
         return len(self.xi)
@@ -309,6 +319,49 @@ class ExperimentColumns(Sequence):
         d = float(self.diameter[i])
         return Experiment(int(self.line[i]), float(self.xi[i]), self.cc.count(i),
                           self.labels[i], None if math.isnan(d) else d)
+
+
+class _Labels(Sequence):
+    """Many short texts held as one string and the offsets of their ends (a file of 10^5
+    labels in a few hundred kB instead of 10^5 string objects): ``labels[i]``, slices (lists),
+    ``len``.  Filled by :meth:`append`, then :meth:`close`."""
+
+    _JOIN = 4096  #: labels joined into one string at a time while filling
+
+    def __init__(self, texts=()):
+        from array import array
+
+        self._parts, self._pending, self._text = [], [], None
+        self._ends = array("q")
+        for t in texts:
+            self.append(t)
+        self.close()
+
+    def append(self, text: str) -> None:
+        self._pending.append(text)
+        self._ends.append((self._ends[-1] if self._ends else 0) + len(text))
+        if len(self._pending) >= self._JOIN:
+            self._parts.append("".join(self._pending))
+            self._pending = []
+
+    def close(self) -> None:
+        self._text = "".join(self._parts) + "".join(self._pending)
+        self._parts, self._pending = [], []
+
+    def __len__(self):
+        return len(self._ends)
+
+    def __getitem__(self, i):
+        if isinstance(i, slice):
+            return [self[k] for k in range(*i.indices(len(self)))]
+        if i < 0:
+            i += len(self)
+        if not 0 <= i < len(self):
+            raise IndexError(i)
+        return self._text[self._ends[i - 1] if i else 0:self._ends[i]]
+
+    def __eq__(self, other):
+        return isinstance(other, Sequence) and list(self) == list(other)
 
 
 class _CountColumns:
@@ -342,6 +395,15 @@ class _CountColumns:
         self.caught, self.same = caught, same
         self.sides_only = ~faces & ~caught
         return self
+
+    def rows(self, a: int, b: int) -> _CountColumns:
+        """Rows ``a`` to ``b`` (views of the arrays)."""
+        part = _CountColumns.from_arrays(
+            faces=self.faces[a:b], sides=self.sides[a:b], n=self.n[a:b], heads=self.heads[a:b],
+            tails=self.tails[a:b], caught=self.caught[a:b], same=self.same[a:b])
+        if self.counts is not None:
+            part.counts = self.counts[a:b]
+        return part
 
     def count(self, i: int):
         """Row ``i``'s :class:`Counts` (or :class:`Caught`)."""

@@ -316,6 +316,7 @@ class CaughtFit(namedtuple("CaughtFit", "rows fits heterogeneity fair_xi")):
 
 
 SPREAD_MODEL = "psi-spread"  #: the model name of the fitted spread in results
+_SSE_BLOCK = 65536  #: rows of the sum of squared errors at a time
 
 
 def fit(experiments: Sequence[Experiment], densities: Mapping[str, object] | None = None, *,
@@ -348,37 +349,49 @@ def fit(experiments: Sequence[Experiment], densities: Mapping[str, object] | Non
         xa = np.fromiter((e.xi for e in experiments), float, len(experiments))
         labels = [e.label for e in experiments]
     ux, inv = np.unique(xa, return_inverse=True)
+    inv = inv.ravel()
 
-    def per_row(ch) -> Outcome:
-        return Outcome(*(np.asarray(v, dtype=float).reshape(-1)[inv] for v in ch))
+    def per_coin(ch) -> Outcome:
+        return Outcome(*(np.asarray(v, dtype=float).reshape(-1) for v in ch))
 
+    # each model's chances per coin; the rows are checked a block at a time when read
     per_model: dict[str, tuple[Outcome, int]] = {
-        "geometric": (per_row(geometric(ux)), 0),
-        "dynamic": (per_row(dynamic(ux)), 0),
+        "geometric": (per_coin(geometric(ux)), 0),
+        "dynamic": (per_coin(dynamic(ux)), 0),
     }
     if densities:
         from coincli.core.averages import marginal
 
         for name, dens in densities.items():
-            per_model[name] = (per_row(marginal(ux, dens)), 0)
+            per_model[name] = (per_coin(marginal(ux, dens)), 0)
     sp = None
     if spread:
         sp = fit_spread(xa, counts, confidence=confidence)
-        per_model[SPREAD_MODEL] = (sp.chances, 1)
+        per_model[SPREAD_MODEL] = (per_coin(_spread_chances(ux, sp.sigma)), 1)
     rows = check_many(counts, xa, {name: ch for name, (ch, _) in per_model.items()},
                       confidence=confidence, alpha=alpha, method=method,
-                      labels=labels)
-    lls = {t.model: math.fsum(t.log_likelihood.tolist()) for t in rows.tests}
+                      labels=labels, index=inv)
+    # summed a block at a time (math.fsum of every row's value: the same number as at once)
+    lls = {name: math.fsum(v for block in blocks for v in block.tolist())
+           for name, blocks in rows.log_likelihoods().items()}
     if sp is not None:
         lls[SPREAD_MODEL] = sp.log_likelihood  # the same number, without re-summing rounding
     aics = {name: aic(lls[name], k) for name, (_, k) in per_model.items()}
     best = min(aics.values())
-    freq = rows.cc.sides / rows.cc.n
-    tossed = ~rows.cc.caught  # a caught coin's sides were never observed: no SSE term
+    cc = rows.cc
+
+    def sse(ch) -> float:
+        """The paper's SSE of one model, over the rows whose sides were seen (not caught)."""
+        def terms():
+            for a in range(0, len(cc), _SSE_BLOCK):
+                b = a + _SSE_BLOCK
+                freq = cc.sides[a:b] / cc.n[a:b]
+                yield from ((freq - ch.sides[inv[a:b]])[~cc.caught[a:b]] ** 2).tolist()
+        return math.fsum(terms())
+
     summaries = tuple(
         ModelSummary(name, k, lls[name], aics[name],
-                     (aics[name] - best) if math.isfinite(best) else math.nan,
-                     math.fsum(((freq - ch.sides)[tossed] ** 2).tolist()))
+                     (aics[name] - best) if math.isfinite(best) else math.nan, sse(ch))
         for name, (ch, k) in per_model.items()
     )
     cf = None

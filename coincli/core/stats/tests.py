@@ -545,6 +545,52 @@ _CATS_CAUGHT = ("same", "different")
 CAUGHT_TEST = " of same side, given a face"
 
 
+def _tested(cc: _CountColumns, p):
+    """The tested counts ``x``, their chances ``q`` (T x 3; the third column 0 where two
+    categories are tested) and the expected counts (3 x T, of the raw chances ``p`` as given)
+    of the rows of ``cc`` under the normalized chances ``p`` (T x 3): faces told apart (heads,
+    sides, tails); else (sides, faces); caught flips (same, different)."""
+    import numpy as np
+
+    faces = cc.faces
+    T = len(cc)
+    x = np.where(faces[:, None], cc.matrix(),
+                 np.stack([cc.sides, cc.n - cc.sides, np.zeros(T, np.int64)], axis=1))
+    side, face = p[:, 1], p[:, 0] + p[:, 2]
+    total2 = side + face  # side or face: renormalized as a pair, as a two-category test is
+    q = np.where(faces[:, None], p, np.stack([side / total2, face / total2, np.zeros(T)], axis=1))
+    caught = cc.caught
+    if np.any(caught):  # conditioned on a face: same ~ Binomial(n, P(H) / (P(H) + P(T)))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            qs, qd = p[:, 0] / face, p[:, 2] / face
+        x = np.where(caught[:, None], np.stack([cc.same, cc.n - cc.same,
+                                                np.zeros(T, np.int64)], axis=1), x)
+        q = np.where(caught[:, None], np.stack([qs, qd, np.zeros(T)], axis=1), q)
+    return x, q, (qs, qd) if np.any(caught) else None
+
+
+def _exact_rows(cc: _CountColumns, method: str):
+    """Which rows get the exact test (``auto``: n at most :data:`EXACT_MAX_N`)."""
+    import numpy as np
+
+    return np.full(len(cc), method == "exact") | ((method == "auto") & (cc.n <= EXACT_MAX_N))
+
+
+_METHOD_NAMES: dict = {}
+
+
+def _method_name(faces: bool, exact: bool, df: int, caught: bool) -> str:
+    """The name of a row's test (each distinct one built once: a file of 10^5 rows holds
+    references, not 10^5 texts)."""
+    key = (faces, exact, df, caught)
+    m = _METHOD_NAMES.get(key)
+    if m is None:
+        m = (("exact multinomial" if faces else "exact binomial") if exact else
+             f"G-test (asymptotic chi2, df={df})")
+        m = _METHOD_NAMES[key] = m + CAUGHT_TEST if caught else m
+    return m
+
+
 def _model_tests(cc: _CountColumns, chances, model: str, alpha: float, method: str) -> _Tests:
     """Test every experiment of ``cc`` against a model's ``chances`` (arrays, one per row)."""
     import numpy as np
@@ -553,27 +599,17 @@ def _model_tests(cc: _CountColumns, chances, model: str, alpha: float, method: s
     raw, p = _chance_columns(chances, len(cc), "chances")
     faces = cc.faces
     T = len(cc)
-    # tested categories: faces told apart (heads, sides, tails); else (sides, faces); caught
-    # flips (same, different)
-    x = np.where(faces[:, None], cc.matrix(),
-                 np.stack([cc.sides, cc.n - cc.sides, np.zeros(T, np.int64)], axis=1))
-    side, face = p[:, 1], p[:, 0] + p[:, 2]
-    total2 = side + face  # side or face: renormalized as a pair, as a two-category test is
-    q = np.where(faces[:, None], p, np.stack([side / total2, face / total2, np.zeros(T)], axis=1))
+    x, q, same = _tested(cc, p)
     nf = cc.n.astype(float)
     expected = np.where(faces, nf * raw, np.stack([nf * raw[1], nf * (raw[0] + raw[2]),
                                                    np.zeros(T)]))
     caught = cc.caught
-    if np.any(caught):  # conditioned on a face: same ~ Binomial(n, P(H) / (P(H) + P(T)))
-        with np.errstate(divide="ignore", invalid="ignore"):
-            qs, qd = p[:, 0] / face, p[:, 2] / face
-        x = np.where(caught[:, None], np.stack([cc.same, cc.n - cc.same,
-                                                np.zeros(T, np.int64)], axis=1), x)
-        q = np.where(caught[:, None], np.stack([qs, qd, np.zeros(T)], axis=1), q)
+    if same is not None:
+        qs, qd = same
         expected = np.where(caught, np.stack([nf * qs, nf * qd, np.zeros(T)]), expected)
     g, df, p_asym = np.empty(T), np.empty(T, np.int64), np.empty(T)
     pv = np.empty(T)
-    exact = np.full(T, method == "exact") | ((method == "auto") & (cc.n <= EXACT_MAX_N))
+    exact = _exact_rows(cc, method)
     for sel, k in ((faces, 3), (~faces, 2)):
         if not np.any(sel):
             continue
@@ -585,20 +621,8 @@ def _model_tests(cc: _CountColumns, chances, model: str, alpha: float, method: s
     ll = _log_likelihoods(cc.matrix(), cc.n, p, faces, caught, cc.same)
     impossible = ll == -np.inf
     pv = np.where(impossible, 0.0, pv)
-    # each distinct method named once (a file of 10^5 rows holds references, not 10^5 texts)
-    words: dict = {}
-
-    def named(f, e, d, c):
-        key = (f, e, d, c)
-        m = words.get(key)
-        if m is None:
-            m = (("exact multinomial" if f else "exact binomial") if e else
-                 f"G-test (asymptotic chi2, df={d})")
-            m = words[key] = m + CAUGHT_TEST if c else m
-        return m
-
-    methods = [named(*key) for key in zip(faces.tolist(), exact.tolist(), df.tolist(),
-                                          caught.tolist(), strict=True)]
+    methods = [_method_name(*key) for key in zip(faces.tolist(), exact.tolist(), df.tolist(),
+                                                 caught.tolist(), strict=True)]
     verdicts = _verdicts(pv, a, exact, impossible)
     cats = [_CATS3 if f else _CATS2 for f in faces.tolist()]
     if np.any(caught):
@@ -661,21 +685,151 @@ class CheckResult(namedtuple("CheckResult", "xi counts proportions tests label",
     # tests: tuple[ModelTest, ...]
     # label: str
     __slots__ = ()
-class Checks(Sequence):
-    """Many experiments checked at once, as columns; ``checks[i]`` is the :class:`CheckResult`
-    of row ``i`` (built on demand: a file of 10^5 rows needs none of them to be written).
+#: rows whose tests and intervals are computed together when a :class:`Checks` is read a part
+#: at a time (a file of 10^5 rows never holds more than this many rows' tests)
+CHECK_BLOCK = 8192
 
-    Columns: ``xi``, ``labels``, ``cc`` (the counts), ``intervals[outcome]`` (estimate, Wilson
-    low/high, Clopper-Pearson low/high arrays; NaN where an outcome was not counted) and
-    ``tests`` (one :class:`_Tests` per model, in order).
+
+class _Part:
+    """The tests and intervals of rows ``start`` to ``stop`` of a :class:`Checks` (arrays over
+    those rows alone)."""
+
+    __slots__ = ("start", "stop", "tests", "intervals")
+
+    def __init__(self, start, stop, tests, intervals):
+        self.start, self.stop, self.tests, self.intervals = start, stop, tests, intervals
+
+    def sliced(self, a: int, b: int) -> _Part:
+        """Rows ``a`` to ``b`` (indices of the whole) of this part."""
+        if (a, b) == (self.start, self.stop):
+            return self
+        i, j = a - self.start, b - self.start
+        tests = None if self.tests is None else [
+            _Tests(t.model, t.raw[:, i:j], t.categories[i:j], t.expected[:, i:j],
+                   t.p_value[i:j], t.exact[i:j], t.method[i:j], t.g[i:j], t.df[i:j],
+                   t.log_likelihood[i:j], t.verdict[i:j]) for t in self.tests]
+        return _Part(a, b, tests, None if self.intervals is None else {
+            k: [v[i:j] for v in cols] for k, cols in self.intervals.items()})
+
+
+class Checks(Sequence):
+    """Many experiments checked, as columns; ``checks[i]`` is the :class:`CheckResult` of row
+    ``i`` (built on demand).
+
+    The tests and intervals are computed when read, a block of :data:`CHECK_BLOCK` rows at a
+    time (:meth:`part`; the last block is kept), so that a file of 10^5 rows is written without
+    ever holding every row's tests: what is held is the counts and each model's chances (per
+    coin, with ``index`` the coin of each row).  :attr:`tests` and :attr:`intervals` compute
+    every row at once (and keep it): ``tests`` one :class:`_Tests` per model, in order;
+    ``intervals[outcome]`` the estimate, Wilson low/high and Clopper-Pearson low/high arrays
+    (NaN where an outcome was not counted).  Columns: ``xi``, ``labels``, ``cc`` (the counts).
     """
 
-    def __init__(self, xi, labels, cc: _CountColumns, intervals, tests, confidence: float):
+    def __init__(self, xi, labels, cc: _CountColumns, chances, confidence: float,
+                 alpha: float = ALPHA, method: str = "auto", index=None):
         self.xi, self.labels, self.cc = xi, labels, cc
-        self.intervals, self.tests, self.confidence = intervals, tests, confidence
+        self.confidence, self.alpha, self.method = confidence, alpha, method
+        self._chances, self._index = chances, index
+        self.models = list(chances)
+        self._full: _Part | None = None
+        self._blocks: dict = {}  #: the last block read, of each kind (tests, intervals)
 
     def __len__(self):
         return len(self.cc)
+
+    def _chances_of(self, a: int, b: int) -> dict:
+        """Each model's chances of rows ``a`` to ``b`` (arrays of ``b - a``)."""
+        import numpy as np
+
+        T = len(self.cc)
+        idx = None if self._index is None else self._index[a:b]
+        out = {}
+        for name, ch in self._chances.items():
+            cols = []
+            for v in ch:
+                v = np.asarray(v, dtype=float)
+                if idx is not None and v.ndim:
+                    cols.append(v[idx])
+                else:
+                    cols.append(np.broadcast_to(v, (T,))[a:b])
+            out[name] = cols
+        return out
+
+    def _compute(self, a: int, b: int, tests: bool = True, intervals: bool = True) -> _Part:
+        cc = self.cc if (a, b) == (0, len(self.cc)) else self.cc.rows(a, b)
+        return _Part(a, b, [_model_tests(cc, ch, name, self.alpha, self.method)
+                            for name, ch in self._chances_of(a, b).items()] if tests else None,
+                     _intervals(cc, self.confidence) if intervals else None)
+
+    def part(self, a: int, b: int, *, tests: bool = True, intervals: bool = True) -> _Part:
+        """The tests and intervals of rows ``a`` to ``b`` (only those asked for): from the
+        whole when computed, else from the block of :data:`CHECK_BLOCK` rows that holds them,
+        computed from row ``a`` on when first read and kept until a row outside it is read
+        (rows read in order are each computed once)."""
+        a, b = max(a, 0), min(b, len(self))
+        if self._full is not None:
+            return self._full.sliced(a, b)
+        key = (tests, intervals)
+        blk = self._blocks.get(key)
+        if blk is None or not blk.start <= a <= b <= blk.stop:
+            if b - a > CHECK_BLOCK:
+                return self._compute(a, b, tests, intervals)
+            blk = self._blocks[key] = self._compute(a, min(a + CHECK_BLOCK, len(self)), tests,
+                                                    intervals)
+        return blk.sliced(a, b)
+
+    def _whole(self) -> _Part:
+        if self._full is None:
+            self._full = self._compute(0, len(self))
+            self._blocks.clear()
+        return self._full
+
+    @property
+    def tests(self) -> list:
+        """Every row's tests, one :class:`_Tests` per model (computed at once, and kept)."""
+        return self._whole().tests
+
+    @property
+    def intervals(self) -> dict:
+        return self._whole().intervals
+
+    def methods(self) -> set[str]:
+        """The names of the tests run on any row by any model (without running them)."""
+        import numpy as np
+
+        if self._full is not None:
+            return {m for t in self._full.tests for m in set(t.method)}
+        names = set()
+        for a in range(0, len(self), CHECK_BLOCK):
+            b = min(a + CHECK_BLOCK, len(self))
+            cc = self.cc.rows(a, b)
+            for ch in self._chances_of(a, b).values():
+                _, p = _chance_columns(ch, b - a, "chances")
+                _, q, _ = _tested(cc, p)
+                df = np.where(cc.faces, (q > 0).sum(axis=1), (q[:, :2] > 0).sum(axis=1)) - 1
+                exact = _exact_rows(cc, self.method)
+                keys = np.unique(np.stack([cc.faces, exact, df, cc.caught], axis=1), axis=0)
+                names |= {_method_name(bool(f), bool(e), int(d), bool(c))
+                          for f, e, d, c in keys.tolist()}
+        return names
+
+    def log_likelihoods(self):
+        """Each model's log-likelihood of every row, a block at a time: ``{model: iterator of
+        arrays}`` in row order (to be summed without holding them all)."""
+        def blocks(name):
+            for a in range(0, len(self), CHECK_BLOCK):
+                b = min(a + CHECK_BLOCK, len(self))
+                cc = self.cc.rows(a, b)
+                _, p = _chance_columns(self._chances_of(a, b)[name], b - a, "chances")
+                yield _log_likelihoods(cc.matrix(), cc.n, p, cc.faces, cc.caught, cc.same)
+
+        if self._full is not None:
+            return {t.model: iter([t.log_likelihood]) for t in self._full.tests}
+        return {name: blocks(name) for name in self.models}
+
+    def chances_of(self, name: str, a: int, b: int):
+        """Model ``name``'s (heads, sides, tails) arrays for rows ``a`` to ``b``."""
+        return self._chances_of(a, b)[name]
 
     def __getitem__(self, i):
         if isinstance(i, slice):
@@ -685,39 +839,31 @@ class Checks(Sequence):
         if not 0 <= i < len(self):
             raise IndexError(i)
         c = self.cc.count(i)
+        part = self.part(i, i + 1)
         props = []
         for name in (_CATS3 if c.faces else ("same",) if c.categories == _CATS_CAUGHT
                      else ("sides",)):
-            est, wl, wh, cl, ch = (float(v[i]) for v in self.intervals[name])
+            est, wl, wh, cl, ch = (float(v[0]) for v in part.intervals[name])
             conf = self.confidence
             props.append(Proportion(name, getattr(c, name), c.n, est,
                                     Interval(wl, wh, "wilson", conf),
                                     Interval(cl, ch, "clopper-pearson", conf)))
         return CheckResult(float(self.xi[i]), c, tuple(props),
-                           tuple(t.get(i) for t in self.tests), self.labels[i])
+                           tuple(t.get(0) for t in part.tests), self.labels[i])
 
 
-def check_many(counts: Sequence[Counts], xi, chances: Mapping[str, object], *,
-               confidence: float = CONFIDENCE, alpha: float = ALPHA, method: str = "auto",
-               labels: Sequence[str] | None = None) -> Checks:
-    """:func:`check` for many experiments at once: ``xi`` and each model's chances are arrays,
-    one entry per experiment.  The exact tests of all rows run together (see
-    :func:`_trinomial_logp`); the result is columnar (:class:`Checks`)."""
+def _intervals(cc: _CountColumns, conf: float) -> dict:
+    """The estimate, Wilson and Clopper-Pearson intervals of each counted outcome of the rows
+    of ``cc`` (NaN where not counted); each distinct (count, n) pair once."""
     import numpy as np
 
-    _check_method(method)
-    conf = _check_level(confidence, "confidence")
-    _check_level(alpha, "alpha")
-    cc = counts if isinstance(counts, _CountColumns) else _CountColumns(counts)
-    xs = np.broadcast_to(np.asarray(xi, dtype=float), (len(cc),))
-    # the intervals depend on (count, n) alone: each distinct pair once
+    T = len(cc)
     ks = np.concatenate([cc.heads, cc.sides, cc.tails])
     pairs, inverse = np.unique(np.stack([ks, np.tile(cc.n, 3)], axis=1), axis=0,
                                return_inverse=True)
     inverse = inverse.ravel()
     pk, pn = pairs[:, 0], pairs[:, 1]
     ends = [*wilson_interval(pk, pn, conf), *clopper_pearson_interval(pk, pn, conf)]
-    T = len(cc)
     intervals = {}
     for j, (name, k) in enumerate((("heads", cc.heads), ("sides", cc.sides),
                                    ("tails", cc.tails))):
@@ -744,9 +890,40 @@ def check_many(counts: Sequence[Counts], xi, chances: Mapping[str, object], *,
             col[c] = v[sinv]
             cols.append(col)
         intervals["same"] = cols
-    tests = [_model_tests(cc, ch, name, alpha, method) for name, ch in chances.items()]
-    return Checks(xs, list(labels) if labels is not None else [""] * len(cc), cc, intervals,
-                  tests, conf)
+    else:
+        intervals["same"] = [np.broadcast_to(np.nan, (T,))] * 5
+    return intervals
+
+
+def check_many(counts: Sequence[Counts], xi, chances: Mapping[str, object], *,
+               confidence: float = CONFIDENCE, alpha: float = ALPHA, method: str = "auto",
+               labels: Sequence[str] | None = None, index=None) -> Checks:
+    """:func:`check` for many experiments at once: ``xi`` and each model's chances are arrays,
+    one entry per experiment (or, with ``index``, one per coin, ``index`` giving each row's
+    coin).  The result is columnar and lazy (:class:`Checks`): the exact tests of a block of
+    rows run together (see :func:`_trinomial_logp`) when the block is read.  The chances are
+    checked here: a bad one raises ValueError now, not when a row is read."""
+    import numpy as np
+
+    _check_method(method)
+    conf = _check_level(confidence, "confidence")
+    _check_level(alpha, "alpha")
+    cc = counts if isinstance(counts, _CountColumns) else _CountColumns(counts)
+    T = len(cc)
+    xs = np.broadcast_to(np.asarray(xi, dtype=float), (T,))
+    if index is not None:
+        index = np.asarray(index, dtype=np.int64).reshape(-1)
+        if len(index) != T:
+            raise ValueError(f"index must have one entry per experiment, got {len(index)} for "
+                             f"{T}")
+    for ch in chances.values():  # every model's chances valid (per coin when indexed)
+        size = T
+        if index is not None:
+            arrs = [np.asarray(v, dtype=float) for v in ch]
+            size = max((v.size for v in arrs if v.ndim), default=1)
+        _chance_columns(ch, size, "chances")
+    return Checks(xs, labels if labels is not None else [""] * T, cc, dict(chances), conf,
+                  alpha, method, index)
 
 
 def check(counts: Counts, xi: float, chances: Mapping[str, object] | None = None, *,
