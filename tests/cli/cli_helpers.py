@@ -24,3 +24,13 @@ def error(result, code: int, *words: str, longest: int | None = None) -> str:
     if longest is not None:
         assert len(err) <= longest, f"{len(err)} characters: {err[:300]}..."
     return err
+
+
+def sigint_default() -> None:
+    """``preexec_fn`` of a child a test sends SIGINT: SIGINT back to its default action there.
+    A shell starts a background job with SIGINT ignored, a child inherits that, and Python (so
+    coin) keeps an ignored SIGINT ignored, as a program started in the background should; the
+    test is of Ctrl-C on a terminal, whatever the test run itself was started from."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_DFL)

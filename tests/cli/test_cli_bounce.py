@@ -12,7 +12,7 @@ import subprocess
 import sys
 
 import pytest
-from cli_helpers import error, ok
+from cli_helpers import error, ok, sigint_default
 
 pytest.importorskip("mujoco")
 
@@ -257,7 +257,7 @@ def test_ctrl_c_ends_a_bounce_simulation_at_once():
     p = subprocess.Popen([sys.executable, "-m", "coincli", "simulate", "-n", "20000", "--seed",
                           "1", "--xi", "0.577", "--landing", "bounce", "--jobs", "2"],
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                         start_new_session=True)
+                         start_new_session=True, preexec_fn=sigint_default)
     try:
         kids, waited = [], 0.0
         while len(kids) < 2 and waited < 60 and p.poll() is None:  # the worker processes,

@@ -16,6 +16,8 @@ import time
 
 import pytest
 
+from cli_helpers import sigint_default
+
 from coincli.core import models
 
 COIN = [sys.executable, "-m", "coincli"]
@@ -158,7 +160,8 @@ sys.exit(run(sys.argv[1:]))
 def test_ctrl_c_exits_130_without_a_traceback():
     # the command blocks reading a stdin batch that never ends; SIGINT arrives while it waits
     p = subprocess.Popen([sys.executable, "-c", _WAIT_FOR_STDIN, "design", "-p", "-"],
-                         stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+                         stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                         preexec_fn=sigint_default)
     try:
         assert p.stderr.readline() == b"ready\n"
         p.stdin.write(b"0.1\n0.2\n")
@@ -180,7 +183,8 @@ def test_an_interrupted_run_reports_the_seed_it_drew(seed):
     argv = ["simulate", "-n", "100000000", "--xi", "0.577"] + ([] if seed is None else
                                                                ["--seed", seed])
     p = subprocess.Popen([sys.executable, "-c", _WAIT_FOR_STDIN, *argv], stdin=subprocess.DEVNULL,
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                         preexec_fn=sigint_default)
     try:
         assert p.stderr.readline() == b"ready\n"
         time.sleep(1.0)  # well into the tosses (10^8 take tens of seconds)

@@ -21,7 +21,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.cli.cli_helpers import error
+from tests.cli.cli_helpers import error, sigint_default
 
 distributed = pytest.importorskip("distributed")
 pytest.importorskip("mujoco")
@@ -240,7 +240,7 @@ def test_ctrl_c_on_a_cluster_run_keeps_the_checkpoint_and_the_seed(cluster, tmp_
     run[run.index("96")] = "128"  # 8 chunks of 16 on 2 workers
     p = subprocess.Popen([*COIN, *run, "--scheduler", cluster.address, "--checkpoint", str(ck)],
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                         start_new_session=True, env=_env())
+                         start_new_session=True, env=_env(), preexec_fn=sigint_default)
     try:
         t0 = time.monotonic()
         while _records(ck) < 2 and p.poll() is None and time.monotonic() - t0 < 120:

@@ -57,18 +57,31 @@ _LOCK = threading.Lock()  # a worker with several threads runs one task at a tim
 _ENGINE: list = [None, None]  # the args of the engine _chunk built, and that engine
 
 
-def _task(sent: bytes, want):
-    """``fn(task)`` on a worker, ``sent`` the pickle of ``(fn, task)`` (bytes: Dask reads no
-    tuple of it as a task of its graph), after checking that the worker runs the versions
-    ``want``; one task at a time in a worker process (the engine is the process's)."""
-    import pickle
+class _Sent:
+    """``fn`` and its ``task`` as one object: Dask's graph reads a tuple whose first item is a
+    function as a task of its own and looks inside lists and tuples for keys; an object of
+    this class it passes through as data (pickled as every argument is)."""
 
+    __slots__ = ("fn", "task")
+
+    def __init__(self, fn, task):
+        self.fn, self.task = fn, task
+
+    def __getstate__(self):
+        return (self.fn, self.task)
+
+    def __setstate__(self, state):
+        self.fn, self.task = state
+
+
+def _task(sent: _Sent, want):
+    """``sent.fn(sent.task)`` on a worker, after checking that the worker runs the versions
+    ``want``; one task at a time in a worker process (the engine is the process's)."""
     got = versions()
     if got != want:
         raise NotComputable(_mismatch(got, want, "a worker"))
-    fn, task = pickle.loads(sent)
     with _LOCK:
-        return fn(task)
+        return sent.fn(sent.task)
 
 
 def _chunk(task):
@@ -219,13 +232,11 @@ class Cluster:
         """``fn(task)`` for the ``(k, task)`` pairs ``items`` on the workers (``fn`` module-level,
         pickled by name; ``task`` is all it is sent): ``(k, result)`` as each completes, in any
         order.  A task lost with a worker is computed again elsewhere; a fault is one line."""
-        import pickle
-
         import distributed
 
         client = self.client
         stamp = f"{os.getpid()}-{time.time_ns()}"
-        futures = client.map(_task, [pickle.dumps((fn, t)) for _, t in items],
+        futures = client.map(_task, [_Sent(fn, t) for _, t in items],
                              [self.want] * len(items), pure=False,
                              key=[f"coin-{fn.__name__}-{stamp}-{k}" for k, _ in items])
         pending = dict(zip(futures, items, strict=True))
