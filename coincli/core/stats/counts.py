@@ -250,7 +250,21 @@ class Experiment(namedtuple("Experiment", "line xi counts label diameter", defau
     __slots__ = ()
 
 
-class ExperimentColumns(Sequence):
+class RowSequence(Sequence):
+    """A sequence whose rows are made on demand by ``_row(i)`` (``0 <= i < len``): indexing
+    with negative numbers and slices (lists of rows), as a list's."""
+
+    def __getitem__(self, i):
+        if isinstance(i, slice):
+            return [self._row(k) for k in range(*i.indices(len(self)))]
+        if i < 0:
+            i += len(self)
+        if not 0 <= i < len(self):
+            raise IndexError(i)
+        return self._row(i)
+
+
+class ExperimentColumns(RowSequence):
     """Many :class:`Experiment` rows held as columns (numpy arrays, and a list of labels): a
     file of 10^5 rows in a few MB instead of 10^5 row objects.  ``rows[i]`` builds row ``i``'s
     :class:`Experiment` on demand.
@@ -309,19 +323,13 @@ class ExperimentColumns(Sequence):
     def __len__(self):
         return len(self.xi)
 
-    def __getitem__(self, i):
-        if isinstance(i, slice):
-            return [self[k] for k in range(*i.indices(len(self)))]
-        if i < 0:
-            i += len(self)
-        if not 0 <= i < len(self):
-            raise IndexError(i)
+    def _row(self, i):
         d = float(self.diameter[i])
         return Experiment(int(self.line[i]), float(self.xi[i]), self.cc.count(i),
                           self.labels[i], None if math.isnan(d) else d)
 
 
-class _Labels(Sequence):
+class _Labels(RowSequence):
     """Many short texts held as one string and the offsets of their ends (a file of 10^5
     labels in a few hundred kB instead of 10^5 string objects): ``labels[i]``, slices (lists),
     ``len``.  Filled by :meth:`append`, then :meth:`close`."""
@@ -351,13 +359,7 @@ class _Labels(Sequence):
     def __len__(self):
         return len(self._ends)
 
-    def __getitem__(self, i):
-        if isinstance(i, slice):
-            return [self[k] for k in range(*i.indices(len(self)))]
-        if i < 0:
-            i += len(self)
-        if not 0 <= i < len(self):
-            raise IndexError(i)
+    def _row(self, i):
         return self._text[self._ends[i - 1] if i else 0:self._ends[i]]
 
     def __eq__(self, other):

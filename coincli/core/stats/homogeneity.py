@@ -30,7 +30,8 @@ Asymptotic (G-test)
 from __future__ import annotations
 
 import math
-from typing import NamedTuple, Sequence
+from collections.abc import Sequence
+from typing import NamedTuple
 
 #: the most tables the exact test enumerates (a few tenths of a second); beyond, the G-test
 EXACT_MAX_TABLES = 5_000_000

@@ -55,6 +55,7 @@ from coincli.core._numerics.wilson import CONFIDENCE, _check_level, wilson_inter
 from coincli.core.models import Outcome
 from coincli.core.stats.counts import (
     Counts,
+    RowSequence,
     _binom_cdf,
     _binom_logpmf,
     _binom_upper,
@@ -712,7 +713,7 @@ class _Part:
             k: [v[i:j] for v in cols] for k, cols in self.intervals.items()})
 
 
-class Checks(Sequence):
+class Checks(RowSequence):
     """Many experiments checked, as columns; ``checks[i]`` is the :class:`CheckResult` of row
     ``i`` (built on demand).
 
@@ -831,13 +832,7 @@ class Checks(Sequence):
         """Model ``name``'s (heads, sides, tails) arrays for rows ``a`` to ``b``."""
         return self._chances_of(a, b)[name]
 
-    def __getitem__(self, i):
-        if isinstance(i, slice):
-            return [self[k] for k in range(*i.indices(len(self)))]
-        if i < 0:
-            i += len(self)
-        if not 0 <= i < len(self):
-            raise IndexError(i)
+    def _row(self, i):
         c = self.cc.count(i)
         part = self.part(i, i + 1)
         props = []
