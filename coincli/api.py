@@ -96,7 +96,7 @@ def design(*, p_sides, model=None, psi=None, psi_dist=None, diameter=None, thick
            friction=None, torsional=None, rolling=None, u=None, omega=None,
            release_height=None, vx=None, seed=None, max_tosses=None, time_limit=None,
            jobs=None, scheduler=None, checkpoint=None, timeout=None, dt=None,
-           t_max=None, calibration=None) -> list[dict]:
+           t_max=None, calibration=None, no_table=None) -> list[dict]:
     """The coin that lands on a side with the chance you want: ``coin design``.
 
     Parameters
@@ -136,6 +136,9 @@ def design(*, p_sides, model=None, psi=None, psi_dist=None, diameter=None, thick
         With ``landing="bounce"``: a Dask scheduler (``"tcp://host:port"`` or ``"local"``)
         to run the tosses on, a checkpoint file, and the cluster's timeout (s); see
         ``docs/cluster.md``.
+    no_table : bool, optional
+        With ``landing="bounce"``: simulate every toss, not starting from the table shipped
+        for a surface preset with the default launch and coin (``--no-table``).
 
     Returns
     -------

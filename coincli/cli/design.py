@@ -48,6 +48,9 @@ DESIGN_TABLE = Group(
                           "first round after this many seconds (default 300); the note gives "
                           "the --max-tosses that reproduces the result."), None),
     BOUNCE.only(*RUNS, "dt", "t_max", "calibration"),
+    ("no_table", option("--no-table", None, "With --landing bounce: simulate every toss, "
+                        "not starting from the table shipped for a surface preset with the "
+                        "default launch and coin (see docs/bounce.md).", kind=bool), False),
 )
 
 

@@ -534,22 +534,28 @@ def write_csv_atomic(path: str, header, rows) -> None:
 
 
 def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, psi, diameter,
-           g, labels, progress=None) -> DesignResult:
+           g, labels, progress=None, no_table=False) -> DesignResult:
     """The aspect ratios of the ``targets`` chances of a side, fitted to simulated tosses, as
     :func:`bounce_design` prints them.  ``progress()``: a progress bar (a context manager
-    giving ``tick(done, planned)``), or None."""
+    giving ``tick(done, planned)``), or None.  Starts from the table shipped for a preset
+    (:mod:`coincli.core.bounce.tables`) when the tosses are that table's, unless
+    ``no_table``."""
     from coincli.core.bounce import design as bounce_design
+    from coincli.core.bounce import tables
     from coincli.reports.executor import executor
 
+    sim = {"u": u, "omega": omega, "psi": psi, "surf": p.surface, "landing": "bounce",
+           "height": p.height, "vx": p.vx, "diameter": diameter, "g": g, "dt": p.dt,
+           "t_max": p.t_max}
+    table = None if no_table else tables.for_design(sim)
     with executor(p, "coin design --landing bounce", **{
             "--p-sides": targets, "--seed": seed, "--tol": tol, "--max-tosses": max_tosses,
             "--time-limit": time_limit, "--u": u, "--omega": omega, "--psi": psi,
-            "--diameter": diameter, "--g": g}) as run, (progress or no_progress)() as tick:
+            "--diameter": diameter, "--g": g, "--no-table": table is None}) as run, (
+            progress or no_progress)() as tick:
         try:
             r = bounce_design.design(targets, seed=seed, tol=tol, max_tosses=max_tosses,
-                                     time_limit=time_limit, u=u, omega=omega, psi=psi,
-                                     surf=p.surface, landing="bounce", height=p.height,
-                                     vx=p.vx, diameter=diameter, g=g, dt=p.dt, t_max=p.t_max,
+                                     time_limit=time_limit, table=table, **sim,
                                      jobs=p.jobs, progress=tick, executor=run)
         except (bounce_design.BeyondTheEngine, bounce_design.TooFewSettled) as exc:
             raise _design_error(p, exc) from None
@@ -558,22 +564,41 @@ def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, 
     dia_mm = diameter * 1000
     outside = [(t, x) for t, x in zip(r.targets, r.xi, strict=True)
                if not r.span[0] <= x <= r.span[1]]
+    tab = r.table  # the precomputed table it started from, or None
+    from_table = tab.tosses if tab is not None else 0
+    total = r.tosses + from_table
+    unsettled = r.unsettled + (tab.unsettled if tab is not None else 0)
+    never = r.never_landed + (tab.never_landed if tab is not None else 0)
     rows = [(t, x, lo, hi, dia_mm * x, dia_mm * lo, dia_mm * hi, float(f.p_sides(x)),
-             empty(f.p_value), len(f.points), r.tosses, r.seed)
+             empty(f.p_value), len(f.points), total, from_table, r.seed)
             for t, x, lo, hi, f in zip(r.targets, r.xi, r.low, r.high, r.fits, strict=True)]
     columns = [
         *design_columns(dia_mm),
         Column("fitted_p_sides", "fitted P(sides)"), Column("fit_p_value", "fit p-value"),
         Column("fit_points", "aspect ratios fitted", "int"),
-        Column("tosses", "tosses", "int"), Column("seed", "seed", "int"),
+        Column("tosses", "tosses", "int"), Column("table_tosses", "from the table", "int"),
+        Column("seed", "seed", "int"),
     ]
+    rounds = r.rounds + (tab is None)  # (a first sweep is a round; a table replaces it)
+    if tab is None:
+        source = (f"{r.tosses} tosses ({r.unsettled} unsettled, left out) at "
+                  f"{len(r.fit.points)} aspect ratios in {rounds} "
+                  f"round{'' if rounds == 1 else 's'}")
+    else:
+        gen = tab.generated
+        source = (f"Started from the table precomputed for {tab.surface} with this launch and "
+                  f"coin ({from_table} tosses, {tab.unsettled} unsettled, at "
+                  f"{len(tab.points)} aspect ratios; seed {tab.seed}; coincli "
+                  f"{gen.get('coincli', '?')}, MuJoCo {gen.get('mujoco', '?')}; "
+                  "benchmarks/precompute_bounce_tables.py; --no-table simulates every toss), "
+                  f"then {r.tosses} tosses simulated here ({r.unsettled} unsettled, left out) "
+                  f"in {rounds} round{'' if rounds == 1 else 's'}; "
+                  f"{len(r.fit.points)} aspect ratios in all")
     why = {"tol": f"every interval within --tol {tol:g}",
            "max_tosses": f"--max-tosses {max_tosses} reached before --tol {tol:g}",
            "time_limit": f"the --time-limit of {time_limit:g} s passed before --tol {tol:g}"}
     note = (f"Simulated table (MuJoCo), not the paper's catch: tosses onto {p.describe()}, "
-            f"{labels}; seed {r.seed}.  {r.tosses} tosses ({r.unsettled} unsettled, left out) "
-            f"at {len(r.fit.points)} aspect ratios in {r.rounds + 1} "
-            f"round{'' if r.rounds == 0 else 's'}.  Each answer is "
+            f"{labels}; seed {r.seed}.  {source}.  Each answer is "
             "from P(sides) = Phi(alpha + beta ln xi) fitted by maximum likelihood to the "
             "aspect ratios near it ('aspect ratios fitted'; "
             + "; ".join(f"{t:.4g}: Phi({f.alpha:.4g} + {f.beta:.4g} ln xi), deviance "
@@ -603,7 +628,7 @@ def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, 
     return DesignResult("coin design --landing bounce", columns, rows, note,
                         quiet=[row[1] for row in rows], vertical=len(rows) == 1,
                         warning="; ".join(warning) or None,
-                        notes=[unsettled_note(p, r.unsettled, r.tosses, r.never_landed)])
+                        notes=[unsettled_note(p, unsettled, total, never)])
 
 
 def _design_error(p: Physics, exc):
@@ -622,8 +647,8 @@ def _design_error(p: Physics, exc):
 
 
 def bounce_design(physics, *, p_sides, psi, psi_dist, u, omega, diameter, coin, tol, seed,
-                  max_tosses, time_limit, fmt="table", quiet=False, progress=None
-                  ) -> DesignResult:
+                  max_tosses, time_limit, fmt="table", quiet=False, progress=None,
+                  no_table=False) -> DesignResult:
     """``coin design --landing bounce``: the report, from the options as typed (``physics``:
     :func:`parse_physics` of the surface options).  ``fmt`` and ``quiet`` are the command's
     (unused: the same result is written in every format); ``progress``: a progress bar for
@@ -672,7 +697,7 @@ def bounce_design(physics, *, p_sides, psi, psi_dist, u, omega, diameter, coin, 
                                        is not None else None}, progress=progress)
     return design(physics, targets=targets, seed=seed_value(seed), tol=tol_v, max_tosses=mt,
                   time_limit=tl, u=u_spec, omega=w_spec, psi=psi_spec, diameter=dia,
-                  g=STANDARD_G, labels=labels, progress=progress)
+                  g=STANDARD_G, labels=labels, progress=progress, no_table=no_table)
 
 
 #: what a design on a preset cannot say: how far another table moves it (docs/bounce.md)

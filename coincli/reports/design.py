@@ -182,7 +182,7 @@ def design(p_sides: str, *, model: str | None = None, psi: str | None = None,
            time_limit: str | None = None, jobs: str | None = None, dt: str | None = None,
            t_max: str | None = None, calibration: str | None = None,
            scheduler: str | None = None, checkpoint: str | None = None,
-           timeout: str | None = None, fmt: str = "table",
+           timeout: str | None = None, no_table: bool = False, fmt: str = "table",
            quiet: bool = False, progress=None):
     """``coin design``: the aspect ratio (and size, and nearest stack of a catalog coin) that
     lands on a side with the chance ``p_sides``, under a model; one row per target.
@@ -193,7 +193,7 @@ def design(p_sides: str, *, model: str | None = None, psi: str | None = None,
     the table."""
     check_format(fmt)
     bounce_only = {"--u": u, "--omega": omega, "--seed": seed, "--max-tosses": max_tosses,
-                   "--time-limit": time_limit}
+                   "--time-limit": time_limit, "--no-table": no_table or None}
     physics = _physics(landing, surface=surface, restitution=restitution, friction=friction,
                        torsional=torsional, rolling=rolling, height=release_height, vx=vx,
                        jobs=jobs, dt=dt, t_max=t_max, calibration=calibration,
@@ -213,7 +213,7 @@ def design(p_sides: str, *, model: str | None = None, psi: str | None = None,
         return bounce_design(physics, p_sides=p_sides, psi=psi, psi_dist=psi_dist, u=u,
                              omega=omega, diameter=diameter, coin=coin, tol=tol, seed=seed,
                              max_tosses=max_tosses, time_limit=time_limit, fmt=fmt,
-                             quiet=quiet, progress=progress)
+                             quiet=quiet, progress=progress, no_table=no_table)
     m = choose_model(model, psi, psi_dist)
     if method is not None and method.strip().lower() not in _accuracy.METHODS:
         raise usage_error(f"--method must be auto or quad; got {method!r}")

@@ -92,7 +92,8 @@ def test_toss_bounce_and_trajectory(coin, tmp_path):
 @pytest.mark.slow
 def test_design_bounce(coin):
     rc, out, warning = coin("design", "--p-sides", "1/3,0.2", "--landing", "bounce", "--seed",
-                            "2", "--max-tosses", "1800", "--jobs", "2", "-f", "csv")
+                            "2", "--max-tosses", "1800", "--jobs", "2", "-f", "csv",
+                            "--no-table")
     assert rc == 0 and re.fullmatch(
         r"coin: warning: --max-tosses 1800 reached before --tol 0\.01; the intervals are wider "
         r"than asked\n(coin: note: (\d+) of 1800 tosses did not settle \(\2 still moving at "
@@ -279,9 +280,35 @@ def test_ctrl_c_ends_a_bounce_simulation_at_once():
     assert kids and not [k for k in kids if os.path.exists(f"/proc/{k}")]
 
 
+def test_design_on_a_preset_starts_from_its_table(coin):
+    """The defaults on a preset: the shipped table's points, its own fit (no toss simulated
+    when the table gives --tol), the table named in the note; the same rows from the api; a
+    changed launch or --no-table simulates (here with a fake engine: counts of a probit)."""
+    from coincli import api
+    from coincli.core.bounce import tables as TB
+
+    table = TB.load("felt")
+    argv = ["design", "-p", "1/3", "--landing", "bounce", "--surface", "felt", "--seed", "4",
+            "--tol", "0.05"]
+    rows = json.loads(ok(coin(*argv, "-f", "json")))
+    assert rows[0]["table_tosses"] == table.tosses == rows[0]["tosses"]
+    assert rows[0]["xi_low"] < rows[0]["xi"] < rows[0]["xi_high"]
+    assert rows[0]["xi_high"] - rows[0]["xi"] <= 0.05 and rows[0]["seed"] == 4
+    assert api.design(p_sides="1/3", landing="bounce", surface="felt", seed=4,
+                      tol=0.05) == rows
+    note = ok(coin(*argv))
+    assert "Started from the table precomputed for felt with this launch and coin " \
+           f"({table.tosses} tosses" in note and "then 0 tosses simulated here" in note
+    # the same answer for any seed when the table is enough (the seed is still reported)
+    other = json.loads(ok(coin(*argv[:-3], "9", "--tol", "0.05", "-f", "json")))
+    assert {k: v for k, v in other[0].items() if k != "seed"} == {
+        k: v for k, v in rows[0].items() if k != "seed"}
+    error(coin("design", "-p", "1/3", "--no-table"), 2, "--no-table goes with --landing bounce")
+
+
 def test_design_bounce_honours_a_small_max_tosses(coin):
     out = ok(coin("design", "-p", "1/3", "--landing", "bounce", "--seed", "1", "--max-tosses",
-                  "200", "--tol", "0.5", "--jobs", "2"))
+                  "200", "--tol", "0.5", "--jobs", "2", "--no-table"))
     assert "198 tosses" in out and "in 1 round." in out
     assert "--max-tosses 200 cut the first sweep to 22 tosses per aspect ratio, from 200" in out
     for n in ("100", "0", "1e3", "1000000000"):  # named, with its own range (not -n's)

@@ -104,7 +104,7 @@ def _at_work(p, ticks: int = 10):
 
 BOUNCE = {
     "simulate": ["simulate", "--landing", "bounce", "-n", "2000", "--xi", "0.577", "-j", "2"],
-    "design": ["design", "-p", "1/3", "--landing", "bounce", "-j", "2"],
+    "design": ["design", "-p", "1/3", "--landing", "bounce", "-j", "2", "--no-table"],
     "plot sides": ["plot", "sides", "--landing", "bounce", "-j", "2", "--out", "s.png"],
 }
 

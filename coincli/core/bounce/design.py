@@ -167,6 +167,10 @@ class Design:
     #: extrapolation of the fitted curve (the run stopped before simulating near it)
     span: tuple = (math.nan, math.nan)
     never_landed: int = 0  #: unsettled tosses that never reached the surface within t_max
+    #: the precomputed table the design started from (:mod:`coincli.core.bounce.tables`), whose
+    #: points replaced the first sweep, or None; ``tosses``, ``unsettled`` and ``never_landed``
+    #: count this run's tosses only
+    table: object = None
 
 
 #: A target's answer comes from the probit fitted to the points within this factor of its
@@ -210,7 +214,8 @@ DESIGN_ROUND = 400  #: tosses at each of the three xi added near each target per
 
 
 def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, level=0.95,
-           progress: Callable[[int, int], None] | None = None, clock=None, **kw) -> Design:
+           progress: Callable[[int, int], None] | None = None, clock=None, table=None,
+           **kw) -> Design:
     """The aspect ratios at which tosses onto a surface land on a side with the chances
     ``targets`` (each in (0, 1)), with ``level`` confidence intervals.
 
@@ -222,7 +227,10 @@ def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, lev
     (never: a ``max_tosses`` below the first sweep's cuts its tosses per xi, to at least
     :data:`DESIGN_FIRST_MIN`, and stops there),
     or ``time_limit`` seconds (of ``clock``, default
-    ``time.monotonic``) have gone by at the end of a round.  Every simulation is seeded
+    ``time.monotonic``) have gone by at the end of a round.  ``table``: a precomputed table
+    (:class:`coincli.core.bounce.tables.Table`) whose points replace the first sweep (its
+    tosses are not counted against ``max_tosses``); the rounds are the same.  Every
+    simulation is seeded
     ``(seed, round, point)``: the result is a function of the seed and the number of rounds, so a
     run stopped by the time limit is reproduced by ``max_tosses`` equal to its tosses.
     ``kw`` is passed to :func:`coincli.core.bounce.runs.simulate` (xi excluded).
@@ -274,10 +282,14 @@ def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, lev
                          f"with --landing bounce ({DESIGN_FIRST_MIN} tosses at each of the "
                          f"{len(DESIGN_GRID)} aspect ratios of the first sweep), got "
                          f"{max_tosses}")
-    planned = len(DESIGN_GRID) * first
+    planned = 0 if table is not None else len(DESIGN_GRID) * first
     workers = Workers(kw.get("jobs"))
     with workers:
-        run(DESIGN_GRID, first, 0)
+        if table is not None:  # the table's points are the first sweep
+            points.update(table.design_points())
+            first = DESIGN_FIRST
+        else:
+            run(DESIGN_GRID, first, 0)
         rnd = 0
         stopped = "tol"
         while True:
@@ -310,5 +322,5 @@ def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, lev
     settled = [x for x, (n, _) in points.items() if n > 0]
     return Design(targets, est, [lo for lo, _ in ivs], [hi for _, hi in ivs], fit, tosses,
                   rnd, met, stopped, seed, unsettled, fits, first, (min(settled), max(settled)),
-                  never_landed)
+                  never_landed, table)
 
