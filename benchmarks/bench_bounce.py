@@ -17,7 +17,8 @@ shared, so the table gives medians, and the ratio to the median floor of all the
 
 ``--design K`` times ``coin design --p-sides 1/3 --landing bounce --surface wood --seed S``
 (S = 1..K, every core) at ``--against`` and at this checkout, seed by seed, alternately: wall
-and CPU time (all processes), tosses, the answer, the load; ``--no-tosses`` times the designs
+and CPU time (all processes), the tosses simulated and those from the precomputed table (a
+design on a preset starts from it since issue 25), the answer, the load; ``--no-tosses`` times the designs
 alone (its own section of docs/performance.md), ``--max-tosses N`` shortens them.
 
     python benchmarks/bench_bounce.py --against main --design 5 --no-tosses --write
@@ -149,8 +150,10 @@ def design_walls(seeds, trees, max_tosses=None):
     for s in range(1, seeds + 1):
         for label, tree in trees:
             wall, cpu, row, load = design_run(tree, s, max_tosses)
-            rows.append([str(s), label, f"{wall:.1f} s", f"{cpu:.1f} s", str(row["tosses"]),
-                         f"{1e3 * cpu / row['tosses']:.1f} ms",
+            simulated = row["tosses"] - row.get("table_tosses", 0)  # (a table's: precomputed)
+            rows.append([str(s), label, f"{wall:.1f} s", f"{cpu:.1f} s", str(simulated),
+                         str(row.get("table_tosses", 0)),
+                         f"{1e3 * cpu / simulated:.1f} ms" if simulated else "-",
                          f"{row['xi']:.4f} [{row['xi_low']:.4f}, {row['xi_high']:.4f}]",
                          f"{load:.1f}"])
             print(rows[-1], file=sys.stderr, flush=True)
@@ -206,8 +209,9 @@ def main():
                  "every core (2); wall time and the CPU time of all its processes (the "
                  "machine is shared: the load average when each run ended is given).  "
                  f"{head}.", "",
-                 table(["seed", "revision", "wall", "CPU (all processes)", "tosses",
-                        "CPU per toss", "xi [95%]", "load"], designs)]
+                 table(["seed", "revision", "wall", "CPU (all processes)", "tosses simulated",
+                        "from the table", "CPU per toss simulated", "xi [95%]", "load"],
+                       designs)]
     text = "\n".join(body)
     print(text)
     if args.write:
