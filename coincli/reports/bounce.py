@@ -590,10 +590,12 @@ def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, 
                   f"coin ({from_table} tosses, {tab.unsettled} unsettled, at "
                   f"{len(tab.points)} aspect ratios; seed {tab.seed}; coincli "
                   f"{gen.get('coincli', '?')}, MuJoCo {gen.get('mujoco', '?')}; "
-                  "benchmarks/precompute_bounce_tables.py; --no-table simulates every toss), "
-                  f"then {r.tosses} tosses simulated here ({r.unsettled} unsettled, left out) "
-                  f"in {rounds} round{'' if rounds == 1 else 's'}; "
-                  f"{len(r.fit.points)} aspect ratios in all")
+                  "benchmarks/precompute_bounce_tables.py; --no-table simulates every toss)"
+                  + ("; no toss simulated here: the table alone gave the intervals"
+                     if not r.tosses else
+                     f", then {r.tosses} tosses simulated here ({r.unsettled} unsettled, left "
+                     f"out) in {rounds} round{'' if rounds == 1 else 's'}; "
+                     f"{len(r.fit.points)} aspect ratios in all"))
     why = {"tol": f"every interval within --tol {tol:g}",
            "max_tosses": f"--max-tosses {max_tosses} reached before --tol {tol:g}",
            "time_limit": f"the --time-limit of {time_limit:g} s passed before --tol {tol:g}"}
