@@ -86,12 +86,20 @@ class SidesFit:
         return math.exp(g - z * sd), math.exp(g + z * sd)
 
 
+def _norm_pdf(x):
+    """The standard normal density, as ``scipy.stats.norm.pdf`` computes it (the same bits),
+    without importing scipy.stats (a second of start-up; its ``ppf`` and ``chi2.sf`` are
+    ``scipy.special.ndtri`` and ``chdtrc``, used directly)."""
+    import numpy as np
+
+    return np.exp(-x**2 / 2.0) / math.sqrt(2 * math.pi)
+
+
 def fit_sides(points) -> SidesFit:
     """Fit :class:`SidesFit` to ``points``, ``(xi, n, sides)`` rows (at least two distinct xi
     with some tosses), by iteratively reweighted least squares (Fisher scoring)."""
     import numpy as np
-    from scipy.special import ndtr
-    from scipy.stats import chi2, norm
+    from scipy.special import chdtrc, ndtr, ndtri
 
     pts = [(float(x), int(n), int(k)) for x, n, k in points if n > 0]
     if len({x for x, _, _ in pts}) < 2:
@@ -110,11 +118,11 @@ def fit_sides(points) -> SidesFit:
                          "and 1")
     design = np.column_stack([np.ones_like(x), x])
     f = np.clip((k + 0.5) / (n + 1), 1e-6, 1 - 1e-6)
-    coef = np.linalg.lstsq(design, norm.ppf(f), rcond=None)[0]
+    coef = np.linalg.lstsq(design, ndtri(f), rcond=None)[0]
     for _ in range(100):
         eta = design @ coef
         mu = np.clip(ndtr(eta), 1e-12, 1 - 1e-12)
-        phi = np.maximum(norm.pdf(eta), 1e-300)
+        phi = np.maximum(_norm_pdf(eta), 1e-300)
         w = n * phi * phi / (mu * (1 - mu))
         z = eta + (k / n - mu) / phi
         info = design.T @ (w[:, None] * design)
@@ -131,7 +139,7 @@ def fit_sides(points) -> SidesFit:
             break
     eta = design @ coef
     mu = np.clip(ndtr(eta), 1e-12, 1 - 1e-12)
-    phi = norm.pdf(eta)
+    phi = _norm_pdf(eta)
     w = n * phi * phi / (mu * (1 - mu))
     cov = np.linalg.inv(design.T @ (w[:, None] * design))
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -142,7 +150,7 @@ def fit_sides(points) -> SidesFit:
         cov = cov * max(1.0, float(dev) / df)  # quasi-likelihood, the dispersion widens it
     return SidesFit(float(coef[0]), float(coef[1]), ((float(cov[0, 0]), float(cov[0, 1])),
                     (float(cov[1, 0]), float(cov[1, 1]))), pts, float(dev), df,
-                    float(chi2.sf(dev, df)) if df > 0 else math.nan)
+                    float(chdtrc(df, dev)) if df > 0 else math.nan)
 
 
 @dataclass
