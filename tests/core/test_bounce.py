@@ -410,6 +410,24 @@ def _probit(alpha, beta, x):
     return 0.5 * math.erfc(-(alpha + beta * math.log(x)) / math.sqrt(2))
 
 
+def test_fit_sides_computes_what_scipy_stats_would_to_the_bit():
+    """fit_sides avoids importing scipy.stats (a second of start-up): its normal density,
+    ndtri and chdtrc (of a deviance clamped at 0, as chi2.sf's support is) give the bits of
+    norm.pdf, norm.ppf and chi2.sf, over grids that reach the tails and a deviance that
+    rounding makes negative."""
+    import numpy as np
+    from scipy.special import chdtrc, ndtri
+    from scipy.stats import chi2, norm
+
+    x = np.linspace(-40.0, 40.0, 200_001)
+    assert np.array_equal(D._norm_pdf(x), norm.pdf(x))
+    q = np.concatenate([np.geomspace(1e-300, 0.5, 5000), 1 - np.geomspace(1e-16, 0.5, 5000)])
+    assert np.array_equal(ndtri(q), norm.ppf(q))
+    for df in (1, 2, 3, 7, 40):
+        for dev in (-2.7e-9, 0.0, 1e-12, 0.3, 2.0, 17.5, 300.0):
+            assert float(chdtrc(df, max(dev, 0.0))) == float(chi2.sf(dev, df)), (df, dev)
+
+
 def test_fit_sides_recovers_an_exact_probit():
     """Counts exactly on a probit (n large, k = n p rounded) give back its coefficients, a
     deviance near 0 and the inverse of the curve."""

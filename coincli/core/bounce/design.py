@@ -150,7 +150,7 @@ def fit_sides(points) -> SidesFit:
         cov = cov * max(1.0, float(dev) / df)  # quasi-likelihood, the dispersion widens it
     return SidesFit(float(coef[0]), float(coef[1]), ((float(cov[0, 0]), float(cov[0, 1])),
                     (float(cov[1, 0]), float(cov[1, 1]))), pts, float(dev), df,
-                    float(chdtrc(df, dev)) if df > 0 else math.nan)
+                    float(chdtrc(df, max(float(dev), 0.0))) if df > 0 else math.nan)
 
 
 @dataclass
