@@ -565,6 +565,9 @@ def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, 
     outside = [(t, x) for t, x in zip(r.targets, r.xi, strict=True)
                if not r.span[0] <= x <= r.span[1]]
     tab = r.table  # the precomputed table it started from, or None
+    # the --max-tosses that reproduces a run cut short: its own tosses (none, when a table
+    # gave every point), and never below what --max-tosses accepts (a round is 1,200 tosses)
+    least = bounce_design.DESIGN_FIRST_MIN * len(bounce_design.DESIGN_GRID)
     from_table = tab.tosses if tab is not None else 0
     total = r.tosses + from_table
     unsettled = r.unsettled + (tab.unsettled if tab is not None else 0)
@@ -618,7 +621,7 @@ def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, 
                f" (--max-tosses {max_tosses} cut the first sweep to {r.first} tosses per aspect "
                f"ratio, from {bounce_design.DESIGN_FIRST})")
             + ("" if r.stopped_by == "tol" else
-               f"; --max-tosses {r.tosses} reproduces this result") + ".  "
+               f"; --max-tosses {max(r.tosses, least)} reproduces this result") + ".  "
             + CONTACT_NOTE + "  The catch model (no --landing) gives the paper's xi.  Toss a "
             "prototype and check it with coin check.  " + PRESET_SPREAD)
     warning = [] if r.met else [f"{why[r.stopped_by]}; the intervals are wider than asked"]

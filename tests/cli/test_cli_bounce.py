@@ -305,6 +305,11 @@ def test_design_on_a_preset_starts_from_its_table(coin):
     assert {k: v for k, v in other[0].items() if k != "seed"} == {
         k: v for k, v in rows[0].items() if k != "seed"}
     error(coin("design", "-p", "1/3", "--no-table"), 2, "--no-table goes with --landing bounce")
+    # cut short before any round: the note names a --max-tosses that is allowed and that
+    # reproduces it (it said --max-tosses 0, its own simulated tosses)
+    rc, out, err = coin(*argv[:-1], "0.001", "--max-tosses", "180")
+    assert rc == 0 and "--max-tosses 180 reached before --tol 0.001" in err
+    assert "no toss simulated here" in out and "--max-tosses 180 reproduces this result" in out
 
 
 def test_design_bounce_honours_a_small_max_tosses(coin):
