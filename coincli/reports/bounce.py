@@ -567,7 +567,7 @@ def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, 
     tab = r.table  # the precomputed table it started from, or None
     # the --max-tosses that reproduces a run cut short: its own tosses (none, when a table
     # gave every point), and never below what --max-tosses accepts (a round is 1,200 tosses)
-    least = bounce_design.DESIGN_FIRST_MIN * len(bounce_design.DESIGN_GRID)
+    least = bounce_design.DESIGN_LEAST
     from_table = tab.tosses if tab is not None else 0
     total = r.tosses + from_table
     unsettled = r.unsettled + (tab.unsettled if tab is not None else 0)
@@ -671,7 +671,7 @@ def bounce_design(physics, *, p_sides, psi, psi_dist, u, omega, diameter, coin, 
             raise usage_error(f"--p-sides must be strictly between 0 and 1 with --landing "
                               f"bounce, got {t:g}")
     tol_v = 0.01 if tol is None else bounded_number(tol, "--tol", 1e-4, 1.0)
-    least = bounce_design_module().DESIGN_FIRST_MIN * len(bounce_design_module().DESIGN_GRID)
+    least = bounce_design_module().DESIGN_LEAST
     mt = (BOUNCE_DESIGN_TOSSES if max_tosses is None else
           bounce_tosses(max_tosses, "--max-tosses", least, MAX_BOUNCE_TOSSES))
     tl = 300.0 if time_limit is None else bounded_number(time_limit, "--time-limit", 1.0, 1e6)

@@ -1107,7 +1107,7 @@ def _table_designs(physics, cf, exps, p_design: float, *, seed, design_tosses,
     from coincli.reports.bounce import bounce_tosses, check_coin, check_landing
     from coincli.reports.launch import U_MAX, reach
 
-    least = BD.DESIGN_FIRST_MIN * len(BD.DESIGN_GRID)
+    least = BD.DESIGN_LEAST
     most = (TABLE_DESIGN_TOSSES if design_tosses is None else
             bounce_tosses(design_tosses, "--design-tosses", least, MAX_BOUNCE_TOSSES))
     seed_v = seed_value(seed)

@@ -218,6 +218,8 @@ def _local_fit(points: dict, target, est):
 DESIGN_GRID = (0.1, 0.15, 0.22, 0.33, 0.5, 0.75, 1.1, 1.6, 2.4)  #: first sweep of xi
 DESIGN_FIRST = 200  #: tosses at each xi of the first sweep (fewer when max_tosses is smaller)
 DESIGN_FIRST_MIN = 20  #: the fewest tosses at each xi of a first sweep cut by max_tosses
+#: the smallest max_tosses a design takes: the first sweep cut to DESIGN_FIRST_MIN per xi
+DESIGN_LEAST = DESIGN_FIRST_MIN * len(DESIGN_GRID)
 DESIGN_ROUND = 400  #: tosses at each of the three xi added near each target per round
 
 
@@ -286,7 +288,7 @@ def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, lev
 
     first = min(DESIGN_FIRST, int(max_tosses) // len(DESIGN_GRID))
     if first < DESIGN_FIRST_MIN:
-        raise ValueError(f"--max-tosses must be at least {DESIGN_FIRST_MIN * len(DESIGN_GRID)} "
+        raise ValueError(f"--max-tosses must be at least {DESIGN_LEAST} "
                          f"with --landing bounce ({DESIGN_FIRST_MIN} tosses at each of the "
                          f"{len(DESIGN_GRID)} aspect ratios of the first sweep), got "
                          f"{max_tosses}")
