@@ -45,7 +45,7 @@ CheckpointOpt = option("--checkpoint", "FILE", "Record the tosses done in FILE a
                        "the same command run again computes only what is missing.")
 TimeoutOpt = option("--timeout", "S", "With --scheduler: seconds to wait for the scheduler, a "
                     "worker, or a scheduler lost mid-run (default 15).")
-DtOpt = option("--dt", "S", "MuJoCo's timestep, s (default 2e-4; see docs/bounce.md for the "
+DtOpt = option("--dt", "S", "MuJoCo's timestep, s (default 1e-4; see docs/bounce.md for the "
                "convergence study), 1e-6 to 1e-3.")
 CalibrationOpt = option("--calibration", "CAL.json", "With --landing bounce: your table, "
                         "calibrated from tosses (coin fit --landing bounce FILE --save "
