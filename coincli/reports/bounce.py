@@ -566,7 +566,7 @@ def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, 
                if not r.span[0] <= x <= r.span[1]]
     tab = r.table  # the precomputed table it started from, or None
     # the --max-tosses that reproduces a run cut short: its own tosses (none, when a table
-    # gave every point), and never below what --max-tosses accepts (a round is 1,200 tosses)
+    # gave every point), and never below the smallest --max-tosses accepted
     least = bounce_design.DESIGN_LEAST
     from_table = tab.tosses if tab is not None else 0
     total = r.tosses + from_table

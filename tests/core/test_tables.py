@@ -97,7 +97,7 @@ def test_a_table_applies_to_exactly_its_tosses():
     from coincli.core.toss.launch import as_dist
 
     for change in ({"u": as_dist("normal:2.5:0.3", "u", 0, 20)}, {"omega": 240.0},
-                   {"psi": math.pi / 2}, {"diameter": 0.03}, {"dt": 2e-4}, {"t_max": 5.0},
+                   {"psi": math.pi / 2}, {"diameter": 0.03}, {"dt": 2 * B.DEFAULT_DT}, {"t_max": 5.0},
                    {"g": 9.8}, {"height": 0.1}, {"vx": 0.2}, {"density": 8000.0},
                    {"surf": B.surface("wood", restitution=0.6)}, {"z0": 0.01},
                    {"flight": "mujoco"}):
