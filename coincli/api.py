@@ -19,22 +19,25 @@ one-line message the command line prints; an answer that cannot be computed rais
 
 from __future__ import annotations
 
-import inspect
+import functools
 import math
 import os
 
 from coincli.errors import InputError
+from coincli.requests.fields import unknown_input
 
 __all__ = ["design", "table", "stack", "coins", "fair", "toss", "simulate", "phase", "check",
            "fit", "book"]
 
 
 def _text(name: str, value):
-    """``value`` as the text its option takes: strings as they are, numbers (numpy's too) as
-    their shortest repr (which reads back to the same double), lists, tuples and arrays joined
-    with commas."""
+    """``value`` as the text its option takes: strings as they are, paths as their text,
+    numbers (numpy's too) as their shortest repr (which reads back to the same double), lists,
+    tuples and arrays joined with commas."""
     if value is None or isinstance(value, str):
         return value
+    if isinstance(value, os.PathLike):
+        return os.fspath(value)
     if hasattr(value, "tolist") and not isinstance(value, (int, float)):  # numpy: arrays, scalars
         value = value.tolist()
     if isinstance(value, bool):
@@ -51,29 +54,49 @@ def _text(name: str, value):
                      f"{type(value).__name__}")
 
 
-def _rows(report, command: str, options: dict) -> list[dict]:
-    """Call ``report`` (a `coincli.reports` function) with ``options`` as the command line
-    would give them, and return its rows as ``--format json`` prints them.  A flag (an option
-    whose default is a bool) takes True or False; any other option a value (`_text`)."""
-    from coincli.io.table import Result, json_rows
+def _declared(command: str):
+    """The api function of ``coin COMMAND``: a keyword it does not take is refused as the
+    command line refuses an option, naming the nearest one
+    (:class:`coincli.errors.UnknownInput`, a ``TypeError`` and an ``InputError``).  Its
+    keywords are the command's declaration's (:mod:`coincli.requests`), as
+    ``tests/cli/test_requests.py`` checks."""
 
-    params = inspect.signature(report).parameters
-    hidden = {"fmt", "quiet", "progress"}
-    kwargs = {}
+    def wrap(fn):
+        @functools.wraps(fn)
+        def call(*args, **options):
+            from coincli.requests import command as declaration
+
+            allowed = declaration(command).api_names()
+            for name in options:
+                if name not in allowed:
+                    raise unknown_input(declaration(command), name, allowed, api=True)
+            return fn(*args, **options)
+
+        return call
+
+    return wrap
+
+
+def _rows(command: str, report, options: dict) -> list[dict]:
+    """Call ``report`` (a `coincli.reports` function) with ``options`` as the command line
+    would give them (the rest at the declared defaults of ``coin COMMAND``), and return its
+    rows as ``--format json`` prints them.  A flag takes True or False; any other option a
+    value (`_text`)."""
+    from coincli.io.table import Result, json_rows
+    from coincli.requests import command as declaration
+
+    declared = declaration(command)
+    given = {}
     for name, value in options.items():
-        if name not in params or name in hidden:
-            allowed = ", ".join(p for p in params if p not in hidden)
-            raise InputError(f"coin {command} has no option --{name.replace('_', '-')}; its "
-                             f"options are {allowed}")
-        if isinstance(params[name].default, bool):
+        if declared.param(name).decl.flag:
             if not isinstance(value, bool):
                 raise InputError(f"--{name.replace('_', '-')} is a flag: True or False, not "
                                  f"{value!r}")
-            kwargs[name] = value
+            given[name] = value
         else:
-            kwargs[name] = _text(name, value)
-    if "fmt" in params:
-        kwargs["fmt"] = "json"
+            given[name] = _text(name, value)
+    request = declared.request(given, api=True)
+    kwargs = dict(request, fmt="json") if "fmt" in request else dict(request)
     out = report(**kwargs)
     results = [out] if isinstance(out, Result) else list(out or ())
     rows: list[dict] = []
@@ -91,6 +114,7 @@ def _given(options: dict) -> dict:
 # (design, table, stack, coins, fair: coincli.reports.design)
 
 
+@_declared("design")
 def design(*, p_sides, model=None, psi=None, psi_dist=None, diameter=None, thickness=None,
            coin=None, tol=None, method=None, landing=None, surface=None, restitution=None,
            friction=None, torsional=None, rolling=None, u=None, omega=None,
@@ -167,9 +191,10 @@ def design(*, p_sides, model=None, psi=None, psi_dist=None, diameter=None, thick
     options = _given(locals())
     from coincli.reports import design as _r
 
-    return _rows(_r.design, "design", options)
+    return _rows("design", _r.design, options)
 
 
+@_declared("table")
 def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickness=None,
           psi=None, psi_dist=None, all=None, vs=None, tol=None, method=None,
           seed=None, layout=None, landing=None, surface=None, restitution=None, friction=None,
@@ -252,9 +277,10 @@ def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
     options = _given(locals())
     from coincli.reports import design as _r
 
-    return _rows(_r.table, "table", options)
+    return _rows("table", _r.table, options)
 
 
+@_declared("stack")
 def stack(*, coin=None, count=None, p_sides=None, quarters=None, diameter=None,
           thickness=None, model=None, psi=None, psi_dist=None) -> list[dict]:
     """Stacks of real coins glued together, their xi = N h / D and chances: ``coin stack``.
@@ -300,9 +326,10 @@ def stack(*, coin=None, count=None, p_sides=None, quarters=None, diameter=None,
     options = _given(locals())
     from coincli.reports import design as _r
 
-    return _rows(_r.stack, "stack", options)
+    return _rows("stack", _r.stack, options)
 
 
+@_declared("coins")
 def coins() -> list[dict]:
     """The catalog of real coins, their dimensions and sources: ``coin coins``.
 
@@ -323,9 +350,10 @@ def coins() -> list[dict]:
     """
     from coincli.reports import design as _r
 
-    return _rows(_r.coins, "coins", {})
+    return _rows("coins", _r.coins, {})
 
 
+@_declared("fair")
 def fair(*, diameter=None, coin=None, psi_dist=None) -> list[dict]:
     """The fair three-sided coin (P(sides) = 1/3) under each model: ``coin fair``.
 
@@ -361,13 +389,14 @@ def fair(*, diameter=None, coin=None, psi_dist=None) -> list[dict]:
     options = _given(locals())
     from coincli.reports import design as _r
 
-    return _rows(_r.fair, "fair", options)
+    return _rows("fair", _r.fair, options)
 
 
 # --------------------------------------------------------------------------- toss family
 # (toss, simulate: coincli.reports.toss; phase: coincli.reports.phase)
 
 
+@_declared("toss")
 def toss(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickness=None,
          psi=None, u=None, omega=None, seed=None, g=None, contact=None, z0=None, landing=None,
          surface=None, restitution=None, friction=None, torsional=None, rolling=None,
@@ -422,9 +451,10 @@ def toss(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickn
     options = _given(locals())
     from coincli.reports import toss as _r
 
-    return _rows(_r.toss, "toss", options)
+    return _rows("toss", _r.toss, options)
 
 
+@_declared("simulate")
 def simulate(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickness=None,
              u=None, omega=None, psi=None, psi_dist=None, tosses=None, seed=None, g=None,
              contact=None, landing=None, surface=None, restitution=None, friction=None,
@@ -486,9 +516,10 @@ def simulate(*, xi=None, coin=None, count=None, quarters=None, diameter=None, th
     options = _given(locals())
     from coincli.reports import toss as _r
 
-    return _rows(_r.simulate, "simulate", options)
+    return _rows("simulate", _r.simulate, options)
 
 
+@_declared("phase")
 def phase(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickness=None,
           psi=None, u=None, omega=None, cols=None, rows=None, exact=None, no_curves=None,
           toss=None, g=None, contact=None) -> list[dict]:
@@ -536,13 +567,14 @@ def phase(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
     options = _given(locals())
     from coincli.reports import phase as _r
 
-    return _rows(_r.phase, "phase", options)
+    return _rows("phase", _r.phase, options)
 
 
 # --------------------------------------------------------------------------- check family
 # (check, fit: coincli.reports.check; book: coincli.reports.book)
 
 
+@_declared("check")
 def check(*, xi=None, quarters=None, coin=None, count=None, diameter=None, thickness=None,
           heads=None, sides=None, tails=None, tosses=None, same=None, different=None,
           psi_dist=None, expect=None, fair=None, landing=None, surface=None, restitution=None,
@@ -612,9 +644,10 @@ def check(*, xi=None, quarters=None, coin=None, count=None, diameter=None, thick
     options = _given(locals())
     from coincli.reports import check as _r
 
-    return _rows(_r.check, "check", options)
+    return _rows("check", _r.check, options)
 
 
+@_declared("fit")
 def fit(file, *, psi_dist=None, no_spread=None, delimiter=None, design=None, alpha=None,
         confidence=None, landing=None, fit=None, seed=None, save=None, design_tosses=None,
         surface=None, restitution=None, friction=None, torsional=None, rolling=None,
@@ -690,12 +723,16 @@ def fit(file, *, psi_dist=None, no_spread=None, delimiter=None, design=None, alp
     [('geometric', 35.84), ('dynamic', 26.92)]
     """
     options = _given(locals())
+    if not isinstance(file, (str, os.PathLike)):
+        raise InputError(f"FILE: a path (str or path-like) or '-' for stdin; got "
+                         f"{type(file).__name__}")
     options["file"] = os.fspath(file)
     from coincli.reports import check as _r
 
-    return _rows(_r.fit, "fit", options)
+    return _rows("fit", _r.fit, options)
 
 
+@_declared("book")
 def book(*, size=None, moments=None, spin=None, times=None, toss=None, tosses=None, seed=None,
          flight=None, start=None, rule=None, out=None) -> list[dict]:
     """``coin book``: the paper's Problem 1, a tossed book or die (a box with three different
@@ -760,4 +797,4 @@ def book(*, size=None, moments=None, spin=None, times=None, toss=None, tosses=No
     options = _given(locals())
     from coincli.reports import book as _r
 
-    return _rows(_r.book, "book", options)
+    return _rows("book", _r.book, options)

@@ -27,6 +27,7 @@ __all__ = [
     "ExitCode",
     "CoinError",
     "InputError",
+    "UnknownInput",
     "NotComputable",
     "Unfollowable",
     "PhysicsMissing",
@@ -137,6 +138,11 @@ class InputError(CoinError, ValueError):
     """The input is wrong (exit 2): what was wrong and what is allowed, in one line."""
 
     code = ExitCode.USAGE
+
+
+class UnknownInput(InputError, TypeError):
+    """An option or keyword that the command does not take, with the nearest it does (a
+    ``TypeError`` too, as Python raises for a wrong keyword)."""
 
 
 class NotComputable(CoinError, ArithmeticError):

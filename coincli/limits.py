@@ -47,3 +47,13 @@ BOUNCE_XI_MAX = 100.0
 #: the tosses of a bounce design (``coin design --landing bounce --max-tosses``): the default,
 #: and the most (the least is the first sweep's, coincli.core.bounce.design)
 BOUNCE_DESIGN_TOSSES = 200_000
+
+# The launches and grids that help texts name (the reports use the same constants).
+#: the hand toss that every launch option defaults to (after Diaconis, Holmes & Montgomery)
+HAND = {"u": "normal:2.4:0.3", "omega": "normal:38:4rev/s", "psi": "normal:90:10"}
+#: what --u and --omega of a run take
+SPEC_FORM = "a value, normal:MEAN:SD or uniform:LOW:HIGH"
+#: the ranges of ``coin phase`` and ``coin plot phase``: m/s and rad/s
+PHASE_U_DEFAULT, PHASE_OMEGA_DEFAULT = "0:3", "0:60"
+#: the grid of a phase figure file, and of its csv/json, along each axis
+PHASE_FIGURE_CELLS, PHASE_DATA_CELLS = 400, 100

@@ -1,60 +1,28 @@
 """``coin toss``, ``coin simulate``, ``coin phase``: real tosses of finite vigor (Sec. II, Fig. 3).
 
-The typer declarations; the reports are :mod:`coincli.reports.toss` (toss, simulate, with
-:mod:`coincli.reports.bounce` for ``--landing bounce``) and :mod:`coincli.reports.phase`.
-numpy loads only inside the commands, rich only to draw on a terminal, scipy never.
+Their help, and the call of their report: :mod:`coincli.reports.toss` (toss, simulate, with
+:mod:`coincli.reports.bounce` for ``--landing bounce``) and :mod:`coincli.reports.phase`.  Their
+options are declared in :mod:`coincli.requests.toss`.  numpy loads only inside the commands,
+rich only to draw on a terminal, scipy never.
 """
 
 from __future__ import annotations
 
 import sys
 
-from coincli.cli import _phase, app
-from coincli.cli._bounce import BOUNCE, RUNS
-from coincli.cli._options import COIN, OUTPUT, SeedOpt, TossesOpt, XisOpt, option, with_groups
+from coincli.cli import app
+from coincli.cli._options import declared
 from coincli.io.table import Result, emit_all
-from coincli.limits import BOUNCE_OMEGA_MAX
 from coincli.render.progress import tossing_bar
 from coincli.reports import phase as phase_report
 from coincli.reports import toss as report
 from coincli.reports.bounce import warn_unmet
-from coincli.reports.launch import HAND, SPEC_FORM
-
-# --------------------------------------------------------------------------- coin toss
-
-UValuesOpt = option("--u", "SPEED", "Launch speed: 2 (m/s), 240cm/s, 8.6km/h; a list, a range or "
-                    "-.  Default: drawn (hand toss).")
-OmegaValuesOpt = option("--omega", "SPIN", "Spin omega_N = M/I1 of eq. (2): 40 (rad/s), 38rev/s, "
-                        "2300rpm; a list, a range or -.  Default: drawn.  At most "
-                        f"{BOUNCE_OMEGA_MAX:.0f} rad/s with --landing bounce.")
-PsiValuesOpt = option("--psi", "DEG", "Angle psi of the angular momentum to the normal, degrees "
-                      "[0, 180]; a list, a range or -.  Default: drawn.")
-Z0Opt = option("--z0", "MM", "Launch height of the centre, mm or with a unit (default: (sqrt 3/2) "
-               "a, plus h/2 for thick contact).")
-
-
-TrajectoryOpt = option("--trajectory", "FILE.csv", "With --landing bounce: write the time series "
-                       "(time, position, quaternion, velocities, tilt, energy, contacts) to this "
-                       "CSV file.")
-
-#: one coin, or (--xi) several; the table of one toss (no worker processes)
-TOSS_COIN, TOSS_TABLE = COIN.but(xi=XisOpt), BOUNCE.without(*RUNS)
+from coincli.requests.toss import PHASE_PICTURE, SIMULATE, TOSS
 
 
 @app.command("toss")
-@with_groups
-def toss_cmd(
-    the_coin=TOSS_COIN,
-    psi: PsiValuesOpt = None,
-    u: UValuesOpt = None,
-    omega: OmegaValuesOpt = None,
-    seed: SeedOpt = None,
-    flight=_phase.FLIGHT,
-    z0: Z0Opt = None,
-    table=TOSS_TABLE,
-    trajectory: TrajectoryOpt = None,
-    output=OUTPUT,
-):
+@declared(TOSS)
+def toss_cmd(request):
     """One deterministic toss: time of flight, turns, final tilt and outcome (eqs. 3-7).
 
     The coin starts heads up with its centre at z0 = (sqrt 3/2) a, flies up at u and spins at
@@ -74,45 +42,14 @@ def toss_cmd(
     coin toss --xi 0.577 --psi 85 --u 2.4 --omega 38 --landing bounce --surface wood
     --trajectory toss.csv
     """
-    result = report.toss(**the_coin, psi=psi, u=u, omega=omega, seed=seed, **flight, z0=z0,
-                         **table, trajectory=trajectory, **output)
-    emit_all(result, **output)
+    result = report.toss(**request)
+    emit_all(result, **request.output)
     warn_unmet(result)  # a bounce that did not settle: the note, after the output
 
 
-# --------------------------------------------------------------------------- coin simulate
-
-
-SpecUOpt = option(
-    "--u", "SPEC", f"Launch speed: {SPEC_FORM}, in m/s or with a unit "
-    f"(normal:240:30cm/s).  Default: {HAND['u']} (hand toss).")
-SpecOmegaOpt = option(
-    "--omega", "SPEC", f"Spin: {SPEC_FORM}, in rad/s or with a unit.  "
-    f"Default: {HAND['omega']} (hand toss).  At most {BOUNCE_OMEGA_MAX:.0f} rad/s with --landing "
-    "bounce.")
-FixedPsiOpt = option("--psi", "DEG", "A fixed angle psi, degrees [0, 180].")
-HandPsiDistOpt = option(
-    "--psi-dist", "SPEC", "psi density: uniform[:LOW:HIGH], cosine, "
-    f"normal[:MEAN:SD] (deg), table:FILE.  Default: {HAND['psi']}.")
-StreamOpt = option("--stream", None, "Print one outcome a line (H, S or T) instead of the summary.",
-                   kind=bool)
-
-
 @app.command("simulate")
-@with_groups
-def simulate_cmd(
-    the_coin=COIN,
-    u: SpecUOpt = None,
-    omega: SpecOmegaOpt = None,
-    psi: FixedPsiOpt = None,
-    psi_dist: HandPsiDistOpt = None,
-    tosses: TossesOpt = None,
-    seed: SeedOpt = None,
-    stream: StreamOpt = False,
-    flight=_phase.FLIGHT,
-    table=BOUNCE,
-    output=OUTPUT,
-):
+@declared(SIMULATE)
+def simulate_cmd(request):
     """Many seeded tosses with random initial conditions: frequencies next to the vigorous limit.
 
     Draws u, omega and psi (by default a natural hand toss, after Diaconis, Holmes &
@@ -133,24 +70,15 @@ def simulate_cmd(
     coin simulate -n 5 --seed 1 --xi 0.577 --psi 90 --stream ;
     coin simulate -n 2000 --seed 1 --xi 0.577 --psi 90 --landing bounce --surface wood
     """
-    result = report.simulate(
-        **the_coin, u=u, omega=omega, psi=psi, psi_dist=psi_dist, tosses=tosses, seed=seed,
-        stream=stream, **flight, **table, **output, progress=tossing_bar)
-    emit_all(result, output.fmt, output.quiet or stream)  # --stream: the letters, one a line
+    result = report.simulate(**request, progress=tossing_bar)
+    # --stream: the letters, one a line
+    emit_all(result, request.fmt, request.quiet or request.stream)
     warn_unmet(result)  # bounces that did not settle: the note, after the output
 
 
-# --------------------------------------------------------------------------- coin phase
-
-
-FORMAT = OUTPUT.only("fmt")  #: a picture: no -q
-PhaseOutOpt = option("--out -o", "FILE", "Write a figure: .png, .svg or .pdf (needs matplotlib: "
-                     "pip install 'thickcoin\\[plot]').")
-
-
 @app.command("phase")
-@with_groups
-def phase_cmd(the_coin=COIN, grid=_phase.PHASE, out: PhaseOutOpt = None, output=FORMAT):
+@declared(PHASE_PICTURE)
+def phase_cmd(request):
     """The pre-images of heads, sides and tails over (u, omega): Fig. 3 of the paper.
 
     Each cell is one deterministic toss (as `coin toss`) from the cell's centre; the coin is
@@ -162,9 +90,9 @@ def phase_cmd(the_coin=COIN, grid=_phase.PHASE, out: PhaseOutOpt = None, output=
     Examples: coin phase ;  coin phase --xi 0.577 --psi 90 --u 0:3 --omega 0:60 ;
     coin phase --xi 0.3 --u 0:5 --omega 0:100 --out phase.png ;  coin phase -f csv
     """
-    shown = phase_report.phase(**the_coin, **grid, out=out, **output)
+    shown = phase_report.phase(**request)
     if isinstance(shown, (Result, list)):
-        emit_all(shown, **output)
+        emit_all(shown, **request.output)
     elif isinstance(shown, str):  # letters (a pipe, NO_COLOR): no rich needed
         sys.stdout.write(shown)
     else:  # coloured blocks, a rich Text

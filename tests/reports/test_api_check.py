@@ -99,11 +99,10 @@ def test_fit_errors_are_the_command_s(coin, tmp_path):
         assert str(caught.value) == message
 
 
-def test_an_option_the_report_lacks_is_refused_by_name():
-    from coincli.reports import check as R
-
-    with pytest.raises(InputError, match="coin fit has no option --xi; its options are file, "):
-        api._rows(R.fit, "fit", {"file": str(TOSSES), "xi": "0.5"})
+def test_an_option_the_command_lacks_is_refused_by_name():
+    with pytest.raises(InputError, match=r"coincli\.api\.fit\(\) takes no 'xi'; it takes file, "
+                       "psi_dist, "):
+        api.fit(str(TOSSES), xi="0.5")
 
 
 # --------------------------------------------------------------------------- book
