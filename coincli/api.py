@@ -196,11 +196,11 @@ def design(*, p_sides, model=None, psi=None, psi_dist=None, diameter=None, thick
 
 @_declared("table")
 def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickness=None,
-          psi=None, psi_dist=None, all=None, vs=None, tol=None, method=None,
-          seed=None, layout=None, landing=None, surface=None, restitution=None, friction=None,
-          torsional=None, rolling=None, release_height=None, vx=None, u=None, omega=None,
-          tosses=None, jobs=None, dt=None, t_max=None, calibration=None, scheduler=None,
-          checkpoint=None, timeout=None) -> list[dict]:
+          psi=None, psi_dist=None, all=None, vs=None, tol=None, method=None, seed=None,
+          layout=None, landing=None, calibration=None, surface=None, restitution=None,
+          friction=None, torsional=None, rolling=None, u=None, omega=None, tosses=None,
+          release_height=None, vx=None, jobs=None, scheduler=None, checkpoint=None, timeout=None,
+          dt=None, t_max=None) -> list[dict]:
     """The chances of heads, sides and tails under every model: ``coin table``; with
     ``landing="bounce"``, simulated on tables (a parameter study).
 
@@ -397,11 +397,10 @@ def fair(*, diameter=None, coin=None, psi_dist=None) -> list[dict]:
 
 
 @_declared("toss")
-def toss(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickness=None,
-         psi=None, u=None, omega=None, seed=None, g=None, contact=None, z0=None, landing=None,
-         surface=None, restitution=None, friction=None, torsional=None, rolling=None,
-         release_height=None, vx=None, dt=None, t_max=None, trajectory=None,
-         calibration=None) -> list[dict]:
+def toss(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickness=None, psi=None,
+         u=None, omega=None, seed=None, g=None, contact=None, z0=None, landing=None, surface=None,
+         restitution=None, friction=None, torsional=None, rolling=None, release_height=None,
+         vx=None, dt=None, t_max=None, calibration=None, trajectory=None) -> list[dict]:
     """One deterministic toss a row, as ``coin toss --format json`` prints it.
 
     Parameters
@@ -458,9 +457,8 @@ def toss(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickn
 def simulate(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickness=None,
              u=None, omega=None, psi=None, psi_dist=None, tosses=None, seed=None, g=None,
              contact=None, landing=None, surface=None, restitution=None, friction=None,
-             torsional=None, rolling=None, release_height=None, vx=None, jobs=None, dt=None,
-             t_max=None, calibration=None, scheduler=None, checkpoint=None,
-             timeout=None) -> list[dict]:
+             torsional=None, rolling=None, release_height=None, vx=None, jobs=None, scheduler=None,
+             checkpoint=None, timeout=None, dt=None, t_max=None, calibration=None) -> list[dict]:
     """Seeded tosses from random launches, as ``coin simulate --format json`` prints them:
     the frequency of each outcome with its 95% Wilson interval, next to the vigorous limit.
 
@@ -577,10 +575,10 @@ def phase(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
 @_declared("check")
 def check(*, xi=None, quarters=None, coin=None, count=None, diameter=None, thickness=None,
           heads=None, sides=None, tails=None, tosses=None, same=None, different=None,
-          psi_dist=None, expect=None, fair=None, landing=None, surface=None, restitution=None,
-          friction=None, torsional=None, rolling=None, release_height=None, vx=None, u=None,
-          omega=None, psi=None, seed=None, jobs=None, dt=None, t_max=None, calibration=None,
-          scheduler=None, checkpoint=None, timeout=None, alpha=None,
+          psi_dist=None, expect=None, fair=None, landing=None, calibration=None, surface=None,
+          restitution=None, friction=None, torsional=None, rolling=None, u=None, omega=None,
+          psi=None, seed=None, release_height=None, vx=None, jobs=None, scheduler=None,
+          checkpoint=None, timeout=None, dt=None, t_max=None, alpha=None,
           confidence=None) -> list[dict]:
     """``coin check``: are the tosses of one coin consistent with the models (with stated
     chances, with a simulated table)?
@@ -650,10 +648,9 @@ def check(*, xi=None, quarters=None, coin=None, count=None, diameter=None, thick
 @_declared("fit")
 def fit(file, *, psi_dist=None, no_spread=None, delimiter=None, design=None, alpha=None,
         confidence=None, landing=None, fit=None, seed=None, save=None, design_tosses=None,
-        surface=None, restitution=None, friction=None, torsional=None, rolling=None,
-        release_height=None, vx=None, u=None, omega=None, psi=None, jobs=None, dt=None,
-        t_max=None, scheduler=None, checkpoint=None, timeout=None,
-        calibration=None) -> list[dict]:
+        surface=None, restitution=None, friction=None, torsional=None, rolling=None, u=None,
+        omega=None, psi=None, release_height=None, vx=None, jobs=None, scheduler=None,
+        checkpoint=None, timeout=None, dt=None, t_max=None, calibration=None) -> list[dict]:
     """``coin fit FILE``: which model do the tosses of a file of experiments follow?
 
     Parameters
