@@ -5,11 +5,19 @@ One function per command, with keyword arguments named after the command's long 
 Python number, a bool for a flag, a list or tuple for a list option, or the very string the
 option takes on the command line (``"1/3"``, ``"25mm"``, ``"normal:90:18"``, ``"0.1:1:0.1"``).
 Each returns the list of row dicts that ``--format json`` prints: for the same inputs,
-``json.loads(coin COMMAND ... --format json)`` equals ``api.COMMAND(...)``.
+``json.loads(coin COMMAND ... --format json)`` equals ``api.COMMAND(...)``.  The list is a
+`coincli.io.notes.Rows`, which also carries what the command line says besides the rows:
+``rows.notes``, the lines it writes to stderr (`coincli.io.notes.Note` records: warnings, notes
+such as the tosses that did not settle, a drawn seed), and ``rows.caption``, the paragraph a
+terminal table shows under the rows (the model, the method, the caveats).  Each warning is also
+issued as a `coincli.errors.CoinWarning` (``warnings.simplefilter("error", CoinWarning)`` turns
+it into an error).  Nothing is written to stderr.
 
 A wrong input raises `coincli.errors.InputError` (a `ValueError`) with the
 one-line message the command line prints; an answer that cannot be computed raises
-`coincli.errors.NotComputable` (an `ArithmeticError`).
+`coincli.errors.NotComputable` (an `ArithmeticError`).  A keyword the command does not take
+raises `coincli.errors.UnknownInput` (an `InputError` and a `TypeError`) naming the nearest one,
+as the command line does for a misspelled option.
 
 >>> from coincli import api
 >>> row = api.design(p_sides="1/3")[0]
@@ -22,8 +30,9 @@ from __future__ import annotations
 import functools
 import math
 import os
+import warnings
 
-from coincli.errors import InputError
+from coincli.errors import CoinWarning, InputError
 from coincli.requests.fields import unknown_input
 
 __all__ = ["design", "table", "stack", "coins", "fair", "toss", "simulate", "phase", "check",
@@ -82,6 +91,7 @@ def _rows(command: str, report, options: dict) -> list[dict]:
     would give them (the rest at the declared defaults of ``coin COMMAND``), and return its
     rows as ``--format json`` prints them.  A flag takes True or False; any other option a
     value (`_text`)."""
+    from coincli.io import notes
     from coincli.io.table import Result, json_rows
     from coincli.requests import command as declaration
 
@@ -97,12 +107,18 @@ def _rows(command: str, report, options: dict) -> list[dict]:
             given[name] = _text(name, value)
     request = declared.request(given, api=True)
     kwargs = dict(request, fmt="json") if "fmt" in request else dict(request)
-    out = report(**kwargs)
-    results = [out] if isinstance(out, Result) else list(out or ())
     rows: list[dict] = []
-    for r in results:
-        rows.extend(json_rows(r))
-    return rows
+    with notes.collected() as said:
+        out = report(**kwargs)
+        results = [out] if isinstance(out, Result) else list(out or ())
+        for r in results:
+            rows.extend(json_rows(r))  # a streamed result is computed here
+            notes.lines(notes.after(r))
+    for n in said:
+        if n.kind == "warning":
+            warnings.warn(n.text, CoinWarning, stacklevel=4)
+    caption = "\n\n".join(r.note for r in results if getattr(r, "note", None))
+    return notes.Rows(rows, said, caption)
 
 
 def _given(options: dict) -> dict:

@@ -28,6 +28,7 @@ __all__ = [
     "CoinError",
     "InputError",
     "UnknownInput",
+    "CoinWarning",
     "NotComputable",
     "Unfollowable",
     "PhysicsMissing",
@@ -143,6 +144,12 @@ class InputError(CoinError, ValueError):
 class UnknownInput(InputError, TypeError):
     """An option or keyword that the command does not take, with the nearest it does (a
     ``TypeError`` too, as Python raises for a wrong keyword)."""
+
+
+class CoinWarning(UserWarning):
+    """A result to read with care, issued by :mod:`coincli.api` (the command line prints it as
+    ``coin: warning: ...``): ``warnings.simplefilter("error", CoinWarning)`` makes it an
+    error."""
 
 
 class NotComputable(CoinError, ArithmeticError):

@@ -1,4 +1,5 @@
-"""The ``coin`` console script and ``python -m coincli``, and the one signal policy of the CLI.
+"""The one signal policy of the command line (installed by :mod:`coincli._entry` and
+:func:`coincli.cli.run`).
 
 Importing the command line (typer, click) is most of a closed-form run's 60 ms; a Ctrl-C in that
 window would otherwise end in a traceback.  This module is tiny and imports nothing of its own, so
@@ -13,18 +14,10 @@ SIGHUP).  A second signal while the run is stopping is ignored, so the cleanup f
 the command line installs these handlers (:func:`coincli.cli.run` and :func:`main`): importing
 :mod:`coincli` or :mod:`coincli.api` changes no signal disposition.  A process forked by the run
 (a worker) that still holds the handler dies of the signal, quietly.
-
-The cyclic garbage collector is paused while coin starts: importing typer, click and coin's own
-modules and building the command allocate some hundred thousand objects and no garbage, yet
-trigger collections that scan them all (about 5 ms, 7% of a closed-form run).  Once the command
-is built, what exists is frozen (never scanned again: it lives until exit anyway) and collection
-resumes for the command's own work (:func:`coincli.cli.run`).
 """
 
-import gc
 import os
 import signal
-import sys
 
 #: the signals that end a run as Ctrl-C does (besides SIGINT, which Python already raises as
 #: KeyboardInterrupt), with the words of the one error line; exit code 128 + the number
@@ -94,21 +87,3 @@ def stop_line():
         if getattr(signal, name, None) == num:
             words = text
     return words, 128 + int(num)
-
-
-def main() -> None:
-    """Run ``coin``; exit 128 + signal with one line on stderr if stopped while starting up."""
-    gc.disable()
-    previous = catch_signals()
-    try:
-        from coincli.cli import run
-
-        code = run(gc_paused=True)  # never raises; a stop can only come between its steps
-    except KeyboardInterrupt:
-        words, code = stop_line()
-        try:
-            sys.stderr.write(f"coin: error: {words}\n")
-        except (AttributeError, OSError, ValueError):
-            pass
-    release_signals(previous)  # the run is over: a signal now ends the process as by default
-    sys.exit(code)

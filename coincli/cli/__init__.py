@@ -16,7 +16,7 @@ import sys
 import typer
 
 from coincli import __version__
-from coincli._entry import catch_signals, release_signals, stop_line
+from coincli.signals import catch_signals, release_signals, stop_line
 from coincli.cli._help import prepare as _prepare
 from coincli.errors import CoinError, ExitCode, InputError, clip_message
 
@@ -82,7 +82,7 @@ def _root(
 
 # Command modules register their commands on ``app`` when imported, in this order (the order of
 # the root's help).  Keep their top level free of numpy/scipy/rich.
-COMMAND_MODULES = ("design", "toss", "check", "plot", "methods", "book")
+COMMAND_MODULES = ("design", "toss", "check", "plot", "book")
 
 #: the module that registers each command: a run imports that one alone.  Only a shortcut: a
 #: name missing here, or registered elsewhere, is found by importing every module.
@@ -98,11 +98,7 @@ def _load(modules) -> None:
     saved, app._complete = app._complete, True  # the modules' decorators append, not load
     try:
         for name in modules:
-            try:
-                __import__(f"coincli.cli.{name}")
-            except ModuleNotFoundError as exc:  # a command module not written yet
-                if exc.name != f"coincli.cli.{name}":
-                    raise
+            __import__(f"coincli.cli.{name}")
     finally:
         app._complete = saved or complete
     if complete:
@@ -120,7 +116,7 @@ def _load(modules) -> None:
 
 
 def _stopped() -> int:
-    """One line for a run stopped by Ctrl-C, SIGTERM or SIGHUP (:mod:`coincli._entry`):
+    """One line for a run stopped by Ctrl-C, SIGTERM or SIGHUP (:mod:`coincli.signals`):
     ``interrupted``, ``terminated (SIGTERM)`` or ``hung up (SIGHUP)``, with the seed the run
     drew (if it drew one) so that it can be repeated; the exit code, 128 + the signal."""
     words, code = stop_line()
@@ -209,10 +205,10 @@ def run(argv=None, *, gc_paused: bool = False) -> int:
     """Run ``coin`` with ``argv`` and return the exit code (never raises, never prints a trace).
 
     ``gc_paused``: the console script paused the garbage collector while starting up
-    (:mod:`coincli._entry`); it is resumed, with every object so far frozen, once the command is
+    (:mod:`coincli.signals`); it is resumed, with every object so far frozen, once the command is
     built.
 
-    SIGTERM and SIGHUP stop the run as Ctrl-C does (:mod:`coincli._entry`: workers ended,
+    SIGTERM and SIGHUP stop the run as Ctrl-C does (:mod:`coincli.signals`: workers ended,
     temporary files removed, the drawn seed said, exit 143 and 129); the handlers are this
     call's only, put back when it returns.
 
@@ -278,7 +274,7 @@ def _run(argv, gc_paused: bool = False) -> int:
         if isinstance(exc.__context__, KeyboardInterrupt):
             return _stopped()
         return _fail("aborted", ExitCode.INTERRUPTED)
-    except KeyboardInterrupt:  # Ctrl-C, or SIGTERM/SIGHUP (coincli._entry.Stopped)
+    except KeyboardInterrupt:  # Ctrl-C, or SIGTERM/SIGHUP (coincli.signals.Stopped)
         return _stopped()
     except BrokenPipeError:
         return _quiet_broken_pipe()
