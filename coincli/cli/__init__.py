@@ -4,11 +4,26 @@ Each command module registers its commands on :data:`app`; this module only runs
 every failure into one line on stderr and an exit code (:class:`ExitCode`).  Nothing here or in
 the command modules imports numpy, scipy or rich at import time: a closed-form answer must not
 pay for them.
+
+**Where coin reaches into typer** (typer 0.26 to 0.28, which vendor click as ``typer._click``;
+pyproject pins ``typer>=0.26,<0.29``; ``tests/cli/test_typer_internals.py`` checks each
+assumption, so a typer that breaks one fails a test that names it):
+
+- :class:`_App` reads ``registered_commands`` and ``registered_groups`` through a descriptor,
+  so the command modules are imported when typer first reads them (help, completion), not at
+  start-up; and a run builds a copy of the app holding the one command it runs
+  (:func:`_click_command`, setting typer's private ``_add_completion``), since turning every
+  command into click options costs a fifth of a closed-form run.
+- :func:`_listing`: the root's help and click's "did you mean" are built from commands with no
+  parameters (the same names and help).
+- :func:`coincli.cli._help.prepare` sets click's ``rich_markup_mode`` to None (plain help),
+  replaces ``format_options`` (the panels) and ``get_short_help_str`` (whole summaries), sets
+  click's private ``_custom_shell_complete`` (the names an option completes to), and inserts a
+  ``typer.core.TyperOption`` for ``--no-headers``.
 """
 
 from __future__ import annotations
 
-import builtins
 import errno
 import os
 import sys
@@ -341,52 +356,7 @@ def _click_command(argv):
     lean.registered_commands, lean.registered_groups = commands, groups
     if not before:  # no root option given: --install/--show-completion cannot be asked for
         lean._add_completion = False
-    _resolve_annotations(lean)
     return _prepare(typer.main.get_command(lean))
-
-
-def _resolve_annotations(typer_app) -> None:
-    """Look up the string annotations (``from __future__ import annotations``) that are plain
-    (dotted) names, like ``FormatOpt`` or ``_options.CoinOpt``, for the callbacks typer is
-    about to inspect.  typer evaluates each annotation twice (``inspect.signature(eval_str=True)``
-    and ``typing.get_type_hints``), compiling its text each time: most of the cost of building
-    a command.  Any other annotation is left to typer (coin's source evaluates no text)."""
-    infos = [*typer_app.registered_commands, typer_app.registered_callback]
-    for group in typer_app.registered_groups:
-        sub = group.typer_instance
-        infos += [*sub.registered_commands, sub.registered_callback, group]
-    for info in infos:
-        fn = getattr(info, "callback", None)
-        ann = getattr(fn, "__annotations__", None)
-        if not ann:
-            continue
-        for name, text in ann.items():
-            if isinstance(text, str):
-                value = _named(text, fn.__globals__)
-                if value is not _NOT_A_NAME:
-                    ann[name] = value
-
-
-_NOT_A_NAME = object()
-_BUILTINS = vars(builtins)
-
-
-def _named(text: str, namespace: dict):
-    """The object a dotted name ``text`` names in ``namespace``; _NOT_A_NAME otherwise."""
-    parts = text.split(".")
-    if not all(p.isidentifier() for p in parts):
-        return _NOT_A_NAME
-    if parts[0] in namespace:
-        value = namespace[parts[0]]
-    elif parts[0] in _BUILTINS:  # ``bool``, ``str``
-        value = _BUILTINS[parts[0]]
-    else:
-        return _NOT_A_NAME
-    for attr in parts[1:]:
-        value = getattr(value, attr, _NOT_A_NAME)
-        if value is _NOT_A_NAME:
-            break
-    return value
 
 
 def _command_name(info) -> str:

@@ -8,6 +8,8 @@ shell asks for completions, except :func:`prepare`'s few assignments.
 
 from __future__ import annotations
 
+from coincli.requests.common import completions
+
 #: the option panels of ``--help``, in order: a title and the options it holds (any of an
 #: option's names).  An option in none of them is listed under "Options".
 PANELS = (
@@ -82,26 +84,6 @@ def _paneled(cmd):
     return format_options
 
 
-def _names(option: str) -> tuple[str, ...]:
-    """The names ``option`` completes to."""
-    if option == "--surface":
-        from coincli.core.bounce.engine import SURFACES
-
-        return tuple(SURFACES)
-    if option == "--coin":
-        from coincli.core.coins import CATALOG
-
-        return tuple(CATALOG)
-    if option == "--format":
-        from coincli.io.table import FORMATS
-
-        return FORMATS
-    return {"--landing": ("catch", "bounce"), "--model": ("geometric", "dynamic", "psi"),
-            "--contact": ("rim", "thick"), "--method": ("auto", "quad", "mc", "qmc"),
-            "--vs": ("psi",), "--psi-dist": ("uniform", "cosine", "normal", "table:")}.get(
-                option, ())
-
-
 def _completions(cmd) -> None:
     """Value completion for the options of ``cmd`` that take names or files."""
     from typer._click.shell_completion import CompletionItem
@@ -112,7 +94,7 @@ def _completions(cmd) -> None:
             param._custom_shell_complete = lambda ctx, p, inc: [CompletionItem(inc, type="file")]
             continue
         for option in param.opts:
-            values = _names(option)
+            values = completions(option)
             if values:
                 param._custom_shell_complete = (
                     lambda ctx, p, inc, values=values: [v for v in values if v.startswith(inc)])

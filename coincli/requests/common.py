@@ -12,12 +12,15 @@ from __future__ import annotations
 from coincli.limits import (
     BOUNCE_G_MAX,
     BOUNCE_OMEGA_MAX,
+    CONTACTS,
     G_MAX,
     G_MIN,
+    LANDINGS,
     PHASE_DATA_CELLS,
     PHASE_FIGURE_CELLS,
     PHASE_OMEGA_DEFAULT,
     PHASE_U_DEFAULT,
+    SURFACE_NAMES,
 )
 from coincli.requests.fields import Group, Param
 from coincli.requests.fields import Opt as option
@@ -194,3 +197,23 @@ PHASE = Group(("psi", PhasePsiOpt, "90"), ("u", URangeOpt, None), ("omega", Omeg
 #: the old spellings of ``coin plot phase``
 OLD = Group(("u_range", OldURangeOpt, None), ("omega_range", OldOmegaRangeOpt, None),
             ("exact_curves", OldExactOpt, False), ("resolution", OldResolutionOpt, None))
+
+
+# --------------------------------------------------------------------------- completion
+
+
+def completions(option: str) -> tuple[str, ...]:
+    """The names an option's value completes to in a shell (``--surface``: the presets); files
+    complete as files (:mod:`coincli.cli._help`), everything else to nothing."""
+    if option == "--coin":
+        from coincli.core.coins import CATALOG
+
+        return tuple(CATALOG)
+    if option == "--format":
+        from coincli.io.table import FORMATS
+
+        return FORMATS
+    return {"--surface": SURFACE_NAMES, "--landing": LANDINGS,
+            "--model": ("geometric", "dynamic", "psi"), "--contact": CONTACTS,
+            "--method": ("auto", "quad", "mc", "qmc"), "--vs": ("psi",),
+            "--psi-dist": ("uniform", "cosine", "normal", "table:")}.get(option, ())
