@@ -398,7 +398,8 @@ def heterogeneity(xi, same, n, fits: RowFits, *, chance: SameChance | None = Non
             return float(np.sum(wt * row))
         w = np.exp(-0.5 * ((g - mu) / tau) ** 2)
         w /= w.sum()
-        return float(np.sum(wt * (np.log(lik @ w) + top)))
+        with np.errstate(divide="ignore"):  # a row no spread near mu can give: log 0 = -inf,
+            return float(np.sum(wt * (np.log(lik @ w) + top)))  # the least likely, as it is
 
     def best_mu(tau: float) -> tuple[float, float]:
         mus = np.linspace(g[0], g[-1], 17)
