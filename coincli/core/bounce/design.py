@@ -72,18 +72,29 @@ class SidesFit:
         return math.exp((float(ndtri(p)) - self.alpha) / self.beta)
 
     def interval(self, p, level=0.95):
-        """A ``level`` confidence interval of :meth:`inverse` (delta method on ln xi)."""
+        """A ``level`` confidence interval of :meth:`inverse`: Fieller's, the set of ln xi at
+        which the fitted curve's value is within its own error of ``ndtri(p)``,
+        ``(alpha + beta l - q)^2 <= z^2 var(alpha + beta l)``.  Unlike the delta method it
+        carries the error of the slope (the interval is wider, and longer on the flatter side,
+        when the slope is uncertain); it is unbounded, ``(0, inf)``, when the slope itself is
+        not distinguishable from 0 at that level."""
         from statistics import NormalDist
 
         from scipy.special import ndtri
 
         q = float(ndtri(p))
-        g = (q - self.alpha) / self.beta
-        da, db = -1.0 / self.beta, -(q - self.alpha) / self.beta**2
         (vaa, vab), (_, vbb) = self.cov
-        sd = math.sqrt(max(da * da * vaa + 2 * da * db * vab + db * db * vbb, 0.0))
-        z = NormalDist().inv_cdf(0.5 + level / 2)
-        return math.exp(g - z * sd), math.exp(g + z * sd)
+        z2 = NormalDist().inv_cdf(0.5 + level / 2) ** 2
+        d = self.alpha - q
+        a = self.beta**2 - z2 * vbb
+        b = self.beta * d - z2 * vab  # half the linear coefficient
+        c = d * d - z2 * vaa
+        disc = b * b - a * c
+        if a <= 0 or disc < 0:
+            return 0.0, math.inf
+        r = math.sqrt(disc)
+        lo, hi = sorted(((-b - r) / a, (-b + r) / a))
+        return (math.exp(lo) if lo < 709 else math.inf), (math.exp(hi) if hi < 709 else math.inf)
 
 
 def _norm_pdf(x):
@@ -223,7 +234,65 @@ DESIGN_LEAST = DESIGN_FIRST_MIN * len(DESIGN_GRID)
 DESIGN_ROUND = 400  #: tosses at each of the three xi added near each target per round
 
 
-def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, level=0.95,
+def _curvature_shift(points: dict, target: float, est: float, factor: float = 1.3) -> float:
+    """How far the answer moves when the local curve may bend: the xi at which a probit
+    quadratic in ln xi, fitted to the points within ``factor`` of ``est`` (five aspect ratios at
+    least, else 0), reaches ``target``, minus ``est``.  A straight probit over a window misses a
+    curved P(sides) by about this much; the interval is widened by it (lack of fit)."""
+    import numpy as np
+    from scipy.special import ndtr, ndtri
+
+    near = [(x, n, k) for x, (n, k) in sorted(points.items())
+            if n > 0 and est / factor <= x <= est * factor]
+    if len(near) < 5:
+        return 0.0
+    lx = np.log([p[0] for p in near]) - math.log(est)
+    n = np.array([p[1] for p in near], float)
+    k = np.array([p[2] for p in near], float)
+    if not (k.sum() > 0 and (n - k).sum() > 0):
+        return 0.0
+    X = np.column_stack([np.ones_like(lx), lx, lx * lx])
+    f = np.clip((k + 0.5) / (n + 1), 1e-6, 1 - 1e-6)
+    coef = np.linalg.lstsq(X, ndtri(f), rcond=None)[0]
+    for _ in range(50):
+        eta = X @ coef
+        mu = np.clip(ndtr(eta), 1e-12, 1 - 1e-12)
+        phi = np.maximum(_norm_pdf(eta), 1e-300)
+        w = n * phi * phi / (mu * (1 - mu))
+        zz = eta + (k / n - mu) / phi
+        try:
+            new = np.linalg.solve(X.T @ (w[:, None] * X), X.T @ (w * zz))
+        except np.linalg.LinAlgError:
+            return 0.0
+        if not np.all(np.isfinite(new)):
+            return 0.0
+        done = np.max(np.abs(new - coef)) < 1e-10
+        coef = new
+        if done:
+            break
+    c0, c1, c2 = (float(v) for v in coef)
+    q = float(ndtri(target))
+    # the root of c0 - q + c1 l + c2 l^2 nearest l = 0 (est), within the window
+    if abs(c2) < 1e-12 * max(abs(c1), 1.0):
+        roots = [-(c0 - q) / c1] if c1 else []
+    else:
+        disc = c1 * c1 - 4 * c2 * (c0 - q)
+        roots = [] if disc < 0 else [(-c1 + r) / (2 * c2) for r in (math.sqrt(disc),
+                                                                    -math.sqrt(disc))]
+    roots = [r for r in roots if abs(r) <= math.log(factor)]
+    if not roots:
+        return 0.0
+    return est * math.exp(min(roots, key=abs)) - est
+
+
+def _bracketed(points: dict, x: float, factor: float) -> bool:
+    """Whether simulated points within ``factor`` of ``x`` lie on both sides of it (three at
+    least): an answer from them is read between points, not past them."""
+    near = [p for p, (n, _) in points.items() if n > 0 and x / factor <= p <= x * factor]
+    return len(near) >= 3 and min(near) <= x <= max(near)
+
+
+def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=None, level=0.95,
            progress: Callable[[int, int], None] | None = None, clock=None, table=None,
            **kw) -> Design:
     """The aspect ratios at which tosses onto a surface land on a side with the chances
@@ -313,8 +382,12 @@ def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, lev
             for t, x in zip(targets, est, strict=True):
                 if not lo_xi <= x <= BOUNCE_XI_MAX:  # no toss could check it: never an answer
                     raise BeyondTheEngine(t, x, lo_xi, BOUNCE_XI_MAX)
-            ivs = [f.interval(t, level) for f, t in zip(fits, targets, strict=True)]
-            met = all(hi - x <= tol and x - lo <= tol
+            ivs = []
+            for f, t, x in zip(fits, targets, est, strict=True):
+                lo, hi = f.interval(t, level)
+                shift = abs(_curvature_shift(points, t, x))
+                ivs.append((max(lo - shift, 0.0), hi + shift))
+            met = all(hi - x <= tol and x - lo <= tol and _bracketed(points, x, DESIGN_WINDOWS[0])
                       for x, (lo, hi) in zip(est, ivs, strict=True))
             if met:
                 break
@@ -323,7 +396,7 @@ def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=300.0, lev
             if first < DESIGN_FIRST or tosses + len(nxt) * DESIGN_ROUND > max_tosses:
                 stopped = "max_tosses"  # a cut first sweep: the cap stopped it, whatever is left
                 break
-            if clock() - start > time_limit:
+            if time_limit is not None and clock() - start > time_limit:
                 stopped = "time_limit"
                 break
             rnd += 1
