@@ -47,3 +47,22 @@ BOUNCE_XI_MAX = 100.0
 #: the tosses of a bounce design (``coin design --landing bounce --max-tosses``): the default,
 #: and the most (the least is the first sweep's, coincli.core.bounce.design)
 BOUNCE_DESIGN_TOSSES = 200_000
+# The surface, launch-plane and step options of --landing bounce, and the same fields of a
+# calibration file (coincli.io.calibration): one range each, checked by both.
+#: the restitution a MuJoCo contact can give (coincli.core.bounce.engine.RESTITUTION_MIN/MAX)
+BOUNCE_RESTITUTION_MIN = 0.06
+BOUNCE_RESTITUTION_MAX = 0.95
+#: the sliding friction coefficient of a surface
+BOUNCE_FRICTION_MAX = 10.0
+#: mm, the torsional and rolling friction lengths (from 0)
+BOUNCE_FRICTION_LENGTH_MAX_MM = 100.0
+#: mm, the surface below the launch plane (--release-height, from 0)
+BOUNCE_HEIGHT_MAX_MM = 1e5
+#: m/s, the sideways launch speed (--vx, from 0)
+BOUNCE_VX_MAX = 100.0
+#: s, MuJoCo's time step (--dt)
+BOUNCE_DT_MIN = 1e-6
+BOUNCE_DT_MAX = 1e-3
+#: s, the time a toss may take to settle (--t-max)
+BOUNCE_T_MAX_MIN = 0.01
+BOUNCE_T_MAX_MAX = 1000.0
