@@ -215,7 +215,7 @@ def fit(file: str, *, fit_params: str | None = None, seed: str | None = None,
         except ValueError as exc:
             raise usage_error(f"--{exc}") from None
     text, name = CK._read_text(file)
-    exps = CK._experiments(text, name, sep)
+    exps = CK._experiments(text, name, sep, caught=False)  # a caught coin met no table
     if len(exps) > MAX_PROTOTYPES:
         raise usage_error(f"{name}: {len(exps)} prototypes; a calibration takes at most "
                           f"{MAX_PROTOTYPES} (each is simulated at every design point)")
