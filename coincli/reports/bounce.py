@@ -17,11 +17,11 @@ from __future__ import annotations
 import math
 import sys
 
+from coincli import limits as L
 from coincli.errors import InputError, compute_error, shown, usage_error
 from coincli.io import grammar as parse
 from coincli.io import options as _options
 from coincli.io.batches import values_option
-from coincli import limits as L
 from coincli.io.table import Column, Result
 from coincli.limits import (
     BOUNCE_DESIGN_TOSSES,

@@ -67,6 +67,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
+from coincli import limits as L
 from coincli.core._numerics.quaternion import _qaxis, _qconj, _qmul, _qrot
 from coincli.core._numerics.roots import bisect
 from coincli.core.toss.flight import (
@@ -78,7 +79,6 @@ from coincli.core.toss.flight import (
 )
 from coincli.errors import PhysicsMissing, install_hint
 from coincli.limits import BOUNCE_G_MAX, BOUNCE_XI_MAX, LANDINGS, SURFACE_NAMES
-from coincli import limits as L
 
 __all__ = [
     "PhysicsMissing",
