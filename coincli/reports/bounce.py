@@ -288,6 +288,8 @@ def check_landing(p: Physics, *, u_top: float, g: float, xi: float, dia: float, 
     alone is too long)."""
     from coincli.core.toss.flight import default_z0
 
+    if getattr(p, "calibration", None) is not None and u_text in (HAND["u"], "the hand toss's"):
+        u_text = f"the calibration's launch.u ({p.calibration[0]})"  # not typed: the file's
     half = p.t_max / 2
     z = default_z0(xi, dia, "thick") if z0 is None else z0
     drop = z - math.hypot(dia / 2, xi * dia / 2)  # the centre's fall before R

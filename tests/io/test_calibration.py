@@ -237,3 +237,26 @@ def test_a_fixed_u_on_the_command_line(coin, tmp_path):
     rc, out, err = coin("simulate", "--landing", "bounce", "--calibration", path, "-n", "8",
                         "--xi", "0.5", "--seed", "1", "--jobs", "1", "-f", "csv")
     assert rc == 0 and err == "" and out.startswith("outcome,")
+
+
+@pytest.mark.parametrize("field, value, words", [
+    ("u", {"kind": "normal", "p1": 30.0, "p2": 0.3, "lo": 0.0, "hi": 1e8},
+     "got \"the calibration's launch.u ("),
+    ("release_height_m", {"kind": "fixed", "p1": 50.0, "p2": 0.0, "lo": None, "hi": None},
+     "got \"50000 mm (the calibration's)\""),
+])
+def test_a_launch_in_range_that_cannot_land_names_the_calibration(coin, tmp_path, field, value,
+                                                                  words):
+    """In the options' range, but the coin cannot land in half of t_max: the line names the
+    calibration's value (it said `got 'None'`, or the hand toss's u, never typed)."""
+    pytest.importorskip("mujoco")
+    from cli_helpers import error
+
+    cal = json.loads(_edit("none"))
+    cal["launch"][field] = value
+    cal["launch"]["t_max"] = 2.5
+    path = tmp_path / "cal.json"
+    path.write_text(json.dumps(cal))
+    err = error(coin("simulate", "--landing", "bounce", "--calibration", path, "-n", "8",
+                     "--xi", "0.5", "--seed", "1", "--jobs", "1"), 2, words)
+    assert "None" not in err and "normal:2.4:0.3" not in err
