@@ -57,3 +57,23 @@ SPEC_FORM = "a value, normal:MEAN:SD or uniform:LOW:HIGH"
 PHASE_U_DEFAULT, PHASE_OMEGA_DEFAULT = "0:3", "0:60"
 #: the grid of a phase figure file, and of its csv/json, along each axis
 PHASE_FIGURE_CELLS, PHASE_DATA_CELLS = 400, 100
+
+# The surface, launch-plane and step options of --landing bounce, and the same fields of a
+# calibration file (coincli.io.calibration): one range each, checked by both.
+#: the restitution a MuJoCo contact can give (coincli.core.bounce.engine.RESTITUTION_MIN/MAX)
+BOUNCE_RESTITUTION_MIN = 0.06
+BOUNCE_RESTITUTION_MAX = 0.95
+#: the sliding friction coefficient of a surface
+BOUNCE_FRICTION_MAX = 10.0
+#: mm, the torsional and rolling friction lengths (from 0)
+BOUNCE_FRICTION_LENGTH_MAX_MM = 100.0
+#: mm, the surface below the launch plane (--release-height, from 0)
+BOUNCE_HEIGHT_MAX_MM = 1e5
+#: m/s, the sideways launch speed (--vx, from 0)
+BOUNCE_VX_MAX = 100.0
+#: s, MuJoCo's time step (--dt)
+BOUNCE_DT_MIN = 1e-6
+BOUNCE_DT_MAX = 1e-3
+#: s, the time a toss may take to settle (--t-max)
+BOUNCE_T_MAX_MIN = 0.01
+BOUNCE_T_MAX_MAX = 1000.0

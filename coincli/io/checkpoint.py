@@ -13,7 +13,10 @@ pool's 16 tosses, a cluster's more: :func:`coincli.core.bounce.cluster.chunk_for
 file holds toss by toss, and computes again only the chunks it does not hold whole.  A line of a
 calibration's design point is the digest of the task (:func:`task_key`) and its counts.  A line
 is appended and fsynced as each chunk completes, so a run killed at any moment leaves every
-chunk it finished; a torn or damaged line is dropped (and recomputed) the next time.
+chunk it finished; a torn or damaged line is dropped (and recomputed) the next time, and so is
+one whose checksum matches but whose record is not one this module writes (:func:`_good_record`:
+types, field count, outcomes 0-3; a design point's counts also of its task's shape, ``fn.fits``).
+A header whose fields are not of their types is a damaged header.
 
 A checkpoint written by another command line, another ``coin`` or another MuJoCo is refused
 in one line naming what differs (:class:`Checkpoint`).  It works with the local pool
@@ -25,6 +28,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import os
 
 from coincli.errors import compute_error, shown, usage_error
@@ -84,15 +88,80 @@ def _line(fields: dict) -> str:
 
 
 def _parse(line: str):
-    """A line's fields, or None when it is torn or its checksum does not match."""
+    """A line's fields, or None when it is torn or its checksum does not match (or it nests
+    too deep for the JSON reader: a hand-made line of 200,000 brackets)."""
     try:
         fields = json.loads(line)
-    except ValueError:
+    except (ValueError, RecursionError):
         return None
     if not isinstance(fields, dict):
         return None
     total = fields.pop("sum", None)
     return fields if total == _sum(fields) else None
+
+
+def _is_int(v) -> bool:
+    return isinstance(v, int) and not isinstance(v, bool)
+
+
+def _is_text_map(v) -> bool:
+    return isinstance(v, dict) and all(isinstance(x, str) for kv in v.items() for x in kv)
+
+
+def _good_header(head: dict) -> bool:
+    """Whether the header's fields have the types this module writes: ``format`` and
+    ``command`` texts, ``versions`` and ``options`` maps of text to text."""
+    return (isinstance(head.get("format"), str) and isinstance(head.get("command"), str)
+            and _is_text_map(head.get("versions")) and _is_text_map(head.get("options")))
+
+
+def _good_toss(row) -> bool:
+    """Whether ``row`` is a toss as :func:`coincli.core.bounce.runs._run_block` writes it:
+    outcome 0-3, the catch's outcome 0-3, bounces and steps integers >= 0, and the time to
+    settle a finite number >= 0 (not a number when the toss did not settle, outcome 3)."""
+    if not isinstance(row, list) or len(row) != 5:
+        return False
+    code, catch, bounces, t_settle, steps = row
+    if not all(_is_int(v) for v in (code, catch, bounces, steps)):
+        return False
+    if not (0 <= code <= 3 and 0 <= catch <= 3 and bounces >= 0 and steps >= 0):
+        return False
+    if not isinstance(t_settle, (int, float)) or isinstance(t_settle, bool):
+        return False
+    if code == 3:
+        return t_settle != t_settle  # nan
+    return math.isfinite(t_settle) and t_settle >= 0
+
+
+def _good_counts(result) -> bool:
+    """Whether ``result`` is a design point's counts as
+    :func:`coincli.core.bounce.calibrate._simulate_point` gives them: one or more groups of
+    (heads, sides, tails, unsettled), integers >= 0, every group of the same number of tosses."""
+    if not isinstance(result, list) or not result:
+        return False
+    for group in result:
+        if not isinstance(group, list) or len(group) != 4 or \
+                not all(_is_int(c) and c >= 0 for c in group):
+            return False
+    return len({sum(group) for group in result}) == 1
+
+
+def _good_record(rec: dict) -> bool:
+    """Whether a line whose checksum matched is a record this module writes: a chunk
+    (``key``, ``start``, ``rows``: a 64-digit hex key, a first toss >= 0 and one or more
+    tosses, :func:`_good_toss`) or a task (``key``, ``rows``: its counts,
+    :func:`_good_counts`), and nothing else."""
+    key = rec.get("key")
+    if not isinstance(key, str) or len(key) != 64 or \
+            any(c not in "0123456789abcdef" for c in key):
+        return False
+    if set(rec) == {"key", "start", "rows"}:
+        rows = rec["rows"]
+        return (_is_int(rec["start"]) and rec["start"] >= 0 and isinstance(rows, list)
+                and bool(rows) and all(_good_toss(r) for r in rows))
+    if set(rec) == {"key", "rows"}:
+        return _good_counts(rec["rows"])
+    return False
 
 
 class Checkpoint:
@@ -133,23 +202,24 @@ class Checkpoint:
         good = []
         if lines:
             head = _parse(lines[0])
-            if head is None or head.get("format") != FORMAT:
+            if head is None or head.get("format") != FORMAT or not _good_header(head):
                 raise usage_error(f"--checkpoint {shown(self.path)} is not a checkpoint of "
                                   "coin (or its first line is damaged); give another file")
             self._compare(head)
             good = [lines[0]]
             for line in lines[1:]:
                 rec = _parse(line)
-                if rec is None or not isinstance(rec.get("key"), str) or \
-                        not isinstance(rec.get("rows"), list):
+                if rec is None or not _good_record(rec):  # torn, damaged or ill-formed
                     continue
-                start = rec.get("start")
+                start, held = rec.get("start"), self.rows.get(rec["key"])
                 if start is None:
+                    if isinstance(held, dict):  # a task's key on a chunk's: not this module's
+                        continue
                     self.rows[rec["key"]] = rec["rows"]
-                elif isinstance(start, int) and start >= 0:
-                    self.rows.setdefault(rec["key"], {})[start] = rec["rows"]
                 else:
-                    continue
+                    if isinstance(held, list):
+                        continue
+                    self.rows.setdefault(rec["key"], {})[start] = rec["rows"]
                 good.append(line if line.endswith("\n") else line + "\n")
                 self.held += 1
         try:
@@ -233,7 +303,7 @@ class Checkpoint:
         chunks of any size (a run of chunks of 16 resumed in chunks of 64, or the reverse), or
         None when one is missing."""
         parts = self.rows.get(key)
-        if not parts:
+        if not parts or not isinstance(parts, dict):
             return None
         out = []
         at = start
@@ -254,8 +324,15 @@ class Checkpoint:
         recorded as it arrives: ``(k, result)`` pairs; the caller computes the rest and hands
         them to :meth:`keep`."""
         self.keys = {k: (task_key(fn, task), None) for k, task in items}
-        yield from self._supply(items, lambda k, _task: self.rows.get(self.keys[k][0]),
-                                lambda missing: self.inner.run(fn, missing))
+        fits = getattr(fn, "fits", None)  # whether a result is one of this task's
+
+        def held(k, task):
+            got = self.rows.get(self.keys[k][0])
+            if not isinstance(got, list) or (fits is not None and not fits(task, got)):
+                return None  # not held, or not of this task's shape: computed again
+            return got
+
+        yield from self._supply(items, held, lambda missing: self.inner.run(fn, missing))
 
     def keep(self, k, rows) -> None:
         """Record chunk (or task) ``k`` of the run in progress: appended, flushed and

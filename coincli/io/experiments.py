@@ -15,6 +15,7 @@ import re
 
 from coincli.core.stats.counts import (
     MAX_COUNT,
+    Caught,
     Counts,
     CountsError,
     Experiment,
@@ -42,6 +43,12 @@ _CSV_ALIASES = {"name": "label", "tosses": "n", "diameter_mm": "diameter",
                 "thickness_mm": "thickness"}
 #: A number written with a decimal comma (``0,5``, ``2,4cm``): read so in semicolon files
 _DECIMAL_COMMA = re.compile(r"^[+-]?\d+,\d+([eE][+-]?\d+)?[a-zA-Z\"]*$", re.ASCII)
+
+
+#: why a table's calibration refuses a row of caught flips (as coin check --landing bounce does)
+_NO_TABLE = ("a row of caught flips (same/different, start, or hsame/hdiff/tsame/tdiff): caught "
+             "in the hand, they never met a table; --landing bounce fits tosses that landed on "
+             "one (heads, sides, tails, or sides and n)")
 
 
 class CSVError(ValueError):
@@ -94,8 +101,8 @@ def _sniff(header_line: str) -> str:
     return next(d for d in (",", ";", "\t") if counts[d] == best) if best else ","
 
 
-def parse_experiments(text: str, *, max_rows: int = 100_000, delimiter: str | None = None
-                      ) -> list[Experiment]:
+def parse_experiments(text: str, *, max_rows: int = 100_000, delimiter: str | None = None,
+                      caught: bool = True) -> list[Experiment]:
     """Parse an experiments file; raise :class:`CSVError` naming the line and column.
 
     The rows as a list of :class:`Experiment`; :func:`parse_experiment_columns` reads the same
@@ -119,16 +126,21 @@ def parse_experiments(text: str, *, max_rows: int = 100_000, delimiter: str | No
     Rows may use different kinds (an empty cell is absent).  Aliases: ``name`` for ``label``,
     ``tosses`` for ``n``.  Blank lines and lines starting with ``#`` are skipped.  A header
     that does not parse says which separator it was read with.
+
+    ``caught=False`` (a table's calibration, ``coin fit --landing bounce``): a row of caught
+    flips is refused, naming its line: caught in the hand, its coins never met a table.
     """
-    return list(_rows(text, max_rows, delimiter))
+    return list(_rows(text, max_rows, delimiter, caught))
 
 
 def parse_experiment_columns(text: str, *, max_rows: int = 100_000,
-                             delimiter: str | None = None, each=None) -> ExperimentColumns:
+                             delimiter: str | None = None, each=None,
+                             caught: bool = True) -> ExperimentColumns:
     """:func:`parse_experiments` into :class:`~coincli.core.stats.counts.ExperimentColumns`:
     each row is read, passed to ``each(experiment)`` (a check that may raise) when given, and
-    kept only as numbers in columns, so that memory does not hold 10^5 row objects."""
-    rows = _rows(text, max_rows, delimiter)
+    kept only as numbers in columns, so that memory does not hold 10^5 row objects.
+    ``caught=False``: a row of caught flips is refused (:func:`parse_experiments`)."""
+    rows = _rows(text, max_rows, delimiter, caught)
     return ExperimentColumns.from_rows(rows if each is None else _checked(rows, each))
 
 
@@ -138,7 +150,7 @@ def _checked(rows, each):
         yield e
 
 
-def _rows(text: str, max_rows: int, delimiter: str | None):
+def _rows(text: str, max_rows: int, delimiter: str | None, caught: bool = True):
     """The experiments of ``text``, one at a time (see :func:`parse_experiments`)."""
     import csv
 
@@ -212,6 +224,8 @@ def _rows(text: str, max_rows: int, delimiter: str | None):
                     if v and _DECIMAL_COMMA.match(v):
                         row[key] = v.replace(",", ".")
             e = _experiment(line, row, parse_number, parse_length_mm, coins)
+            if not caught and isinstance(e.counts, Caught):
+                raise _err(line, next(k for k in CAUGHT_COLUMNS if row.get(k)), _NO_TABLE)
             rows += 1
             if rows > max_rows:
                 raise _err(line, None, f"more than {max_rows} experiments")
@@ -324,6 +338,11 @@ def _experiment(line: int, row: dict, parse_number, parse_length_mm, coins) -> E
                 vals[name] = _fast_count(row[name], name)
             except ValueError as exc:
                 raise _err(line, name, str(exc)) from None
+    if "start" in row and not has & set(CAUGHT_COLUMNS) and "sides" not in has and \
+            has & {"heads", "tails"}:  # a heads,tails,start row whose start cell is empty
+        raise _err(line, "start", "start is required (heads or tails: the side every flip of "
+                   "the row started on)" + (", or give sides for tosses that can land on a "
+                                           "side" if "sides" in row else ""))
     try:
         if has & set(CAUGHT_COLUMNS):
             counts = _caught_of(line, row, has, vals)

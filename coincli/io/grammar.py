@@ -391,7 +391,50 @@ def parse_range(text: str, what: str, *, max_rows: int = MAX_ROWS) -> Range:
     return Range(start, stop, step, count, whole, sdt)
 
 
-def parse_values(text: str, what: str, item=parse_number, *, max_rows: int = MAX_ROWS) -> list:
+_DIGITS = re.compile(r"^[0-9]+$", re.ASCII)
+
+
+def _decimal_comma(items: list, zero_first: bool) -> bool:
+    """Whether a list of a real-valued option, as split at its commas, is a number written with
+    a decimal comma: exactly two items, both digits only (no sign, point, exponent, fraction or
+    unit), and either with a leading zero (``1,05``, ``05,3``: no list of whole numbers is
+    written so), or, for an option whose 0 is a degenerate value (``zero_first``: ``--xi``,
+    where xi 0 is the coin of no thickness), the first ``0`` (``--xi 0,5``, ``0,33``: a list
+    of the flat coin and a coin 5 or 33 times as thick as it is wide is what a decimal comma
+    makes of 0.5).  (Two such items are also read so when the option refuses one of them:
+    :func:`parse_values`.)"""
+    if len(items) != 2:
+        return False
+    a, b = (p.strip() for p in items)
+    return bool(_DIGITS.match(a) and _DIGITS.match(b)) and (
+        (zero_first and a == "0") or any(len(x) > 1 and x[0] == "0" for x in (a, b)))
+
+
+def _decimal_comma_error(text: str, what: str, refused: ValueError | None = None
+                         ) -> ValueError:
+    """The one line of a list that reads as a decimal comma; ``refused``: the error of the
+    item the option refused, when that is why."""
+    a, b = (p.strip() for p in str(text).split(","))
+    typed = shown(str(text).strip())
+
+    def whole(x: str) -> str:  # no int(): a 5,000-digit item is past int()'s digit limit
+        x = x.lstrip("0") or "0"
+        return x if len(x) <= 20 else x[:17] + "..."
+
+    if len(a) + len(b) > 40:
+        a, b = whole(a), whole(b)
+    ia, ib = whole(a), whole(b)
+    if refused is not None:
+        return ValueError(f"{what} {typed} is the list {ia} and {ib}, and {refused}; if it "
+                          f"is one number, a decimal comma was read: the decimal point is '.' "
+                          f"({what} {a}.{b}) and ',' separates the values of a list")
+    return ValueError(f"{what} {typed}: a decimal comma was read; the decimal point is '.' "
+                      f"({what} {a}.{b}) and ',' separates the values of a list (the two "
+                      f"values {ia} and {ib}: {ia}.0,{ib})")
+
+
+def parse_values(text: str, what: str, item=parse_number, *, max_rows: int = MAX_ROWS,
+                 whole: bool | None = None) -> list:
     """``a``, a list ``a,b,c`` or an inclusive range ``start:stop:step`` (step > 0; its three
     numbers decimals or fractions such as ``1/10``).
 
@@ -399,6 +442,15 @@ def parse_values(text: str, what: str, item=parse_number, *, max_rows: int = MAX
     accumulated rounding; a decimal grid gives its decimals) and include ``stop`` when it is
     within a millionth of a step of it.
     More than ``max_rows`` values is an error naming the limit.
+
+    A decimal comma: for an option of real numbers (``whole`` false; by default, unless ``item``
+    is :func:`parse_count` or has ``item.whole`` true, as counts do: ``--count 1,5`` is a
+    list), a list of two items of digits only is refused in one line saying that a decimal
+    comma was read, when an item has a leading zero (``1,05``) or, for an option whose item
+    has ``item.zero_first`` (``--xi``), its first item is ``0`` (``--xi 0,5``); when the option
+    refuses one of the two (``-p 0,33``, ``-p 1,25``: 33 and 25 are no probabilities), the line
+    gives that refusal and says that a decimal comma may be why.  Other lists are lists:
+    ``0.1,0.2``, ``1,2``, ``-p 0,1``, ``--psi 0,180``, ``--xi 0.0,5``.
     """
     s = str(text).strip()
     if not s:
@@ -422,7 +474,17 @@ def parse_values(text: str, what: str, item=parse_number, *, max_rows: int = MAX
     items = s.split(",")
     if len(items) > max_rows:
         raise ValueError(f"{what} lists {len(items)} values; at most {max_rows} are allowed")
-    return [item(p, what) for p in items]
+    if whole is None:
+        whole = item is parse_count or bool(getattr(item, "whole", False))
+    pair = not whole and len(items) == 2 and all(_DIGITS.match(p.strip()) for p in items)
+    if pair and _decimal_comma(items, bool(getattr(item, "zero_first", False))):
+        raise _decimal_comma_error(s, what)
+    try:
+        return [item(p, what) for p in items]
+    except ValueError as exc:
+        if pair:  # 1,25 where 25 is refused: say that it may be a decimal comma
+            raise _decimal_comma_error(s, what, exc) from None
+        raise
 
 
 # --------------------------------------------------------------------------- psi densities

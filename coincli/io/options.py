@@ -177,11 +177,15 @@ def _xi_item(rule: str):
             raise ValueError(f"{what} must be {allowed}, got {text!r}")
         return v
 
+    item.zero_first = True  # --xi 0,5 is a decimal comma (coincli.io.grammar.parse_values)
     return item
 
 
 def _count_item(text: str, what: str) -> float:
     return float(parse.parse_count(text, what))
+
+
+_count_item.whole = True  # a list of counts is whole numbers: 1,5 is never a decimal comma
 
 
 def _many(text: str, what: str, item, bounds, most: int | None):

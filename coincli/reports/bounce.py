@@ -17,6 +17,7 @@ from __future__ import annotations
 import math
 import sys
 
+from coincli import limits as L
 from coincli.errors import InputError, compute_error, shown, usage_error
 from coincli.io import grammar as parse
 from coincli.io import options as _options
@@ -171,11 +172,14 @@ def parse_physics(landing: str, *, surface=None, restitution=None, friction=None
     name = None if surface is None else surface.strip().lower()
     if name is not None and name not in SURFACE_NAMES:
         raise usage_error(f"--surface must be one of {', '.join(SURFACE_NAMES)}, got {surface!r}")
-    e = None if restitution is None else bounded_number(restitution, "--restitution", 0.06,
-                                                        0.95)
-    mu = None if friction is None else bounded_number(friction, "--friction", 0.0, 10.0)
-    tor = None if torsional is None else _length_m(torsional, "--torsional", 100.0)
-    rol = None if rolling is None else _length_m(rolling, "--rolling", 100.0)
+    e = None if restitution is None else bounded_number(
+        restitution, "--restitution", L.BOUNCE_RESTITUTION_MIN, L.BOUNCE_RESTITUTION_MAX)
+    mu = None if friction is None else bounded_number(friction, "--friction", 0.0,
+                                                      L.BOUNCE_FRICTION_MAX)
+    tor = None if torsional is None else _length_m(torsional, "--torsional",
+                                                   L.BOUNCE_FRICTION_LENGTH_MAX_MM)
+    rol = None if rolling is None else _length_m(rolling, "--rolling",
+                                                 L.BOUNCE_FRICTION_LENGTH_MAX_MM)
     B = bounce_module()
     p = Physics()
     p.B = B
@@ -189,9 +193,10 @@ def parse_physics(landing: str, *, surface=None, restitution=None, friction=None
         p.surface = B.surface(name, restitution=e, friction=mu, torsional=tor, rolling=rol)
     except ValueError as exc:
         raise usage_error(str(exc)) from None
-    p.height = 0.0 if height is None else _dist(height, "--release-height", "mm", 1e-3, 1e5)
+    p.height = 0.0 if height is None else _dist(height, "--release-height", "mm", 1e-3,
+                                                    L.BOUNCE_HEIGHT_MAX_MM)
     p.height_text = height
-    p.vx = 0.0 if vx is None else _dist(vx, "--vx", "m/s", 1.0, 100.0)
+    p.vx = 0.0 if vx is None else _dist(vx, "--vx", "m/s", 1.0, L.BOUNCE_VX_MAX)
     if jobs is None:
         from coincli.core.bounce.runs import default_jobs
 
@@ -209,9 +214,10 @@ def parse_physics(landing: str, *, surface=None, restitution=None, friction=None
     from coincli.reports.executor import parse_run
 
     parse_run(p, jobs=jobs, scheduler=scheduler, checkpoint=checkpoint, timeout=timeout)
-    p.dt = B.DEFAULT_DT if dt is None else bounded_number(dt, "--dt", 1e-6, 1e-3)
-    p.t_max = B.DEFAULT_T_MAX if t_max is None else bounded_number(t_max, "--t-max", 0.01,
-                                                                    1000.0)
+    p.dt = B.DEFAULT_DT if dt is None else bounded_number(dt, "--dt", L.BOUNCE_DT_MIN,
+                                                                L.BOUNCE_DT_MAX)
+    p.t_max = B.DEFAULT_T_MAX if t_max is None else bounded_number(
+        t_max, "--t-max", L.BOUNCE_T_MAX_MIN, L.BOUNCE_T_MAX_MAX)
     p.calibration = None
     if calibration is not None:
         calibrate.apply(p, calibration, height_given=height is not None, vx_given=vx is not None,
@@ -282,6 +288,8 @@ def check_landing(p: Physics, *, u_top: float, g: float, xi: float, dia: float, 
     alone is too long)."""
     from coincli.core.toss.flight import default_z0
 
+    if getattr(p, "calibration", None) is not None and u_text in (HAND["u"], "the hand toss's"):
+        u_text = f"the calibration's launch.u ({p.calibration[0]})"  # not typed: the file's
     half = p.t_max / 2
     z = default_z0(xi, dia, "thick") if z0 is None else z0
     drop = z - math.hypot(dia / 2, xi * dia / 2)  # the centre's fall before R

@@ -16,6 +16,7 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
+from coincli import limits as L
 from coincli.errors import usage_error
 from coincli.io import grammar as parse
 from coincli.io import options
@@ -66,8 +67,9 @@ def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
     settled, with 95% Wilson intervals, the unsettled count and the seed.  ``wide``: one row
     per coin, the tables side by side (:func:`widen`).  ``progress()``: a progress bar
     (:class:`coincli.render.progress.ProgressBar`) ticked with the tosses done, or None."""
-    es = _coefficients(restitution, "--restitution", 0.06, 0.95)
-    mus = _coefficients(friction, "--friction", 0.0, 10.0)
+    es = _coefficients(restitution, "--restitution", L.BOUNCE_RESTITUTION_MIN,
+                       L.BOUNCE_RESTITUTION_MAX)
+    mus = _coefficients(friction, "--friction", 0.0, L.BOUNCE_FRICTION_MAX)
     physics = BO.parse_physics(
         "bounce", surface=surface, restitution=None if es is None else repr(es[0]),
         friction=None if mus is None else repr(mus[0]), torsional=torsional, rolling=rolling,

@@ -215,7 +215,7 @@ def fit(file: str, *, fit_params: str | None = None, seed: str | None = None,
         except ValueError as exc:
             raise usage_error(f"--{exc}") from None
     text, name = CK._read_text(file)
-    exps = CK._experiments(text, name, sep)
+    exps = CK._experiments(text, name, sep, caught=False)  # a caught coin met no table
     if len(exps) > MAX_PROTOTYPES:
         raise usage_error(f"{name}: {len(exps)} prototypes; a calibration takes at most "
                           f"{MAX_PROTOTYPES} (each is simulated at every design point)")
@@ -459,6 +459,8 @@ def apply(p, path: str, *, height_given: bool, vx_given: bool, dt_given: bool,
                               f"({path}): a calibrated table holds for the launch and engine "
                               "it was fitted with; leave it out, or fit the table again with it")
         setattr(p, attr, theirs)
+    if not height_given:  # a message on the height names the calibration's, not 'None'
+        p.height_text = f"{_shown(p.height, 'mm', 1000.0).strip()} (the calibration's)"
     est = {n: cal["parameters"][n]["estimate"] for n in cal["fitted"]}
     fixed = cal["fixed"]
     try:

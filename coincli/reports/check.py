@@ -765,7 +765,7 @@ def _file_name(path: str) -> str:
     return _clipped(path, 4096)
 
 
-def _experiments(text: str, name: str, delimiter: str | None = None):
+def _experiments(text: str, name: str, delimiter: str | None = None, caught: bool = True):
     """The experiments of ``text`` as columns (:class:`ExperimentColumns`: a file of 10^5 rows
     holds numbers, not row objects); each count, and each row's total, at most 2**53."""
     from coincli.io.experiments import parse_experiment_columns
@@ -783,7 +783,7 @@ def _experiments(text: str, name: str, delimiter: str | None = None):
         _check_total(c, f"{name} line {e.line}: ")
 
     try:
-        return parse_experiment_columns(text, delimiter=delimiter, each=each)
+        return parse_experiment_columns(text, delimiter=delimiter, each=each, caught=caught)
     except InputError:
         raise
     except ValueError as exc:

@@ -126,7 +126,7 @@ def test_fit_saves_a_calibration_the_other_commands_take(coin, tosses, tmp_path)
     bad = tmp_path / "bad_launch.json"
     bad.write_text(json.dumps(saved))
     error(coin("simulate", "--xi", "0.5", "--landing", "bounce", "--calibration", bad), 2,
-          f"--calibration {bad}: its launch is malformed")
+          f"--calibration {bad}: launch.psi.spec must be a psi density --psi-dist reads")
 
 
 def test_fit_refuses_in_one_line(coin, tosses, tmp_path):

@@ -606,3 +606,59 @@ def test_a_bad_value_a_range_made_names_the_range_as_typed(coin, typed, value):
     _error(coin("toss", "--xi", "0.5", "--psi", "90", "--omega", "40", "--u", typed), 2,
            f"--u must be a speed of at most 1e+08 m/s, got {value} (a value of the range "
            f"'{typed}')")
+
+
+# --------------------------------------------------------------------------- a decimal comma
+# (issue 38, item 15): `--xi 0,5` printed xi 0 and xi 5, `-p 0,33` said only "got '33'"
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["table", "--xi", "0,5"], "--xi '0,5': a decimal comma was read; the decimal point is '.' "
+     "(--xi 0.5) and ',' separates the values of a list (the two values 0 and 5: 0.0,5)"),
+    (["table", "--xi", "0,33"], "--xi '0,33': a decimal comma was read"),
+    (["table", "--xi", "1,05"], "--xi '1,05': a decimal comma was read"),
+    (["table", "--psi", "05,3", "--xi", "0.5"], "--psi '05,3': a decimal comma was read"),
+    (["design", "-p", "0,33"], "--p-sides '0,33' is the list 0 and 33, and --p-sides must be "
+     "in [0, 1] (or 0% to 100%), got '33'; if it is one number, a decimal comma was read: the "
+     "decimal point is '.' (--p-sides 0.33) and ',' separates the values of a list"),
+    (["design", "-p", "1,25"], "a decimal comma was read: the decimal point is '.' "
+     "(--p-sides 1.25)"),
+])
+def test_a_decimal_comma_is_one_line(coin, argv, words):
+    from cli_helpers import error
+
+    error(coin(*argv), 2, words)
+
+
+@pytest.mark.parametrize("argv", [
+    ["table", "--xi", "0.1,0.2"], ["table", "--xi", "1,2"], ["table", "--xi", "0.0,5"],
+    ["table", "--xi", "0,5.0"], ["table", "--xi", "1,2,3"], ["table", "--xi", "5,0"],
+    ["design", "-p", "0,1"], ["table", "--xi", "0.5", "--psi", "0,180"],
+    ["table", "--coin", "quarter", "--count", "1,5"], ["table", "--coin", "quarter", "--count",
+                                                       "1,05"],
+])
+def test_genuine_lists_are_lists(coin, argv):
+    rc, out, err = coin(*argv, "-f", "csv")
+    assert rc == 0 and err == "", err
+    assert len(out.splitlines()) > 2
+
+
+def test_decimal_comma_rule_in_the_grammar():
+    from coincli.io.grammar import parse_count, parse_number, parse_values
+
+    def xi(t, w):
+        return parse_number(t, w)
+
+    xi.zero_first = True
+    with pytest.raises(ValueError, match="a decimal comma was read"):
+        parse_values("0,5", "--xi", xi)
+    assert parse_values("0,5", "--psi") == [0.0, 5.0]  # 0 is no degenerate psi
+    assert parse_values("1,5", "--count", parse_count) == [1, 5]  # counts: always a list
+    assert parse_values("1,05", "--count", parse_count) == [1, 5]
+    with pytest.raises(ValueError, match="a decimal comma was read"):
+        parse_values("1,05", "--u")
+    assert parse_values("0,5", "--whole", xi, whole=True) == [0.0, 5.0]
+    big = "0," + "5" * 5000  # past int()'s digit limit: still one line
+    with pytest.raises(ValueError, match="a decimal comma was read") as exc:
+        parse_values(big, "--xi", xi)
+    assert len(str(exc.value)) < 400

@@ -136,7 +136,15 @@ def _describe_point(task) -> str:
             f"{table} (seed {seed})")
 
 
+def _point_fits(task, result) -> bool:
+    """Whether ``result`` (a checkpoint's counts) has the shape of this point's: a group of
+    ``m`` tosses for each of its ``groups``."""
+    _, _, _, m, _, _, groups, _ = task
+    return len(result) == groups and all(sum(group) == m for group in result)
+
+
 _simulate_point.describe = _describe_point
+_simulate_point.fits = _point_fits
 
 
 def engine_simulate(xi, params, n, seed, stream, kw):

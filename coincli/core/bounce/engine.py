@@ -67,6 +67,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
+from coincli import limits as L
 from coincli.core._numerics.quaternion import _qaxis, _qconj, _qmul, _qrot
 from coincli.core._numerics.roots import bisect
 from coincli.core.toss.flight import (
@@ -198,10 +199,10 @@ class Surface:
 
 #: Above this the calibrated contact is nearly undamped and MuJoCo's soft contact stops giving a
 #: controllable restitution; no table is that bouncy for a coin.
-RESTITUTION_MAX = 0.95
+RESTITUTION_MAX = L.BOUNCE_RESTITUTION_MAX
 #: The deadest contact MuJoCo's explicit damping allows (b dt = 1, see :func:`calibrate`) still
 #: rebounds at 0.053; 0.06 leaves a margin.
-RESTITUTION_MIN = 0.06
+RESTITUTION_MIN = L.BOUNCE_RESTITUTION_MIN
 
 # Per-contact torsional and rolling friction.  A flat coin's three rim contacts already resist
 # twisting through their sliding friction, so the torsional term only stands for the size of
