@@ -106,6 +106,13 @@ COMMAND_MODULE = {"design": "design", "table": "design", "stack": "design", "coi
                   "check": "check", "fit": "check", "plot": "plot", "book": "book"}
 
 
+#: what a word after a command that takes no argument was probably meant for
+EXTRA_ARGUMENT_HINTS = {
+    "coin check": "coin check takes counts (--heads, --sides, --tails; --same, --different); "
+                  "a file of experiments is read by coin fit FILE",
+}
+
+
 def _load(modules) -> None:
     """Import command ``modules`` (names under ``coincli.cli``); all of them completes ``app``,
     its commands then in the order of :data:`COMMAND_MODULES` whatever was imported first."""
@@ -282,6 +289,9 @@ def _run(argv, gc_paused: bool = False) -> int:
             return int(code)
         ctx = getattr(exc, "ctx", None)
         where = getattr(ctx, "command_path", None) or "coin"
+        hint = EXTRA_ARGUMENT_HINTS.get(where) if "unexpected extra argument" in msg else None
+        if hint:
+            msg = f"{msg}: {hint}"
         return _fail(f"{msg} (see '{where} --help')" if code == 2 else msg, code)
     except typer.Exit as exc:
         return int(exc.exit_code)

@@ -26,6 +26,10 @@ from coincli.requests.fields import Opt as option
 __all__ = ["DESIGN", "TABLE", "STACK", "COINS_LIST", "FAIR"]
 
 ModelOpt = option("--model -m", "MODEL", "geometric, dynamic (default) or psi.")
+#: ``--tol`` of ``coin design``: an error of a chance when caught, of xi on a table
+DesignTolOpt = option("--tol", "TOL", "Caught (the models): the absolute error wanted on each "
+                      "psi-averaged chance, e.g. 1e-6 (the error is shown).  With --landing "
+                      "bounce: the half-width wanted of each 95% interval of xi (default 0.01).")
 #: the catalog coin of a stack
 StackCoinOpt = option("--coin -c", "NAME", "Catalog coin of the stack (see coin coins).", kind=str)
 
@@ -64,7 +68,7 @@ DESIGN = Command(
     ("diameter", SizedDiameterOpt, None),
     ("thickness", SizedThicknessOpt, None),
     ("coin", StackCoinOpt, "quarter"),
-    ("tol", TolOpt, None),
+    ("tol", DesignTolOpt, None),
     ("method", DesignMethodOpt, None),
     table=DESIGN_TABLE,
     output=OUTPUT,
