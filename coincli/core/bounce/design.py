@@ -201,24 +201,29 @@ DESIGN_WINDOWS = (1.12, 1.3, 1.6, 2.2, 3.3)
 def _local_fit(points: dict, target, est):
     """The probit fitted near ``est`` (see :data:`DESIGN_WINDOWS`), re-centred on its own answer
     until that stays within its window; falls back to every point.  A window whose points do
-    not determine a probit (separated: P(sides) jumps from 0 to 1 inside it) gives way to the
-    next wider one."""
+    not determine a rising probit (separated: P(sides) jumps from 0 to 1 inside it; or flat
+    there, its fitted slope not above 0, or its answer more than a factor 1.5 past its points)
+    gives way to the next wider one: never straight to the whole sweep, whose curve can miss a
+    floor by far more than its noise."""
     every = [(x, n, k) for x, (n, k) in sorted(points.items())]
     fit = None
     for _ in range(5):
+        local = None
         for w in DESIGN_WINDOWS:
             near = [(x, n, k) for x, n, k in every if est / w <= x <= est * w]
             if len(near) >= 3:
                 try:
-                    local = fit_sides(near)
+                    candidate = fit_sides(near)
                 except ValueError:
                     continue
-                break
-        else:
+                # a rising curve whose answer is near its points (not read off far past them)
+                if candidate.beta > 0 and near[0][0] / 1.5 <= candidate.inverse(target) \
+                        <= near[-1][0] * 1.5:
+                    local = candidate
+                    break
+        if local is None:
             return fit_sides(every)
         fit = local
-        if fit.beta <= 0:
-            return fit_sides(every)
         new = fit.inverse(target)
         if abs(math.log(new / est)) < 1e-3:
             break
