@@ -163,7 +163,12 @@ class FlatRun:
 
 def integrate(body: Cylinder, v, wz, mu, tau, impulse, *, rtol=RTOL,
               stop_tol=STOP_TOL) -> FlatRun:
-    """Slide and spin under the face's friction over the normal impulse ``impulse``."""
+    """Slide and spin under the face's friction over the normal impulse ``impulse``.
+
+    The ODE is solved in ``tau`` with ``dp = (|v| + a |wz|) dtau``: near a stop, where the
+    friction's direction would jump, the motion then decays exponentially and smoothly, and the
+    stop (both speeds below ``stop_tol`` of the initial ones) is an event on a smooth solution.
+    """
     from scipy.integrate import solve_ivp
 
     v = np.asarray(v, float)
@@ -171,46 +176,60 @@ def integrate(body: Cylinder, v, wz, mu, tau, impulse, *, rtol=RTOL,
     if scale == 0.0 or mu == 0.0 and tau == 0.0:
         return FlatRun(tuple(v), float(wz), float(impulse), None, None)
     floor = stop_tol * scale
-    p, y = 0.0, np.array([v[0], v[1], wz])
+    y = np.array([0.0, v[0], v[1], wz])
     slide_stop = spin_stop = None
+    # the fastest decay rate in tau: the friction's per-impulse rates times the speed scale
+    rate = (mu + (mu * body.a + tau) * body.a * body.m / body.i3) / body.m
 
-    def rhs(_p, yy):
-        dv, dw = rates(body, yy[:2], yy[2], mu, tau)
-        return [dv[0], dv[1], dw]
+    def sigma(yy):
+        return math.hypot(yy[1], yy[2]) + body.a * abs(yy[3])
 
-    def ev_rest(_p, yy):
-        return math.hypot(yy[0], yy[1]) + body.a * abs(yy[2]) - floor
+    def rhs(_t, yy):
+        dv, dw = rates(body, yy[1:3], yy[3], mu, tau)
+        s = sigma(yy)
+        return [s, s * dv[0], s * dv[1], s * dw]
 
-    def ev_spin(_p, yy):
-        return yy[2]
+    def ev_end(_t, yy):
+        return yy[0] - impulse
 
-    ev_rest.terminal = ev_spin.terminal = True
-    ev_rest.direction = -1
-    atol = rtol * np.array([scale, scale, scale / body.a])
-    while p < impulse:
-        if math.hypot(y[0], y[1]) + body.a * abs(y[2]) <= floor:
-            slide_stop = p if slide_stop is None else slide_stop
-            spin_stop = p if spin_stop is None else spin_stop
-            y[:] = 0.0
+    def ev_rest(_t, yy):
+        return sigma(yy) - floor
+
+    def ev_spin(_t, yy):
+        return yy[3]
+
+    for ev, direction in ((ev_end, 1), (ev_rest, -1), (ev_spin, 0)):
+        ev.terminal, ev.direction = True, direction
+    atol = rtol * np.array([impulse, scale, scale, scale / body.a])
+    while True:
+        if sigma(y) <= floor:
+            slide_stop = y[0] if slide_stop is None else slide_stop
+            spin_stop = y[0] if spin_stop is None else spin_stop
+            y[1:] = 0.0
             break
-        events = (ev_rest, ev_spin) if y[2] != 0.0 else (ev_rest,)
-        sol = solve_ivp(rhs, (p, impulse), y, method="DOP853", rtol=rtol, atol=atol,
+        span = 2 * impulse / sigma(y) + 60 * math.log(sigma(y) / floor + 2) / rate
+        events = (ev_end, ev_rest, ev_spin) if y[3] != 0.0 else (ev_end, ev_rest)
+        sol = solve_ivp(rhs, (0.0, span), y, method="DOP853", rtol=rtol, atol=atol,
                         events=events)
         if sol.status < 0:
             raise ArithmeticError(f"the flat contact's ODE failed: {sol.message}")
-        if sol.status == 1:
-            k = 0 if len(sol.t_events[0]) else 1
-            p, y = float(sol.t_events[k][0]), np.array(sol.y_events[k][0])
-            if k == 0:
-                y[:] = 0.0
-                slide_stop = p if slide_stop is None else slide_stop
-                spin_stop = p if spin_stop is None else spin_stop
-                break
-            y[2] = 0.0  # the spin stopped (torsional resistance); the slide goes on
-            spin_stop = p
-        else:
-            p, y = float(sol.t[-1]), np.array(sol.y[:, -1])
-    return FlatRun((float(y[0]), float(y[1])), float(y[2]), float(p), slide_stop, spin_stop)
+        if sol.status == 0:
+            y = np.array(sol.y[:, -1])
+            continue
+        hits = [(te[0], k) for k, te in enumerate(sol.t_events) if len(te)]
+        k = min(hits)[1]
+        y = np.array(sol.y_events[k][0])
+        if k == 0:
+            y[0] = impulse
+            break
+        if k == 1:
+            slide_stop = y[0] if slide_stop is None else slide_stop
+            spin_stop = y[0] if spin_stop is None else spin_stop
+            y[1:] = 0.0
+            break
+        y[3] = 0.0  # the spin stopped (torsional resistance); the slide goes on
+        spin_stop = y[0]
+    return FlatRun((float(y[1]), float(y[2])), float(y[3]), float(y[0]), slide_stop, spin_stop)
 
 
 def slide(body: Cylinder, v, wz, mu, tau, duration, g=G, **tols) -> FlatRun:

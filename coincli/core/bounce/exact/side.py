@@ -50,7 +50,8 @@ def line_friction(body: Cylinder, vn, ve, wn, wz, mu):
     points = [-B / C] if A == 0 and -hh < -B / C < hh else None
 
     def mean(fun):
-        return quad(fun, -hh, hh, points=points, epsabs=0, epsrel=1e-13, limit=200)[0] / (2 * hh)
+        return quad(fun, -hh, hh, points=points, epsabs=1e-15 * hh * (1 + hh), epsrel=1e-13,
+                    limit=200)[0] / (2 * hh)
 
     def un(s):
         return A / math.hypot(A, B + C * s)
