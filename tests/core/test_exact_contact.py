@@ -304,3 +304,26 @@ def test_side_yaw_spin_feels_the_line_friction():
     fn, fe, mz = side.line_friction(body, 0.0, 0.0, 0.0, 7.0, MU)
     assert fn == 0.0 and abs(fe) < 1e-15
     assert mz == pytest.approx(-MU * body.hh / 2, rel=1e-12)
+
+
+@pytest.mark.parametrize("state", [(0.0, 0.0, 0.3, 0.2, 0.1, 20.0, 30.0),
+                                   (0.0, 0.0, -1.0, 0.0, 0.3, -5.0, -80.0),
+                                   (0.0, 0.0, 2.0, 0.05, 0.0, 0.0, 10.0)])
+def test_side_sliding_dissipates_exactly_the_friction_power(state):
+    """Sliding on the side with yaw: the kinetic energy falls at the power of the friction,
+    ``mu N <|u(s)|>`` (the mean slip speed along the line, by an independent quadrature), plus
+    the resistances' ``c N |wn| + tau N |wz|``."""
+    from scipy.integrate import quad
+
+    body = _coin(0.5)
+    _, _, psi, vx, vy, wn, wz = state
+    r = side.rates(body, state, MU, ROLL, TORS)
+    _, _, _, ax, ay, dwn, dwz = r.rates
+    power = body.m * (vx * ax + vy * ay) + body.i3 * wn * dwn + body.i1 * wz * dwz
+    n = np.array([math.cos(psi), math.sin(psi)])
+    e = np.array([-n[1], n[0]])
+    v = np.array([vx, vy])
+    mean_slip = quad(lambda s: math.hypot(v @ n, v @ e + body.a * wn + s * wz), -body.hh,
+                     body.hh, epsabs=0, epsrel=1e-13, limit=200)[0] / (2 * body.hh)
+    expected = -r.N * (MU * mean_slip + ROLL * abs(wn) + TORS * abs(wz))
+    assert power == pytest.approx(expected, rel=1e-11)

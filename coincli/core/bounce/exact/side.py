@@ -47,11 +47,13 @@ def line_friction(body: Cylinder, vn, ve, wn, wz, mu):
     if C == 0:
         rho = math.hypot(A, B)
         return -mu * A / rho, -mu * B / rho, 0.0
-    points = [-B / C] if A == 0 and -hh < -B / C < hh else None
+    if A == 0:  # every point slips across the axis: sign(B + C s), in closed form
+        s0 = min(max(-B / C, -hh), hh)
+        sg = math.copysign(1.0, C)
+        return 0.0, mu * sg * s0 / hh, -mu * sg * (hh * hh - s0 * s0) / (2 * hh)
 
     def mean(fun):
-        return quad(fun, -hh, hh, points=points, epsabs=1e-15 * hh * (1 + hh), epsrel=1e-13,
-                    limit=200)[0] / (2 * hh)
+        return quad(fun, -hh, hh, epsabs=1e-13 * hh * hh, epsrel=1e-13, limit=200)[0] / (2 * hh)
 
     def un(s):
         return A / math.hypot(A, B + C * s)
