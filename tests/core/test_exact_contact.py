@@ -289,7 +289,7 @@ def test_wheel_set_down_spinning_slips_then_rolls_at_a_third(c):
     a, w0 = body.a, 60.0
     run = side.run(body, (0.0, 0.0, math.pi / 2, 0.0, 0.0, w0, 0.0), MU, c, TORS, 0.1)
     ts = a * w0 / (G * (3 * MU + 2 * c / a))
-    assert run.t_roll == pytest.approx(ts, rel=1e-8)
+    assert run.t_roll == pytest.approx(ts, rel=1e-10)
     v = MU * G * ts - 2 * c * G / (3 * a) * (0.1 - ts)
     assert run.state[3] == pytest.approx(v, rel=1e-10)
     if c == 0.0:
@@ -327,3 +327,28 @@ def test_side_sliding_dissipates_exactly_the_friction_power(state):
                      body.hh, epsabs=0, epsrel=1e-13, limit=200)[0] / (2 * body.hh)
     expected = -r.N * (MU * mean_slip + ROLL * abs(wn) + TORS * abs(wz))
     assert power == pytest.approx(expected, rel=1e-11)
+
+
+@pytest.mark.parametrize("A,B,C", [(0.1, 0.02, 7.0), (1e-6, 0.01, 7.0), (0.01, -0.02, -30.0),
+                                   (0.3, 0.2, 1.0), (0.0, 0.01, 7.0), (0.05, 0.0, 3.0)])
+def test_side_line_friction_is_the_integral_along_the_line(A, B, C):
+    """The closed forms (and the Gauss-Legendre rule) of the line friction against an adaptive
+    quadrature of the slip directions along the line."""
+    from scipy.integrate import quad
+
+    body = _coin(0.5)
+    hh = body.hh
+    pts = [-B / C] if -hh < -B / C < hh else None
+
+    def mean(f):
+        return quad(f, -hh, hh, epsabs=0, epsrel=1e-13, limit=500, points=pts)[0] / (2 * hh)
+
+    def rho(s):
+        return math.hypot(A, B + C * s)
+
+    want = (-MU * mean(lambda s: A / rho(s)) if A else 0.0,
+            -MU * mean(lambda s: (B + C * s) / rho(s)),
+            -MU * mean(lambda s: s * (B + C * s) / rho(s)))
+    got = side.line_friction(body, A, B, 0.0, C, MU)
+    for g_, w_ in zip(got, want, strict=True):
+        assert g_ == pytest.approx(w_, rel=1e-11, abs=1e-17)

@@ -38,31 +38,39 @@ STOP_TOL = 1e-12  #: slip below this fraction of the initial speeds has stopped
 
 def line_friction(body: Cylinder, vn, ve, wn, wz, mu):
     """``(F_n, F_e, M_z)`` per unit normal force: the friction force along ``n`` and ``e`` and
-    its moment about the vertical, integrated along the line at uniform load."""
-    from scipy.integrate import quad
+    its moment about the vertical, integrated along the line at uniform load.
 
+    The point at ``s`` slips at ``(A, B + C s)``, ``A = v_n``, ``B = v_e + a wn``, ``C = wz``;
+    with ``y = B + C s`` and ``rho = sqrt(A^2 + y^2)`` the integrals are elementary:
+    ``int A / rho ds = (A / C) asinh(y / |A|)``, ``int y / rho ds = rho / C``, ``int s y / rho ds
+    = (y rho / 2 - A^2 asinh(y / |A|) / 2 - B rho) / C^2``.  Where the slip varies little along
+    the line (``|C| hh < |A| + |B|``, the integrand smooth) a 24-point Gauss-Legendre rule is
+    used instead, free of the closed form's cancellation."""
     A, B, C, hh = vn, ve + body.a * wn, wz, body.hh
     if A == 0 and B == 0 and C == 0:
         return 0.0, 0.0, 0.0
     if C == 0:
         rho = math.hypot(A, B)
         return -mu * A / rho, -mu * B / rho, 0.0
-    if A == 0:  # every point slips across the axis: sign(B + C s), in closed form
+    if abs(C) * hh < abs(A) + abs(B):
+        x, wts = np.polynomial.legendre.leggauss(24)
+        sv = hh * x
+        y = B + C * sv
+        rho = np.hypot(A, y)
+        return (-mu * float(wts @ (A / rho)) / 2, -mu * float(wts @ (y / rho)) / 2,
+                -mu * float(wts @ (sv * y / rho)) / 2)
+    if A == 0:  # every point slips across the axis: sign(B + C s)
         s0 = min(max(-B / C, -hh), hh)
         sg = math.copysign(1.0, C)
         return 0.0, mu * sg * s0 / hh, -mu * sg * (hh * hh - s0 * s0) / (2 * hh)
-
-    def mean(fun):
-        return quad(fun, -hh, hh, epsabs=1e-13 * hh * hh, epsrel=1e-13, limit=200)[0] / (2 * hh)
-
-    def un(s):
-        return A / math.hypot(A, B + C * s)
-
-    def ue(s):
-        y = B + C * s
-        return y / math.hypot(A, y) if y != 0 else 0.0
-
-    return -mu * mean(un), -mu * mean(ue), -mu * mean(lambda s: s * ue(s))
+    y1, y2 = B - C * hh, B + C * hh
+    r1, r2 = math.hypot(A, y1), math.hypot(A, y2)
+    u1, u2 = y1 / abs(A), y2 / abs(A)
+    dL = math.asinh(u2 * math.sqrt(1 + u1 * u1) - u1 * math.sqrt(1 + u2 * u2))
+    i_n = A / C * dL
+    i_e = 4 * hh * B / (r1 + r2)
+    i_s = ((y2 * r2 - y1 * r1) / 2 - A * A * dL / 2 - B * (r2 - r1)) / (C * C)
+    return -mu * i_n / (2 * hh), -mu * i_e / (2 * hh), -mu * i_s / (2 * hh)
 
 
 @dataclass(frozen=True)
@@ -132,7 +140,12 @@ class SideRun:
 def run(body: Cylinder, state, mu, c, tau, duration, g=G, *, rtol=RTOL,
         stop_tol=STOP_TOL) -> SideRun:
     """Integrate the side contact for ``duration`` s: sliding until no point of the line slips
-    (an event), then rolling while static friction holds."""
+    (an event), then rolling while static friction holds.
+
+    The sliding phase is solved in ``tau`` with ``dt = sigma dtau``, ``sigma`` the largest slip
+    speed along the line (:func:`slip_measure`): as the slip comes to a halt, where the
+    friction's direction would jump, it then decays exponentially and smoothly, and the halt
+    (``sigma`` below ``stop_tol`` of the initial speeds) is an event on a smooth solution."""
     from scipy.integrate import solve_ivp
 
     y = np.array(state, float)
@@ -140,30 +153,55 @@ def run(body: Cylinder, state, mu, c, tau, duration, g=G, *, rtol=RTOL,
     floor = stop_tol * scale
     t, t_roll = 0.0, None
     mode = "rolling" if slip_measure(body, y) <= floor else "sliding"
+    # the fastest decay rate of the slip per unit slip (in tau)
+    rate = mu * g * (1 + body.m * body.a ** 2 / body.i3 + body.m * body.hh ** 2 / body.i1)
 
-    def f(_t, yy):
-        return rates(body, yy, mu, c, tau, mode, g).rates
+    def f_slide(_tau, yy):
+        sig = slip_measure(body, yy[1:])
+        return [sig] + [sig * r for r in rates(body, yy[1:], mu, c, tau, "sliding", g).rates]
 
-    def ev_roll(_t, yy):
-        return slip_measure(body, yy) - floor
+    def ev_end(_tau, yy):
+        return yy[0] - duration
 
+    def ev_roll(_tau, yy):
+        return slip_measure(body, yy[1:]) - floor
+
+    ev_end.terminal, ev_end.direction = True, 1
     ev_roll.terminal, ev_roll.direction = True, -1
-    atol = rtol * np.array([body.a, body.a, 1.0, scale, scale, scale / body.a, scale / body.a])
-    while t < duration:
-        sol = solve_ivp(f, (t, duration), y, method="DOP853", rtol=rtol, atol=atol,
-                        events=(ev_roll,) if mode == "sliding" else ())
+    atol = rtol * np.array([duration, body.a, body.a, 1.0, scale, scale, scale / body.a,
+                            scale / body.a])
+    while mode == "sliding" and t < duration:
+        sig = slip_measure(body, y)
+        span = 2 * duration / sig + 60 * math.log(sig / floor + 2) / rate
+        sol = solve_ivp(f_slide, (0.0, span), np.concatenate([[t], y]), method="DOP853",
+                        rtol=rtol, atol=atol, events=(ev_end, ev_roll))
         if sol.status < 0:
             raise ArithmeticError(f"the side contact's ODE failed: {sol.message}")
-        if sol.status == 1:
-            t, y = float(sol.t_events[0][0]), np.array(sol.y_events[0][0])
-            # no point slips: roll (the residual slip, below the floor, is set to zero)
-            n = np.array([math.cos(y[2]), math.sin(y[2])])
-            e = np.array([-n[1], n[0]])
-            y[3:5] = -body.a * y[5] * e
-            y[6] = 0.0
-            mode, t_roll = "rolling", t
-            if not rates(body, y, mu, c, tau, mode, g).rolling_holds:
-                raise ArithmeticError("rolling needs more than mu N of friction")
-        else:
-            t, y = float(sol.t[-1]), np.array(sol.y[:, -1])
+        if sol.status == 0:
+            t, y = float(sol.y[0, -1]), np.array(sol.y[1:, -1])
+            continue
+        hits = [(te[0], k) for k, te in enumerate(sol.t_events) if len(te)]
+        k = min(hits)[1]
+        yy = np.array(sol.y_events[k][0])
+        t, y = float(yy[0]), yy[1:]
+        if k == 0:
+            t = duration
+            break
+        # no point slips: roll (the residual slip, below the floor, is set to zero)
+        n = np.array([math.cos(y[2]), math.sin(y[2])])
+        e = np.array([-n[1], n[0]])
+        y[3:5] = -body.a * y[5] * e
+        y[6] = 0.0
+        mode, t_roll = "rolling", t
+        if not rates(body, y, mu, c, tau, mode, g).rolling_holds:
+            raise ArithmeticError("rolling needs more than mu N of friction")
+    if mode == "rolling" and t < duration:
+        def f_roll(_t, yy):
+            return rates(body, yy, mu, c, tau, "rolling", g).rates
+
+        sol = solve_ivp(f_roll, (t, duration), y, method="DOP853", rtol=rtol,
+                        atol=atol[1:])
+        if sol.status < 0:
+            raise ArithmeticError(f"the side contact's ODE failed: {sol.message}")
+        y = np.array(sol.y[:, -1])
     return SideRun(tuple(float(x) for x in y), t_roll, mode)
