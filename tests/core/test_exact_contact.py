@@ -341,7 +341,7 @@ def test_side_line_friction_is_the_integral_along_the_line(A, B, C):
     pts = [-B / C] if -hh < -B / C < hh else None
 
     def mean(f):
-        return quad(f, -hh, hh, epsabs=0, epsrel=1e-13, limit=500, points=pts)[0] / (2 * hh)
+        return quad(f, -hh, hh, epsabs=1e-16, epsrel=1e-13, limit=500, points=pts)[0] / (2 * hh)
 
     def rho(s):
         return math.hypot(A, B + C * s)
