@@ -2,8 +2,9 @@
 :mod:`coincli.core.bounce.exact.flat`, :mod:`~coincli.core.bounce.exact.rim` and
 :mod:`~coincli.core.bounce.exact.side`, each against a figure computed here independently.
 
-The coin is the default quarter-sized one (diameter 24.26 mm, steel 7800 kg/m^3) on ``wood``'s
-coefficients (friction 0.3, rolling and torsional lengths 0.1 mm); tolerances are relative
+The coin is the default quarter-sized one (diameter 24.26 mm, cupronickel 8920 kg/m^3) on
+wood's coefficients (friction 0.3, rolling and torsional lengths 0.1 mm); tolerances are
+relative
 errors.
 """
 
@@ -23,7 +24,7 @@ MU, ROLL, TORS = 0.3, 1e-4, 1e-4  #: wood
 
 
 def _coin(xi):
-    return Cylinder.solid(D, xi, 7800.0)
+    return Cylinder.solid(D, xi)
 
 
 # --------------------------------------------------------------------------- flat on a face

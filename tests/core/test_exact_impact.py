@@ -26,7 +26,7 @@ D = 0.02426  #: m, a US quarter's diameter (the default coin)
 
 
 def _coin(xi=0.1):
-    return Cylinder.solid(D, xi, 7800.0)
+    return Cylinder.solid(D, xi)
 
 
 def _axis(tilt, azimuth=0.0):
@@ -139,7 +139,8 @@ def mp_impact(body, n, r, v, w, mu, e, steps=300, halt=mp.mpf("1e-16")):
     vn, W, p, pt = vc(y)[2], y[3], y[0], [y[1], y[2]]
     if compressing:
         q = -vn / kappa
-        W, p, pt, vn = W + vn * q + kappa * q * q / 2, p + q, [pt[0] + d[0] * q, pt[1] + d[1] * q], 0
+        W, p, vn = W + vn * q + kappa * q * q / 2, p + q, 0
+        pt = [pt[0] + d[0] * q, pt[1] + d[1] * q]
         target = (1 - e * e) * W
     q = (-vn + mp.sqrt(vn * vn + 2 * kappa * (target - W))) / kappa
     return (pt[0] + d[0] * q, pt[1] + d[1] * q, p + q), tuple(phases)

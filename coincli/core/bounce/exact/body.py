@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 UP = np.array([0.0, 0.0, 1.0])
+DENSITY = 8920.0  #: kg/m^3, cupronickel: :data:`coincli.core.bounce.engine.DEFAULT_DENSITY`
 
 
 @dataclass(frozen=True)
@@ -29,9 +30,9 @@ class Cylinder:
     i3: float
 
     @classmethod
-    def solid(cls, diameter: float, xi: float, density: float = 7800.0) -> "Cylinder":
+    def solid(cls, diameter: float, xi: float, density: float = DENSITY) -> "Cylinder":
         """The solid cylinder of ``diameter`` (m), aspect ratio ``xi = h / D`` and ``density``
-        (kg/m^3)."""
+        (kg/m^3; cupronickel by default, as the bounce engine's coin)."""
         if not (diameter > 0 and xi > 0 and density > 0):
             raise ValueError("diameter, xi and density must be positive")
         a = diameter / 2

@@ -97,7 +97,8 @@ def rates(body: Cylinder, state, mu, c=0.0, tau=0.0, mode="sliding", g=G) -> Sid
     v = np.array([vx, vy])
     N = body.m * g
     if mode == "rolling":
-        dwn = -c * N * (math.copysign(1.0, wn) if wn != 0 else 0.0) / (body.i3 + body.m * body.a ** 2)
+        sign = math.copysign(1.0, wn) if wn != 0 else 0.0
+        dwn = -c * N * sign / (body.i3 + body.m * body.a ** 2)
         Fe = -body.m * body.a * dwn
         F = Fe * e
         dv = F / body.m
