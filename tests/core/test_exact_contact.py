@@ -4,8 +4,7 @@
 
 The coin is the default quarter-sized one (diameter 24.26 mm, cupronickel 8920 kg/m^3) on
 wood's coefficients (friction 0.3, rolling and torsional lengths 0.1 mm); tolerances are
-relative
-errors.
+relative errors.
 """
 
 from __future__ import annotations
