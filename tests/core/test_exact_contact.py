@@ -352,3 +352,23 @@ def test_side_line_friction_is_the_integral_along_the_line(A, B, C):
     got = side.line_friction(body, A, B, 0.0, C, MU)
     for g_, w_ in zip(got, want, strict=True):
         assert g_ == pytest.approx(w_, rel=1e-11, abs=1e-17)
+
+
+def test_refining_the_tolerances_tenfold_moves_no_contact_run():
+    """The flat and side runs with ``rtol`` and ``stop_tol`` ten times tighter: nothing moves by
+    more than 1e-10 of the speeds (measured 2e-12 flat, 8e-12 side)."""
+    body = _coin(0.1)
+    x = flat.integrate(body, (0.3, 0.1), 40.0, MU, TORS, 0.01)
+    y = flat.integrate(body, (0.3, 0.1), 40.0, MU, TORS, 0.01, rtol=1e-13, stop_tol=1e-13)
+    speed = math.hypot(*y.v) + body.a * abs(y.wz)
+    assert math.hypot(x.v[0] - y.v[0], x.v[1] - y.v[1]) < 1e-10 * speed
+    assert body.a * abs(x.wz - y.wz) < 1e-10 * speed
+    body = _coin(0.5)
+    start = (0.0, 0.0, 0.3, 0.2, 0.1, 20.0, 30.0)
+    x = side.run(body, start, MU, ROLL, TORS, 0.25)
+    y = side.run(body, start, MU, ROLL, TORS, 0.25, rtol=1e-13, stop_tol=1e-13)
+    assert x.mode == y.mode == "rolling"
+    assert x.t_roll == pytest.approx(y.t_roll, rel=1e-10)
+    speed = math.hypot(y.state[3], y.state[4]) + body.a * abs(y.state[5])
+    assert np.abs(np.subtract(x.state[3:5], y.state[3:5])).max() < 1e-10 * speed
+    assert body.a * abs(x.state[5] - y.state[5]) < 1e-10 * speed
