@@ -39,6 +39,7 @@ docs/reference/commands.md for the help reference; docs/fig-NAME.png for a figur
 from __future__ import annotations
 
 import difflib
+import importlib.util
 import os
 import re
 import subprocess
@@ -269,6 +270,10 @@ def main(argv: list[str]) -> int:
             path.parent.mkdir(parents=True, exist_ok=True)
             path.write_text(new)
             print(f"wrote {rel}", file=sys.stderr)
+    if figures and importlib.util.find_spec("matplotlib") is None:
+        print("figures not checked: matplotlib is not installed (pip install '.[plot]')",
+              file=sys.stderr)
+        figures = []
     if figures:
         shown = "\n".join(p.read_text() for p in pages())
         tmp = Path(tempfile.mkdtemp(prefix="render_docs-"))
