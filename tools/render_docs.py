@@ -7,8 +7,21 @@ command's output: stdout and stderr through one pipe, in the order a terminal sh
 (Python unbuffered, so an error line is not held back behind buffered output).  Commands run
 from the repository root and see an 80 x 24 terminal (COLUMNS, LINES) unless the example states
 its own size (``$ COLUMNS=60 coin ...``), and no colour (NO_COLOR).  Other blocks (```sh, an
-untagged block of output, ```python) are left as they are: that is how a slow example (a
-bounce simulation) shows a run without re-running it.
+untagged block of output, ```python) are left as they are (but see the next paragraph).
+
+**Every output shown is today's, or says where it came from.**  ``--check`` also fails on an
+*output block* that is not rendered: a fenced block with no language, ```text, ```console or
+```output that does not start with a ``$`` line, or a block of any language with a ``$`` line
+followed by lines that are not ``$`` lines (a transcript with its output), unless the line just
+before the block (blank lines skipped) marks it as an excerpt with the version it came from,
+"Excerpt, from coin X.Y.Z" (a caption, e.g. ``*Excerpt, from coin 0.2.0: ...*``).  That is
+how a slow example (minutes of bounce simulation) shows a run without re-running it.  Commands
+alone (```sh without output), code (```python) and diagrams (```tree) are not output.
+
+**Figures.**  Each figure of :data:`FIGURES` is drawn by the command its page shows (which
+must appear on a page verbatim); rendering redraws it, ``--check`` draws it into a temporary
+directory and fails if it differs from the file in the repository by more than anti-aliasing
+(:func:`figure_differs`; needs matplotlib, the ``plot`` extra).
 
 **Commands reference.**  docs/reference/commands.md is written whole from ``coin --help`` and
 every ``coin COMMAND --help`` and ``coin plot SUBCOMMAND --help``, all read in one child
@@ -20,12 +33,13 @@ them.
     python tools/render_docs.py --check README.md docs/reference/commands.md   # these only
 
 A page named on the command line is rendered alone (README.md, docs/PAGE.md, or
-docs/reference/commands.md for the help reference).
+docs/reference/commands.md for the help reference; docs/fig-NAME.png for a figure).
 """
 
 from __future__ import annotations
 
 import difflib
+import importlib.util
 import os
 import re
 import subprocess
@@ -68,6 +82,82 @@ def render_block(body: str) -> str:
 def render(text: str) -> str:
     """``text`` with every example block re-run."""
     return BLOCK.sub(lambda m: "```text\n" + render_block(m.group(1)) + "```", text)
+
+
+# --------------------------------------------------------------------------- output blocks
+
+#: a fenced block: its indentation, its language (info string) and its body
+FENCE = re.compile(r"^([ \t]*)```([^\n`]*)\n(.*?)^\1```[ \t]*$", re.S | re.M)
+#: the languages of a block that shows output
+OUTPUT_TAGS = {"", "text", "console", "output"}
+#: what marks a block as an excerpt: the version it came from
+EXCERPT = re.compile(r"Excerpt, from coin \d+\.\d+\.\d+")
+
+
+def unchecked_blocks(text: str) -> list[int]:
+    """The first line (1-based) of every output block of ``text`` that is neither rendered (a
+    ```text block whose first line is a ``$`` command) nor marked as an excerpt (the line just
+    before it, blank lines skipped, says "Excerpt, from coin X.Y.Z")."""
+    found = []
+    for m in FENCE.finditer(text):
+        tag = m.group(2).strip()
+        lines = [line.strip() for line in m.group(3).splitlines()]
+        if tag == "text" and lines and lines[0].startswith("$ "):
+            continue  # rendered: re-run and compared
+        after_command = False
+        transcript = False
+        for line in lines:
+            if line.startswith("$ "):
+                after_command = True
+            elif line and after_command:
+                transcript = True
+                break
+        if tag not in OUTPUT_TAGS and not transcript:
+            continue
+        before = [line for line in text[:m.start()].splitlines() if line.strip()]
+        if before and EXCERPT.search(before[-1]):
+            continue
+        found.append(text.count("\n", 0, m.start()) + 1)
+    return found
+
+
+# --------------------------------------------------------------------------- figures
+
+#: every figure of the docs and the command that draws it, as its page shows it
+FIGURES = {
+    "docs/fig-sides.png":
+        "coin plot sides --p-sides 25% --data docs/fig-sides-tosses.csv --out docs/fig-sides.png",
+    "docs/fig-psi.png": "coin plot psi --xi 0.577 --out docs/fig-psi.png",
+    "docs/fig-map.png": "coin plot map --out docs/fig-map.png",
+    "docs/fig-phase.png": "coin plot phase --out docs/fig-phase.png",
+    "docs/fig-book.png": "coin book --size 235x155x30 --spin 0.4,40,0.3 --out docs/fig-book.png",
+}
+# docs/work-precision.png is benchmarks/work_precision.py's (a timing run, with its page)
+
+
+def draw(figure: str, out: Path) -> str:
+    """Draw ``figure`` (a key of FIGURES) to ``out`` with its command; what it printed."""
+    cmd = FIGURES[figure].replace(f"--out {figure}", f"--out {out}")
+    done = subprocess.run(cmd, shell=True, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                          text=True, cwd=ROOT, env=_env())
+    if done.returncode != 0 or not out.exists():
+        raise SystemExit(f"{FIGURES[figure]} failed (exit {done.returncode}):\n{done.stdout}")
+    return done.stdout
+
+
+def figure_differs(old: Path, new: Path, tolerance: float = 0.005) -> bool:
+    """Whether two images differ by more than anti-aliasing: another size, or a mean absolute
+    difference of the pixels (0 to 1) above ``tolerance`` (the same command draws the same
+    bytes, 0; fig-phase.png's speed axis drawn to 3 m/s instead of 2 was 0.16, fig-sides.png's
+    legend reworded 0.018)."""
+    if not old.exists():
+        return True
+    from matplotlib.image import imread
+
+    a, b = imread(old), imread(new)
+    if a.shape != b.shape:
+        return True
+    return float(abs(a.astype(float) - b.astype(float)).mean()) > tolerance
 
 
 # --------------------------------------------------------------------------- commands reference
@@ -155,16 +245,22 @@ def rendered(path: Path) -> str:
 
 
 def main(argv: list[str]) -> int:
+    import shutil
+    import tempfile
+
     check = "--check" in argv
     named = [a for a in argv if a != "--check"]
-    targets = [(ROOT / a).resolve() for a in named] if named else pages()
-    stale = []
+    figures = [f for f in named if f in FIGURES] if named else list(FIGURES)
+    targets = [(ROOT / a).resolve() for a in named if a not in FIGURES] if named else pages()
+    stale, unmarked = [], []
     for path in targets:
         old = path.read_text() if path.exists() else ""
+        rel = path.relative_to(ROOT)
+        if path != COMMANDS:
+            unmarked += [f"{rel}:{line}" for line in unchecked_blocks(old)]
         new = rendered(path)
         if new == old:
             continue
-        rel = path.relative_to(ROOT)
         stale.append(rel)
         if check:
             diff = list(difflib.unified_diff(old.splitlines(), new.splitlines(), f"{rel} (now)",
@@ -174,10 +270,34 @@ def main(argv: list[str]) -> int:
             path.parent.mkdir(parents=True, exist_ok=True)
             path.write_text(new)
             print(f"wrote {rel}", file=sys.stderr)
+    if figures and importlib.util.find_spec("matplotlib") is None:
+        print("figures not checked: matplotlib is not installed (pip install '.[plot]')",
+              file=sys.stderr)
+        figures = []
+    if figures:
+        shown = "\n".join(p.read_text() for p in pages())
+        tmp = Path(tempfile.mkdtemp(prefix="render_docs-"))
+        try:
+            for figure in figures:
+                if FIGURES[figure] not in shown:
+                    stale.append(f"{figure} (no page shows `{FIGURES[figure]}`)")
+                    continue
+                out = tmp / Path(figure).name
+                draw(figure, out)
+                if figure_differs(ROOT / figure, out):
+                    stale.append(figure)
+                    if not check:
+                        shutil.copyfile(out, ROOT / figure)
+                        print(f"wrote {figure}", file=sys.stderr)
+        finally:
+            shutil.rmtree(tmp, ignore_errors=True)
+    if unmarked:
+        print("output blocks neither rendered (```text starting with a $ command) nor marked as "
+              "an excerpt (a line 'Excerpt, from coin X.Y.Z' just before): "
+              + ", ".join(unmarked))
     if check and stale:
         print(f"out of date: {', '.join(map(str, stale))}; run python tools/render_docs.py")
-        return 1
-    return 0
+    return 1 if unmarked or (check and stale) else 0
 
 
 if __name__ == "__main__":
