@@ -51,8 +51,9 @@ DESIGN_TABLE = Group(
                           f"more tosses than this (default {BOUNCE_DESIGN_TOSSES}, from 180 to "
                           f"{MAX_BOUNCE_TOSSES})."), None),
     ("time_limit", option("--time-limit", "S", "With --landing bounce: stop at the end of the "
-                          "first round after this many seconds (default 300); the note gives "
-                          "the --max-tosses that reproduces the result."), None),
+                          "first round after this many seconds (default: no limit, so the "
+                          "answer depends on the inputs and the seed only); the note then says "
+                          "so, and gives the --max-tosses that reproduces the result."), None),
     BOUNCE.only(*RUNS, "dt", "t_max", "calibration"),
     ("no_table", option("--no-table", None, "With --landing bounce: simulate every toss, "
                         "not starting from the table shipped for a surface preset with the "
