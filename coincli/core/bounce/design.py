@@ -63,7 +63,8 @@ class SidesFit:
         import numpy as np
         from scipy.special import ndtr
 
-        return ndtr(self.alpha + self.beta * np.log(xi))
+        with np.errstate(divide="ignore"):  # xi = 0 (a plot's axis): ln 0 = -inf, P = 0
+            return ndtr(self.alpha + self.beta * np.log(xi))
 
     def inverse(self, p):
         """The xi at which the fitted P(sides) is ``p`` (0 < p < 1)."""
