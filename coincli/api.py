@@ -691,7 +691,7 @@ def fit(file, *, psi_dist=None, no_spread=None, delimiter=None, design=None, alp
     """
     options = _given(locals())
     options["file"] = os.fspath(file)
-    from coincli.reports import check as _r
+    from coincli.reports import fit as _r
 
     return _rows(_r.fit, "fit", options)
 

@@ -169,7 +169,7 @@ def fit(
     coin fit sim.csv --landing bounce --fit friction --restitution 0.7 --psi-dist uniform
     """
     from coincli.render.progress import simulating_bar
-    from coincli.reports import check as report
+    from coincli.reports import fit as report
 
     result = report.fit(file, psi_dist=psi_dist, no_spread=no_spread, delimiter=delimiter,
                         design=design, **levels, **table, **output, progress=simulating_bar)

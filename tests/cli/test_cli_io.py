@@ -179,9 +179,9 @@ def test_the_value_limit_holds_on_both_paths(coin, monkeypatch):
 
 
 def test_fit_file_cap_names_the_limit(coin, tmp_path, monkeypatch):
-    from coincli.reports import check
+    from coincli.io import experiments
 
-    monkeypatch.setattr(check, "MAX_FILE_BYTES", 1000)
+    monkeypatch.setattr(experiments, "MAX_FILE_BYTES", 1000)
     path = tmp_path / "big.csv"
     path.write_text("xi,heads,sides,tails\n" + "0.5,1,2,3\n" * 200)
     _error(coin("fit", str(path)), 2, f"{path}: larger than", "at most 1000 bytes")

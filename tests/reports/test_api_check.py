@@ -100,7 +100,7 @@ def test_fit_errors_are_the_command_s(coin, tmp_path):
 
 
 def test_an_option_the_report_lacks_is_refused_by_name():
-    from coincli.reports import check as R
+    from coincli.reports import fit as R
 
     with pytest.raises(InputError, match="coin fit has no option --xi; its options are file, "):
         api._rows(R.fit, "fit", {"file": str(TOSSES), "xi": "0.5"})
@@ -173,7 +173,7 @@ def test_the_check_report_returns_human_tables_or_the_machine_table():
 
 
 def test_the_fit_report_streams_its_machine_table():
-    from coincli.reports import check as R
+    from coincli.reports import fit as R
 
     tables = R.fit(str(TOSSES), no_spread=True)
     assert [r.title for r in tables][1:] == ["models, each experiment",
