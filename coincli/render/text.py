@@ -420,7 +420,7 @@ def _round_ticks(lo: float, hi: float, cells: int, spacing: int):
 
 
 def phase_text(data, *, colour: bool, title: str, width: int | None = None):
-    """Fig. 3 in the terminal: one character a cell of ``data`` (:class:`coincli.render.figures.PhaseData`),
+    """Fig. 3 in the terminal: one character a cell of ``data`` (:class:`coincli.render.maps.PhaseData`),
     rows of omega (high at the top) by columns of u, round ticks on both axes.
 
     ``colour``: coloured blocks (:data:`PHASE_BLOCK`), boundaries as dots, returned as a

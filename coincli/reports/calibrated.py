@@ -133,7 +133,6 @@ def apply(p, path: str, *, height_given: bool, vx_given: bool, dt_given: bool,
     from dataclasses import replace
 
     from coincli.io.calibration import CalibrationError, load
-    from coincli.reports.physics import engine
 
     try:
         cal = load(path)
@@ -161,10 +160,10 @@ def apply(p, path: str, *, height_given: bool, vx_given: bool, dt_given: bool,
     est = {n: cal["parameters"][n]["estimate"] for n in cal["fitted"]}
     fixed = cal["fixed"]
     try:
-        surface = engine().Surface(est.get("restitution", fixed.get("restitution")),
-                                   est.get("friction", fixed.get("friction")),
-                                   float(fixed["torsional"]), float(fixed["rolling"]),
-                                   "calibrated", f"calibrated from tosses ({path})")
+        surface = replace(p.surface, restitution=est.get("restitution", fixed.get("restitution")),
+                          friction=est.get("friction", fixed.get("friction")),
+                          torsional=float(fixed["torsional"]), rolling=float(fixed["rolling"]),
+                          name="calibrated", source=f"calibrated from tosses ({path})")
     except (TypeError, ValueError) as exc:
         raise usage_error(f"--calibration {path}: its table is malformed ({exc})") from None
     return replace(p, surface=surface, calibration=(path, cal), **theirs_all)

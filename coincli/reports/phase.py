@@ -216,16 +216,16 @@ def check_followable(ph: Phase) -> None:
 
 
 def data(ph: Phase, nu: int, nw: int, *, figure: bool = False):
-    """The picture's data on an ``nu`` by ``nw`` grid: :class:`coincli.render.figures.PhaseData`
+    """The picture's data on an ``nu`` by ``nw`` grid: :class:`coincli.render.maps.PhaseData`
     for a figure; for text and csv the same fields from
     :func:`coincli.core.toss.flight.phase_map` directly (so that they load no plotting
     module)."""
     check_followable(ph)
     if figure:
-        from coincli.render import figures
+        from coincli.render import maps
 
         try:
-            d = figures.phase_data(ph.xi, ph.psi_deg, u_range=ph.u_range,
+            d = maps.phase_data(ph.xi, ph.psi_deg, u_range=ph.u_range,
                                    omega_range=ph.omega_range, nu=nu, nw=nw, marks=ph.marks,
                                    exact_curves=ph.exact, diameter=ph.diameter, g=ph.g,
                                    contact=ph.contact)
@@ -316,7 +316,7 @@ def _picture(ph: Phase):
 def _figure(path, ph: Phase) -> None:
     """Write the picture as a figure file (checked before any computing)."""
     from coincli.io.files import check_output_path
-    from coincli.render import figures
+    from coincli.render import figures, maps
     from coincli.render.figures import write_figure
 
     try:
@@ -331,4 +331,4 @@ def _figure(path, ph: Phase) -> None:
     except figures.MatplotlibMissing as exc:
         raise compute_error(str(exc)) from None
     d = data(ph, ph.cols or FIGURE_CELLS, ph.rows or FIGURE_CELLS, figure=True)
-    write_figure(figures.phase_figure(d), path)
+    write_figure(maps.phase_figure(d), path)

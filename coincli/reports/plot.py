@@ -377,25 +377,25 @@ def map(*, style="panels", xi=None, coin=None, count=None, quarters=None, diamet
     xi_marks = _mark_coins(xi, coin, count, quarters, diameter, thickness)
     psi_marks = options.psi_angles(psi, max_rows=MAX_MARKS) if psi is not None else []
     rng = _xi_range(xi_range, log)
-    from coincli.render.figures import MAP_SIZES
+    from coincli.render.maps import MAP_SIZES
 
     w, h, dots = _figure_size(target, width, height, dpi, MAP_SIZES[st])
     target.check_matplotlib()
     with _quiet():
-        from coincli.render import figures
+        from coincli.render import maps
 
         if target.text:
             from coincli.render.text import text_map
 
             def build(c, r):
-                d = _compute(figures.map_data, xi_range=rng, log=log, nx=c, ny=r, xi_marks=xi_marks,
-                             psi_marks_deg=psi_marks)
+                d = _compute(maps.map_data, xi_range=rng, log=log, nx=c, ny=r,
+                             xi_marks=xi_marks, psi_marks_deg=psi_marks)
                 return text_map(d, c, r)
 
             return target.text_plot(build)
-        d = _compute(figures.map_data, xi_range=rng, log=log, xi_marks=xi_marks,
+        d = _compute(maps.map_data, xi_range=rng, log=log, xi_marks=xi_marks,
                      psi_marks_deg=psi_marks)
-        fig = figures.map_figure(d, style=st, width=w, height=h, title=title)
+        fig = maps.map_figure(d, style=st, width=w, height=h, title=title)
         target.save(fig, dots)
         _notes(d.skipped)
     return None
@@ -425,10 +425,10 @@ def phase(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
 
             nu, nw = phase_report.text_size(ph)
             return text_phase(phase_report.data(ph, nu, nw), nu, nw, ph.contact)
-        from coincli.render import figures
+        from coincli.render import maps
 
         cells = phase_report.FIGURE_CELLS
         data = phase_report.data(ph, ph.cols or cells, ph.rows or cells, figure=True)
-        fig = figures.phase_figure(data, width=w, height=h, title=title)
+        fig = maps.phase_figure(data, width=w, height=h, title=title)
         target.save(fig, d)
     return None
