@@ -341,7 +341,7 @@ def table(*, xi: str | None = None, coin: str | None = None, count: str | None =
     bouncing = (surface, restitution, friction, torsional, rolling, release_height, vx, jobs,
                 dt, t_max, calibration, scheduler, checkpoint, timeout)
     if landing.strip().lower() != "catch" or any(v is not None for v in bouncing):
-        from coincli.reports.bounce import landing_of, parse_physics
+        from coincli.reports.landing import landing_of, parse_physics
 
         landing = landing_of(landing)
         if landing == "catch":
