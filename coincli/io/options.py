@@ -213,10 +213,10 @@ def _length(text: str, what: str) -> float:
 
 
 def _catalog(name: str):
-    from coincli.core import coins as catalog
+    from coincli.core import coins as coin_catalog
 
     try:
-        return catalog.get_coin(name)
+        return coin_catalog.get_coin(name)
     except ValueError as exc:
         raise usage_error(f"--coin: {exc}") from None
 
@@ -265,12 +265,12 @@ def resolve_coin(xi: str | None = None, coin: str | None = None, count: str | No
             raise usage_error(f"{command} needs the coin's size: give --coin NAME, --quarters N, "
                               "--diameter D --thickness H, or --xi X with --diameter D")
         return Coins(xis, "xi", None, None, dia, f"xi = {xi.strip()}")
-    from coincli.core import coins as catalog
+    from coincli.core import coins as coin_catalog
 
     if kind == "size":
         d, h = _length(diameter, "--diameter"), _length(thickness, "--thickness")
         try:
-            unit = catalog.custom_coin(d, h)
+            unit = coin_catalog.custom_coin(d, h)
         except ValueError as exc:
             raise usage_error(str(exc)) from None
         typed = f"{diameter.strip()} x {thickness.strip()}"
@@ -298,8 +298,8 @@ def resolve_coin(xi: str | None = None, coin: str | None = None, count: str | No
                               bounds=(1.0, float(parse.MAX_COUNT)))
         if len(batch) > 1:
             top = max(float(c.max()) for c in batch.chunks())
-            _refuse_out_of_doubles([catalog.stack_xi(unit, 1), catalog.stack_xi(unit, int(top))],
-                                   typed)
+            _refuse_out_of_doubles([coin_catalog.stack_xi(unit, 1),
+                                    coin_catalog.stack_xi(unit, int(top))], typed)
             return Coins(None, "size" if kind == "size" else "coin", unit, batch,
                          unit.diameter_mm, typed)
         count_text = repr(int(batch.values()))
@@ -308,9 +308,9 @@ def resolve_coin(xi: str | None = None, coin: str | None = None, count: str | No
     if many and len(counts) > 1:
         import numpy as np
 
-        xis = catalog.stack_xis(unit, np.asarray(counts, dtype=float)).tolist()
+        xis = coin_catalog.stack_xis(unit, np.asarray(counts, dtype=float)).tolist()
     else:
-        xis = [catalog.stack_xi(unit, k) for k in counts]
+        xis = [coin_catalog.stack_xi(unit, k) for k in counts]
     _refuse_out_of_doubles(xis, typed)
     return Coins(xis, "size" if kind == "size" else "coin", unit, counts, unit.diameter_mm,
                  typed)

@@ -247,13 +247,13 @@ def phase_data(xi: float = models.FAIR_XI_DYNAMIC, psi_deg: float = 90.0, *,
     ``toss_options`` go to it (``diameter`` in m, ``g``, ``contact``, ``z0``).  The boundary
     curves are eq. (10) (or the exact contact-time curves with ``exact_curves``).
     """
-    from coincli.core.toss import phase as toss
+    from coincli.core.toss import phase as toss_phase
 
     psi_deg = float(psi_deg)
     if not 0.0 <= psi_deg <= 180.0:
         raise ValueError(f"psi must be an angle in [0, 180] degrees, got {psi_deg:g}")
     psi = math.pi if psi_deg == 180.0 else math.radians(psi_deg)
-    pm = toss.phase_map(xi, psi, u_range, omega_range, (int(nu), int(nw)),
+    pm = toss_phase.phase_map(xi, psi, u_range, omega_range, (int(nu), int(nw)),
                         exact_curves=exact_curves, **toss_options)
     return PhaseData(float(xi), psi_deg, pm.u, pm.omega, pm.codes, list(pm.curves),
                      pm.fractions(), table_i_deg(float(xi), psi_deg),

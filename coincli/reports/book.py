@@ -505,7 +505,7 @@ def _series(box, w, times, start, rule, figure: str | None):
         return om, q, rigid.face_up(rigid.up_vector(q), box.sides, rule)
 
     if figure is not None:
-        from coincli.render import book_figures as bookplot
+        from coincli.render import book_figures
 
         def omega_up(t):
             om, _, up = block(t)
@@ -513,7 +513,7 @@ def _series(box, w, times, start, rule, figure: str | None):
 
         # a long series is thinned to the figure's pixel columns, a chunk at a time: memory
         # and file size stay bounded (10^6 times: 2.4 GB and an Agg error before)
-        _figure(figure, lambda: bookplot.omega_figure_of(ts, omega_up, mo, box.label, start,
+        _figure(figure, lambda: book_figures.omega_figure_of(ts, omega_up, mo, box.label, start,
                                                          rule, chunk=CHUNK_ROWS))
         return []
     faces = np.array(FACES)
@@ -615,9 +615,9 @@ def _toss(box, spin, n, seed, flight, start, rule, figure: str | None, progress)
             "coming up: a spin about a stable axis turns the box about that axis only.")
     result = Result("coin book --toss", columns, rows, note, quiet=[r[3] for r in rows])
     if figure is not None:
-        from coincli.render import book_figures as bookplot
+        from coincli.render import book_figures
 
-        _figure(figure, lambda: bookplot.faces_figure(rows, box.label, count, seed_v, rule))
+        _figure(figure, lambda: book_figures.faces_figure(rows, box.label, count, seed_v, rule))
         return []
     return result
 
