@@ -356,7 +356,7 @@ def _box(size, moments) -> _Box:
     return b
 
 
-def _face_size(box: _Box, face: int) -> str:
+def face_size(box: _Box, face: int) -> str:
     k = face // 2
     i, j = (k + 1) % 3, (k + 2) % 3
     i, j = min(i, j), max(i, j)
@@ -596,7 +596,7 @@ def _toss(box, spin, n, seed, flight, start, rule, figure: str | None, progress)
     for k in range(6):
         c = int(counts[k])
         lo, hi = wilson_interval(c, count)
-        rows.append((FACES[k], _face_size(box, k), c, c / count, lo, hi, geo[k],
+        rows.append((FACES[k], face_size(box, k), c, c / count, lo, hi, geo[k],
                      c / count - geo[k], seed_v))
     columns = [
         Column("face", "face", "text"), Column("face_size", "face size", "text"),

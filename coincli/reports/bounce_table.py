@@ -136,7 +136,7 @@ def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
                                 g=STANDARD_G, dt=physics.dt, t_max=physics.t_max,
                                 jobs=physics.jobs, progress=tick, executor=run)
                 done += n
-                yield [[v] for v in _row(coins, k, xis[k], dia, surf, sim, stacked)]
+                yield [[v] for v in study_row(coins, k, xis[k], dia, surf, sim, stacked)]
 
     if wide:
         return widen(columns, rows(), [(e, mu) for e in es for mu in mus], note)
@@ -186,7 +186,7 @@ def _runs():
     return runs
 
 
-def _row(coins, k, x, dia, surf, sim, stacked) -> list:
+def study_row(coins, k, x, dia, surf, sim, stacked) -> list:
     """One cell's row: the chances (None where no toss settled: an empty cell, never nan)."""
     cells = []
     for f in sim.frequencies:

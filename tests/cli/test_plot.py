@@ -615,12 +615,12 @@ def test_tosses_off_the_axis_are_a_note(plotmod):
 
 
 def test_text_plot_ticks_survive_degenerate_axes():
-    from coincli.render.text import _ticks
+    from coincli.render.text import axis_ticks
 
-    assert _ticks(0.0, 5e-324, False) == [(0.0, "0"), (5e-324, "4.94066e-324")]
-    assert _ticks(1.0, 1.0, False) == []
-    assert _ticks(0.0, 1.0, True) == []
-    assert _ticks(0.0, math.nan, False) == []
+    assert axis_ticks(0.0, 5e-324, False) == [(0.0, "0"), (5e-324, "4.94066e-324")]
+    assert axis_ticks(1.0, 1.0, False) == []
+    assert axis_ticks(0.0, 1.0, True) == []
+    assert axis_ticks(0.0, math.nan, False) == []
 
 
 # --------------------------------------------------------------------------- NO_COLOR
