@@ -221,6 +221,13 @@ def axis_ticks(lo: float, hi: float, log: bool, n: int = 6):
     return out
 
 
+def _crosses(cv, legend, row, text: str) -> None:
+    """A design's crosses (X) on the curves, and its legend line ``text``."""
+    for m in row:
+        cv.point(m.xi, m.p, "X", DESIGN_STYLE, layer=5)
+    legend.append(("X", DESIGN_STYLE, text))
+
+
 def text_sides(data, cols: int, rows: int):
     """Fig. 5a as text: one letter a model, F the fair coins, X the designs, o the tosses."""
     cv = Canvas(cols, rows, data.xlim, (0.0, 1.0), logx=data.log)
@@ -247,16 +254,12 @@ def text_sides(data, cols: int, rows: int):
     notes = list(data.skipped)
     for x, row in data.xi_marks:
         cv.vline(x, ":", DESIGN_STYLE)
-        for m in row:
-            cv.point(m.xi, m.p, "X", DESIGN_STYLE, layer=5)
-        legend.append(("X", DESIGN_STYLE, f"your design xi = {x:.4g}: P(sides) " + ", ".join(
-            f"{m.gid} {m.p:.4g}" for m in row)))
+        _crosses(cv, legend, row, f"your design xi = {x:.4g}: P(sides) " + ", ".join(
+            f"{m.gid} {m.p:.4g}" for m in row))
     for p, row in data.p_marks:
         cv.hline(p, "-", DESIGN_STYLE)
-        for m in row:
-            cv.point(m.xi, m.p, "X", DESIGN_STYLE, layer=5)
-        legend.append(("X", DESIGN_STYLE, f"your target P(sides) = {p:.4g}: xi " + ", ".join(
-            f"{m.gid} {m.xi:.4g}" for m in row)))
+        _crosses(cv, legend, row, f"your target P(sides) = {p:.4g}: xi " + ", ".join(
+            f"{m.gid} {m.xi:.4g}" for m in row))
     from coincli.render.figures import group_label, point_groups
 
     for gid, pts in point_groups(data.experiments):
@@ -420,8 +423,9 @@ def _round_ticks(lo: float, hi: float, cells: int, spacing: int):
 
 
 def phase_text(data, *, colour: bool, title: str, width: int | None = None):
-    """Fig. 3 in the terminal: one character a cell of ``data`` (:class:`coincli.render.maps.PhaseData`),
-    rows of omega (high at the top) by columns of u, round ticks on both axes.
+    """Fig. 3 in the terminal: one character a cell of ``data``
+    (:class:`coincli.render.maps.PhaseData`), rows of omega (high at the top) by columns of u,
+    round ticks on both axes.
 
     ``colour``: coloured blocks (:data:`PHASE_BLOCK`), boundaries as dots, returned as a
     :class:`rich.text.Text`; otherwise letters ``H S T`` (lower case where a boundary passes)
