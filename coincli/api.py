@@ -740,7 +740,7 @@ def fit(file, *, psi_dist=None, no_spread=None, delimiter=None, design=None, alp
         raise InputError(f"FILE: a path (str or path-like) or '-' for stdin; got "
                          f"{type(file).__name__}")
     options["file"] = os.fspath(file)
-    from coincli.reports import check as _r
+    from coincli.reports import fit as _r
 
     return _rows("fit", _r.fit, options)
 

@@ -71,7 +71,7 @@ def fit(request):
     coin fit sim.csv --landing bounce --fit friction --restitution 0.7 --psi-dist uniform
     """
     from coincli.render.progress import simulating_bar
-    from coincli.reports import check as report
+    from coincli.reports import fit as report
 
     result = report.fit(**request, progress=simulating_bar)
     emit_all(result, **request.output)

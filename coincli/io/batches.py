@@ -47,7 +47,10 @@ _LINE_STARTS = bytes(10 if b == 10 else 32 if b in _MAYBE_BLANK else 118 for b i
 
 _RUN_MARKS = bytes(10 if b == 10 else 120 for b in range(256))  # newline stays, the rest 'x'
 _LONG_RUN = b"x" * (MAX_LINE_CHARS + 1)
-_VALUE_LINE = None  # a newline, then a line whose first non-blank character is not '#'
+#: A cache, the one piece of state of this module: the compiled pattern of a value line (a
+#: newline, then a line whose first non-blank character is not '#'), compiled on first use
+#: by :func:`_piece_lines` (``re`` costs start-up time) and never changed after.
+_VALUE_LINE = None
 
 
 def _piece_text(what: str, piece: bytes, first: int) -> str:

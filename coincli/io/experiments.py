@@ -388,3 +388,106 @@ def _caught_of(line: int, row: dict, has: set, vals: dict):
         raise _err(line, sorted(has & {"heads", "tails"})[0],
                    "heads and tails with same/different: give start instead, or one form")
     return make_caught(vals.get("same"), vals.get("different"), vals.get("n"))
+
+
+# --------------------------------------------------------------------------- reading a file
+#
+# The experiments file of ``coin fit FILE`` (and of ``coin fit --landing bounce FILE``): its
+# text, read capped (:func:`read_experiments_text`), and its experiments as columns with the
+# commands' messages (:func:`experiment_columns`).
+
+MAX_FILE_BYTES = 50_000_000  #: the largest experiments file (coin fit FILE or -)
+
+
+def read_experiments_text(path: str) -> tuple[str, str]:
+    """The text of an experiments file, or of stdin for '-', and the name to call it by.
+
+    At most :data:`MAX_FILE_BYTES` are read, in chunks, whatever the file claims to be
+    (/dev/zero and pipes have no size); reading stops at a NUL byte.  A named file must be a
+    regular file (:func:`coincli.io.files.read_regular`).
+    """
+    import sys
+
+    from coincli.errors import usage_error
+    from coincli.io.files import FileKindError, read_capped, read_regular, stream_reader
+
+    if path.strip() == "-":
+        if sys.stdin is None:
+            raise usage_error("FILE '-' reads the experiments from standard input, but there "
+                              "is none")
+        name = "stdin"
+        data, why = read_capped(stream_reader(sys.stdin), MAX_FILE_BYTES)
+    else:
+        name = path
+        try:
+            data, why = read_regular(path, MAX_FILE_BYTES)  # a FIFO or device: refused
+        except FileKindError as exc:
+            raise usage_error(f"cannot read {clipped(path)}: it is {exc.kind}, not a regular "
+                              "file; give an experiments file, or '-' to read a pipe") from None
+        except OSError as exc:
+            raise usage_error(f"cannot read {clipped(path)}: {exc.strerror or exc}") from None
+    if why == "size":
+        raise usage_error(f"{file_name(name)}: larger than {MAX_FILE_BYTES // 10**6} MB; is this "
+                          f"an experiments file? (at most {MAX_FILE_BYTES} bytes)")
+    if why == "nul":
+        raise usage_error(f"{file_name(name)}: contains a NUL byte; expected a CSV text file")
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError:
+        raise usage_error(f"{file_name(name)}: not UTF-8 text") from None
+    return text, name
+
+
+def clipped(text: str, limit: int = 60) -> str:
+    """User text (a path, a number) for an error message: unquoted unless it holds control
+    characters (then as repr writes it: one line), cut to about ``limit`` characters."""
+    from coincli.errors import shown
+
+    if not text.isprintable():
+        return shown(text, limit)
+    return text if len(text) <= limit + 2 else text[:limit - 3] + "..."
+
+
+def file_name(path: str) -> str:
+    """A file that opened: its whole name (at most PATH_MAX), on one line."""
+    return clipped(path, 4096)
+
+
+def check_total(counts, where: str = "") -> None:
+    """Every count below 2**53 can still add up to more: the total is held to it too."""
+    from coincli.errors import usage_error
+
+    if counts.n > MAX_COUNT:
+        raise usage_error(f"{where}heads + sides + tails = {counts.n}; at most {MAX_COUNT} "
+                          "(2**53) tosses are allowed")
+
+
+def experiment_columns(text: str, name: str, delimiter: str | None = None, caught: bool = True):
+    """The experiments of ``text`` as columns (:class:`ExperimentColumns`: a file of 10^5 rows
+    holds numbers, not row objects); each count, and each row's total, at most 2**53.
+    ``caught=False`` (a table's calibration): a row of caught flips is refused, naming its
+    line."""
+    from coincli.errors import InputError, usage_error
+
+    name = file_name(name)
+
+    def each(e):
+        c = e.counts
+        for column in ("heads", "sides", "tails", "n"):
+            v = getattr(c, column)
+            if v is not None and v > MAX_COUNT and (column != "n" or c.heads is None):
+                raise usage_error(f"{name} line {e.line}, column {column!r}: {column} must be a "
+                                  f"whole number from 0 to {MAX_COUNT} (2**53), got "
+                                  f"{clipped(str(v))}")
+        check_total(c, f"{name} line {e.line}: ")
+
+    try:
+        return parse_experiment_columns(text, delimiter=delimiter, each=each, caught=caught)
+    except InputError:
+        raise
+    except ValueError as exc:
+        raise usage_error(f"{name} {exc}") from None
+
+
+__all__ += ["MAX_FILE_BYTES", "read_experiments_text", "experiment_columns", "check_total",
+            "clipped", "file_name"]

@@ -34,6 +34,7 @@ __all__ = [
     "parse_spin_rads",
     "split_unit",
     "SPEED_UNITS",
+    "LENGTH_UNITS",
     "SPIN_UNITS",
     "parse_density",
     "DENSITY_FORMS",
@@ -47,7 +48,7 @@ MAX_SEED_DIGITS = 40  #: the longest seed, in decimal digits
 _NUM = re.compile(r"^[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?$", re.ASCII)  # 0-9 only
 _INT = re.compile(r"^[+-]?\d+$", re.ASCII)
 # exact factors (as text for Fraction), so 0.955in is the double nearest 24.257 mm
-_LEN_UNITS = {"mm": "1", "cm": "10", "m": "1000", "in": "25.4", '"': "25.4"}
+LENGTH_UNITS = {"mm": "1", "cm": "10", "m": "1000", "in": "25.4", '"': "25.4"}
 
 
 def _underflow_check(v: float, s: str, what: str, text) -> None:
@@ -186,7 +187,7 @@ def parse_length_mm(text: str, what: str = "length") -> float:
     """A length in millimetres: ``24.26``, ``24.26mm``, ``2.4cm``, ``0.955in``; finite, > 0."""
     s = str(text).strip().lower()
     factor = "1"
-    for unit, f in sorted(_LEN_UNITS.items(), key=lambda kv: -len(kv[0])):
+    for unit, f in sorted(LENGTH_UNITS.items(), key=lambda kv: -len(kv[0])):
         if s.endswith(unit) and _NUM.match(s[: -len(unit)].strip() or "x"):
             s, factor = s[: -len(unit)].strip(), f
             break

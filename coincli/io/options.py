@@ -34,7 +34,8 @@ __all__ = [
     "Coins", "resolve_coin", "COIN_FORMS", "refuse_old_count", "seed_value", "DRAWN_SEED",
     "report_seed", "report_drawn_seed", "tosses_value", "unit_at_end", "range_unit",
     "typed_range_error", "PSI_AND_DIST", "refuse_psi_and_dist", "psi_angle",
-    "psi_angles", "radians", "psi_density", "psi_densities",
+    "psi_angles", "psi_item", "radians", "psi_density", "psi_densities", "level_value",
+    "drawn_seed", "reset_drawn_seed",
 ]
 
 # --------------------------------------------------------------------------- the coin group
@@ -216,10 +217,10 @@ def _length(text: str, what: str) -> float:
 
 
 def _catalog(name: str):
-    from coincli.core import coins as catalog
+    from coincli.core import coins as coin_catalog
 
     try:
-        return catalog.get_coin(name)
+        return coin_catalog.get_coin(name)
     except ValueError as exc:
         raise usage_error(f"--coin: {exc}") from None
 
@@ -268,12 +269,12 @@ def resolve_coin(xi: str | None = None, coin: str | None = None, count: str | No
             raise usage_error(f"{command} needs the coin's size: give --coin NAME, --quarters N, "
                               "--diameter D --thickness H, or --xi X with --diameter D")
         return Coins(xis, "xi", None, None, dia, f"xi = {xi.strip()}")
-    from coincli.core import coins as catalog
+    from coincli.core import coins as coin_catalog
 
     if kind == "size":
         d, h = _length(diameter, "--diameter"), _length(thickness, "--thickness")
         try:
-            unit = catalog.custom_coin(d, h)
+            unit = coin_catalog.custom_coin(d, h)
         except ValueError as exc:
             raise usage_error(str(exc)) from None
         typed = f"{diameter.strip()} x {thickness.strip()}"
@@ -301,8 +302,8 @@ def resolve_coin(xi: str | None = None, coin: str | None = None, count: str | No
                               bounds=(1.0, float(parse.MAX_COUNT)))
         if len(batch) > 1:
             top = max(float(c.max()) for c in batch.chunks())
-            _refuse_out_of_doubles([catalog.stack_xi(unit, 1), catalog.stack_xi(unit, int(top))],
-                                   typed)
+            _refuse_out_of_doubles([coin_catalog.stack_xi(unit, 1),
+                                    coin_catalog.stack_xi(unit, int(top))], typed)
             return Coins(None, "size" if kind == "size" else "coin", unit, batch,
                          unit.diameter_mm, typed)
         count_text = repr(int(batch.values()))
@@ -311,9 +312,9 @@ def resolve_coin(xi: str | None = None, coin: str | None = None, count: str | No
     if many and len(counts) > 1:
         import numpy as np
 
-        xis = catalog.stack_xis(unit, np.asarray(counts, dtype=float)).tolist()
+        xis = coin_catalog.stack_xis(unit, np.asarray(counts, dtype=float)).tolist()
     else:
-        xis = [catalog.stack_xi(unit, k) for k in counts]
+        xis = [coin_catalog.stack_xi(unit, k) for k in counts]
     _refuse_out_of_doubles(xis, typed)
     return Coins(xis, "size" if kind == "size" else "coin", unit, counts, unit.diameter_mm,
                  typed)
@@ -391,7 +392,8 @@ def refuse_old_count(value: str | None, example: str) -> None:
 
 def seed_value(text: str | None) -> int:
     """The seed typed, or a fresh one drawn from the operating system's entropy (63 bits, so
-    that it prints short and any tool reads it back); the caller reports it."""
+    that it prints short and any tool reads it back); the caller reports it.  A drawn seed is
+    kept (:func:`drawn_seed`)."""
     global DRAWN_SEED
     if text is None:
         from coincli.core._numerics.backend import randbits
@@ -401,8 +403,39 @@ def seed_value(text: str | None) -> int:
     return _one(text, "--seed", parse.parse_seed)
 
 
-#: The seed this run drew, if it drew one: an interrupted run still reports it (coincli.cli).
+#: The seed this run drew, if it drew one, so that an interrupted run still reports it
+#: (coincli.cli's signal handler).  The one piece of state this module keeps: it is the
+#: record of a run, set by :func:`seed_value` and read by :func:`drawn_seed`; a process that
+#: runs several commands (the tests, a notebook) clears it between runs with
+#: :func:`reset_drawn_seed`.
 DRAWN_SEED: int | None = None
+
+
+def drawn_seed() -> int | None:
+    """The seed this run drew (:func:`seed_value` without a seed), or None."""
+    return DRAWN_SEED
+
+
+def reset_drawn_seed() -> None:
+    """Forget the drawn seed: a new run starts (one process may run several commands)."""
+    global DRAWN_SEED
+    DRAWN_SEED = None
+
+
+def level_value(text: str, what: str) -> float:
+    """A level strictly between 0 and 1 (``--alpha``, ``--confidence``): a probability as the
+    grammar reads it (``0.95``, ``95%``, ``19/20``), or the usage error that says so."""
+    try:
+        v = parse.parse_probability(text, what)
+    except ValueError as exc:
+        if "must be in [0, 1]" not in str(exc):
+            raise usage_error(str(exc)) from None
+        v = math.nan  # out of [0, 1]: the message below states what a level may be
+    if not 0.0 < v < 1.0:
+        like = "0.05, 1/20 or 5%" if what == "--alpha" else "0.95 or 95%"
+        raise usage_error(f"{what} must be strictly between 0 and 1 ({like}), got {text!r}")
+    return v
+
 
 def report_seed(seed: int, given: bool) -> None:
     """A drawn seed on stderr, where the output itself has no room for it (``-q``,
@@ -424,7 +457,9 @@ def report_drawn_seed() -> None:
 # --------------------------------------------------------------------------- psi
 
 
-def _deg_item(text: str, what: str) -> float:
+def psi_item(text: str, what: str) -> float:
+    """One angle of psi in degrees, in [0, 180] (a ValueError otherwise): an item of
+    :func:`coincli.io.batches.values_option` and :func:`coincli.io.grammar.parse_values`."""
     try:
         v = parse.parse_number(text, what)
     except ValueError:
@@ -451,7 +486,7 @@ def psi_angle(text: str, what: str = "--psi") -> float:
     """One angle in degrees, in [0, 180]; a list or range is refused as such (a command that
     takes many uses :func:`psi_angles`)."""
     try:
-        return _deg_item(text, what)
+        return psi_item(text, what)
     except ValueError as exc:
         if _a_list(text):
             raise usage_error(f"{what} takes one angle here (degrees, 0 to 180), not a list or "
@@ -462,7 +497,7 @@ def psi_angle(text: str, what: str = "--psi") -> float:
 def psi_angles(text: str, what: str = "--psi", *, max_rows: int = parse.MAX_ROWS) -> list[float]:
     """Angles in degrees: a value, a list ``a,b`` or a range ``lo:hi:step`` (no stdin)."""
     try:
-        return [float(v) for v in parse.parse_values(text, what, _deg_item, max_rows=max_rows)]
+        return [float(v) for v in parse.parse_values(text, what, psi_item, max_rows=max_rows)]
     except ValueError as exc:
         raise usage_error(str(exc)) from None
 

@@ -118,7 +118,7 @@ class _RowView(Sequence):
         return zip(*self._data, strict=True)
 
 
-def _machine(v):
+def machine_text(v):
     """Text for csv/tsv: floats as repr (round-trips), inf as inf, None as empty."""
     if v is None:
         return ""
@@ -204,10 +204,10 @@ def emit(result: Result, fmt: str = "table", quiet: bool = False, out=None,
     if quiet:
         if result.chunks is None:
             q = result.quiet
-            _write_rows(out, [q if isinstance(q, list) else [q]], "\n", quote=False)
+            write_rows(out, [q if isinstance(q, list) else [q]], "\n", quote=False)
         else:
             for data in result.chunks:
-                _write_rows(out, [_plain_list(data[result.quiet])], "\n", quote=False)
+                write_rows(out, [_plain_list(data[result.quiet])], "\n", quote=False)
         return
     names = [c.name for c in result.columns]
     if fmt in ("csv", "tsv"):
@@ -215,7 +215,7 @@ def emit(result: Result, fmt: str = "table", quiet: bool = False, out=None,
         if not no_headers:
             out.write(sep.join(names) + "\n")
         for cols in _column_chunks(result, arrays=True):
-            _write_rows(out, cols, sep)
+            write_rows(out, cols, sep)
     elif fmt in ("json", "jsonl"):
         _write_json(out, names, _column_chunks(result), fmt == "json")
     elif fmt == "markdown":
@@ -299,7 +299,7 @@ def _human_table(result: Result, out, terminal: bool) -> None:
 
 def _column_chunks(result: Result, arrays: bool = False):
     """The result's columns a chunk at a time (one chunk unless it is streamed): lists, or with
-    ``arrays`` the columns as the command gave them (:func:`_write_rows` takes a float64 array
+    ``arrays`` the columns as the command gave them (:func:`write_rows` takes a float64 array
     as it is; a list of floats it would turn back into one)."""
     plain = (lambda c: c) if arrays else _plain_list
     if result.chunks is not None:
@@ -437,7 +437,7 @@ def _few_cells(col: list):
     return list(map(text.__getitem__, col))
 
 
-def _write_rows(out, cols, sep: str, quote: bool = True) -> None:
+def write_rows(out, cols, sep: str, quote: bool = True) -> None:
     """Write columns as lines of ``sep``-separated cells: floats as repr, None as empty.
 
     Columns are lists or arrays.  Formatting a double as its shortest text is most of the cost,
@@ -463,7 +463,7 @@ def _write_rows(out, cols, sep: str, quote: bool = True) -> None:
         if kind == "f" and col.ndim == 1:
             if len(cols) > 1 and len(col) > 1 and col[0] != 0 and (col == col[0]).all():
                 text = repr(float(col[0]))
-                fields.append(((_csv_cell(text, sep) if quote else text).replace("%", "%%"),
+                fields.append(((csv_cell(text, sep) if quote else text).replace("%", "%%"),
                                None))
                 continue
             twin = next((k for k, prev in floats if prev[0] == col[0] and
@@ -485,8 +485,8 @@ def _write_rows(out, cols, sep: str, quote: bool = True) -> None:
         col = _plain_list(col)
         kinds = set(map(type, col))
         if len(cols) > 1 and _constant(col, kinds):
-            text = _machine(col[0])
-            fields.append(((_csv_cell(text, sep) if quote else text).replace("%", "%%"), None))
+            text = machine_text(col[0])
+            fields.append(((csv_cell(text, sep) if quote else text).replace("%", "%%"), None))
         elif kinds <= {float}:
             fields.append(("%r", col))
         elif kinds == {int}:
@@ -496,10 +496,11 @@ def _write_rows(out, cols, sep: str, quote: bool = True) -> None:
             fields.append(("%r", [_EMPTY if v is None else v for v in col]) if cells is None
                           else ("%s", cells))
         elif kinds <= {str, type(None)}:  # few distinct texts (a coin, a model): each once
-            cells = {v: _csv_cell(_machine(v), sep) if quote else _machine(v) for v in set(col)}
+            cells = {v: csv_cell(machine_text(v), sep) if quote else machine_text(v)
+                     for v in set(col)}
             fields.append(("%s", list(map(cells.__getitem__, col))))
         else:  # mixed: cell by cell (a set would merge 0.0 with -0.0 and 1 with True)
-            fields.append(("%s", [_csv_cell(_machine(v), sep) if quote else _machine(v)
+            fields.append(("%s", [csv_cell(machine_text(v), sep) if quote else machine_text(v)
                                   for v in col]))
     n = len(cols[0]) if cols else 0
     if len(fields) == 1 and fields[0][0] == "%r":  # one column of floats (-q of a batch)
@@ -531,7 +532,7 @@ def _write_rows(out, cols, sep: str, quote: bool = True) -> None:
         out.write((row * m) % tuple(flat))
 
 
-def _csv_cell(text: str, sep: str) -> str:
+def csv_cell(text: str, sep: str) -> str:
     if sep in text or '"' in text or "\n" in text:
         return '"' + text.replace('"', '""') + '"'
     return text

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 
-from coincli.render.figures import OKABE_ITO, _new_figure, _style
+from coincli.render.figures import OKABE_ITO, figure_style, new_figure
 
 __all__ = ["omega_figure", "omega_figure_of", "faces_figure", "PIXEL_COLUMNS", "THIN_ABOVE"]
 
@@ -162,8 +162,8 @@ def _flips(t, w) -> list:
 
 
 def _draw(curves, up_curve, flips, span, motion, label, start, rule):
-    with _style():
-        fig = _new_figure(7.5, 5.2)
+    with figure_style():
+        fig = new_figure(7.5, 5.2)
         ax, ax2 = fig.subplots(2, 1, sharex=True, height_ratios=[3, 1.3])
         for i, (t, w) in enumerate(curves):
             ax.plot(t, w, color=_COLOURS[i], linestyle=_STYLES[i], linewidth=1.4,
@@ -210,8 +210,8 @@ def _title(m, label: str) -> str:
 
 def faces_figure(rows, label: str, n: int, seed: int, rule: str):
     """Bars: each face's frequency with its 95% interval; dots: the geometric model."""
-    with _style():
-        fig = _new_figure(7.0, 4.2)
+    with figure_style():
+        fig = new_figure(7.0, 4.2)
         ax = fig.subplots()
         x = list(range(len(rows)))
         freq = [r[3] for r in rows]

@@ -199,7 +199,7 @@ def _ascii(text: str) -> str:
     return text.replace("ψ", "psi").replace("°", " deg").replace("ξ", "xi")
 
 
-def _ticks(lo: float, hi: float, log: bool, n: int = 6):
+def axis_ticks(lo: float, hi: float, log: bool, n: int = 6):
     """Tick positions and labels: decades on a log axis, round steps (1, 2, 2.5, 5 x 10^k)
     giving about ``n`` ticks on a linear one."""
     if not (math.isfinite(lo) and math.isfinite(hi) and hi > lo and (lo > 0 or not log)):
@@ -219,6 +219,13 @@ def _ticks(lo: float, hi: float, log: bool, n: int = 6):
         out.append((v, f"{round(v, 10):g}"))
         k += 1
     return out
+
+
+def _crosses(cv, legend, row, text: str) -> None:
+    """A design's crosses (X) on the curves, and its legend line ``text``."""
+    for m in row:
+        cv.point(m.xi, m.p, "X", DESIGN_STYLE, layer=5)
+    legend.append(("X", DESIGN_STYLE, text))
 
 
 def text_sides(data, cols: int, rows: int):
@@ -247,16 +254,12 @@ def text_sides(data, cols: int, rows: int):
     notes = list(data.skipped)
     for x, row in data.xi_marks:
         cv.vline(x, ":", DESIGN_STYLE)
-        for m in row:
-            cv.point(m.xi, m.p, "X", DESIGN_STYLE, layer=5)
-        legend.append(("X", DESIGN_STYLE, f"your design xi = {x:.4g}: P(sides) " + ", ".join(
-            f"{m.gid} {m.p:.4g}" for m in row)))
+        _crosses(cv, legend, row, f"your design xi = {x:.4g}: P(sides) " + ", ".join(
+            f"{m.gid} {m.p:.4g}" for m in row))
     for p, row in data.p_marks:
         cv.hline(p, "-", DESIGN_STYLE)
-        for m in row:
-            cv.point(m.xi, m.p, "X", DESIGN_STYLE, layer=5)
-        legend.append(("X", DESIGN_STYLE, f"your target P(sides) = {p:.4g}: xi " + ", ".join(
-            f"{m.gid} {m.xi:.4g}" for m in row)))
+        _crosses(cv, legend, row, f"your target P(sides) = {p:.4g}: xi " + ", ".join(
+            f"{m.gid} {m.xi:.4g}" for m in row))
     from coincli.render.figures import group_label, point_groups
 
     for gid, pts in point_groups(data.experiments):
@@ -271,7 +274,7 @@ def text_sides(data, cols: int, rows: int):
         xlabel="aspect ratio xi = h/D (thickness / diameter)" + (", log scale" if data.log
                                                                    else ""),
         ylabel="P(sides)",
-        xticks=_ticks(*data.xlim, data.log), yticks=_ticks(0.0, 1.0, False),
+        xticks=axis_ticks(*data.xlim, data.log), yticks=axis_ticks(0.0, 1.0, False),
         legend=legend, notes=notes)
 
 
@@ -306,7 +309,7 @@ def text_psi(data, cols: int, rows: int):
         title=f"coin plot psi: heads, sides and tails against psi, xi = {data.xi:.4g} (Fig. 2d)",
         xlabel="psi, angle between angular momentum and normal (degrees)",
         ylabel="probability",
-        xticks=[(d, str(d)) for d in range(0, 181, 30)], yticks=_ticks(0.0, 1.0, False),
+        xticks=[(d, str(d)) for d in range(0, 181, 30)], yticks=axis_ticks(0.0, 1.0, False),
         legend=legend)
 
 
@@ -349,7 +352,7 @@ def text_map(data, cols: int, rows: int):
         title="coin plot map: likeliest outcome over aspect ratio and psi (Fig. 2a-c)",
         xlabel="aspect ratio xi = h/D" + (", log scale" if data.log else ""),
         ylabel="psi (degrees)",
-        xticks=_ticks(*data.xlim, data.log), yticks=[(d, str(d)) for d in range(0, 181, 45)],
+        xticks=axis_ticks(*data.xlim, data.log), yticks=[(d, str(d)) for d in range(0, 181, 45)],
         legend=legend, notes=list(getattr(data, "skipped", ())))
 
 
@@ -411,7 +414,7 @@ def _round_ticks(lo: float, hi: float, cells: int, spacing: int):
     n = max(2, cells // max(spacing, 1) + 1)
     out, used = [], set()
     width = (hi - lo) / cells
-    for v, label in _ticks(lo, hi, False, n):
+    for v, label in axis_ticks(lo, hi, False, n):
         c = min(max(math.floor((v - lo) / width + 1e-9), 0), cells - 1)
         if c not in used:
             used.add(c)
@@ -420,8 +423,9 @@ def _round_ticks(lo: float, hi: float, cells: int, spacing: int):
 
 
 def phase_text(data, *, colour: bool, title: str, width: int | None = None):
-    """Fig. 3 in the terminal: one character a cell of ``data`` (:class:`coincli.render.figures.PhaseData`),
-    rows of omega (high at the top) by columns of u, round ticks on both axes.
+    """Fig. 3 in the terminal: one character a cell of ``data``
+    (:class:`coincli.render.maps.PhaseData`), rows of omega (high at the top) by columns of u,
+    round ticks on both axes.
 
     ``colour``: coloured blocks (:data:`PHASE_BLOCK`), boundaries as dots, returned as a
     :class:`rich.text.Text`; otherwise letters ``H S T`` (lower case where a boundary passes)

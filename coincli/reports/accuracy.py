@@ -45,10 +45,10 @@ def parse(tol: str | None, method: str | None, seed: str | None) -> Accuracy | N
         return None
     t = None
     if tol is not None:
-        from coincli.io import grammar as p
+        from coincli.io import grammar
 
         try:
-            t = p.parse_number(tol, "--tol")
+            t = grammar.parse_number(tol, "--tol")
             _check_tol(t)
         except ValueError as exc:
             raise usage_error(str(exc)) from None
@@ -166,15 +166,16 @@ def plan(acc: Accuracy | None, densities: list, x) -> Budget:
     budget = Budget(len(densities))
     if acc is None or acc.method != "mc" or acc.tol is None or not densities:
         return budget
-    from coincli.core import estimators as est
+    from coincli.core import estimators
 
     try:
-        spreads = [est.chance_spread(est.quad(x, d, tol=1e-9).value) for d in densities]
+        spreads = [estimators.chance_spread(estimators.quad(x, d, tol=1e-9).value)
+                   for d in densities]
     except ValueError as exc:
         raise compute_error(str(exc)) from None
-    needs = [est.mc_tosses_for_tol(s, acc.tol) for s in spreads]
+    needs = [estimators.mc_tosses_for_tol(s, acc.tol) for s in spreads]
     if sum(needs) > budget.total:
-        smallest = est.mc_smallest_tol(spreads, budget.total)
+        smallest = estimators.mc_smallest_tol(spreads, budget.total)
         shared = f" shared by {len(densities)} densities" if len(densities) > 1 else ""
         raise usage_error(
             f"--tol {acc.tol:g} needs about {sum(needs):.2g} simulated tosses with --method "
@@ -191,13 +192,13 @@ def run(acc: Accuracy, density, x, n: int, budget: Budget | None = None, progres
     A sampling method with --tol draws at most ``budget.share()`` tosses (or points).
     ``progress``, when given, makes the run's progress bar from its label (``mc uniform``):
     ``bar(done, total)`` during the run, ``bar.close()`` after it."""
-    from coincli.core import estimators as est
+    from coincli.core import estimators
 
     if budget is None:
         budget = Budget(1)
     bar = None if progress is None else progress(f"{acc.method} {density.spec}")
     try:
-        e = est.estimate(x, density, tol=acc.tol, method=acc.method, seed=acc.seed,
+        e = estimators.estimate(x, density, tol=acc.tol, method=acc.method, seed=acc.seed,
                          max_samples=budget.share(), progress=bar)
     except ValueError as exc:
         raise compute_error(str(exc)) from None

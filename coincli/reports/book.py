@@ -91,7 +91,7 @@ def _dist(text: str, what: str, number, default: str, lo: float, units, example:
     numbers may carry units: one after every number, or once at the end for all of them
     (``normal:6:1rev/s``, as ``coin simulate --omega`` reads it); returned as a
     :class:`coincli.core.toss.launch.Dist` in the default unit."""
-    from coincli.core.toss import launch as T
+    from coincli.core.toss import launch as toss_launch
 
     parts = [p.strip() for p in text.split(":")]
     head = parts[0].lower()
@@ -108,7 +108,7 @@ def _dist(text: str, what: str, number, default: str, lo: float, units, example:
                               "or uniform:LOW:HIGH")
         spec = repr(number(parts[0], what))
     try:
-        return T.parse_dist(spec, what, lo, math.inf, default)
+        return toss_launch.parse_dist(spec, what, lo, math.inf, default)
     except ValueError as exc:
         raise usage_error(str(exc).replace(repr(spec), repr(text.strip()))) from None
 
@@ -226,11 +226,11 @@ def _check_out(path: str | None) -> None:
 
 def _require_matplotlib() -> None:
     """A figure file needs matplotlib: exit 1 with the install hint (as coin plot does)."""
-    from coincli.render import figures as P
+    from coincli.render import figures
 
     try:
-        P.require_matplotlib()
-    except P.MatplotlibMissing as exc:
+        figures.require_matplotlib()
+    except figures.MatplotlibMissing as exc:
         raise compute_error(str(exc)) from None
 
 
@@ -328,7 +328,7 @@ class _Box:
 
 
 def _box(size, moments) -> _Box:
-    from coincli.core import rigid as R
+    from coincli.core import rigid
 
     if (size is None) == (moments is None):
         raise usage_error("give --size AxBxC (mm) or --moments I1,I2,I3, one of them")
@@ -337,9 +337,9 @@ def _box(size, moments) -> _Box:
         mm = _size_mm(size)
         b.size_mm = mm
         try:
-            b.moments = R.box_moments(tuple(v / 1000 for v in mm))  # per kg, m^2
+            b.moments = rigid.box_moments(tuple(v / 1000 for v in mm))  # per kg, m^2
         except ValueError as exc:
-            small = f" (a cube needs sides of at least {R.SMALLEST_CUBE * 1000:.2g} mm)" \
+            small = f" (a cube needs sides of at least {rigid.SMALLEST_CUBE * 1000:.2g} mm)" \
                 if "too small" in str(exc) else ""
             raise usage_error(f"--size: {exc}{small}, got {shown(size)}") from None
         top = max(mm)
@@ -349,14 +349,14 @@ def _box(size, moments) -> _Box:
     else:
         b.size_mm = None
         b.moments = _moments(moments)
-        b.sides = _usage(R.box_sides, b.moments)
+        b.sides = _usage(rigid.box_sides, b.moments)
         b.label = "moments " + ", ".join(_fmt(v) for v in b.moments)
         b.unit = "as given"
-    _usage(R.check_moments, b.moments)  # before any computing (and any toss)
+    _usage(rigid.check_moments, b.moments)  # before any computing (and any toss)
     return b
 
 
-def _face_size(box: _Box, face: int) -> str:
+def face_size(box: _Box, face: int) -> str:
     k = face // 2
     i, j = (k + 1) % 3, (k + 2) % 3
     i, j = min(i, j), max(i, j)
@@ -370,25 +370,25 @@ _AXIS_ROLE = {"smallest": "smallest moment", "middle": "middle moment",
 
 
 def _motion(box, w, tf, start, rule) -> Result:
-    from coincli.core import rigid as R
+    from coincli.core import rigid
 
-    mo = _usage(R.motion, box.moments, w)
+    mo = _usage(rigid.motion, box.moments, w)
     face = None
     if tf is not None:
         import numpy as np
 
         _check_phase(max(abs(v) for v in w) * (math.sqrt(3) * tf), "--flight", f"{tf:g} s")
         q0 = _start_quaternion(start)
-        o = _usage(R.orbit, box.moments, np.asarray(w, dtype=float))
-        q = R.attitude_at(o, tf, q0)
-        face = FACES[int(R.face_up(R.up_vector(q), box.sides, rule))]
+        o = _usage(rigid.orbit, box.moments, np.asarray(w, dtype=float))
+        q = rigid.attitude_at(o, tf, q0)
+        face = FACES[int(rigid.face_up(rigid.up_vector(q), box.sides, rule))]
     cols, vals = [], []
 
     def add(name, header, value, style="g10"):
         cols.append(Column(name, header, style))
         vals.append(value)
 
-    ax = lambda i: f"{i + 1} ({_AXIS_ROLE[R._roles(box.moments)[i]]})"  # noqa: E731
+    ax = lambda i: f"{i + 1} ({_AXIS_ROLE[rigid._roles(box.moments)[i]]})"  # noqa: E731
     add("box", "box", box.label, "text")
     for i in range(3):
         add(f"I{i + 1}", f"I{i + 1} ({box.unit})", box.moments[i])
@@ -460,11 +460,11 @@ def _motion_note(mo, box) -> str:
 
 
 def _start_quaternion(start):
-    from coincli.core import rigid as R
+    from coincli.core import rigid
 
     if start == "random":
         raise usage_error("--start random is for --toss (a single launch needs a face up)")
-    return R.start_quaternion(start)
+    return rigid.start_quaternion(start)
 
 
 def _check_phase(phase: float, what: str, shown: str) -> None:
@@ -482,9 +482,9 @@ def _series(box, w, times, start, rule, figure: str | None):
     ``figure`` (then nothing is returned)."""
     import numpy as np
 
-    from coincli.core import rigid as R
+    from coincli.core import rigid
 
-    mo = _usage(R.motion, box.moments, w)
+    mo = _usage(rigid.motion, box.moments, w)
     if times is None:
         span = _default_span(mo)
         ts = np.linspace(0.0, span, FIGURE_POINTS)
@@ -497,15 +497,15 @@ def _series(box, w, times, start, rule, figure: str | None):
         _check_phase(wmax * (math.sqrt(3) * float(ts.max())), "--times up to",
                      f"{float(ts.max()):g} s")
     q0 = _start_quaternion(start)
-    o = _usage(R.orbit, box.moments, np.asarray(w, dtype=float))
+    o = _usage(rigid.orbit, box.moments, np.asarray(w, dtype=float))
 
     def block(t):
-        om = R.omega_at(o, t)
-        q = R.attitude_at(o, t, q0)
-        return om, q, R.face_up(R.up_vector(q), box.sides, rule)
+        om = rigid.omega_at(o, t)
+        q = rigid.attitude_at(o, t, q0)
+        return om, q, rigid.face_up(rigid.up_vector(q), box.sides, rule)
 
     if figure is not None:
-        from coincli.render import book_figures as bookplot
+        from coincli.render import book_figures
 
         def omega_up(t):
             om, _, up = block(t)
@@ -513,7 +513,7 @@ def _series(box, w, times, start, rule, figure: str | None):
 
         # a long series is thinned to the figure's pixel columns, a chunk at a time: memory
         # and file size stay bounded (10^6 times: 2.4 GB and an Agg error before)
-        _figure(figure, lambda: bookplot.omega_figure_of(ts, omega_up, mo, box.label, start,
+        _figure(figure, lambda: book_figures.omega_figure_of(ts, omega_up, mo, box.label, start,
                                                          rule, chunk=CHUNK_ROWS))
         return []
     faces = np.array(FACES)
@@ -571,32 +571,32 @@ def _toss(box, spin, n, seed, flight, start, rule, figure: str | None, progress)
                  f"{wtop:g} rad/s a component)")
     import numpy as np
 
-    from coincli.core import rigid as R
+    from coincli.core import rigid
     from coincli.core.toss.simulate import wilson_interval
 
     counts = np.zeros(6, dtype=np.int64)
     bar = progress(count) if progress is not None else contextlib.nullcontext(_no_tick)
     with bar as tick:
         done = 0
-        chunks = R.toss_chunks(count, seed_v, moments=box.moments, sides=box.sides, spin=dists,
+        chunks = rigid.toss_chunks(count, seed_v, moments=box.moments, sides=box.sides, spin=dists,
                                flight=fd, start=start, rule=rule)
         while True:
             try:  # a motion the core cannot follow is the input's fault: nothing is printed
                 codes = next(chunks, None)
             except ValueError as exc:
-                raise usage_error(f"toss {done + 1} to {min(done + R._CHUNK, count)}: "
+                raise usage_error(f"toss {done + 1} to {min(done + rigid._CHUNK, count)}: "
                                   f"{exc}") from None
             if codes is None:
                 break
             counts += np.bincount(codes, minlength=6)
             done += codes.size
             tick(done)
-    geo = R.face_shares(box.sides, rule)
+    geo = rigid.face_shares(box.sides, rule)
     rows = []
     for k in range(6):
         c = int(counts[k])
         lo, hi = wilson_interval(c, count)
-        rows.append((FACES[k], _face_size(box, k), c, c / count, lo, hi, geo[k],
+        rows.append((FACES[k], face_size(box, k), c, c / count, lo, hi, geo[k],
                      c / count - geo[k], seed_v))
     columns = [
         Column("face", "face", "text"), Column("face_size", "face size", "text"),
@@ -615,9 +615,9 @@ def _toss(box, spin, n, seed, flight, start, rule, figure: str | None, progress)
             "coming up: a spin about a stable axis turns the box about that axis only.")
     result = Result("coin book --toss", columns, rows, note, quiet=[r[3] for r in rows])
     if figure is not None:
-        from coincli.render import book_figures as bookplot
+        from coincli.render import book_figures
 
-        _figure(figure, lambda: bookplot.faces_figure(rows, box.label, count, seed_v, rule))
+        _figure(figure, lambda: book_figures.faces_figure(rows, box.label, count, seed_v, rule))
         return []
     return result
 

@@ -1,59 +1,30 @@
-"""The bouncing runs (``--landing bounce``, issue 16): the surface and launch options, and what
-``coin toss``, ``coin simulate`` and ``coin design`` print when the coin lands on a surface,
-bounces and settles; the simulated points of ``coin plot sides --landing bounce``.
+"""The bouncing runs (``--landing bounce``, issue 16): what ``coin toss``, ``coin simulate`` and
+``coin design`` print when the coin lands on a surface, bounces and settles; the simulated
+points of ``coin plot sides --landing bounce``.
 
-The physics is :mod:`coincli.core.bounce.engine` (MuJoCo, an optional extra).  This module parses
-the surface options (:func:`parse_physics`: :class:`Physics`, or None for ``--landing catch``),
-turns a missing MuJoCo into the one-line hint ``pip install 'thickcoin[physics]'`` (exit 1),
-and builds the results (:func:`simulate`, :func:`toss`, :func:`design`, called by
-:mod:`coincli.reports.toss` and :func:`bounce_design`, the report of ``coin design --landing
-bounce``).  A run's progress is shown by a bar the caller passes (``progress``); none when
-None.  Nothing here imports numpy, scipy, rich or mujoco at import time; ``--landing catch``
-(the default) never loads them.
+The physics is :mod:`coincli.core.bounce.engine` (MuJoCo, an optional extra); the options are
+parsed into a :class:`coincli.reports.physics.Physics` (:func:`coincli.reports.landing.
+parse_physics`).  This module builds the results (:func:`simulate`, :func:`toss`,
+:func:`design`, called by :mod:`coincli.reports.toss` and
+:func:`coincli.reports.design.bounce_design`, the report of ``coin design --landing bounce``)
+and writes their warnings and notes after the output (:func:`warn_unmet`).  A run's progress is
+shown by a bar the caller passes (``progress``); none when None.  Nothing here imports numpy,
+scipy, rich or mujoco at import time; ``--landing catch`` (the default) never loads them.
 """
 
 from __future__ import annotations
 
 import math
 import sys
+from typing import TYPE_CHECKING
 
-from coincli import limits as L
-from coincli.errors import InputError, compute_error, shown, usage_error
-from coincli.io import grammar as parse
-from coincli.io import options as _options
-from coincli.io.batches import values_option
+from coincli.errors import compute_error, usage_error
 from coincli.io.table import Column, Result
-from coincli.limits import (
-    BOUNCE_DESIGN_TOSSES,
-    BOUNCE_G_MAX,
-    BOUNCE_OMEGA_MAX,
-    BOUNCE_XI_MAX,
-    LANDINGS,
-    MAX_BOUNCE_TOSSES,
-    STANDARD_G,
-    SURFACE_NAMES,
-)
-from coincli.reports.launch import (
-    HAND,
-    U_MAX,
-    bounce_launch,
-    bounded_number,
-    core_call,
-    no_progress,
-    reach,
-)
+from coincli.limits import MAX_BOUNCE_TOSSES
+from coincli.reports.launch import core_call, no_progress
 
-
-class Physics:
-    """The parsed ``--landing bounce`` options (SI)."""
-
-    __slots__ = ("surface", "height", "vx", "jobs", "dt", "t_max", "B", "calibration",
-                 "scheduler", "checkpoint", "timeout", "height_text")
-
-    def describe(self) -> str:
-        s = self.surface
-        return (f"surface {s.name} (restitution {s.restitution:g}, friction {s.friction:g}, "
-                f"torsional {s.torsional * 1000:g} mm, rolling {s.rolling * 1000:g} mm)")
+if TYPE_CHECKING:
+    from coincli.reports.physics import Physics
 
 
 #: How much the table's answer depends on the contact model itself (docs/contact-models.md,
@@ -76,283 +47,6 @@ def design_columns(dia_mm: float) -> list[Column]:
         Column("thickness_low_mm", "thickness 95% low"),
         Column("thickness_high_mm", "thickness 95% high"),
     ]
-
-
-def bounce_module():
-    """:mod:`coincli.core.bounce.engine` with MuJoCo loaded, or the one-line install hint
-    (exit 1)."""
-    from coincli.core.bounce import engine as B
-
-    try:
-        B.require_mujoco()
-    except B.PhysicsMissing as exc:
-        raise compute_error(str(exc)) from None
-    return B
-
-
-def landing_of(text: str) -> str:
-    t = text.strip().lower()
-    if t not in LANDINGS:
-        raise usage_error(f"--landing must be catch or bounce, got {text!r}")
-    return t
-
-
-def _zero_length(text: str) -> bool:
-    """``0``, ``0mm``, ``0.0 cm``...: a zero length (which the shared length parser, made for
-    sizes, refuses), its unit checked by that parser."""
-    import re
-
-    m = re.fullmatch(r"\s*([-+]?[0-9.]+(?:e[-+]?[0-9]+)?)\s*([a-z]*)\s*", str(text).lower())
-    if m is None:
-        return False
-    try:
-        if parse.parse_number(m.group(1), "length") != 0:
-            return False
-        return not m.group(2) or parse.parse_length_mm("1" + m.group(2)) > 0
-    except ValueError:
-        return False
-
-
-def _length_m(text: str, what: str, hi_mm: float) -> float:
-    """A length from 0 to ``hi_mm`` mm (a number in mm, or with a unit), in metres."""
-    try:
-        v = parse.parse_length_mm(text, what)
-    except ValueError as exc:
-        if not _zero_length(text):
-            raise usage_error(str(exc).replace("a finite length > 0", "a finite length >= 0")
-                              ) from None
-        v = 0.0
-    if not 0.0 <= v <= hi_mm:
-        raise usage_error(f"{what} must be a length from 0 to {hi_mm:g} mm, got {text!r}")
-    return v / 1000.0
-
-
-def _dist(text: str, what: str, unit: str, scale: float, hi: float):
-    """A fixed value (a length with a unit for mm) or normal:MEAN:SD / uniform:LOW:HIGH."""
-    from coincli.core.toss import launch as T
-
-    t = text.strip()
-    if ":" not in t:
-        if unit == "mm":
-            return _length_m(t, what, hi)
-        return bounded_number(t, what, 0.0, hi)
-    try:
-        return T.parse_dist(t, what, 0.0, hi, unit).scaled(scale)
-    except ValueError as exc:
-        raise usage_error(str(exc)) from None
-
-
-def parse_physics(landing: str, *, surface=None, restitution=None, friction=None,
-                  torsional=None, rolling=None, height=None, vx=None, jobs=None, dt=None,
-                  t_max=None, calibration=None, scheduler=None, checkpoint=None,
-                  timeout=None) -> Physics | None:
-    """The bounce options, or None for ``--landing catch`` (then none may be given).
-    ``calibration``: a calibration file (:func:`coincli.reports.calibrate.apply`), the table
-    instead of the surface options."""
-    if landing == "catch":
-        extra = [name for name, v in (("--surface", surface), ("--restitution", restitution),
-                                      ("--friction", friction), ("--torsional", torsional),
-                                      ("--rolling", rolling), ("--release-height", height),
-                                      ("--vx", vx),
-                                      ("--jobs", jobs), ("--dt", dt), ("--t-max", t_max),
-                                      ("--calibration", calibration),
-                                      ("--scheduler", scheduler), ("--checkpoint", checkpoint),
-                                      ("--timeout", timeout))
-                 if v is not None]
-        if extra:
-            raise usage_error(f"{', '.join(extra)} go{'es' if len(extra) == 1 else ''} with "
-                              "--landing bounce (the catch ends at first contact: no surface)")
-        return None
-    if calibration is not None:
-        from coincli.reports import calibrate
-
-        calibrate.refuse_surface_options(calibration, surface=surface, restitution=restitution,
-                                         friction=friction, torsional=torsional,
-                                         rolling=rolling)
-    name = None if surface is None else surface.strip().lower()
-    if name is not None and name not in SURFACE_NAMES:
-        raise usage_error(f"--surface must be one of {', '.join(SURFACE_NAMES)}, got {surface!r}")
-    e = None if restitution is None else bounded_number(
-        restitution, "--restitution", L.BOUNCE_RESTITUTION_MIN, L.BOUNCE_RESTITUTION_MAX)
-    mu = None if friction is None else bounded_number(friction, "--friction", 0.0,
-                                                      L.BOUNCE_FRICTION_MAX)
-    tor = None if torsional is None else _length_m(torsional, "--torsional",
-                                                   L.BOUNCE_FRICTION_LENGTH_MAX_MM)
-    rol = None if rolling is None else _length_m(rolling, "--rolling",
-                                                 L.BOUNCE_FRICTION_LENGTH_MAX_MM)
-    B = bounce_module()
-    p = Physics()
-    p.B = B
-    if name is None and e is not None and mu is None:
-        raise usage_error("--restitution without --surface needs --friction too (or start "
-                          "from a preset: --surface wood --restitution 0.4)")
-    if name is None and mu is not None and e is None:
-        raise usage_error("--friction without --surface needs --restitution too (or start from "
-                          "a preset: --surface wood --friction 0.5)")
-    try:
-        p.surface = B.surface(name, restitution=e, friction=mu, torsional=tor, rolling=rol)
-    except ValueError as exc:
-        raise usage_error(str(exc)) from None
-    p.height = 0.0 if height is None else _dist(height, "--release-height", "mm", 1e-3,
-                                                    L.BOUNCE_HEIGHT_MAX_MM)
-    p.height_text = height
-    p.vx = 0.0 if vx is None else _dist(vx, "--vx", "m/s", 1.0, L.BOUNCE_VX_MAX)
-    if jobs is None:
-        from coincli.core.bounce.runs import default_jobs
-
-        p.jobs = default_jobs()
-    else:
-        j = jobs.strip()
-        if not (j.isascii() and j.isdigit()) or not 1 <= int(j) <= 1024:
-            raise usage_error(f"--jobs must be a whole number from 1 to 1024, got {jobs!r}")
-        from coincli.core.bounce.runs import capped_jobs
-
-        p.jobs = capped_jobs(int(j))
-        if p.jobs < int(j):  # more workers than cores only share them, and cost a process each
-            sys.stderr.write(f"coin: note: --jobs {int(j)} capped at {p.jobs}, the cores this "
-                             "process may use\n")
-    from coincli.reports.executor import parse_run
-
-    parse_run(p, jobs=jobs, scheduler=scheduler, checkpoint=checkpoint, timeout=timeout)
-    p.dt = B.DEFAULT_DT if dt is None else bounded_number(dt, "--dt", L.BOUNCE_DT_MIN,
-                                                                L.BOUNCE_DT_MAX)
-    p.t_max = B.DEFAULT_T_MAX if t_max is None else bounded_number(
-        t_max, "--t-max", L.BOUNCE_T_MAX_MIN, L.BOUNCE_T_MAX_MAX)
-    p.calibration = None
-    if calibration is not None:
-        calibrate.apply(p, calibration, height_given=height is not None, vx_given=vx is not None,
-                        dt_given=dt is not None, t_max_given=t_max is not None)
-    return p
-
-
-# --------------------------------------------------------------------------- limits
-#
-# Every limit of a bouncing run is checked here, before any simulation, by every bouncing
-# command that takes the option (toss, simulate, design, plot sides), and named as the user
-# typed it with its range for --landing bounce (issue 28).  The numbers are coincli.limits'.
-
-#: why the engine limits the coin's size (the numbers: coincli.core.bounce.engine.smallest_xi)
-_BODY = "MuJoCo's limits on a body's mass and inertia"
-
-
-def check_g(g: float, text: str) -> None:
-    """``--g`` at most :data:`coincli.limits.BOUNCE_G_MAX`: a stronger gravity presses the coin
-    into MuJoCo's soft contact further than its stiffness, set by the time step, holds."""
-    if not g <= BOUNCE_G_MAX:
-        raise usage_error(f"--g must be at most {BOUNCE_G_MAX:g} m/s^2 with --landing bounce "
-                          "(under a stronger gravity the coin sinks into the surface's soft "
-                          f"contact), got {shown(text)}")
-
-
-def check_omega(top: float, text: str) -> None:
-    """``--omega`` (the largest spin a run draws, ``top``) at most
-    :data:`coincli.limits.BOUNCE_OMEGA_MAX`: faster, the coin turns a radian or more in a
-    MuJoCo step at the default --dt, and its contacts are not followed."""
-    if not top <= BOUNCE_OMEGA_MAX:
-        raise usage_error(f"--omega must be at most {BOUNCE_OMEGA_MAX:g} rad/s with --landing "
-                          "bounce (faster, the coin turns a radian a MuJoCo step), got "
-                          f"{shown(text.strip())}")
-
-
-def bounce_tosses(text: str, what: str = "-n", low: int = 1,
-                  high: int = MAX_BOUNCE_TOSSES) -> int:
-    """A number of tosses of a bouncing run (``-n``, ``--max-tosses``): a whole number from
-    ``low`` to ``high`` (at most :data:`coincli.limits.MAX_BOUNCE_TOSSES`, about 4 hours at 75
-    tosses a second on two cores), named as typed."""
-    try:
-        return _options.tosses_value(text, low=low, high=high, what=what)
-    except InputError:
-        raise usage_error(f"{what} must be a whole number from {low} to {high} with --landing "
-                          f"bounce (a simulated toss takes milliseconds), got {shown(text)}"
-                          ) from None
-
-
-def _fall(u: float, g: float, drop: float) -> float:
-    """When a centre launched up at ``u`` has fallen ``drop`` below its start."""
-    from coincli.core._numerics.backend import M
-    from coincli.core.toss.flight import fall_time
-
-    return fall_time(M, u, g, max(drop, 0.0))
-
-
-def check_landing(p: Physics, *, u_top: float, g: float, xi: float, dia: float, u_text: str,
-                  z0: float | None = None) -> None:
-    """Refuse a launch that cannot settle by construction: the coin must land within half of
-    ``--t-max``, leaving the other half to bounce and settle (a ball landing at ``v`` on a
-    surface of restitution ``e`` bounces for ``2 v e / (g (1 - e))``: at 0.5, wood's, as long
-    again as its fall).  The landing is bounded below by the time the centre of the fastest
-    launch (``u_top``, m/s; ``u_text`` as typed), from the highest surface (``--release-height``
-    at the top of its distribution), falls on its way down to the half-diagonal ``R`` above the
-    surface: no part of the coin touches on the way down before.  The option blamed is the one whose value alone is too
-    much: ``--release-height``, else ``--u``, else ``--t-max`` (the fall from the launch height
-    alone is too long)."""
-    from coincli.core.toss.flight import default_z0
-
-    if getattr(p, "calibration", None) is not None and u_text in (HAND["u"], "the hand toss's"):
-        u_text = f"the calibration's launch.u ({p.calibration[0]})"  # not typed: the file's
-    half = p.t_max / 2
-    z = default_z0(xi, dia, "thick") if z0 is None else z0
-    drop = z - math.hypot(dia / 2, xi * dia / 2)  # the centre's fall before R
-    h_top = p.height if isinstance(p.height, float) else reach(p.height, 100.0)
-    if _fall(u_top, g, drop + h_top) <= half:
-        return
-    rule = ("the coin must land within half of --t-max, leaving the other half to bounce and "
-            "settle")
-    if _fall(0.0, g, drop) > half:
-        fall = _fall(0.0, g, drop)
-        raise usage_error(f"--t-max must be at least {2 * fall:.3g} s with --landing bounce "
-                          f"({rule}; it falls for {fall:.3g} s from its launch height), got "
-                          f"{p.t_max:g} s")
-    ctx = f"with --landing bounce and --t-max {p.t_max:g} s ({rule})"
-    if h_top > 0 and _fall(u_top, g, drop) <= half:
-        h_max = g * half * half / 2 - u_top * half - drop  # (u + sqrt(u^2 + 2gd))/g = half
-        raise usage_error(f"--release-height must be at most {h_max * 1000:.4g} mm with --u "
-                          f"reaching {u_top:g} m/s, --landing bounce and --t-max {p.t_max:g} s "
-                          f"({rule}), got {shown(str(getattr(p, 'height_text', None)).strip())}")
-    u_max = g * half / 2 - max(drop, 0.0) / half
-    raise usage_error(f"--u must be at most {u_max:.3g} m/s {ctx}, got {shown(u_text.strip())}")
-
-
-def check_coin(p: Physics, xi: float | None, dia: float, *, xi_text=None, diameter_text=None,
-               thickness_text=None, count_text=None, quarters_text=None, coin_text=None,
-               count: int | None = None, xi_low: float | None = None,
-               command: str = "--landing bounce") -> None:
-    """Refuse, naming the option as typed with its range, a coin MuJoCo cannot simulate: a
-    diameter outside [the smallest with a mass and inertia MuJoCo takes at aspect ratio
-    ``xi_low`` (default 100, the most), 10 m], or an aspect ratio (``xi`` None: not checked)
-    outside [the thinnest for that diameter (:func:`coincli.core.bounce.engine.smallest_xi`),
-    :data:`coincli.limits.BOUNCE_XI_MAX`].  The option blamed is the one that gave the aspect
-    ratio: ``--thickness``, ``--count`` or ``--quarters`` (a stack of ``count`` coins; its
-    range in coins), else ``--xi``.  ``command``: how the range's context is named."""
-    B = p.B
-    low = BOUNCE_XI_MAX if xi_low is None else xi_low
-    if not B.smallest_diameter(xi=low) <= dia <= 10.0:
-        lo = B.round_up(B.smallest_diameter(xi=low) * 1000)
-        what = "--diameter" if diameter_text is not None else "the coin's diameter"
-        got = repr(diameter_text) if diameter_text is not None else f"{dia * 1000:g} mm"
-        sweep = "" if xi_low is None else f", down to xi = {xi_low:g}"
-        raise usage_error(f"{what} must be from {lo:g} to 10000 mm with {command} "
-                          f"({_BODY}{sweep}), got {got}")
-    if xi is None:
-        return
-    lo = B.smallest_xi(dia)
-    if lo <= xi <= BOUNCE_XI_MAX:
-        return
-    if thickness_text is not None:
-        raise usage_error(f"--thickness must be from {B.round_up(lo * dia * 1000):g} to "
-                          f"{BOUNCE_XI_MAX * dia * 1000:.4g} mm with {command} and a "
-                          f"{dia * 1000:g} mm diameter ({_BODY}), got {thickness_text!r}")
-    stack = count_text if count_text is not None else quarters_text
-    if stack is not None and count:
-        one = xi / count  # the aspect ratio of one coin of the stack
-        what = "--count" if count_text is not None else "--quarters"
-        c_lo, c_hi = max(1, math.ceil(lo / one)), math.floor(BOUNCE_XI_MAX / one)
-        of = f" of {coin_text.strip()} coins" if count_text is not None and coin_text else ""
-        raise usage_error(f"{what} must be from {c_lo} to {c_hi} with {command} (a stack{of} "
-                          f"up to xi = {BOUNCE_XI_MAX:g}: {_BODY}), got {stack.strip()!r}")
-    got = repr(xi_text) if xi_text is not None else f"{xi:g}"
-    raise usage_error(f"--xi must be from {B.round_up(lo):g} to {BOUNCE_XI_MAX:g} with "
-                      f"{command} and D = {dia * 1000:g} mm ({_BODY}), got {got}")
 
 
 # --------------------------------------------------------------------------- empty results
@@ -466,17 +160,19 @@ def toss(p: Physics, *, xi, psi, u, omega, diameter, g, z0, trajectory, fmt,
     """``coin toss --landing bounce``: one toss onto the surface, its bounces, time to settle
     and final side; ``trajectory`` (a path) gets the time series as CSV, written atomically."""
     from coincli.core.toss.flight import NAMES, default_z0
+    from coincli.reports.physics import engine
 
-    B = p.B
+    bounce_engine = engine()
     if trajectory is not None:
         _output_path(trajectory)
     if not (isinstance(p.height, float) and isinstance(p.vx, float)):
         raise usage_error("coin toss takes one --release-height and one --vx (a number, not a "
                           "distribution)")
-    coin = core_call(B.Coin, xi, diameter)
+    coin = core_call(bounce_engine.Coin, xi, diameter)
     z0v = default_z0(xi, diameter, "thick") if z0 is None else z0
-    eng = core_call(B.Engine, coin, p.surface, dt=p.dt, g=g, landing="bounce", t_max=p.t_max)
-    launch = B.Launch(u, omega, psi, z0v, p.height, p.vx, 0.0)
+    eng = core_call(bounce_engine.Engine, coin, p.surface, dt=p.dt, g=g, landing="bounce",
+                    t_max=p.t_max)
+    launch = bounce_engine.Launch(u, omega, psi, z0v, p.height, p.vx, 0.0)
     t_land = eng.first_contacts([launch])[0]
     if not t_land <= p.t_max / 2:  # check_landing's rule, on the exact flight
         raise usage_error(f"the coin lands {t_land:.4g} s after launch, past half of --t-max "
@@ -484,10 +180,11 @@ def toss(p: Physics, *, xi, psi, u, omega, diameter, g, z0, trajectory, fmt,
                           "--u or --release-height, or raise --t-max")
     r = core_call(eng.run, launch, record=trajectory is not None, t_contact=t_land)
     if trajectory is not None:
-        write_csv_atomic(trajectory, B.TRAJECTORY_COLUMNS, r.trajectory)
-    settled = r.code < B.UNSETTLED  # else: an empty time to settle, tilt and outcome cell
+        write_csv_atomic(trajectory, bounce_engine.TRAJECTORY_COLUMNS, r.trajectory)
+    unsettled_code = bounce_engine.UNSETTLED
+    settled = r.code < unsettled_code  # else: an empty time to settle, tilt and outcome cell
     data = [[xi], [math.degrees(psi)], [u], [omega], ["bounce"], [p.surface.name],
-            [empty(r.t_first)], [NAMES[r.catch_code] if r.catch_code < B.UNSETTLED else None],
+            [empty(r.t_first)], [NAMES[r.catch_code] if r.catch_code < unsettled_code else None],
             [r.bounces], [empty(r.t_settle)],
             [math.degrees(r.alpha) if settled else None], [r.outcome], [r.steps]]
     columns = [
@@ -510,7 +207,7 @@ def toss(p: Physics, *, xi, psi, u, omega, diameter, g, z0, trajectory, fmt,
     if seed is not None and fmt != "table":  # drawn launch values: the seed that repeats them
         columns.append(Column("seed", "seed", "int"))
         data.append([seed])
-    never = int(r.catch_code >= B.UNSETTLED)
+    never = int(r.catch_code >= unsettled_code)
     return BounceResult("coin toss --landing bounce", columns, [], note, quiet=r.outcome,
                         vertical=True, data=data,
                         notes=[unsettled_note(p, int(not settled), 1, never)])
@@ -648,7 +345,9 @@ def _design_error(p: Physics, exc):
     """The error of a design the core could not finish, named for the user: an answer beyond
     the engine's aspect ratios (--p-sides, exit 2), or too few settled tosses (exit 1, with the
     unsettled note)."""
-    if isinstance(exc, bounce_design_module().BeyondTheEngine):
+    from coincli.core.bounce import design as bounce_design
+
+    if isinstance(exc, bounce_design.BeyondTheEngine):
         t = f"{exc.target:g}" if float(f"{exc.target:g}") == exc.target else repr(exc.target)
         return usage_error(f"--p-sides {t} needs xi = {exc.xi:.3g}, outside the "
                            f"aspect ratios MuJoCo can simulate for this coin ({exc.lo:.3g} to "
@@ -659,73 +358,12 @@ def _design_error(p: Physics, exc):
         left="fitting P(sides) needs settled tosses at two aspect ratios or more"))
 
 
-def bounce_design(physics, *, p_sides, psi, psi_dist, u, omega, diameter, coin, tol, seed,
-                  max_tosses, time_limit, fmt="table", quiet=False, progress=None,
-                  no_table=False) -> DesignResult:
-    """``coin design --landing bounce``: the report, from the options as typed (``physics``:
-    :func:`parse_physics` of the surface options).  ``fmt`` and ``quiet`` are the command's
-    (unused: the same result is written in every format); ``progress``: a progress bar for
-    :func:`design`, or None.  After writing it, call :func:`warn_unmet`."""
-    from coincli.core import coins as coin_catalog
-    from coincli.io.options import seed_value
-
-    targets = values_option(p_sides, "--p-sides", parse.parse_probability, bounds=(0.0, 1.0))
-    targets = [float(t) for t in targets]
-    if len(targets) > 20:
-        raise usage_error(f"--landing bounce designs at most 20 targets a run, got "
-                          f"{len(targets)}")
-    for t in targets:
-        if not 0.0 < t < 1.0:
-            raise usage_error(f"--p-sides must be strictly between 0 and 1 with --landing "
-                              f"bounce, got {t:g}")
-    tol_v = 0.01 if tol is None else bounded_number(tol, "--tol", 1e-4, 1.0)
-    least = bounce_design_module().DESIGN_LEAST
-    mt = (BOUNCE_DESIGN_TOSSES if max_tosses is None else
-          bounce_tosses(max_tosses, "--max-tosses", least, MAX_BOUNCE_TOSSES))
-    tl = 300.0 if time_limit is None else bounded_number(time_limit, "--time-limit", 1.0, 1e6)
-    if diameter is not None:
-        try:
-            dia = parse.parse_length_mm(diameter, "--diameter") / 1000
-        except ValueError as exc:
-            raise usage_error(str(exc)) from None
-    else:
-        try:
-            dia = coin_catalog.get_coin(coin).diameter_mm / 1000
-        except ValueError as exc:
-            raise usage_error(str(exc)) from None
-    u_spec, w_spec, psi_spec, labels = bounce_launch(psi, psi_dist, u, omega)
-    grid = bounce_design_module().DESIGN_GRID  # the sweep's coins must be simulable
-    check_coin(physics, None, dia, diameter_text=diameter, xi_low=min(grid),
-               command="coin design --landing bounce")
-    check_landing(physics, u_top=reach(u_spec, U_MAX), g=STANDARD_G, xi=max(grid), dia=dia,
-                  u_text=u or HAND["u"])
-    if physics.calibration is not None:  # the user's table: its uncertainty carried too
-        from coincli.reports import calibrate
-
-        return calibrate.design(physics, targets=targets, seed=seed_value(seed), tol=tol_v,
-                                max_tosses=mt, time_limit=tl, diameter=dia, g=STANDARD_G,
-                                given={"u": u_spec if u is not None else None,
-                                       "omega": w_spec if omega is not None else None,
-                                       "psi": psi_spec if psi is not None or psi_dist
-                                       is not None else None}, progress=progress)
-    return design(physics, targets=targets, seed=seed_value(seed), tol=tol_v, max_tosses=mt,
-                  time_limit=tl, u=u_spec, omega=w_spec, psi=psi_spec, diameter=dia,
-                  g=STANDARD_G, labels=labels, progress=progress, no_table=no_table)
-
-
 #: what a design on a preset cannot say: how far another table moves it (docs/bounce.md)
 PRESET_SPREAD = ("Your table is not a preset either.  Over "
                  "docs/bounce.md's sensitivity table (other tables and tosses) the fair xi "
                  "runs from 0.25 (friction 0.6) to 0.81 (psi exactly 90), 0.445 on rice; "
                  "calibrate your table from tosses of two prototypes (coin fit --landing bounce "
                  "FILE --save CAL.json) and design with --calibration CAL.json.")
-
-
-def bounce_design_module():
-    """:mod:`coincli.core.bounce.design` (numpy and MuJoCo are loaded by then)."""
-    from coincli.core.bounce import design as bounce_design
-
-    return bounce_design
 
 
 class BounceResult(Result):

@@ -22,8 +22,10 @@ from coincli.io import grammar as parse
 from coincli.io import options
 from coincli.io.table import Column, Result
 from coincli.limits import MAX_BOUNCE_TOSSES, STANDARD_G
-from coincli.reports import bounce as BO
+from coincli.reports import bounce as bounce_report
+from coincli.reports.calibrated import bounce_launch_for
 from coincli.reports.launch import U_MAX, bounded_number, core_call, reach
+from coincli.reports.physics import bounce_physics, check_coin, check_landing
 
 #: tosses a cell when -n is not given
 DEFAULT_TOSSES = 1000
@@ -70,8 +72,8 @@ def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
     es = _coefficients(restitution, "--restitution", L.BOUNCE_RESTITUTION_MIN,
                        L.BOUNCE_RESTITUTION_MAX)
     mus = _coefficients(friction, "--friction", 0.0, L.BOUNCE_FRICTION_MAX)
-    physics = BO.parse_physics(
-        "bounce", surface=surface, restitution=None if es is None else repr(es[0]),
+    physics = bounce_physics(
+        surface=surface, restitution=None if es is None else repr(es[0]),
         friction=None if mus is None else repr(mus[0]), torsional=torsional, rolling=rolling,
         height=release_height, vx=vx, jobs=jobs, dt=dt, t_max=t_max, calibration=calibration,
         scheduler=scheduler, checkpoint=checkpoint, timeout=timeout)
@@ -96,15 +98,13 @@ def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
         raise usage_error(f"-n {n} tosses in each of {cells} cells is {cells * n} tosses; "
                           f"--landing bounce simulates at most {MAX_STUDY_TOSSES} a command "
                           f"(lower -n, or split the study)")
-    for k, x in enumerate(xis):
-        BO.check_coin(physics, x, dia, xi_text=xi if len(xis) == 1 else repr(x),
-                      diameter_text=diameter, thickness_text=thickness)
-    from coincli.reports.calibrate import bounce_launch_for
-
+    for x in xis:
+        check_coin(physics, x, dia, xi_text=xi if len(xis) == 1 else repr(x),
+                   diameter_text=diameter, thickness_text=thickness)
     u_spec, w_spec, psi_spec, labels = bounce_launch_for(physics, psi, psi_dist, u, omega)
-    for x in xis:  # every coin must land within half of --t-max (reports.bounce)
-        BO.check_landing(physics, u_top=reach(u_spec, U_MAX), g=STANDARD_G, xi=x, dia=dia,
-                         u_text=u or "the hand toss's")
+    for x in xis:  # every coin must land within half of --t-max (reports.physics)
+        check_landing(physics, u_top=reach(u_spec, U_MAX), g=STANDARD_G, xi=x, dia=dia,
+                      u_text=u or "the hand toss's")
     seed_v = options.seed_value(seed)
     stacked = coins.counts is not None
     columns = (_STACKED if stacked else []) + COLUMNS
@@ -115,7 +115,7 @@ def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
             f"{dia * 1000:g} mm, {labels}; seed {seed_v}, the same launches in every cell "
             f"(common random numbers); dt = {physics.dt:g} s.  Chances among the settled tosses, "
             f"95% Wilson intervals; 'unsettled': still moving at {physics.t_max:g} s.  "
-            + BO.CONTACT_NOTE)
+            + bounce_report.CONTACT_NOTE)
 
     def rows():
         from contextlib import ExitStack
@@ -138,7 +138,7 @@ def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
                                 g=STANDARD_G, dt=physics.dt, t_max=physics.t_max,
                                 jobs=physics.jobs, progress=tick, executor=run)
                 done += n
-                yield [[v] for v in _row(coins, k, xis[k], dia, surf, sim, stacked)]
+                yield [[v] for v in study_row(coins, k, xis[k], dia, surf, sim, stacked)]
 
     if wide:
         return widen(columns, rows(), [(e, mu) for e in es for mu in mus], note)
@@ -188,7 +188,7 @@ def _runs():
     return runs
 
 
-def _row(coins, k, x, dia, surf, sim, stacked) -> list:
+def study_row(coins, k, x, dia, surf, sim, stacked) -> list:
     """One cell's row: the chances (None where no toss settled: an empty cell, never nan)."""
     cells = []
     for f in sim.frequencies:

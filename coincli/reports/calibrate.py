@@ -1,7 +1,7 @@
 """The user's own table: ``coin fit --landing bounce FILE`` calibrates it from tosses
-(:func:`fit`), ``--calibration CAL.json`` puts it under every bouncing command (:func:`apply`,
-called by :func:`coincli.reports.bounce.parse_physics`), and ``coin design --landing bounce
---calibration CAL.json`` designs for it with the calibration's uncertainty (:func:`design`).
+(:func:`fit`), and ``coin design --landing bounce --calibration CAL.json`` designs for it with
+the calibration's uncertainty (:func:`design`).  ``--calibration CAL.json`` under every
+bouncing command is :mod:`coincli.reports.calibrated`.
 
 The method is :mod:`coincli.core.bounce.calibrate` (docs/calibration.md); the file is
 :mod:`coincli.io.calibration`.  Nothing here imports numpy, scipy or mujoco at import time.
@@ -14,7 +14,7 @@ import math
 from coincli.errors import compute_error, usage_error
 from coincli.io.table import Column
 
-__all__ = ["fit", "apply", "design", "FIT_NAMES"]
+__all__ = ["fit", "design", "fit_warnings", "FIT_NAMES"]
 
 #: what --fit may name, and the parameter each is
 FIT_NAMES = {"restitution": "restitution", "friction": "friction", "psi-spread": "psi_sd_deg"}
@@ -23,101 +23,6 @@ MAX_PROTOTYPES = 6
 #: tosses at each design point for each prototype, by default (16 groups of 16)
 DESIGN_TOSSES = 256
 _UNITS = {"restitution": "", "friction": "", "psi_sd_deg": " deg"}
-
-
-# --------------------------------------------------------------------------- the launch as data
-
-
-def _dist_dict(v):
-    """A launch value (a float or a Dist) as JSON; a psi density as its spec, which
-    :func:`coincli.io.grammar.parse_density` reads back."""
-    if isinstance(v, (int, float)):
-        return {"kind": "fixed", "p1": float(v), "p2": 0.0, "lo": None, "hi": None}
-    if v.kind == "density":
-        return {"kind": "density", "spec": str(v), "p1": None, "p2": None, "lo": None,
-                "hi": None}
-    return {"kind": v.kind, "p1": v.p1, "p2": v.p2, "lo": v.lo, "hi": v.hi}
-
-
-def _dist_of(d):
-    from coincli.core.toss.launch import Dist
-
-    if d["kind"] == "density":
-        from coincli.io.grammar import parse_density
-
-        return Dist.from_density(parse_density(str(d["spec"])))
-    lo = -math.inf if d.get("lo") is None else float(d["lo"])
-    hi = math.inf if d.get("hi") is None else float(d["hi"])
-    if d["kind"] == "fixed" and d.get("lo") is None:
-        return float(d["p1"])
-    return Dist(d["kind"], float(d["p1"]), float(d["p2"]), lo, hi)
-
-
-def _key(v):
-    """A launch value as (kind, numbers): a fixed value, a normal (mean, sd), a uniform (low,
-    high); a psi density given as normal or uniform is that distribution, any other its spec."""
-    if isinstance(v, (int, float)):
-        return "fixed", (float(v),)
-    if v.kind == "density":
-        d = v.density
-        if hasattr(d, "mean") and hasattr(d, "sd"):
-            return "normal", (d.mean, d.sd)
-        if str(v) == "uniform":
-            return "uniform", (0.0, math.pi)
-        return str(v), ()
-    if v.is_fixed:
-        return "fixed", (v.p1,)
-    return v.kind, (v.p1, v.p2)
-
-
-def _same(a, b) -> bool:
-    """Two launch values (floats, Dists or psi densities) alike to a part in 10^9."""
-    (ka, xa), (kb, xb) = _key(a), _key(b)
-    return ka == kb and len(xa) == len(xb) and all(
-        math.isclose(p, q, rel_tol=1e-9, abs_tol=1e-12) for p, q in zip(xa, xb, strict=True))
-
-
-def _shown(v, unit: str, scale: float = 1.0) -> str:
-    if isinstance(v, (int, float)):
-        return f"{v * scale:g} {unit}"
-    if v.kind == "density":
-        return f"{v} deg"
-    return f"{v.scaled(scale)} {unit}"
-
-
-#: the launch options a calibration records: (key, option, unit shown, scale to it)
-_LAUNCH_OPTS = (("u", "--u", "m/s", 1.0), ("omega", "--omega", "rad/s", 1.0),
-                ("psi", "--psi/--psi-dist", "deg", 180.0 / math.pi))
-
-
-def check_launch(path: str, cal: dict, given: dict) -> None:
-    """Refuse a launch option typed with a calibration (``given``: the parsed u, omega, psi,
-    None where not typed) that differs from the calibration's: the calibrated table holds for
-    the launch it was fitted with (its parameters absorb it).  The same launch typed is
-    accepted."""
-    theirs = dict(zip(("u", "omega", "psi"), launch_of(cal), strict=True))
-    for key, opt, unit, scale in _LAUNCH_OPTS:
-        mine = given.get(key)
-        if mine is not None and not _same(mine, theirs[key]):
-            raise usage_error(f"{opt} {_shown(mine, unit, scale).strip()} differs from the "
-                              f"calibration's {_shown(theirs[key], unit, scale).strip()} "
-                              f"({path}): a calibrated table holds for the launch it was "
-                              "fitted with; leave it out, or fit the table again with it")
-
-
-def launch_text(cal: dict) -> str:
-    """The calibration's launch in words (a file of coin 0.x before the launch options says
-    nothing: it was the hand toss)."""
-    text = cal["launch"].get("text")
-    if not isinstance(text, str):
-        from coincli.core.toss.launch import HAND_TOSS_TEXT as H
-
-        text = f"u ~ {H['u']}, omega ~ {H['omega']}, psi ~ {H['psi']} (the hand toss)"
-    if "psi_sd_deg" in cal["fitted"]:
-        text = text.split(", psi")[0] + (f", psi ~ normal(90, "
-                                         f"{cal['parameters']['psi_sd_deg']['estimate']:.3g}) "
-                                         "deg (its spread calibrated)")
-    return text
 
 
 # --------------------------------------------------------------------------- coin fit, bounce
@@ -172,19 +77,19 @@ def fit(file: str, *, fit_params: str | None = None, seed: str | None = None,
         progress=None, scheduler=None, checkpoint=None, timeout=None):
     """``coin fit --landing bounce FILE``: the table's restitution and friction (and psi's
     spread) from the tosses of the prototypes in ``file``, with 95% intervals, a goodness of
-    fit and the warnings of :func:`_warnings`; ``save``: write the calibration there.  The
+    fit and the warnings of :func:`fit_warnings`; ``save``: write the calibration there.  The
     launch (``u``, ``omega``, ``psi`` or ``psi_dist``, as ``coin simulate --landing bounce``
     takes them; the hand toss for what is not given) is the prototypes' toss, recorded in the
     calibration."""
     from coincli import __version__
-    from coincli.core.bounce import calibrate as C
-    from coincli.io.experiments import delimiter_of
-    from coincli.io.options import seed_value
+    from coincli.core.bounce import calibrate as bounce_calibrate
+    from coincli.io.experiments import delimiter_of, experiment_columns, read_experiments_text
+    from coincli.io.options import level_value, seed_value
     from coincli.limits import STANDARD_G
-    from coincli.reports import bounce as BO
-    from coincli.reports import check as CK
+    from coincli.reports.calibrated import dist_dict
     from coincli.reports.executor import executor
     from coincli.reports.launch import HAND, U_MAX, bounce_launch, no_progress, reach
+    from coincli.reports.physics import bounce_physics, check_coin, check_landing
 
     names = _fit_names(fit_params)
     if "psi_sd_deg" in names and (psi is not None or psi_dist is not None):
@@ -195,15 +100,15 @@ def fit(file: str, *, fit_params: str | None = None, seed: str | None = None,
     if clash:
         raise usage_error(f"{', '.join(clash)} cannot go with --fit {','.join(names)}: a fitted "
                           "parameter is estimated, not given")
-    conf = CK._level(confidence, "--confidence")
+    conf = level_value(confidence, "--confidence")
     per_group = _design_tosses(design_tosses)
     # the fixed values: the surface's (default wood) for the parameters not fitted
     name0 = surface if surface is not None or (restitution is not None
                                                and friction is not None) else "wood"
-    p = BO.parse_physics("bounce", surface=name0, restitution=restitution, friction=friction,
-                         torsional=torsional, rolling=rolling, height=release_height, vx=vx,
-                         jobs=jobs, dt=dt, t_max=t_max, scheduler=scheduler,
-                         checkpoint=checkpoint, timeout=timeout)
+    p = bounce_physics(surface=name0, restitution=restitution, friction=friction,
+                       torsional=torsional, rolling=rolling, height=release_height, vx=vx,
+                       jobs=jobs, dt=dt, t_max=t_max, scheduler=scheduler,
+                       checkpoint=checkpoint, timeout=timeout)
     if save is not None:
         from coincli.io.files import refuse_unwritable
 
@@ -214,15 +119,15 @@ def fit(file: str, *, fit_params: str | None = None, seed: str | None = None,
             sep = delimiter_of(delimiter)
         except ValueError as exc:
             raise usage_error(f"--{exc}") from None
-    text, name = CK._read_text(file)
-    exps = CK._experiments(text, name, sep, caught=False)  # a caught coin met no table
+    text, name = read_experiments_text(file)
+    exps = experiment_columns(text, name, sep, caught=False)  # a caught coin met no table
     if len(exps) > MAX_PROTOTYPES:
         raise usage_error(f"{name}: {len(exps)} prototypes; a calibration takes at most "
                           f"{MAX_PROTOTYPES} (each is simulated at every design point)")
     dia = _diameter_of(exps, name)
     for e in exps:
         try:
-            BO.check_coin(p, e.xi, dia)
+            check_coin(p, e.xi, dia)
         except Exception as exc:  # an InputError naming --xi: say the line instead
             raise usage_error(f"{name} line {e.line}: the prototype {e.label} is outside the "
                               f"engine's limits ({str(exc).split(' (')[0]})") from None
@@ -232,8 +137,8 @@ def fit(file: str, *, fit_params: str | None = None, seed: str | None = None,
                           "and a table of psi is a file it cannot hold; give uniform, "
                           "uniform:LOW:HIGH, cosine or normal:MEAN:SD")
     for e in exps:
-        BO.check_landing(p, u_top=reach(u_spec, U_MAX), g=STANDARD_G, xi=e.xi, dia=dia,
-                         u_text=u or HAND["u"])
+        check_landing(p, u_top=reach(u_spec, U_MAX), g=STANDARD_G, xi=e.xi, dia=dia,
+                      u_text=u or HAND["u"])
     data = [(e.counts.heads, e.counts.sides, e.counts.tails, e.counts.n) for e in exps]
     seed_v = seed_value(seed)
     fixed = {"u": u_spec, "omega": w_spec, "psi": psi_spec,
@@ -243,33 +148,34 @@ def fit(file: str, *, fit_params: str | None = None, seed: str | None = None,
         fixed["restitution"] = p.surface.restitution
     if "friction" not in names:
         fixed["friction"] = p.surface.friction
-    points = C.design_points(len(names), 4 if len(names) == 2 else None)
-    planned = len(exps) * len(points) * per_group * C.GROUPS
+    points = bounce_calibrate.design_points(len(names), 4 if len(names) == 2 else None)
+    groups = bounce_calibrate.GROUPS
+    planned = len(exps) * len(points) * per_group * groups
     # the design's tosses on the local pool, a cluster (--scheduler), from a --checkpoint
     with executor(p, "coin fit --landing bounce", **{
-            "--seed": seed_v, "--fit": ",".join(names), "--design-tosses": per_group * C.GROUPS,
+            "--seed": seed_v, "--fit": ",".join(names), "--design-tosses": per_group * groups,
             "FILE's prototypes (xi)": [e.xi for e in exps], "--diameter": dia,
             "launch": labels}) as run, \
             (progress or no_progress)() as tick:
         try:
-            counts = C.run_design([e.xi for e in exps], names, points, seed=seed_v,
-                                  per_group=per_group, fixed=fixed, jobs=p.jobs,
-                                  simulate=_simulate, executor=run,
-                                  progress=lambda d, t: tick(d * per_group * C.GROUPS, planned))
+            counts = bounce_calibrate.run_design(
+                [e.xi for e in exps], names, points, seed=seed_v, per_group=per_group,
+                fixed=fixed, jobs=p.jobs, simulate=_simulate, executor=run,
+                progress=lambda d, t: tick(d * per_group * groups, planned))
         except ValueError as exc:
             raise usage_error(str(exc)) from None
     try:
-        f = C.fit_table(names, points, counts, data, level=conf)
+        f = bounce_calibrate.fit_table(names, points, counts, data, level=conf)
     except (ValueError, ArithmeticError) as exc:
         raise compute_error(f"the calibration cannot be computed: {exc}") from None
     unsettled = int(counts[..., 3].sum())
     cal = {
         "format": "coin-calibration", "version": 1, "coin_version": __version__,
-        "seed": seed_v, "fitted": list(names), "method": C.METHOD, "level": conf,
+        "seed": seed_v, "fitted": list(names), "method": bounce_calibrate.METHOD, "level": conf,
         "parameters": {n: {"estimate": f.estimate[n], "low": f.low[n], "high": f.high[n],
                            "low_data_only": f.data_low[n], "high_data_only": f.data_high[n],
                            "surface_share": f.surface_share[n], "at_edge": f.at_edge[n],
-                           "range": list(C.RANGES[n])} for n in names},
+                           "range": list(bounce_calibrate.RANGES[n])} for n in names},
         "coordinates": [("ln " if n == "friction" else "") + n + " scaled to [-1, 1] over its "
                         "range" for n in names],
         "covariance": f.covariance,
@@ -277,17 +183,17 @@ def fit(file: str, *, fit_params: str | None = None, seed: str | None = None,
         "goodness_of_fit": {"statistic": f.statistic, "df": f.df, "p_value": f.p_value,
                             "deviance": f.deviance},
         "surface": {"design_points": [list(pt) for pt in points],
-                    "degree": C.default_degree(len(names)),
-                    "groups": C.GROUPS, "tosses_per_group": per_group,
+                    "degree": bounce_calibrate.default_degree(len(names)),
+                    "groups": bounce_calibrate.GROUPS, "tosses_per_group": per_group,
                     "coefficients": [s.coef.tolist() for s in f.surfaces],
                     "deviance": [s.deviance for s in f.surfaces],
                     "df": [s.df for s in f.surfaces],
                     "lack_of_fit_tau2": list(f.tau2),
                     "counts": counts.tolist(), "unsettled": unsettled},
-        "launch": {"u": _dist_dict(fixed["u"]), "omega": _dist_dict(fixed["omega"]),
-                   "psi": _dist_dict(psi_spec), "text": labels,
-                   "release_height_m": _dist_dict(p.height),
-                   "vx_ms": _dist_dict(p.vx), "dt": p.dt, "t_max": p.t_max},
+        "launch": {"u": dist_dict(fixed["u"]), "omega": dist_dict(fixed["omega"]),
+                   "psi": dist_dict(psi_spec), "text": labels,
+                   "release_height_m": dist_dict(p.height),
+                   "vx_ms": dist_dict(p.vx), "dt": p.dt, "t_max": p.t_max},
         "fixed": {k: fixed[k] for k in ("torsional", "rolling", "restitution", "friction")
                   if k in fixed},
         "diameter_mm": dia * 1000,
@@ -323,7 +229,8 @@ def _simulate(xi, params, n, seed, stream, kw):
 
 def _fit_result(f, cal, exps, name, p, points, per_group, unsettled, save):
     from coincli.core.bounce.calibrate import GROUPS, METHOD
-    from coincli.reports.bounce import DesignResult
+    from coincli.reports.bounce import DesignResult, dist_text
+    from coincli.reports.calibrated import launch_text
 
     cols, row = [], []
     for n in ("restitution", "friction", "psi_sd_deg"):
@@ -358,7 +265,7 @@ def _fit_result(f, cal, exps, name, p, points, per_group, unsettled, save):
             f"out), seed {cal['seed']}: each prototype at {len(points)} designed tables, the "
             f"same {per_group * GROUPS} launches at each (common random numbers, {GROUPS} "
             f"groups); the launch: {launch_text(cal)}; D = {cal['diameter_mm']:g} mm, "
-            f"surface {_shown(p.height, 'mm', 1000)} below the launch plane, torsional "
+            f"surface {dist_text(p.height, 'mm', 1000)} below the launch plane, torsional "
             f"{p.surface.torsional * 1000:g} mm, rolling {p.surface.rolling * 1000:g} mm, "
             f"dt = {p.dt:g} s.  Method: a "
             + ("cubic" if len(f.names) <= 2 else "quadratic")
@@ -379,10 +286,10 @@ def _fit_result(f, cal, exps, name, p, points, per_group, unsettled, save):
                "--calibration."))
     return DesignResult("coin fit --landing bounce", cols, [tuple(row)], note,
                         quiet=[f.estimate[n] for n in f.names], vertical=True,
-                        warning=_warnings(f, exps))
+                        warning=fit_warnings(f, exps))
 
 
-def _warnings(f, exps) -> str | None:
+def fit_warnings(f, exps) -> str | None:
     """What the user must hear: a rejected model, parameters the data do not pin (with the
     curve of equally good tables), an estimate at the end of the designed range."""
     out = []
@@ -419,119 +326,6 @@ def _warnings(f, exps) -> str | None:
     return "; ".join(out) if out else None
 
 
-# --------------------------------------------------------------------------- --calibration
-
-
-def refuse_surface_options(path: str, **given) -> None:
-    """The surface options cannot go with a calibration: it is the table."""
-    named = [f"--{k}" for k, v in given.items() if v is not None]
-    if named:
-        raise usage_error(f"{', '.join(named)} cannot go with --calibration {path}: the "
-                          "calibration is the table (fit again to change it)")
-
-
-def apply(p, path: str, *, height_given: bool, vx_given: bool, dt_given: bool,
-          t_max_given: bool) -> None:
-    """Put the calibrated table of ``path`` under the Physics ``p``: its surface, its launch
-    plane, sideways speed, timestep and time limit (an option given that differs from the
-    calibration's is refused, naming what changed); ``p.calibration`` keeps the file."""
-    from coincli.io.calibration import CalibrationError, load
-
-    try:
-        cal = load(path)
-    except CalibrationError as exc:
-        raise usage_error(str(exc)) from None
-    launch = cal["launch"]
-    try:  # the whole launch is read here, once: a malformed one is one line, not a traceback
-        checks = (("--release-height", height_given, "height",
-                   _dist_of(launch["release_height_m"]), "mm", 1000.0),
-                  ("--vx", vx_given, "vx", _dist_of(launch["vx_ms"]), "m/s", 1.0),
-                  ("--dt", dt_given, "dt", float(launch["dt"]), "s", 1.0),
-                  ("--t-max", t_max_given, "t_max", float(launch["t_max"]), "s", 1.0))
-        launch_of(cal)
-    except (KeyError, TypeError, ValueError, AttributeError) as exc:
-        raise usage_error(f"--calibration {path}: its launch is malformed ({exc!s:.80})"
-                          ) from None
-    for opt, given, attr, theirs, unit, scale in checks:
-        if given and not _same(getattr(p, attr), theirs):
-            raise usage_error(f"{opt} {_shown(getattr(p, attr), unit, scale).strip()} differs "
-                              f"from the calibration's {_shown(theirs, unit, scale).strip()} "
-                              f"({path}): a calibrated table holds for the launch and engine "
-                              "it was fitted with; leave it out, or fit the table again with it")
-        setattr(p, attr, theirs)
-    if not height_given:  # a message on the height names the calibration's, not 'None'
-        p.height_text = f"{_shown(p.height, 'mm', 1000.0).strip()} (the calibration's)"
-    est = {n: cal["parameters"][n]["estimate"] for n in cal["fitted"]}
-    fixed = cal["fixed"]
-    try:
-        p.surface = p.B.Surface(est.get("restitution", fixed.get("restitution")),
-                                est.get("friction", fixed.get("friction")),
-                                float(fixed["torsional"]), float(fixed["rolling"]),
-                                "calibrated", f"calibrated from tosses ({path})")
-    except (TypeError, ValueError) as exc:
-        raise usage_error(f"--calibration {path}: its table is malformed ({exc})") from None
-    p.calibration = (path, cal)
-
-
-def launch_of(cal: dict):
-    """The calibration's launch: u, omega, psi (a fitted spread as its estimate)."""
-    from coincli.core.toss.launch import Dist
-
-    launch = cal["launch"]
-    psi = _dist_of(launch["psi"])
-    if "psi_sd_deg" in cal["fitted"]:
-        psi = Dist("normal", math.pi / 2,
-                   math.radians(cal["parameters"]["psi_sd_deg"]["estimate"]), 0.0, math.pi)
-    return _dist_of(launch["u"]), _dist_of(launch["omega"]), psi
-
-
-def bounce_launch_for(p, psi, psi_dist, u, omega):
-    """The launch of a bouncing run (:func:`coincli.reports.launch.bounce_launch`: the three
-    specs and their description), or, on a calibrated table (``p.calibration``), the
-    calibration's own launch: the table was fitted for it.  A launch option typed with a
-    calibration must be the calibration's (:func:`check_launch`): another is refused."""
-    from coincli.reports.launch import bounce_launch
-
-    if p.calibration is None:
-        return bounce_launch(psi, psi_dist, u, omega)
-    path, cal = p.calibration
-    if any(v is not None for v in (psi, psi_dist, u, omega)):
-        u_spec, w_spec, psi_spec, _ = bounce_launch(psi, psi_dist, u, omega)
-        check_launch(path, cal, {"u": u_spec if u is not None else None,
-                                 "omega": w_spec if omega is not None else None,
-                                 "psi": psi_spec if (psi, psi_dist) != (None, None) else None})
-    u_spec, w_spec, psi_spec = launch_of(cal)
-    return u_spec, w_spec, psi_spec, f"the calibration's launch ({path}: {launch_text(cal)})"
-
-
-def launch_on(p, psi, psi_dist, u, omega):
-    """The launch of ``coin simulate --landing bounce`` on a calibrated table: the toss typed,
-    what is not typed from the calibration's launch (not the hand toss); and a note when the
-    toss typed is not the calibration's (it is tossed: "this toss on my table", but the table
-    was fitted for another).  Returns the three specs, their description and the note (or
-    None)."""
-    from coincli.reports.launch import bounce_launch
-
-    path, cal = p.calibration
-    mine = dict(zip(("u", "omega", "psi"), bounce_launch(psi, psi_dist, u, omega)[:3],
-                    strict=True))
-    theirs = dict(zip(("u", "omega", "psi"), launch_of(cal), strict=True))
-    typed = {"u": ("--u", u), "omega": ("--omega", omega),
-             "psi": ("--psi", psi) if psi is not None else ("--psi-dist", psi_dist)}
-    out = {k: mine[k] if typed[k][1] is not None else theirs[k] for k in theirs}
-    other = [f"{opt} {text.strip()}" for k, (opt, text) in typed.items()
-             if text is not None and not _same(mine[k], theirs[k])]
-    shown = [f"{opt} {text.strip()}" for opt, text in typed.values() if text is not None]
-    text = (f"the calibration's launch ({path}: {launch_text(cal)})" if not shown else
-            f"{', '.join(shown)}, the rest of the calibration's launch ({path})")
-    note = None
-    if other:
-        note = (f"{', '.join(other)} is not the launch the table was calibrated with "
-                f"({launch_text(cal)}): its parameters absorb that launch, so this run is "
-                "your toss on a table fitted for another")
-    return out["u"], out["omega"], out["psi"], text, note
-
-
 # --------------------------------------------------------------------------- coin design
 
 
@@ -550,11 +344,13 @@ def design(p, *, targets, seed, tol, max_tosses, time_limit, given, diameter, g,
     from scipy.special import ndtri
     from scipy.stats import norm
 
-    from coincli.core.bounce import calibrate as C
+    from coincli.core.bounce import calibrate as bounce_calibrate
     from coincli.core.bounce import design as bounce_design
     from coincli.core.bounce import runs
     from coincli.reports.bounce import DesignResult
+    from coincli.reports.calibrated import check_launch, launch_of
     from coincli.reports.launch import core_call, no_progress
+    from coincli.reports.physics import engine
 
     path, cal = p.calibration
     check_launch(path, cal, given)
@@ -571,7 +367,7 @@ def design(p, *, targets, seed, tol, max_tosses, time_limit, given, diameter, g,
     names = cal["fitted"]
     est = {n: cal["parameters"][n]["estimate"] for n in names}
     cov = np.array(cal["covariance"], dtype=float)
-    u_hat = np.array([C.to_coords(n, est[n]) for n in names])
+    u_hat = np.array([bounce_calibrate.to_coords(n, est[n]) for n in names])
     sd = np.sqrt(np.clip(np.diag(cov), 0.0, None))
     n_b = max(32, min(400, int(max_tosses) // 4))  # each of 2 x parameters tables
     varied = sum(psi is None or n != "psi_sd_deg" for n in names)  # parameters varied
@@ -590,11 +386,11 @@ def design(p, *, targets, seed, tol, max_tosses, time_limit, given, diameter, g,
                 for sgn in (-1.0, 1.0):
                     u = u_hat.copy()
                     u[i] = float(np.clip(u_hat[i] + sgn * max(sd[i], 0.05), -1.0, 1.0))
-                    params = {m: C.from_coords(m, float(v)) for m, v in zip(names, u,
-                                                                             strict=True)}
-                    surf = p.B.Surface(params.get("restitution", p.surface.restitution),
-                                       params.get("friction", p.surface.friction),
-                                       p.surface.torsional, p.surface.rolling, "calibrated")
+                    params = {m: bounce_calibrate.from_coords(m, float(v))
+                              for m, v in zip(names, u, strict=True)}
+                    surf = engine().Surface(params.get("restitution", p.surface.restitution),
+                                            params.get("friction", p.surface.friction),
+                                            p.surface.torsional, p.surface.rolling, "calibrated")
                     kw_i = dict(kw)
                     if "psi_sd_deg" in params:
                         from coincli.core.toss.launch import Dist

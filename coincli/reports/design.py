@@ -23,10 +23,10 @@ from coincli.core.modelspec import DYNAMIC, GEOMETRIC, ModelSpec, table_i_model,
 from coincli.errors import compute_error, usage_error
 from coincli.io import grammar as parse
 from coincli.io import options
-from coincli.io.batches import Values, values_stream
+from coincli.io.batches import Values, values_option, values_stream
 from coincli.io.table import CHUNK_ROWS, Column, Result, check_format
-from coincli.reports import accuracy as _accuracy
-from coincli.reports.accuracy import tolist as _tolist
+from coincli.reports import accuracy
+from coincli.reports.accuracy import tolist
 
 __all__ = ["design", "table", "stack", "coins", "fair"]
 
@@ -145,7 +145,7 @@ def _stack_columns(coin, p, model: ModelSpec, xi=None):
     """
     if model.key in ("geometric", "dynamic") and xi is not None and not isinstance(xi, float):
         return coin_catalog.nearest_stacks(coin, p, xi, lambda x: model.forward(x).sides)
-    ps = _tolist(p, 1) if not isinstance(p, float) else [p]
+    ps = tolist(p, 1) if not isinstance(p, float) else [p]
     cols = [[], [], [], [], []]
     for pk in ps:
         vals = (None,) * 5
@@ -163,12 +163,12 @@ def _stack_columns(coin, p, model: ModelSpec, xi=None):
 
 
 def _physics(landing: str, **bounce_options):
-    """The ``--landing`` and bounce options, parsed by the bounce reports
-    (:func:`coincli.reports.bounce.parse_physics`): its Physics, or None for ``--landing
+    """The ``--landing`` and bounce options, parsed once
+    (:func:`coincli.reports.landing.parse_physics`): its Physics, or None for ``--landing
     catch`` (then no bounce option may be given)."""
-    from coincli.reports import bounce
+    from coincli.reports.landing import landing_of, parse_physics
 
-    return bounce.parse_physics(bounce.landing_of(landing), **bounce_options)
+    return parse_physics(landing_of(landing), **bounce_options)
 
 
 def design(p_sides: str, *, model: str | None = None, psi: str | None = None,
@@ -188,7 +188,7 @@ def design(p_sides: str, *, model: str | None = None, psi: str | None = None,
     lands on a side with the chance ``p_sides``, under a model; one row per target.
 
     With ``landing="bounce"`` the design is simulated (MuJoCo) instead
-    (:func:`coincli.reports.bounce.bounce_design`; ``progress()``, a progress bar, or None);
+    (:func:`bounce_design`; ``progress()``, a progress bar, or None);
     its result may carry a warning that :func:`coincli.reports.bounce.warn_unmet` writes after
     the table."""
     check_format(fmt)
@@ -208,17 +208,15 @@ def design(p_sides: str, *, model: str | None = None, psi: str | None = None,
     else:
         if model is not None or method is not None or thickness is not None:
             raise usage_error("--model, --method and --thickness go with --landing catch")
-        from coincli.reports.bounce import bounce_design
-
         return bounce_design(physics, p_sides=p_sides, psi=psi, psi_dist=psi_dist, u=u,
                              omega=omega, diameter=diameter, coin=coin, tol=tol, seed=seed,
                              max_tosses=max_tosses, time_limit=time_limit, fmt=fmt,
                              quiet=quiet, progress=progress, no_table=no_table)
     m = choose_model(model, psi, psi_dist)
-    if method is not None and method.strip().lower() not in _accuracy.METHODS:
+    if method is not None and method.strip().lower() not in accuracy.METHODS:
         raise usage_error(f"--method must be auto or quad; got {method!r}")
-    acc = _accuracy.parse(tol, method, None)
-    m = _accuracy.design_model(acc, m)
+    acc = accuracy.parse(tol, method, None)
+    m = accuracy.design_model(acc, m)
     if diameter is not None and thickness is not None:
         raise usage_error("give --diameter or --thickness, not both (the other one is computed)")
     c = _coin(coin)
@@ -281,13 +279,13 @@ def design(p_sides: str, *, model: str | None = None, psi: str | None = None,
         Column(f"{other.key}_p_sides", f"P(sides), {other.key} model"),
     ]
     note = f"model: {m.label}; vigorous toss caught without bouncing; stack of {c.label} " \
-           f"({c.diameter_mm:g} x {c.thickness_mm:g} mm)" + _accuracy.design_note(acc, m)
+           f"({c.diameter_mm:g} x {c.thickness_mm:g} mm)" + accuracy.design_note(acc, m)
     if len(vals) > 1 and m.key in ("geometric", "dynamic"):
         # a batch under a closed form: computed and written a chunk at a time (flat memory);
         # the input was read and checked whole first, and these models cannot fail on it
         return Result("coin design", columns, [], note=note, quiet=1, vertical=True,
                       chunks=map(compute, vals.chunks()))
-    data = [_tolist(col, len(vals)) if hasattr(col, "dtype") else col
+    data = [tolist(col, len(vals)) if hasattr(col, "dtype") else col
             for col in compute(vals.values())]
     return Result("coin design", columns, [], note=note, quiet=data[1], vertical=True,
                   data=data)
@@ -343,7 +341,7 @@ def table(*, xi: str | None = None, coin: str | None = None, count: str | None =
     bouncing = (surface, restitution, friction, torsional, rolling, release_height, vx, jobs,
                 dt, t_max, calibration, scheduler, checkpoint, timeout)
     if landing.strip().lower() != "catch" or any(v is not None for v in bouncing):
-        from coincli.reports.bounce import landing_of, parse_physics
+        from coincli.reports.landing import landing_of, parse_physics
 
         landing = landing_of(landing)
         if landing == "catch":
@@ -392,8 +390,8 @@ def table(*, xi: str | None = None, coin: str | None = None, count: str | None =
         if d.spec not in seen:
             seen.add(d.spec)
             extra.append(ModelSpec.psi_density(d))
-    acc = _accuracy.parse(tol, method, seed)
-    _accuracy.require_density(acc, bool(dens))
+    acc = accuracy.parse(tol, method, seed)
+    accuracy.require_density(acc, bool(dens))
     result = _table_rows(coins, extra, acc, fmt, progress)
     return widen(result, (GEOMETRIC, DYNAMIC, *extra), fmt) if wide else result
 
@@ -478,20 +476,20 @@ def _table_rows(coins, extra, acc, fmt: str, progress=None) -> Result:
     n = 1 if isinstance(x, float) else len(x)
     names = _model_names(models_, fmt)
     blocks = []
-    budget = _accuracy.plan(acc, [m.density for m in extra if m.key == "dist"], x)  # per run
+    budget = accuracy.plan(acc, [m.density for m in extra if m.key == "dist"], x)  # per run
     for m, name in zip(models_, names, strict=True):
         more = [("closed form", None, None, None) + ((None,) if acc is not None and
                                                       acc.sampling else ())] * n
         try:
             if acc is not None and m.key == "dist":
-                o, more = _accuracy.run(acc, m.density, x, n, budget, progress)
+                o, more = accuracy.run(acc, m.density, x, n, budget, progress)
             else:
                 o = m.forward(x)
         except ValueError as exc:
             raise compute_error(str(exc)) from None
-        blocks.append((name, _tolist(o.heads, n), _tolist(o.sides, n), _tolist(o.tails, n), more))
-    xs = _tolist(x, n)
-    acc_cols = _accuracy.columns(acc, fmt != "table") if acc is not None else []
+        blocks.append((name, tolist(o.heads, n), tolist(o.sides, n), tolist(o.tails, n), more))
+    xs = tolist(x, n)
+    acc_cols = accuracy.columns(acc, fmt != "table") if acc is not None else []
     stacked = coins.counts is not None
     rows = []
     for k in range(n):
@@ -500,7 +498,7 @@ def _table_rows(coins, extra, acc, fmt: str, progress=None) -> Result:
             rows.append((*lead, xs[k], name, h[k], s[k], t[k], *more[k][:len(acc_cols)]))
     columns = (_STACKED_COLUMNS if stacked else []) + _TABLE_COLUMNS + acc_cols
     note = _table_note(extra) + (f"; {_coin_words(coins.unit)}" if stacked else "") + \
-        (_accuracy.note(acc) if acc is not None else "")
+        (accuracy.note(acc) if acc is not None else "")
     k = -2 - len(acc_cols)  # p_sides, from the end
     return Result("coin table", columns, rows, note=note,
                   quiet=[r[k] for r in rows if r[k - 3] is not None])
@@ -668,10 +666,10 @@ def _stack_batch(c, p_text: str, m: ModelSpec) -> Result:
             except ValueError as exc:
                 raise compute_error(str(exc)) from None
             for col, vals_ in zip(chances, o, strict=True):
-                for k, v in zip(known, _tolist(vals_, len(known)), strict=True):
+                for k, v in zip(known, tolist(vals_, len(known)), strict=True):
                     col[k] = v
         heights = [None if k is None else k * c.thickness_mm for k in counts]
-        return [_tolist(p, n), [c.name] * n, counts, heights, xis, *chances]
+        return [tolist(p, n), [c.name] * n, counts, heights, xis, *chances]
 
     columns = [Column("target_p_sides", "target"), Column("coin", "coin", "text"),
                Column("count", "count", "int"), Column("height_mm", "height (mm)"),
@@ -736,3 +734,69 @@ def fair(*, diameter: str | None = None, coin: str = "quarter", psi_dist: str | 
     title = ("coin fair" if psi_dist is None else
              "coin fair: P(sides) = 1/3 (under a psi density only the sides are 1/3)")
     return Result(title, columns, rows, note=note, quiet=[r[1] for r in rows])
+
+
+# --------------------------------------------------------------------------- --landing bounce
+
+
+def bounce_design(physics, *, p_sides, psi, psi_dist, u, omega, diameter, coin, tol, seed,
+                  max_tosses, time_limit, fmt="table", quiet=False, progress=None,
+                  no_table=False):
+    """``coin design --landing bounce``: the report, from the options as typed (``physics``:
+    :func:`coincli.reports.landing.parse_physics` of the surface options).  ``fmt`` and
+    ``quiet`` are the command's (unused: the same result is written in every format);
+    ``progress``: a progress bar, or None.  After writing it, call
+    :func:`coincli.reports.bounce.warn_unmet`.
+
+    The choice of the table is here: a preset (or the user's surface options), designed by
+    :func:`coincli.reports.bounce.design`, or a calibration (``physics.calibration``), designed
+    with its uncertainty by :func:`coincli.reports.calibrate.design`."""
+    from coincli.core.bounce import design as core_bounce_design
+    from coincli.limits import BOUNCE_DESIGN_TOSSES, MAX_BOUNCE_TOSSES, STANDARD_G
+    from coincli.reports import bounce
+    from coincli.reports.launch import HAND, U_MAX, bounce_launch, bounded_number, reach
+    from coincli.reports.physics import bounce_tosses, check_coin, check_landing
+
+    targets = values_option(p_sides, "--p-sides", parse.parse_probability, bounds=(0.0, 1.0))
+    targets = [float(t) for t in targets]
+    if len(targets) > 20:
+        raise usage_error(f"--landing bounce designs at most 20 targets a run, got "
+                          f"{len(targets)}")
+    for t in targets:
+        if not 0.0 < t < 1.0:
+            raise usage_error(f"--p-sides must be strictly between 0 and 1 with --landing "
+                              f"bounce, got {t:g}")
+    tol_v = 0.01 if tol is None else bounded_number(tol, "--tol", 1e-4, 1.0)
+    least = core_bounce_design.DESIGN_LEAST
+    mt = (BOUNCE_DESIGN_TOSSES if max_tosses is None else
+          bounce_tosses(max_tosses, "--max-tosses", least, MAX_BOUNCE_TOSSES))
+    tl = 300.0 if time_limit is None else bounded_number(time_limit, "--time-limit", 1.0, 1e6)
+    if diameter is not None:
+        try:
+            dia = parse.parse_length_mm(diameter, "--diameter") / 1000
+        except ValueError as exc:
+            raise usage_error(str(exc)) from None
+    else:
+        try:
+            dia = coin_catalog.get_coin(coin).diameter_mm / 1000
+        except ValueError as exc:
+            raise usage_error(str(exc)) from None
+    u_spec, w_spec, psi_spec, labels = bounce_launch(psi, psi_dist, u, omega)
+    grid = core_bounce_design.DESIGN_GRID  # the sweep's coins must be simulable
+    check_coin(physics, None, dia, diameter_text=diameter, xi_low=min(grid),
+               command="coin design --landing bounce")
+    check_landing(physics, u_top=reach(u_spec, U_MAX), g=STANDARD_G, xi=max(grid), dia=dia,
+                  u_text=u or HAND["u"])
+    if physics.calibration is not None:  # the user's table: its uncertainty carried too
+        from coincli.reports import calibrate
+
+        return calibrate.design(physics, targets=targets, seed=options.seed_value(seed), tol=tol_v,
+                                max_tosses=mt, time_limit=tl, diameter=dia, g=STANDARD_G,
+                                given={"u": u_spec if u is not None else None,
+                                       "omega": w_spec if omega is not None else None,
+                                       "psi": psi_spec if psi is not None or psi_dist
+                                       is not None else None}, progress=progress)
+    return bounce.design(physics, targets=targets, seed=options.seed_value(seed), tol=tol_v,
+                         max_tosses=mt, time_limit=tl, u=u_spec, omega=w_spec, psi=psi_spec,
+                         diameter=dia, g=STANDARD_G, labels=labels, progress=progress,
+                         no_table=no_table)

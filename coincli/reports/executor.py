@@ -20,7 +20,8 @@ import re
 
 from coincli.errors import compute_error, install_hint, shown, usage_error
 
-__all__ = ["parse_run", "executor", "scheduler_of", "options_of", "ENV", "DEFAULT_TIMEOUT"]
+__all__ = ["parse_run", "executor", "scheduler_of", "options_of", "ENV", "DEFAULT_TIMEOUT",
+           "FROM_ENV"]
 
 ENV = "DASK_SCHEDULER_ADDRESS"  #: Dask's variable naming the scheduler
 DEFAULT_TIMEOUT = 15.0  #: s to reach a scheduler, see a worker, or miss a lost one
@@ -39,34 +40,37 @@ def _address(text: str, what: str) -> str:
     return t if m.group(1) else f"tcp://{t}"
 
 
-def parse_run(p, *, jobs=None, scheduler=None, checkpoint=None, timeout=None) -> None:
-    """Set ``p.scheduler`` (an address, ``local`` or None), ``p.checkpoint`` (a path or None)
-    and ``p.timeout`` (s) on the parsed bounce options ``p``, refusing what cannot work."""
+def parse_run(*, jobs=None, scheduler=None, checkpoint=None, timeout=None) -> tuple:
+    """Where a run's tosses are computed, from the options as typed: ``(scheduler, checkpoint,
+    timeout)``, the scheduler an address, ``local``, None or :data:`FROM_ENV`, the checkpoint a
+    path or None, the timeout in s, refusing what cannot work (they become the fields of the
+    :class:`coincli.reports.physics.Physics`)."""
     from coincli.reports.launch import bounded_number
 
     if scheduler is not None and jobs is not None:
         raise usage_error("--scheduler and --jobs do not go together: the cluster's workers "
                           "run the tosses (drop --jobs, or --scheduler to run here)")
     if scheduler is not None:
-        p.scheduler = _address(scheduler, "--scheduler")
+        address = _address(scheduler, "--scheduler")
         _require_distributed()
     else:  # DASK_SCHEDULER_ADDRESS, read when a run starts (:func:`executor`), unless --jobs
-        p.scheduler = _FROM_ENV if jobs is None else None
-    p.timeout = DEFAULT_TIMEOUT if timeout is None else bounded_number(timeout, "--timeout",
-                                                                       1.0, 3600.0)
+        address = FROM_ENV if jobs is None else None
+    seconds = DEFAULT_TIMEOUT if timeout is None else bounded_number(timeout, "--timeout",
+                                                                     1.0, 3600.0)
     if timeout is not None and scheduler is None and not _env():
         raise usage_error("--timeout goes with --scheduler (it bounds the waits for a cluster)")
-    p.checkpoint = None
+    path = None
     if checkpoint is not None:
         from coincli.io.files import refuse_unwritable
 
         if not checkpoint.strip():
             raise usage_error("--checkpoint needs a file name")
         refuse_unwritable(checkpoint, "--checkpoint")
-        p.checkpoint = checkpoint
+        path = checkpoint
+    return address, path, seconds
 
 
-_FROM_ENV = object()  #: p.scheduler when DASK_SCHEDULER_ADDRESS decides it at the start of a run
+FROM_ENV = object()  #: the scheduler when DASK_SCHEDULER_ADDRESS decides it at the start of a run
 
 
 def _env() -> str | None:
@@ -84,7 +88,7 @@ def _require_distributed(what: str = "--scheduler") -> None:
 def scheduler_of(p) -> str | None:
     """The scheduler of a run: ``--scheduler``, else ``DASK_SCHEDULER_ADDRESS`` (when no
     ``--jobs`` was given), else None (the local pool)."""
-    if p.scheduler is not _FROM_ENV:
+    if p.scheduler is not FROM_ENV:
         return p.scheduler
     env = _env()
     if env is None:

@@ -17,17 +17,22 @@ from __future__ import annotations
 import contextlib
 import math
 
-from coincli.errors import usage_error
+from coincli.errors import shown, usage_error
 from coincli.io import grammar as parse
-from coincli.io import options as _options
-from coincli.limits import MAX_TOSSES, NORMAL_REACH, U_MAX  # noqa: F401 (MAX_TOSSES: the reports' limit of -n)
+from coincli.io import options
+from coincli.limits import (  # noqa: F401 (MAX_TOSSES: the reports' limit of -n)
+    BOUNCE_OMEGA_MAX,
+    HAND,
+    MAX_TOSSES,
+    NORMAL_REACH,
+    SPEC_FORM,
+    U_MAX,
+)
 
 # Limits, as in coincli.core.toss.flight (kept here so that this module needs no numpy to load).
 DHM = "Diaconis, Holmes & Montgomery 2007"
-#: the hand toss of coincli.core.toss.flight.HAND_TOSS, as typed (for help and notes)
-HAND = {"u": "normal:2.4:0.3", "omega": "normal:38:4rev/s", "psi": "normal:90:10"}
-#: what --u and --omega of a run take
-SPEC_FORM = "a value, normal:MEAN:SD or uniform:LOW:HIGH"
+# HAND (the hand toss of coincli.core.toss.flight.HAND_TOSS, as typed, for help and notes) and
+# SPEC_FORM (what --u and --omega of a run take) are coincli.limits', which the help texts name
 _KINDS = {"normal": "normal", "norm": "normal", "gauss": "normal", "uniform": "uniform",
           "unif": "uniform", "fixed": "fixed"}
 
@@ -66,11 +71,11 @@ def tosses_count(text: str) -> int:
     """-n: a whole number from 1 to MAX_TOSSES; beyond, the message says how to get more."""
     digits = text.strip().removeprefix("+").lstrip("0")
     if digits.isascii() and digits.isdigit() and (len(digits) > 9 or int(digits) > MAX_TOSSES):
-        shown = digits if len(digits) <= 30 else f"{digits[:12]}... ({len(digits)} digits)"
-        raise usage_error(f"-n {shown} is more than the {MAX_TOSSES} (10^8) tosses of one run "
+        typed = digits if len(digits) <= 30 else f"{digits[:12]}... ({len(digits)} digits)"
+        raise usage_error(f"-n {typed} is more than the {MAX_TOSSES} (10^8) tosses of one run "
                           "(about 20 seconds); for more, run several times with "
                           "different --seed values and add the counts")
-    return _options.tosses_value(text, high=MAX_TOSSES)
+    return options.tosses_value(text, high=MAX_TOSSES)
 
 
 def launch_dist(text: str, what: str, kind: str):
@@ -78,7 +83,7 @@ def launch_dist(text: str, what: str, kind: str):
     :class:`coincli.core.toss.flight.Dist` in SI: a value, ``normal:MEAN:SD`` or
     ``uniform:LOW:HIGH``; a unit once at the end applies to every number
     (``normal:38:4rev/s``), or one after every number."""
-    from coincli.core.toss import launch as TL
+    from coincli.core.toss import launch as toss_launch
 
     lo, hi = (0.0, U_MAX) if kind == "u" else (0.0, math.inf)
     unit_name = "m/s" if kind == "u" else "rad/s"
@@ -98,7 +103,7 @@ def launch_dist(text: str, what: str, kind: str):
                               f"{example}), got {text!r}")
         if name == "normal" and nums[1].startswith("-"):
             raise usage_error(f"{what}: normal:MEAN:SD needs SD >= 0, got {text!r}")
-    nums = _options.unit_at_end(nums, units_of(kind), what, example, text)
+    nums = options.unit_at_end(nums, units_of(kind), what, example, text)
     one = parse.parse_speed_ms if kind == "u" else parse.parse_spin_rads
     try:
         if name == "normal":  # the mean of a normal may be negative: it is truncated at 0
@@ -114,30 +119,30 @@ def launch_dist(text: str, what: str, kind: str):
                                                                   vals[0] == vals[1]):
         if not lo <= vals[0] <= hi:
             raise usage_error(f"{what} must be in {rng}, got {text!r}")
-        return TL.Dist("fixed", vals[0], 0.0, lo, hi)
+        return toss_launch.Dist("fixed", vals[0], 0.0, lo, hi)
     if name == "uniform":
         if not lo <= vals[0] <= vals[1] <= hi:
             raise usage_error(f"{what}: uniform:LOW:HIGH needs LOW <= HIGH, both "
                               f"{'in ' if math.isfinite(hi) else ''}{rng}; got {text!r}")
-        return TL.Dist("uniform", vals[0], vals[1], lo, hi)
+        return toss_launch.Dist("uniform", vals[0], vals[1], lo, hi)
     mu, sd = vals
-    core_call(TL.check_normal_mass, what, text, mu, sd, lo, hi, rng)
-    return TL.Dist("normal", mu, sd, lo, hi)
+    core_call(toss_launch.check_normal_mass, what, text, mu, sd, lo, hi, rng)
+    return toss_launch.Dist("normal", mu, sd, lo, hi)
 
 
 def psi_dist(text: str):
     """--psi-dist: the shared psi grammar (uniform[:LOW:HIGH], cosine, normal[:MEAN:SD],
     table:FILE), or a fixed angle in degrees."""
-    from coincli.core.toss import launch as TL
+    from coincli.core.toss import launch as toss_launch
 
     s = text.strip()
     try:
         v = parse.parse_number(s, "--psi-dist")
     except ValueError:
-        return TL.Dist.from_density(_options.psi_density(s))
+        return toss_launch.Dist.from_density(options.psi_density(s))
     if not 0.0 <= v <= 180.0:
         raise usage_error(f"--psi-dist: a fixed angle must be from 0 to 180 degrees, got {s!r}")
-    return _options.radians(v)
+    return options.radians(v)
 
 
 def reach(dist, hi: float) -> float:
@@ -167,23 +172,24 @@ def launch(psi, psi_dist_text, u, omega):
     and ``coin plot sides`` with --landing bounce): --u, --omega, --psi (fixed) or --psi-dist;
     what is not given is the hand toss (:data:`coincli.core.toss.flight.HAND_TOSS`).  Returns
     the three specs and their description (``u ~ ..., omega ~ ..., psi ...``, units named)."""
-    from coincli.core.toss import launch as TL
+    from coincli.core.toss import launch as toss_launch
 
-    _options.refuse_psi_and_dist(psi, psi_dist_text)
+    options.refuse_psi_and_dist(psi, psi_dist_text)
     if psi is not None:
-        psi_spec = _options.radians(_options.psi_angle(psi))
+        psi_spec = options.radians(options.psi_angle(psi))
         psi_text = f"psi = {psi.strip()} deg"
     elif psi_dist_text is not None:
         psi_spec = psi_dist(psi_dist_text)
         psi_text = f"psi ~ {psi_dist_text.strip()} deg"
     else:
-        psi_spec, psi_text = TL.HAND_TOSS["psi"], f"psi ~ {TL.HAND_TOSS_TEXT['psi']}"
-    u_spec = launch_dist(u, "--u", "u") if u is not None else TL.HAND_TOSS["u"]
+        psi_spec = toss_launch.HAND_TOSS["psi"]
+        psi_text = f"psi ~ {toss_launch.HAND_TOSS_TEXT['psi']}"
+    u_spec = launch_dist(u, "--u", "u") if u is not None else toss_launch.HAND_TOSS["u"]
     w_spec = launch_dist(omega, "--omega", "omega") if omega is not None else \
-        TL.HAND_TOSS["omega"]
-    u_text = (TL.HAND_TOSS_TEXT["u"] if u is None else u.strip() + (
+        toss_launch.HAND_TOSS["omega"]
+    u_text = (toss_launch.HAND_TOSS_TEXT["u"] if u is None else u.strip() + (
         "" if parse.split_unit(u.split(":")[-1], parse.SPEED_UNITS)[1] else " m/s"))
-    w_text = (TL.HAND_TOSS_TEXT["omega"] if omega is None else omega.strip() + (
+    w_text = (toss_launch.HAND_TOSS_TEXT["omega"] if omega is None else omega.strip() + (
         "" if parse.split_unit(omega.split(":")[-1], parse.SPIN_UNITS)[1] else " rad/s"))
     hand = [k for k, v in (("u", u), ("omega", omega), ("psi", psi or psi_dist_text))
             if v is None]
@@ -191,11 +197,19 @@ def launch(psi, psi_dist_text, u, omega):
     return u_spec, w_spec, psi_spec, f"u ~ {u_text}, omega ~ {w_text}, {psi_text}{source}"
 
 
+def check_omega(top: float, text: str) -> None:
+    """``--omega`` of a bouncing run (the largest spin it draws, ``top``) at most
+    :data:`coincli.limits.BOUNCE_OMEGA_MAX`: faster, the coin turns a radian or more in a
+    MuJoCo step at the default --dt, and its contacts are not followed."""
+    if not top <= BOUNCE_OMEGA_MAX:
+        raise usage_error(f"--omega must be at most {BOUNCE_OMEGA_MAX:g} rad/s with --landing "
+                          "bounce (faster, the coin turns a radian a MuJoCo step), got "
+                          f"{shown(text.strip())}")
+
+
 def bounce_launch(psi, psi_dist_text, u, omega):
     """:func:`launch` for a bounce run, whose spin stays within the engine's limit
-    (:func:`coincli.reports.bounce.check_omega`)."""
-    from coincli.reports.bounce import check_omega
-
+    (:func:`check_omega`)."""
     u_spec, w_spec, psi_spec, labels = launch(psi, psi_dist_text, u, omega)
     check_omega(reach(w_spec, math.inf), omega or HAND["omega"])
     return u_spec, w_spec, psi_spec, labels

@@ -20,18 +20,26 @@ from typing import NamedTuple
 from coincli.core.models import FAIR_XI_DYNAMIC
 from coincli.errors import compute_error, usage_error
 from coincli.io import grammar as parse
-from coincli.io import options as _options
+from coincli.io import options
 from coincli.io.table import Column, Result, check_format
 from coincli.io.terminal import env_no_color, stdout_is_terminal
-from coincli.limits import G_MAX, G_MIN, OMEGA_TOP, U_MAX
+from coincli.limits import (
+    G_MAX,
+    G_MIN,
+    OMEGA_TOP,
+    PHASE_DATA_CELLS,
+    PHASE_FIGURE_CELLS,
+    PHASE_OMEGA_DEFAULT,
+    PHASE_U_DEFAULT,
+    U_MAX,
+)
 
-U_DEFAULT = "0:3"  #: m/s
-OMEGA_DEFAULT = "0:60"  #: rad/s
+U_DEFAULT, OMEGA_DEFAULT = PHASE_U_DEFAULT, PHASE_OMEGA_DEFAULT  #: m/s, rad/s (coincli.limits)
 MIN_SPAN = 1e-6  #: the narrowest range, in m/s or rad/s
 MAX_CELLS = 4000  #: along each axis of the grid
 MAX_MARKS = 20
-FIGURE_CELLS = 400  #: the grid of a figure file, along each axis
-DATA_CELLS = 100  #: the grid of csv/json
+#: the grid of a figure file, and of csv/json, along each axis (coincli.limits)
+FIGURE_CELLS, DATA_CELLS = PHASE_FIGURE_CELLS, PHASE_DATA_CELLS
 
 
 class Phase(NamedTuple):
@@ -158,7 +166,7 @@ def resolve(*, xi, coin, count, quarters, diameter, thickness, psi, u, omega, co
                               "one")
         cols = rows = old_resolution
     cols_what = rows_what = "--resolution" if old_resolution is not None else None
-    coins = _options.resolve_coin(xi, coin, count, quarters, diameter, thickness,
+    coins = options.resolve_coin(xi, coin, count, quarters, diameter, thickness,
                                   required=False, xi_rule="finite")
     x = FAIR_XI_DYNAMIC if coins is None else float(coins.xis[0])
     ct = contact_value(contact)
@@ -170,7 +178,7 @@ def resolve(*, xi, coin, count, quarters, diameter, thickness, psi, u, omega, co
              "diameter": f"{coins.diameter_mm:g} mm" if coins is not None and
              coins.diameter_mm is not None else "24.26 mm"}
     return Phase(
-        xi=x, psi_deg=_options.psi_angle(psi),
+        xi=x, psi_deg=options.psi_angle(psi),
         u_range=_range(u or U_DEFAULT, u_what, parse.parse_speed_ms, "m/s", U_MAX),
         omega_range=_range(omega or OMEGA_DEFAULT, w_what, parse.parse_spin_rads, "rad/s",
                            OMEGA_TOP),
@@ -194,9 +202,9 @@ def text_size(ph: Phase, extra_lines: int = 10) -> tuple[int, int]:
 
 def check_followable(ph: Phase) -> None:
     """Every cell must be a toss the core can follow: check the top corner of the ranges."""
-    from coincli.core.toss import flight as T
+    from coincli.core.toss import flight
 
-    _, phase, problem = T.flight_limits(ph.xi, _options.radians(ph.psi_deg), ph.u_range[1],
+    _, phase, problem = flight.flight_limits(ph.xi, options.radians(ph.psi_deg), ph.u_range[1],
                                         ph.omega_range[1], diameter=ph.diameter, g=ph.g,
                                         contact=ph.contact)
     if not problem:
@@ -205,7 +213,8 @@ def check_followable(ph: Phase) -> None:
         what = "the time of flight at the top of --u overflows a double; raise --g"
     elif problem == 2:
         what = (f"the coin would turn up to omega * t = {phase:.3g} rad in the air at the top "
-                f"of the --u and --omega ranges, beyond the {T.MAX_PHASE:g} rad where a double "
+                f"of the --u and --omega ranges, beyond the {flight.MAX_PHASE:g} rad where a "
+                "double "
                 f"no longer holds the phase; lower --omega (got {ph.typed['omega']}) or --u "
                 f"(got {ph.typed['u']})")
     else:
@@ -215,18 +224,19 @@ def check_followable(ph: Phase) -> None:
 
 
 def data(ph: Phase, nu: int, nw: int, *, figure: bool = False):
-    """The picture's data on an ``nu`` by ``nw`` grid: :class:`coincli.render.figures.PhaseData`
+    """The picture's data on an ``nu`` by ``nw`` grid: :class:`coincli.render.maps.PhaseData`
     for a figure; for text and csv the same fields from
     :func:`coincli.core.toss.flight.phase_map` directly (so that they load no plotting
     module)."""
     check_followable(ph)
     if figure:
-        from coincli.render import figures as P
+        from coincli.render import maps
 
         try:
-            d = P.phase_data(ph.xi, ph.psi_deg, u_range=ph.u_range, omega_range=ph.omega_range,
-                             nu=nu, nw=nw, marks=ph.marks, exact_curves=ph.exact,
-                             diameter=ph.diameter, g=ph.g, contact=ph.contact)
+            d = maps.phase_data(ph.xi, ph.psi_deg, u_range=ph.u_range,
+                                   omega_range=ph.omega_range, nu=nu, nw=nw, marks=ph.marks,
+                                   exact_curves=ph.exact, diameter=ph.diameter, g=ph.g,
+                                   contact=ph.contact)
         except ValueError as exc:
             raise usage_error(str(exc)) from None
         if not ph.curves:
@@ -235,12 +245,13 @@ def data(ph: Phase, nu: int, nw: int, *, figure: bool = False):
     import types
 
     from coincli.core.models import conditional
-    from coincli.core.toss import phase as TP
+    from coincli.core.toss import phase as toss_phase
 
-    psi = _options.radians(ph.psi_deg)
+    psi = options.radians(ph.psi_deg)
     try:
-        pm = TP.phase_map(ph.xi, psi, ph.u_range, ph.omega_range, (nu, nw), diameter=ph.diameter,
-                         g=ph.g, contact=ph.contact, exact_curves=ph.exact)
+        pm = toss_phase.phase_map(ph.xi, psi, ph.u_range, ph.omega_range, (nu, nw),
+                                  diameter=ph.diameter, g=ph.g, contact=ph.contact,
+                                  exact_curves=ph.exact)
     except ValueError as exc:
         raise usage_error(str(exc)) from None
     return types.SimpleNamespace(
@@ -284,14 +295,14 @@ def _cells_result(ph: Phase):
     """The grid of csv/json: one row per cell (u, omega, outcome and its code)."""
     import numpy as np
 
-    from coincli.core.toss import flight as T
+    from coincli.core.toss import flight
 
     d = data(ph, ph.cols or DATA_CELLS, ph.rows or DATA_CELLS)
     shape = np.asarray(d.outcome).shape
     uu = np.broadcast_to(np.asarray(d.u)[None, :], shape).ravel().tolist()
     ww = np.broadcast_to(np.asarray(d.omega)[:, None], shape).ravel().tolist()
     codes = np.asarray(d.outcome).ravel().tolist()
-    cells = [uu, ww, [T.NAMES[c] for c in codes], codes]
+    cells = [uu, ww, [flight.NAMES[c] for c in codes], codes]
     columns = [Column("u", "u (m/s)"), Column("omega", "omega (rad/s)"),
                Column("outcome", "outcome", "text"), Column("code", "code", "int")]
     return Result("coin phase", columns, [], "", data=cells)
@@ -313,19 +324,19 @@ def _picture(ph: Phase):
 def _figure(path, ph: Phase) -> None:
     """Write the picture as a figure file (checked before any computing)."""
     from coincli.io.files import check_output_path
-    from coincli.render import figures as P
+    from coincli.render import figures, maps
     from coincli.render.figures import write_figure
 
     try:
-        P.figure_format(path)
+        figures.figure_format(path)
         check_output_path(path)  # a FIFO, device or directory: refused before any computing
     except ValueError as exc:
         raise usage_error(f"--out: {exc}") from None
     except OSError as exc:
         raise compute_error(f"cannot write {path!r}: {exc.strerror or exc}") from None
     try:
-        P.require_matplotlib()
-    except P.MatplotlibMissing as exc:
+        figures.require_matplotlib()
+    except figures.MatplotlibMissing as exc:
         raise compute_error(str(exc)) from None
     d = data(ph, ph.cols or FIGURE_CELLS, ph.rows or FIGURE_CELLS, figure=True)
-    write_figure(P.phase_figure(d), path)
+    write_figure(maps.phase_figure(d), path)

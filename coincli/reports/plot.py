@@ -16,10 +16,11 @@ import sys
 
 from coincli.errors import compute_error, usage_error
 from coincli.io import grammar as parse
-from coincli.io import options as _options
+from coincli.io import options
 from coincli.limits import DEFAULT_DIAMETER, STANDARD_G
-from coincli.reports import bounce as BO
-from coincli.reports import phase as PH
+from coincli.reports import bounce as bounce_report
+from coincli.reports import phase as phase_report
+from coincli.reports.landing import landing_of, parse_physics
 
 MAX_MARKS = 20  # designs marked on one figure
 MAX_DATA_BYTES = 10_000_000
@@ -30,14 +31,14 @@ MAX_DATA_BYTES = 10_000_000
 
 def _mark_coins(xi, coin, count, quarters, diameter, thickness) -> list[float]:
     """The coins to mark (the shared coin group; at most MAX_MARKS of them), or none."""
-    c = _options.resolve_coin(xi, coin, count, quarters, diameter, thickness, many=True,
+    c = options.resolve_coin(xi, coin, count, quarters, diameter, thickness, many=True,
                               required=False, max_values=MAX_MARKS, command="coin plot")
     return [] if c is None else [float(x) for x in c.xis]
 
 
 def _one_coin(xi, coin, count, quarters, diameter, thickness) -> float:
     """The one coin of a figure; the dynamically fair coin 1/sqrt 3 when none is given."""
-    c = _options.resolve_coin(xi, coin, count, quarters, diameter, thickness, required=False,
+    c = options.resolve_coin(xi, coin, count, quarters, diameter, thickness, required=False,
                               command="coin plot")
     return 1 / math.sqrt(3) if c is None else c.xi
 
@@ -245,39 +246,41 @@ def sides(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
     models (Fig. 5a), the user's designs, data and psi curves marked; with
     ``landing="bounce"``, points simulated onto a surface and the probit fitted to them (said
     on stderr).  The text plot, or None when ``out`` was written."""
-    physics = BO.parse_physics(BO.landing_of(landing), surface=surface, restitution=restitution,
-                               friction=friction, jobs=jobs, calibration=calibration,
-                               scheduler=scheduler, checkpoint=checkpoint, timeout=timeout)
+    physics = parse_physics(landing_of(landing), surface=surface, restitution=restitution,
+                            friction=friction, jobs=jobs, calibration=calibration,
+                            scheduler=scheduler, checkpoint=checkpoint, timeout=timeout)
     if physics is None and (seed is not None or tosses is not None):
         raise usage_error("--seed and -n go with --landing bounce")
     target = _Target(out, terminal)
     _one_stdin(xi=xi, count=count, quarters=quarters, data=data)
     xi_marks = _mark_coins(xi, coin, count, quarters, diameter, thickness)
     p_marks = _marks(p_sides, "--p-sides", parse.parse_probability)
-    psi_curves = (_options.psi_angles(psi, max_rows=MAX_MARKS) if psi is not None else [])
-    dens = _options.psi_densities(psi_dist) if psi_dist is not None else []
+    psi_curves = (options.psi_angles(psi, max_rows=MAX_MARKS) if psi is not None else [])
+    dens = options.psi_densities(psi_dist) if psi_dist is not None else []
     rng = _xi_range(xi_range, log)
     exps = _read_data(data) if data is not None else []
     w, h, d = _figure_size(target, width, height, dpi, (7.0, 4.5))
     target.check_matplotlib()
     bounce = None
     if physics is not None:
-        from coincli.reports.calibrate import bounce_launch_for
+        from coincli.reports.calibrated import bounce_launch_for
+        from coincli.reports.physics import bounce_tosses
 
-        count = 400 if tosses is None else BO.bounce_tosses(tosses, high=100_000)
-        seed_v = _options.seed_value(seed)
+        count = 400 if tosses is None else bounce_tosses(tosses, high=100_000)
+        seed_v = options.seed_value(seed)
         u_spec, w_spec, psi_spec, labels = bounce_launch_for(physics, None, None, None, None)
         lo, hi = rng if rng is not None else (0.1, 2.0)
-        lo, hi = max(lo, BO.PLOT_XI[0]), min(hi, BO.PLOT_XI[1])
+        lo, hi = max(lo, bounce_report.PLOT_XI[0]), min(hi, bounce_report.PLOT_XI[1])
         if not lo < hi:
             raise usage_error(f"--xi-range {xi_range.strip()!r} holds no aspect ratio that "
-                              f"--landing bounce simulates ({BO.PLOT_XI[0]:g} to "
-                              f"{BO.PLOT_XI[1]:g}); give a range that overlaps it")
+                              f"--landing bounce simulates ({bounce_report.PLOT_XI[0]:g} to "
+                              f"{bounce_report.PLOT_XI[1]:g}); give a range that overlaps it")
         import numpy as np
 
         xis = [float(x) for x in np.geomspace(lo, hi, 8)]
-        pts, fitted, why = BO.sides_points(physics, seed=seed_v, n=count, xis=xis, u=u_spec,
-                                           omega=w_spec, psi=psi_spec, diameter=DEFAULT_DIAMETER, g=STANDARD_G)
+        pts, fitted, why = bounce_report.sides_points(physics, seed=seed_v, n=count, xis=xis,
+                                                      u=u_spec, omega=w_spec, psi=psi_spec,
+                                                      diameter=DEFAULT_DIAMETER, g=STANDARD_G)
         bounce = (pts, fitted)
         if fitted is None:
             curve = f"no curve: {why}"
@@ -299,19 +302,19 @@ def sides(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
 
 def _sides(target, xi_marks, p_marks, psi_curves, dens, rng, exps, log, size, title,
            bounce=None):
-    from coincli.render import figures as P
+    from coincli.render import figures
 
-    models = [P.GEOMETRIC, P.DYNAMIC]
-    models += [P.psi_spec(math.pi if d == 180 else math.radians(d)) for d in psi_curves]
-    models += [P.density_spec(d) for d in dens]
-    points = _compute(P.experiment_points, exps) if exps else []
+    models = [figures.GEOMETRIC, figures.DYNAMIC]
+    models += [figures.psi_spec(math.pi if d == 180 else math.radians(d)) for d in psi_curves]
+    models += [figures.density_spec(d) for d in dens]
+    points = _compute(figures.experiment_points, exps) if exps else []
     if bounce is not None:
         if bounce[1] is not None:
             models.append(bounce[1])
         points = points + bounce[0]
 
     def build(n):
-        return _compute(P.sides_data, models, xi_marks=xi_marks, p_marks=p_marks,
+        return _compute(figures.sides_data, models, xi_marks=xi_marks, p_marks=p_marks,
                         experiments=points, log=log, xi_range=rng, points=n)
 
     if target.text:
@@ -320,7 +323,7 @@ def _sides(target, xi_marks, p_marks, psi_curves, dens, rng, exps, log, size, ti
         return target.text_plot(lambda c, r: text_sides(build(c), c, r))
     data = build(401)
     w, h, dpi = size
-    fig = P.sides_figure(data, width=w, height=h, title=title)
+    fig = figures.sides_figure(data, width=w, height=h, title=title)
     target.save(fig, dpi)
     _notes(data.skipped)
 
@@ -340,18 +343,19 @@ def psi(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickne
     shaded (Fig. 2d), ``psi`` marked.  The text plot, or None when ``out`` was written."""
     target = _Target(out, terminal)
     x = _one_coin(xi, coin, count, quarters, diameter, thickness)
-    marks = _options.psi_angles(psi, max_rows=MAX_MARKS) if psi is not None else []
+    marks = options.psi_angles(psi, max_rows=MAX_MARKS) if psi is not None else []
     w, h, d = _figure_size(target, width, height, dpi, (7.0, 4.5))
     target.check_matplotlib()
     with _quiet():
-        from coincli.render import figures as P
+        from coincli.render import figures
 
         if target.text:
             from coincli.render.text import text_psi
 
             return target.text_plot(
-                lambda c, r: text_psi(_compute(P.psi_data, x, marks, points=c), c, r))
-        fig = P.psi_figure(_compute(P.psi_data, x, marks), width=w, height=h, title=title)
+                lambda c, r: text_psi(_compute(figures.psi_data, x, marks, points=c), c, r))
+        fig = figures.psi_figure(_compute(figures.psi_data, x, marks), width=w, height=h,
+                                 title=title)
         target.save(fig, d)
     return None
 
@@ -371,27 +375,27 @@ def map(*, style="panels", xi=None, coin=None, count=None, quarters=None, diamet
         raise usage_error(f"--style must be panels or ternary, got {style!r}")
     _one_stdin(xi=xi, count=count, quarters=quarters)
     xi_marks = _mark_coins(xi, coin, count, quarters, diameter, thickness)
-    psi_marks = _options.psi_angles(psi, max_rows=MAX_MARKS) if psi is not None else []
+    psi_marks = options.psi_angles(psi, max_rows=MAX_MARKS) if psi is not None else []
     rng = _xi_range(xi_range, log)
-    from coincli.render.figures import MAP_SIZES
+    from coincli.render.maps import MAP_SIZES
 
     w, h, dots = _figure_size(target, width, height, dpi, MAP_SIZES[st])
     target.check_matplotlib()
     with _quiet():
-        from coincli.render import figures as P
+        from coincli.render import maps
 
         if target.text:
             from coincli.render.text import text_map
 
             def build(c, r):
-                d = _compute(P.map_data, xi_range=rng, log=log, nx=c, ny=r, xi_marks=xi_marks,
-                             psi_marks_deg=psi_marks)
+                d = _compute(maps.map_data, xi_range=rng, log=log, nx=c, ny=r,
+                             xi_marks=xi_marks, psi_marks_deg=psi_marks)
                 return text_map(d, c, r)
 
             return target.text_plot(build)
-        d = _compute(P.map_data, xi_range=rng, log=log, xi_marks=xi_marks,
+        d = _compute(maps.map_data, xi_range=rng, log=log, xi_marks=xi_marks,
                      psi_marks_deg=psi_marks)
-        fig = P.map_figure(d, style=st, width=w, height=h, title=title)
+        fig = maps.map_figure(d, style=st, width=w, height=h, title=title)
         target.save(fig, dots)
         _notes(d.skipped)
     return None
@@ -408,7 +412,7 @@ def phase(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
     """``coin plot phase``: the picture of ``coin phase`` (:mod:`coincli.reports.phase`) as a
     figure, or as a text plot.  The text plot, or None when ``out`` was written."""
     target = _Target(out, terminal)
-    ph = PH.resolve(xi=xi, coin=coin, count=count, quarters=quarters, diameter=diameter,
+    ph = phase_report.resolve(xi=xi, coin=coin, count=count, quarters=quarters, diameter=diameter,
                     thickness=thickness, psi=psi, u=u, omega=omega, cols=cols, rows=rows,
                     exact=exact, no_curves=no_curves, toss=toss, g=g, contact=contact,
                     old_u=u_range, old_omega=omega_range, old_exact=exact_curves,
@@ -419,11 +423,12 @@ def phase(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
         if target.text:
             from coincli.render.text import text_phase
 
-            nu, nw = PH.text_size(ph)
-            return text_phase(PH.data(ph, nu, nw), nu, nw, ph.contact)
-        from coincli.render import figures as P
+            nu, nw = phase_report.text_size(ph)
+            return text_phase(phase_report.data(ph, nu, nw), nu, nw, ph.contact)
+        from coincli.render import maps
 
-        data = PH.data(ph, ph.cols or PH.FIGURE_CELLS, ph.rows or PH.FIGURE_CELLS, figure=True)
-        fig = P.phase_figure(data, width=w, height=h, title=title)
+        cells = phase_report.FIGURE_CELLS
+        data = phase_report.data(ph, ph.cols or cells, ph.rows or cells, figure=True)
+        fig = maps.phase_figure(data, width=w, height=h, title=title)
         target.save(fig, d)
     return None

@@ -18,14 +18,16 @@ import sys
 
 from coincli.errors import usage_error
 from coincli.io import grammar as parse
-from coincli.io import options as _options
+from coincli.io import options
 from coincli.io.batches import values_option
 from coincli.io.table import Column, Result, check_format
-from coincli.reports import bounce as BO
+from coincli.reports import bounce as bounce_report
+from coincli.reports.landing import landing_of, parse_physics
 from coincli.reports.launch import (
     DHM,
     HAND,
     U_MAX,
+    check_omega,
     core_call,
     launch,
     no_progress,
@@ -58,8 +60,8 @@ def _mm(text: str) -> str:
 
 def _in_unit_of(text: str, mm: float) -> str:
     """``mm`` millimetres in the unit ``text`` was typed in (mm when none)."""
-    unit = parse.split_unit(text, parse._LEN_UNITS)[1] or "mm"
-    return f"{mm / float(parse._LEN_UNITS[unit]):.4g} {unit}"
+    unit = parse.split_unit(text, parse.LENGTH_UNITS)[1] or "mm"
+    return f"{mm / float(parse.LENGTH_UNITS[unit]):.4g} {unit}"
 
 
 def _z0_m(text: str | None, xi_max: float, dia: float, thick: bool,
@@ -99,48 +101,52 @@ def _xi_for_contact(xi_max: float, thick: bool):
 
 def _bounce_coin(physics, coins, xi_v: float, dia: float, *, xi, coin, count, quarters, diameter,
                  thickness) -> None:
-    """The engine's limits on the coin (:func:`coincli.reports.bounce.check_coin`), naming the
+    """The engine's limits on the coin (:func:`coincli.reports.physics.check_coin`), naming the
     option that gave it as typed."""
+    from coincli.reports.physics import check_coin
+
     counts = coins.counts
-    BO.check_coin(physics, xi_v, dia, xi_text=xi, diameter_text=diameter,
-                  thickness_text=thickness if count is None else None, count_text=count,
-                  quarters_text=quarters, coin_text=coin,
-                  count=int(counts[0]) if counts is not None and len(counts) else None)
+    check_coin(physics, xi_v, dia, xi_text=xi, diameter_text=diameter,
+               thickness_text=thickness if count is None else None, count_text=count,
+               quarters_text=quarters, coin_text=coin,
+               count=int(counts[0]) if counts is not None and len(counts) else None)
 
 
-def _follow(T, xi, psi, u, omega, *, dia, g, ct, z0, got, where=""):
-    """Refuse, naming the option at fault, a toss the core cannot follow (T.flight_limits): a
-    flight whose length overflows, a phase omega * t beyond T.MAX_PHASE, or omega^2 * a beyond
+def _follow(flight, xi, psi, u, omega, *, dia, g, ct, z0, got, where=""):
+    """Refuse, naming the option at fault, a toss the core cannot follow (flight.flight_limits): a
+    flight whose length overflows, a phase omega * t beyond flight.MAX_PHASE, or omega^2 * a beyond
     a double.  ``got`` holds the user's text of each option (with units); the option blamed is
     the first whose default alone would make the toss followable (--g, --z0, --diameter, --xi
     of a thick coin), else --omega (and --u)."""
-    _, phase, problem = T.flight_limits(xi, psi, u, omega, diameter=dia, g=g, contact=ct, z0=z0)
+    _, phase, problem = flight.flight_limits(xi, psi, u, omega, diameter=dia, g=g, contact=ct,
+                                             z0=z0)
     if not problem:
         return
     kw = {"diameter": dia, "g": g, "contact": ct, "z0": z0}
     alts = []
-    if g != T.STANDARD_G:
-        alts.append((f"{'raise' if g < T.STANDARD_G else 'lower'} --g (got {got['g']})",
-                     {**kw, "g": T.STANDARD_G}))
+    if g != flight.STANDARD_G:
+        alts.append((f"{'raise' if g < flight.STANDARD_G else 'lower'} --g (got {got['g']})",
+                     {**kw, "g": flight.STANDARD_G}))
     if z0 is not None:
-        z0_default = T.default_z0(xi, dia, ct)
+        z0_default = flight.default_z0(xi, dia, ct)
         alts.append((f"{'lower' if z0 > z0_default else 'raise'} --z0 (got {got['z0']})",
                      {**kw, "z0": None}))
-    if dia != T.DEFAULT_DIAMETER:
-        alts.append((f"{'lower' if dia > T.DEFAULT_DIAMETER else 'raise'} --diameter (got "
-                     f"{got['diameter']})", {**kw, "diameter": T.DEFAULT_DIAMETER}))
+    if dia != flight.DEFAULT_DIAMETER:
+        alts.append((f"{'lower' if dia > flight.DEFAULT_DIAMETER else 'raise'} --diameter (got "
+                     f"{got['diameter']})", {**kw, "diameter": flight.DEFAULT_DIAMETER}))
     if ct == "thick" and xi > 0:
         alts.append((f"lower --xi (got {got['xi']}: a thick coin is launched h/2 higher)",
                      {**kw, "contact": "rim", "z0": z0 if z0 is not None else
-                      T.default_z0(xi, dia, "rim")}))
+                      flight.default_z0(xi, dia, "rim")}))
     # The first option whose default alone makes the toss one the core can follow; else the
     # spin (and the launch speed), which have no default.
-    fix = next((f for f, alt in alts if not T.flight_limits(xi, psi, u, omega, **alt)[2]), None)
+    fix = next((f for f, alt in alts if not flight.flight_limits(xi, psi, u, omega, **alt)[2]),
+               None)
     if fix is None and len(alts) > 1:  # several at once (--g 1e-300 --z0 1e300)?
         both = dict(kw)
         for _, alt in alts:
             both.update({k: v for k, v in alt.items() if v != kw[k]})
-        if not T.flight_limits(xi, psi, u, omega, **both)[2]:
+        if not flight.flight_limits(xi, psi, u, omega, **both)[2]:
             fix = " and ".join(f for f, _ in alts)
     if fix is None:
         fix = (f"lower --omega (got {got['omega']})" if problem == 3 else
@@ -149,7 +155,7 @@ def _follow(T, xi, psi, u, omega, *, dia, g, ct, z0, got, where=""):
         what = f"the time of flight{where} overflows a double"
     elif problem == 2:
         what = (f"the coin would turn up to omega * t = {phase:.3g} rad in the air{where}, "
-                f"beyond the {T.MAX_PHASE:g} rad where a double no longer holds the phase")
+                f"beyond the {flight.MAX_PHASE:g} rad where a double no longer holds the phase")
     else:
         what = f"the spin{where} is too fast to follow: omega^2 * a overflows a double"
     raise usage_error(f"{what}; {fix}")
@@ -186,16 +192,16 @@ def _values(text: str, what: str, kind: str):
     units = units_of(kind)
     if t.count(":") == 2:
         example = "1:3:0.5m/s" if kind == "u" else "38:40:1rev/s"
-        head, unit = _options.range_unit(t, units, what, example)
+        head, unit = options.range_unit(t, units, what, example)
         if unit is not None:
             try:
                 parse.parse_range(head, what)
             except ValueError as exc:
-                raise _options.typed_range_error(exc, head, t) from None
+                raise options.typed_range_error(exc, head, t) from None
             try:
                 return values_option(head, what, lambda s, w: _one_value(s + unit, w, kind))
             except ValueError as exc:  # the range as typed, with its unit
-                raise _options.typed_range_error(exc, head, t) from None
+                raise options.typed_range_error(exc, head, t) from None
     bounds = (0.0, U_MAX) if kind == "u" else (0.0, sys.float_info.max)
     return values_option(t, what, lambda s, w: _one_value(s, w, kind), bounds=bounds)
 
@@ -215,27 +221,29 @@ def toss(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickn
     (drawn itself when None; said on stderr with ``quiet``).
     """
     check_format(fmt)
-    physics = BO.parse_physics(BO.landing_of(landing), surface=surface, restitution=restitution,
-                               friction=friction, torsional=torsional, rolling=rolling,
-                               height=release_height, vx=vx, dt=dt, t_max=t_max,
-                               calibration=calibration)
+    physics = parse_physics(landing_of(landing), surface=surface, restitution=restitution,
+                            friction=friction, torsional=torsional, rolling=rolling,
+                            height=release_height, vx=vx, dt=dt, t_max=t_max,
+                            calibration=calibration)
     if physics is None and trajectory is not None:
         raise usage_error("--trajectory goes with --landing bounce (a caught toss is the "
                           "closed-form flight: coin toss prints it)")
     if physics is not None and contact.strip().lower() != "rim":
         raise usage_error("--contact goes with --landing bounce only as rim (a bounce is the "
                           "whole cylinder on the surface)")
-    coins = _options.resolve_coin(xi, coin, count, quarters, diameter, thickness, many=True,
+    coins = options.resolve_coin(xi, coin, count, quarters, diameter, thickness, many=True,
                                   xi_rule="finite", command="coin toss")
     ct = contact_value(contact)
     dia = diameter_m(coins, diameter)
     gv = g_value(g)
     if physics is not None:
-        BO.check_g(gv, g)
+        from coincli.reports.physics import check_g
+
+        check_g(gv, g)
     given = {"psi": psi, "u": u, "omega": omega}
     cols = {"xi": coins.xis}
     if psi is not None:
-        cols["psi"] = values_option(psi, "--psi", _options._deg_item, bounds=(0.0, 180.0))
+        cols["psi"] = values_option(psi, "--psi", options.psi_item, bounds=(0.0, 180.0))
     if u is not None:
         cols["u"] = _values(u, "--u", "u")
     if omega is not None:
@@ -255,18 +263,18 @@ def toss(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickn
     z0_m = _z0_m(z0, xi_max, dia, ct == "thick", bounce=physics)
     import numpy as np
 
-    from coincli.core.toss import batch as TB
-    from coincli.core.toss import flight as T
-    from coincli.core.toss import launch as TL
+    from coincli.core.toss import batch as toss_batch
+    from coincli.core.toss import flight
+    from coincli.core.toss import launch as toss_launch
 
-    seed_v = _options.seed_value(seed) if drawn else None
+    seed_v = options.seed_value(seed) if drawn else None
     if drawn:
         from coincli.core._numerics.backend import numpy_random
 
         rng = numpy_random().default_rng(seed_v)
-        spec = {k: (TL.HAND_TOSS[k] if k in drawn else TL.Dist("fixed", 0.0)) for k in
-                ("u", "omega", "psi")}
-        got = TL.sample_conditions(n, rng, **spec)
+        spec = {k: (toss_launch.HAND_TOSS[k] if k in drawn else toss_launch.Dist("fixed", 0.0))
+                for k in ("u", "omega", "psi")}
+        got = toss_launch.sample_conditions(n, rng, **spec)
         for k in drawn:
             v = np.broadcast_to(got[k], (n,))
             cols[k] = np.degrees(v) if k == "psi" else v
@@ -275,13 +283,13 @@ def toss(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickn
     psi_rad = np.where(p == 180.0, math.pi, np.radians(p))
     if "psi" in drawn:  # drawn in radians: no round trip through degrees
         psi_rad = np.broadcast_to(got["psi"], (n,))
-    problem = T.flight_limits(x, psi_rad, uu, w, diameter=dia, g=gv, contact=ct, z0=z0_m)[2]
+    problem = flight.flight_limits(x, psi_rad, uu, w, diameter=dia, g=gv, contact=ct, z0=z0_m)[2]
     if problem.any():
         k = int(np.argmax(problem != 0))
         gt = _got(xi=_num(float(x[k])), u=f"{_num(float(uu[k]))} m/s",
                   omega=f"{_num(float(w[k]))} rad/s", g=g, diameter=_dia_text(diameter, dia),
                   z0=z0)
-        _follow(T, float(x[k]), float(psi_rad[k]), float(uu[k]), float(w[k]), dia=dia, g=gv,
+        _follow(flight, float(x[k]), float(psi_rad[k]), float(uu[k]), float(w[k]), dia=dia, g=gv,
                 ct=ct, z0=z0_m, got=gt, where=f" (row {k + 1})" if n > 1 else "")
     if physics is not None:
         if n != 1:
@@ -290,23 +298,26 @@ def toss(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickn
         xf, uf, wf = float(x[0]), float(uu[0]), float(w[0])
         _bounce_coin(physics, coins, xf, dia, xi=xi, coin=coin, count=count,
                      quarters=quarters, diameter=diameter, thickness=thickness)
-        BO.check_omega(wf, omega if omega is not None else f"{_num(wf)} rad/s")
-        BO.check_landing(physics, u_top=uf, g=gv, xi=xf, dia=dia, z0=z0_m,
-                         u_text=u if u is not None else f"{_num(uf)} m/s")
+        from coincli.reports.physics import check_landing
+
+        check_omega(wf, omega if omega is not None else f"{_num(wf)} rad/s")
+        check_landing(physics, u_top=uf, g=gv, xi=xf, dia=dia, z0=z0_m,
+                      u_text=u if u is not None else f"{_num(uf)} m/s")
         extra = ""
         if drawn:
-            what = ", ".join(f"{k} ~ {TL.HAND_TOSS_TEXT[k]}" for k in drawn)
+            what = ", ".join(f"{k} ~ {toss_launch.HAND_TOSS_TEXT[k]}" for k in drawn)
             extra = (f"  Drawn from a hand toss ({DHM}): {what}; seed {seed_v} (--seed {seed_v} "
                      "repeats it).")
             if quiet:
-                _options.report_seed(seed_v, seed is not None)
-        return BO.toss(physics, xi=xf, psi=float(psi_rad[0]), u=uf, omega=wf, diameter=dia,
-                       g=gv, z0=z0_m, trajectory=trajectory, fmt=fmt, note_extra=extra,
-                       seed=seed_v if drawn else None)
-    res = core_call(TB.toss_many, x, psi_rad, uu, w, diameter=dia, g=gv, contact=ct, z0=z0_m)
+                options.report_seed(seed_v, seed is not None)
+        return bounce_report.toss(physics, xi=xf, psi=float(psi_rad[0]), u=uf, omega=wf,
+                                  diameter=dia, g=gv, z0=z0_m, trajectory=trajectory, fmt=fmt,
+                                  note_extra=extra, seed=seed_v if drawn else None)
+    res = core_call(toss_batch.toss_many, x, psi_rad, uu, w, diameter=dia, g=gv, contact=ct,
+                    z0=z0_m)
     z0_mm = (np.full(n, z0_m * 1000) if z0_m is not None else
              (math.sqrt(3) / 2 * dia / 2 + (x * dia / 2 if ct == "thick" else 0.0)) * 1000)
-    outcome = [T.NAMES[c] for c in res.code.tolist()]
+    outcome = [flight.NAMES[c] for c in res.code.tolist()]
     data = [x.tolist(), p.tolist(), uu.tolist(), w.tolist(), res.t_f.tolist(),
             (w * res.t_f / (2 * math.pi)).tolist(), np.degrees(res.alpha_f).tolist(),
             np.degrees(np.arctan2(1.0, x)).tolist(), (uu * w / gv).tolist(), outcome,
@@ -331,11 +342,11 @@ def toss(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thickn
     if typed:
         note += f"  Typed {', '.join(typed)}; shown in m/s and rad/s."
     if drawn:
-        what = ", ".join(f"{k} ~ {TL.HAND_TOSS_TEXT[k]}" for k in drawn)
+        what = ", ".join(f"{k} ~ {toss_launch.HAND_TOSS_TEXT[k]}" for k in drawn)
         note += (f"  Drawn from a hand toss ({DHM}): {what}; seed {seed_v} (--seed {seed_v} "
                  "repeats it).")
         if quiet:
-            _options.report_seed(seed_v, seed is not None)
+            options.report_seed(seed_v, seed is not None)
     return Result("coin toss", columns, [], note, quiet=outcome if n > 1 else outcome[0],
                   vertical=True, data=data)
 
@@ -363,17 +374,17 @@ def simulate(*, xi=None, coin=None, count=None, quarters=None, diameter=None, th
     check_format(fmt)
     if stream and (fmt != "table" or quiet):
         raise usage_error("--stream prints one letter a line; it takes no --format or --quiet")
-    physics = BO.parse_physics(BO.landing_of(landing), surface=surface, restitution=restitution,
-                               friction=friction, torsional=torsional, rolling=rolling,
-                               height=release_height, vx=vx, jobs=jobs, dt=dt, t_max=t_max,
-                               calibration=calibration, scheduler=scheduler,
-                               checkpoint=checkpoint, timeout=timeout)
+    physics = parse_physics(landing_of(landing), surface=surface, restitution=restitution,
+                            friction=friction, torsional=torsional, rolling=rolling,
+                            height=release_height, vx=vx, jobs=jobs, dt=dt, t_max=t_max,
+                            calibration=calibration, scheduler=scheduler,
+                            checkpoint=checkpoint, timeout=timeout)
     if physics is not None and stream:
         raise usage_error("--stream goes with --landing catch (a bounce run prints its summary)")
     if physics is not None and contact.strip().lower() != "rim":
         raise usage_error("--contact goes with --landing catch (a bounce is the whole cylinder "
                           "on the surface)")
-    coins = _options.resolve_coin(xi, coin, count, quarters, diameter, thickness,
+    coins = options.resolve_coin(xi, coin, count, quarters, diameter, thickness,
                                   xi_rule="finite", command="coin simulate")
     ct = contact_value(contact)
     dia = diameter_m(coins, diameter)
@@ -383,22 +394,30 @@ def simulate(*, xi=None, coin=None, count=None, quarters=None, diameter=None, th
                      quarters=quarters, diameter=diameter, thickness=thickness)
     gv = g_value(g)
     if physics is not None:
-        BO.check_g(gv, g)
-    count_n = (10_000 if tosses is None else BO.bounce_tosses(tosses) if physics is not None
-               else tosses_count(tosses))
+        from coincli.reports.physics import check_g
+
+        check_g(gv, g)
+    if tosses is None:
+        count_n = 10_000
+    elif physics is not None:
+        from coincli.reports.physics import bounce_tosses
+
+        count_n = bounce_tosses(tosses)
+    else:
+        count_n = tosses_count(tosses)
     _xi_for_contact(xv, ct == "thick")
-    from coincli.core.toss import flight as T
-    from coincli.core.toss import simulate as TS
+    from coincli.core.toss import flight
+    from coincli.core.toss import simulate as toss_simulate
 
     u_spec, w_spec, psi_spec, labels = launch(psi, psi_dist, u, omega)
     cal_note = None
     if physics is not None and physics.calibration is not None:  # its launch, not the hand's
-        from coincli.reports.calibrate import launch_on
+        from coincli.reports.calibrated import launch_on
 
         u_spec, w_spec, psi_spec, labels, cal_note = launch_on(physics, psi, psi_dist, u, omega)
     if physics is not None:
-        BO.check_omega(reach(w_spec, math.inf), omega or HAND["omega"])
-    seed_v = _options.seed_value(seed)
+        check_omega(reach(w_spec, math.inf), omega or HAND["omega"])
+    seed_v = options.seed_value(seed)
     kw = {"xi": xv, "u": u_spec, "omega": w_spec, "psi": psi_spec, "diameter": dia, "g": gv,
           "contact": ct}
     # Every toss must be one the core can follow, checked at the top of the distributions (the
@@ -408,24 +427,27 @@ def simulate(*, xi=None, coin=None, count=None, quarters=None, diameter=None, th
     got = _got(xi=_num(xv), u=spec_text(u or HAND["u"], u_spec, u_hi, "m/s"),
                omega=spec_text(omega or HAND["omega"], w_spec, w_hi, "rad/s"), g=g,
                diameter=_dia_text(diameter, dia))
-    _follow(T, xv, psi_hi, u_hi, w_hi, dia=dia, g=gv, ct=ct, z0=None, got=got)
-    core_call(T.check_toss, xv, psi_hi, u_hi, w_hi, diameter=dia, g=gv, contact=ct)  # the same
+    _follow(flight, xv, psi_hi, u_hi, w_hi, dia=dia, g=gv, ct=ct, z0=None, got=got)
+    core_call(flight.check_toss, xv, psi_hi, u_hi, w_hi, diameter=dia, g=gv, contact=ct)  # the same
     if physics is not None:
-        BO.check_landing(physics, u_top=u_hi, g=gv, xi=xv, dia=dia, u_text=u or HAND["u"])
+        from coincli.reports.physics import check_landing
+
+        check_landing(physics, u_top=u_hi, g=gv, xi=xv, dia=dia, u_text=u or HAND["u"])
         if quiet:
-            _options.report_seed(seed_v, seed is not None)
+            options.report_seed(seed_v, seed is not None)
         bar = None if progress is None else (lambda total: progress(total, 200))
-        r = BO.simulate(physics, count=count_n, seed=seed_v, xi=xv, u=u_spec, omega=w_spec,
-                        psi=psi_spec, diameter=dia, g=gv, labels=labels, fmt=fmt, progress=bar)
+        r = bounce_report.simulate(physics, count=count_n, seed=seed_v, xi=xv, u=u_spec,
+                                   omega=w_spec, psi=psi_spec, diameter=dia, g=gv, labels=labels,
+                                   fmt=fmt, progress=bar)
         if cal_note:
             r.notes.append(cal_note)
         return r
     if stream:
-        _options.report_seed(seed_v, seed is not None)
+        options.report_seed(seed_v, seed is not None)
         return Result("coin simulate --stream", [Column("outcome", "outcome", "text")], [],
-                      quiet=0, chunks=_letters(T, count_n, seed_v, kw))
+                      quiet=0, chunks=_letters(flight, count_n, seed_v, kw))
     with (progress or no_progress)(count_n) as tick:
-        sim = core_call(TS.simulate, count_n, seed_v, progress=tick, **kw)
+        sim = core_call(toss_simulate.simulate, count_n, seed_v, progress=tick, **kw)
     machine = fmt != "table"
     rows = []
     for f, p in zip(sim.frequencies, sim.vigorous, strict=True):
@@ -443,20 +465,20 @@ def simulate(*, xi=None, coin=None, count=None, quarters=None, diameter=None, th
             "table).  95% Wilson intervals.  The vigorous limit is Table I averaged over "
             "psi; it holds when u*omega/g >> 1 and omega*a/u << 1.")
     if quiet:
-        _options.report_seed(seed_v, seed is not None)
+        options.report_seed(seed_v, seed is not None)
     return Result("coin simulate", columns, rows, note, quiet=[r[2] for r in rows])
 
 
-def _letters(T, count, seed_v, kw):
+def _letters(flight, count, seed_v, kw):
     """The chunks of ``--stream``: each one cell, the letters of a batch of tosses one a line
     (the trailing newline is the writer's).  The first batch is computed before any output
     (by the writer), so bad input still fails cleanly with nothing printed."""
     import numpy as np
 
-    from coincli.core.toss import simulate as TS
+    from coincli.core.toss import simulate as toss_simulate
 
-    table = np.array([ord(c) for c in T.LETTERS], dtype=np.uint8)
-    chunks = TS.simulate_chunks(count, seed_v, **kw)
+    table = np.array([ord(c) for c in flight.LETTERS], dtype=np.uint8)
+    chunks = toss_simulate.simulate_chunks(count, seed_v, **kw)
     codes = core_call(next, chunks)
     while codes is not None:
         buf = np.empty(2 * codes.size - 1, dtype=np.uint8)

@@ -180,7 +180,8 @@ def test_a_design_answer_outside_the_simulated_range_is_called_an_extrapolation(
     aspect ratios is said to be extrapolated, in the note and in a warning.  Checked on a
     design record shaped as the core returns it, so that no run is needed."""
     from coincli.core.bounce import design as D
-    from coincli.reports import bounce as BO
+    from coincli.reports import bounce as bounce_report
+    from coincli.reports.physics import bounce_physics
 
     fit = D.SidesFit(0.0, 1.0, ((0.01, 0.0), (0.0, 0.01)), [(0.5, 10, 3), (1.0, 10, 5)], 0.1,
                      0, float("nan"))
@@ -192,12 +193,13 @@ def test_a_design_answer_outside_the_simulated_range_is_called_an_extrapolation(
         def design(*a, **k):
             return rec
 
-    p = BO.parse_physics("bounce")
+    p = bounce_physics()
     real = D.design
     D.design = _Run.design
     try:
-        r = BO.design(p, targets=[0.9], seed=1, tol=0.01, max_tosses=20, time_limit=1.0,
-                      u=2.0, omega=40.0, psi=1.0, diameter=0.02426, g=9.81, labels="")
+        r = bounce_report.design(p, targets=[0.9], seed=1, tol=0.01, max_tosses=20,
+                                 time_limit=1.0, u=2.0, omega=40.0, psi=1.0, diameter=0.02426,
+                                 g=9.81, labels="")
     finally:
         D.design = real
     assert "xi = 3.602 for P(sides) = 0.9 extrapolated from the aspect ratios simulated (0.5 " \

@@ -579,10 +579,10 @@ def test_the_faces_figure_ticks_do_not_overlap(moments):
     from types import SimpleNamespace
 
     from coincli.render import book_figures as bookplot
-    from coincli.reports.book import _face_size
+    from coincli.reports.book import face_size
 
     box = SimpleNamespace(size_mm=None, sides=R.box_sides(moments))
-    rows = [(f"{s}{k // 2 + 1}", _face_size(box, k), 0, 1 / 6, 0.1, 0.2, 1 / 6)
+    rows = [(f"{s}{k // 2 + 1}", face_size(box, k), 0, 1 / 6, 0.1, 0.2, 1 / 6)
             for k, s in zip(range(6), "+-+-+-")]
     assert all(r[1].endswith("(relative)") for r in rows)
     fig = bookplot.faces_figure(rows, "moments", 1000, 1, "centre")

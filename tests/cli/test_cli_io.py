@@ -23,7 +23,7 @@ import pytest
 from cli_helpers import error
 from cli_helpers import ok as _ok
 
-from coincli.io import batches as _common
+from coincli.io import batches
 from coincli.io.batches import MAX_LINE_CHARS, MAX_STDIN_BYTES, MAX_STDIN_LINES
 
 
@@ -140,11 +140,11 @@ def test_too_many_values_are_refused_before_the_lines_are_split():
 
 
 def test_an_endless_stdin_is_read_up_to_the_cap_and_no_further(coin, monkeypatch):
-    monkeypatch.setattr(_common, "MAX_STDIN_BYTES", 50_000)
+    monkeypatch.setattr(batches, "MAX_STDIN_BYTES", 50_000)
     raw, stdin = _endless_stdin(b"0.5\n")
     _error(coin("table", "--xi", "-", stdin=stdin), 2, "--xi: stdin is larger than 0.05 MB",
            "at most 50000 bytes")
-    assert 50_000 < raw.taken <= 50_000 + 2 * _common.READ_CHUNK
+    assert 50_000 < raw.taken <= 50_000 + 2 * batches.READ_CHUNK
 
 
 @pytest.mark.parametrize("unit, words", [
@@ -154,7 +154,7 @@ def test_an_endless_stdin_is_read_up_to_the_cap_and_no_further(coin, monkeypatch
 def test_an_endless_stdin_stops_at_a_nul_or_an_overlong_line(coin, unit, words):
     raw, stdin = _endless_stdin(unit)
     _error(coin("design", "-p", "-", stdin=stdin), 2, *words)
-    assert raw.taken <= 2 * _common.READ_CHUNK + 8192  # a chunk or two, not the whole cap
+    assert raw.taken <= 2 * batches.READ_CHUNK + 8192  # a chunk or two, not the whole cap
 
 
 def test_the_first_bad_line_is_named_even_when_reading_stops_early(coin):
@@ -166,9 +166,9 @@ def test_the_first_bad_line_is_named_even_when_reading_stops_early(coin):
 
 
 def test_the_value_limit_holds_on_both_paths(coin, monkeypatch):
-    monkeypatch.setattr(_common, "MAX_STDIN_LINES", 1000)
+    monkeypatch.setattr(batches, "MAX_STDIN_LINES", 1000)
     plain = "".join(f"{k / 7001!r}\n" for k in range(7000))  # the fast path's size
-    assert len(plain) >= _common.FAST_MIN_BYTES
+    assert len(plain) >= batches.FAST_MIN_BYTES
     for data in (plain, "# a comment sends it line by line\n" + plain,
                  " 0.5\n" * 1001, "0.5\n\n# c\n" * 1001):
         _error(coin("design", "-p", "-", "-q", stdin=data), 2,
@@ -179,9 +179,9 @@ def test_the_value_limit_holds_on_both_paths(coin, monkeypatch):
 
 
 def test_fit_file_cap_names_the_limit(coin, tmp_path, monkeypatch):
-    from coincli.reports import check
+    from coincli.io import experiments
 
-    monkeypatch.setattr(check, "MAX_FILE_BYTES", 1000)
+    monkeypatch.setattr(experiments, "MAX_FILE_BYTES", 1000)
     path = tmp_path / "big.csv"
     path.write_text("xi,heads,sides,tails\n" + "0.5,1,2,3\n" * 200)
     _error(coin("fit", str(path)), 2, f"{path}: larger than", "at most 1000 bytes")

@@ -643,11 +643,11 @@ def test_a_range_is_generated_as_the_list_would_be(coin):
 
 
 def _naive_rows(cols, sep: str) -> str:
-    """The reference for :func:`coincli.io.table._write_rows`: one cell at a time."""
-    from coincli.io.table import _csv_cell, _machine
+    """The reference for :func:`coincli.io.table.write_rows`: one cell at a time."""
+    from coincli.io.table import csv_cell, machine_text
 
     cols = [c.tolist() if hasattr(c, "tolist") else list(c) for c in cols]
-    return "".join(sep.join(_csv_cell(_machine(v), sep) for v in row) + "\n"
+    return "".join(sep.join(csv_cell(machine_text(v), sep) for v in row) + "\n"
                    for row in zip(*cols, strict=True))
 
 
@@ -675,17 +675,17 @@ def test_the_batch_writer_writes_what_one_cell_at_a_time_writes(n):
     formatting each cell on its own: shortest round-trip text, empty for None."""
     import numpy as np
 
-    from coincli.io.table import _write_rows
+    from coincli.io.table import write_rows
 
     rng = np.random.default_rng(n)
     cols = _writer_columns(rng, n)
     for sep in (",", "\t"):
         for pick in (cols, cols[:1], cols[1:2], cols[3:4], cols[5:6], cols[6:8], cols[::-1]):
             out = io.StringIO()
-            _write_rows(out, pick, sep)
+            write_rows(out, pick, sep)
             assert out.getvalue() == _naive_rows(pick, sep), (sep, len(pick))
     out = io.StringIO()
-    _write_rows(out, [cols[0]], "\n", quote=False)  # -q: one value a line
+    write_rows(out, [cols[0]], "\n", quote=False)  # -q: one value a line
     assert out.getvalue() == "".join(f"{v!r}\n" for v in cols[0].tolist())
 
 

@@ -120,7 +120,8 @@ def test_plot_sides_leaves_out_aspect_ratios_with_no_settled_toss(coin, monkeypa
     from coincli.core.bounce import runs
     from coincli.core.bounce.runs import BounceSimulation
     from coincli.core.toss.simulate import Frequency
-    from coincli.reports import bounce as BO
+    from coincli.reports import bounce as bounce_report
+    from coincli.reports.physics import bounce_physics
 
     def simulate(n, seed, *, xi, **kw):
         k = n if xi < 0.5 else 0  # settled
@@ -133,9 +134,10 @@ def test_plot_sides_leaves_out_aspect_ratios_with_no_settled_toss(coin, monkeypa
                                 surface=None, damping=0.0, dt=1e-4)
 
     monkeypatch.setattr(runs, "simulate", simulate)
-    p = BO.parse_physics("bounce", jobs="1")
-    pts, fitted, why = BO.sides_points(p, seed=1, n=4, xis=[0.1, 0.2, 0.4, 0.8, 1.6], u=2.0,
-                                       omega=40.0, psi=1.0, diameter=0.02426, g=9.81)
+    p = bounce_physics(jobs="1")
+    pts, fitted, why = bounce_report.sides_points(p, seed=1, n=4, xis=[0.1, 0.2, 0.4, 0.8, 1.6],
+                                                  u=2.0, omega=40.0, psi=1.0, diameter=0.02426,
+                                                  g=9.81)
     assert [e.xi for e in pts] == [0.1, 0.2, 0.4] and all(e.n == 4 for e in pts)
     assert all(math.isfinite(e.frequency) for e in pts)
     assert "8 of 20 tosses did not settle (8 still moving at --t-max 10 s)" in why

@@ -19,6 +19,7 @@ import pytest
 
 from coincli.cli import run
 from coincli.core import models
+from coincli.render import maps
 
 TOSSES = """\
 # three experiments: stacks of quarters and a rod
@@ -301,8 +302,8 @@ def test_psi_curves_and_regimes(plotmod):
 
 @pytest.mark.parametrize("style", ["panels", "ternary"])
 def test_map_values(plotmod, style):
-    data = plotmod.map_data(nx=31, ny=37, xi_marks=[0.5], psi_marks_deg=[80.0])
-    fig = plotmod.map_figure(data, style=style)
+    data = maps.map_data(nx=31, ny=37, xi_marks=[0.5], psi_marks_deg=[80.0])
+    fig = maps.map_figure(data, style=style)
     d = data.psi_deg
     o = models.conditional(data.xi[None, :], np.radians(np.where(d > 90, 180 - d, d))[:, None])
     k = models.dynamic(data.xi)  # the row at 90 deg is the Keller flip, eq. (12)
@@ -320,7 +321,7 @@ def test_map_values(plotmod, style):
     else:
         mesh = _one(fig, "mesh:ternary")
         rgb = np.asarray(mesh.get_array()).reshape(37, 31, -1)[..., :3]
-        np.testing.assert_allclose(rgb, plotmod.ternary_colours(o.heads, o.sides, o.tails))
+        np.testing.assert_allclose(rgb, maps.ternary_colours(o.heads, o.sides, o.tails))
     assert all(a.get_xdata()[0] == 0.5 for a in _all(fig, "design-xi:0"))
     assert all(a.get_ydata()[0] == 80.0 for a in _all(fig, "design-psi:0"))
     star = _all(fig, "fair:dynamic")[0]
@@ -330,9 +331,9 @@ def test_map_values(plotmod, style):
 def test_phase_map_and_hyperbolae(plotmod):
     from coincli.core.toss import flight as toss
 
-    data = plotmod.phase_data(u_range=(0.0, 2.0), omega_range=(0.0, 60.0), nu=24, nw=20,
+    data = maps.phase_data(u_range=(0.0, 2.0), omega_range=(0.0, 60.0), nu=24, nw=20,
                               marks=[(1.0, 30.0)])
-    fig = plotmod.phase_figure(data)
+    fig = maps.phase_figure(data)
     codes = np.asarray(_one(fig, "mesh:phase").get_array()).reshape(20, 24)
     for i, j in [(0, 0), (5, 7), (19, 23), (12, 3)]:
         t = toss.toss(models.FAIR_XI_DYNAMIC, math.pi / 2, float(data.u[j]),
@@ -583,8 +584,8 @@ def test_figures_at_the_axis_limits_raise_no_warning(plotmod, tmp_path, log, xi_
         d = plotmod.sides_data(xi_range=xi_range, log=log, points=51, xi_marks=[xi_range[1]],
                                p_marks=[0.3])
         plotmod.save_figure(plotmod.sides_figure(d), str(tmp_path / "s.png"), 40)
-        m = plotmod.map_data(xi_range=xi_range, log=log, nx=21, ny=21, psi_marks_deg=[0, 180])
-        plotmod.save_figure(plotmod.map_figure(m), str(tmp_path / "m.svg"), 40)
+        m = maps.map_data(xi_range=xi_range, log=log, nx=21, ny=21, psi_marks_deg=[0, 180])
+        plotmod.save_figure(maps.map_figure(m), str(tmp_path / "m.svg"), 40)
 
 
 def test_marks_beyond_the_axis_limits_are_notes(capsys, tmp_path, plotmod):
@@ -614,12 +615,12 @@ def test_tosses_off_the_axis_are_a_note(plotmod):
 
 
 def test_text_plot_ticks_survive_degenerate_axes():
-    from coincli.render.text import _ticks
+    from coincli.render.text import axis_ticks
 
-    assert _ticks(0.0, 5e-324, False) == [(0.0, "0"), (5e-324, "4.94066e-324")]
-    assert _ticks(1.0, 1.0, False) == []
-    assert _ticks(0.0, 1.0, True) == []
-    assert _ticks(0.0, math.nan, False) == []
+    assert axis_ticks(0.0, 5e-324, False) == [(0.0, "0"), (5e-324, "4.94066e-324")]
+    assert axis_ticks(1.0, 1.0, False) == []
+    assert axis_ticks(0.0, 1.0, True) == []
+    assert axis_ticks(0.0, math.nan, False) == []
 
 
 # --------------------------------------------------------------------------- NO_COLOR

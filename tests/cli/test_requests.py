@@ -21,7 +21,7 @@ REPORTS = {
     "design": ("design", "design"), "table": ("design", "table"), "stack": ("design", "stack"),
     "coins": ("design", "coins"), "fair": ("design", "fair"), "toss": ("toss", "toss"),
     "simulate": ("toss", "simulate"), "phase": ("phase", "phase"), "check": ("check", "check"),
-    "fit": ("check", "fit"), "book": ("book", "book"), "plot sides": ("plot", "sides"),
+    "fit": ("fit", "fit"), "book": ("book", "book"), "plot sides": ("plot", "sides"),
     "plot psi": ("plot", "psi"), "plot map": ("plot", "map"), "plot phase": ("plot", "phase"),
 }
 

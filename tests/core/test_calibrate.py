@@ -132,12 +132,12 @@ def test_counts_no_table_gives_are_rejected(design):
     # that gave the counts would leave Q ~ chi-square(2), and the nearest leaves far more
     one = C.fit_table(NAMES, pts, counts[:1], data[:1])
     assert one.df == 0 and math.isnan(one.p_value) and one.reach_p < 1e-6
-    from coincli.reports.calibrate import _warnings
-    assert "no table in the designed range gives your counts" in _warnings(one, [None])
+    from coincli.reports.calibrate import fit_warnings
+    assert "no table in the designed range gives your counts" in fit_warnings(one, [None])
     # counts a table does give: no df, no rejection
     fine = C.fit_table(NAMES, pts, counts[:1], _data(np.random.default_rng(4), 0.5, 0.3)[:1])
     assert fine.df == 0 and fine.reach_p > 0.05
-    assert "no test of fit" in _warnings(fine, [None])
+    assert "no test of fit" in fit_warnings(fine, [None])
 
 
 

@@ -20,6 +20,7 @@ from cli_helpers import error as _error
 from cli_helpers import ok as _ok
 
 from coincli.core import coins, models
+from coincli.render import maps
 
 
 class Cmd:
@@ -425,8 +426,8 @@ def test_legends_name_every_marked_design(plotmod):
     assert entry.count("\n") == 2 and all(f"{x:.4g}" in entry for x in many)
     texts = _legend_texts(plotmod.psi_figure(plotmod.psi_data(0.577, [70, 100], points=31)))
     assert "your tosses: ψ = 70°, 100°" in texts
-    m = plotmod.map_data(nx=11, ny=11, xi_marks=[0.5, 1.0], psi_marks_deg=[80])
-    texts = _legend_texts(plotmod.map_figure(m, style="ternary"))
+    m = maps.map_data(nx=11, ny=11, xi_marks=[0.5, 1.0], psi_marks_deg=[80])
+    texts = _legend_texts(maps.map_figure(m, style="ternary"))
     assert "your designs: ξ = 0.5, 1" in texts and "your toss: ψ = 80°" in texts
 
 
@@ -449,9 +450,9 @@ def test_marks_off_the_axis_are_noted_in_the_figure_file(plotmod, coin, tmp_path
     fig = plotmod.sides_figure(d)
     (note,) = [t for t in fig.texts if t.get_gid() == "notes"]
     assert note.get_text() == "not shown: xi = 3 is outside the plotted range 0 to 1"
-    m = plotmod.map_data(nx=11, ny=11, xi_range=(0.0, 1.0), xi_marks=[3.0])
+    m = maps.map_data(nx=11, ny=11, xi_range=(0.0, 1.0), xi_marks=[3.0])
     assert m.skipped == ["xi = 3 is outside the plotted range 0 to 1"]
-    fig = plotmod.map_figure(m)
+    fig = maps.map_figure(m)
     assert [t.get_text() for t in fig.texts if t.get_gid() == "notes"] == [
         "not shown: xi = 3 is outside the plotted range 0 to 1"]
     # the file says it too (SVG text), and stderr says what was written, then the note

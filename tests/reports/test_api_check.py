@@ -172,7 +172,7 @@ def test_the_check_report_returns_human_tables_or_the_machine_table():
 
 
 def test_the_fit_report_streams_its_machine_table():
-    from coincli.reports import check as R
+    from coincli.reports import fit as R
 
     tables = R.fit(str(TOSSES), no_spread=True)
     assert [r.title for r in tables][1:] == ["models, each experiment",

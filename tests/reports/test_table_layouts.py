@@ -146,14 +146,14 @@ def test_bounce_cells_none_where_nothing_settled():
     """A cell whose tosses all stay moving has empty chances (None), never nan."""
     from types import SimpleNamespace
 
-    from coincli.reports.bounce_table import _row
+    from coincli.reports.bounce_table import study_row
 
     nan = float("nan")
     sim = SimpleNamespace(settled=0, counts=(0, 0, 0, 5), seed=2,
                           frequencies=[SimpleNamespace(p=nan, lo=0.0, hi=1.0)] * 3)
     surf = SimpleNamespace(name="wood", restitution=0.5, friction=0.3)
     coins = SimpleNamespace(unit=None, counts=None)
-    row = _row(coins, 0, 0.5, 0.02426, surf, sim, False)
+    row = study_row(coins, 0, 0.5, 0.02426, surf, sim, False)
     assert row[5:14] == [None] * 9 and row[14:] == [0, 5, 2]
 
 
