@@ -9,11 +9,10 @@ written here to stdout, or to the ``--out`` file through
 
 from __future__ import annotations
 
-import sys
-
 from coincli.cli import app
 from coincli.cli._options import declared
 from coincli.errors import compute_error, usage_error
+from coincli.io import notes
 from coincli.io.table import Result, emit_all
 from coincli.io.terminal import stderr_is_terminal
 from coincli.render.progress import tossing_bar
@@ -36,7 +35,7 @@ def _output(result, fmt: str, quiet: bool, out: str | None) -> None:
     except OSError as exc:
         raise compute_error(f"cannot write {out!r}: {exc.strerror or exc}") from None
     if stderr_is_terminal():
-        sys.stderr.write(f"coin: wrote {out} ({size:,} bytes)\n")
+        notes.wrote(out, f"{size:,} bytes")
 
 
 # --------------------------------------------------------------------------- the command

@@ -23,18 +23,23 @@ import contextvars
 import sys
 from typing import NamedTuple
 
-__all__ = ["Note", "note", "warning", "seed", "lines", "after", "collected", "Rows"]
+__all__ = ["Note", "note", "warning", "seed", "wrote", "lines", "after", "collected", "Rows"]
 
 
 class Note(NamedTuple):
-    """One line a run says besides its rows: ``kind`` (``"warning"``, ``"note"`` or ``"seed"``)
-    and its ``text``; ``str(note)`` is the line the command line prints."""
+    """One line a run says besides its rows: ``kind`` (``"warning"``, ``"note"``, ``"seed"`` or
+    ``"wrote"``, a file written) and its ``text``; ``str(note)`` is the line the command line
+    prints."""
 
     kind: str
     text: str
 
     def __str__(self) -> str:
-        return f"coin: {self.text}" if self.kind == "seed" else f"coin: {self.kind}: {self.text}"
+        if self.kind == "seed":
+            return f"coin: {self.text}"
+        if self.kind == "wrote":
+            return f"coin: wrote {self.text}"
+        return f"coin: {self.kind}: {self.text}"
 
 
 _COLLECTOR: contextvars.ContextVar[list | None] = contextvars.ContextVar("coin_notes",
@@ -66,6 +71,11 @@ def warning(text: str) -> None:
 def seed(value: int) -> None:
     """``coin: seed N (--seed N repeats this run)``: a drawn seed the output has no room for."""
     _say(Note("seed", f"seed {value} (--seed {value} repeats this run)"))
+
+
+def wrote(path: str, what: str) -> None:
+    """``coin: wrote PATH (WHAT)``: a file written besides the output (a figure, ``--out``)."""
+    _say(Note("wrote", f"{path} ({what})"))
 
 
 def lines(items) -> None:

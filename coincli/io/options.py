@@ -24,9 +24,9 @@ loads no numpy, scipy or rich at import.
 from __future__ import annotations
 
 import math
-import sys
 
 from coincli.errors import shown, usage_error
+from coincli.io import notes
 from coincli.io import grammar as parse
 from coincli.io.batches import values_option, values_stream
 
@@ -441,10 +441,7 @@ def report_seed(seed: int, given: bool) -> None:
     """A drawn seed on stderr, where the output itself has no room for it (``-q``,
     ``--stream``): every random result can be repeated.  A seed the user gave is not repeated."""
     if not given:
-        try:
-            sys.stderr.write(f"coin: seed {seed} (--seed {seed} repeats this run)\n")
-        except (OSError, ValueError):
-            pass
+        notes.seed(seed)
 
 
 def report_drawn_seed() -> None:

@@ -31,6 +31,7 @@ import sys
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
+from coincli.io import notes
 from coincli.core import models
 from coincli.core.modelspec import ModelSpec, table_i_deg
 from coincli.errors import MatplotlibMissing, compute_error, install_hint, usage_error
@@ -324,10 +325,7 @@ def write_figure(fig, path: str, dpi: float = 150.0, too_small: str = "") -> Non
     w, h = (float(v) for v in fig.get_size_inches())
     dims = (f"{round(w * dpi)} x {round(h * dpi)} pixels" if figure_format(path) == "png" else
             f"{w:g} x {h:g} inches")
-    try:
-        sys.stderr.write(f"coin: wrote {path} ({dims})\n")
-    except (OSError, ValueError):
-        pass
+    notes.wrote(path, dims)
 
 
 # --------------------------------------------------------------------------- models

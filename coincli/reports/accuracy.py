@@ -10,11 +10,11 @@ No numpy, scipy or rich at import time.
 
 from __future__ import annotations
 
-import sys
 from typing import NamedTuple
 
 from coincli.core.modelspec import ModelSpec
 from coincli.errors import compute_error, usage_error
+from coincli.io import notes
 from coincli.io.options import seed_value
 from coincli.io.table import Column
 
@@ -265,8 +265,4 @@ def tolist(v, n):
 
 
 def _warn(message: str) -> None:
-    try:
-        sys.stderr.write(f"coin: warning: {message}\n")
-        sys.stderr.flush()
-    except (OSError, ValueError):
-        pass
+    notes.warning(message)

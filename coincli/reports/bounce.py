@@ -15,10 +15,10 @@ scipy, rich or mujoco at import time; ``--landing catch`` (the default) never lo
 from __future__ import annotations
 
 import math
-import sys
 from typing import TYPE_CHECKING
 
 from coincli.errors import compute_error, usage_error
+from coincli.io import notes
 from coincli.io.table import Column, Result
 from coincli.limits import MAX_BOUNCE_TOSSES
 from coincli.reports.launch import core_call, no_progress
@@ -385,13 +385,10 @@ DesignResult = BounceResult  #: what ``coin design --landing bounce`` returns
 
 def warn_unmet(results) -> None:
     """After a report's output is written: the warning and notes of a bouncing run
-    (:class:`BounceResult`), on stderr; nothing for any other result."""
+    (:class:`BounceResult`, :func:`coincli.io.notes.after`), on stderr; nothing for any other
+    result."""
     for r in [results] if isinstance(results, Result) else results:
-        lines = ([f"coin: warning: {r.warning}"] if getattr(r, "warning", None) else []) + [
-            f"coin: note: {n}" for n in getattr(r, "notes", ())]
-        if lines:
-            sys.stdout.flush()
-            sys.stderr.write("".join(line + "\n" for line in lines))
+        notes.lines(notes.after(r))
 
 
 

@@ -12,8 +12,8 @@ load when a report runs, never at import.
 from __future__ import annotations
 
 import math
-import sys
 
+from coincli.io import notes
 from coincli.io import options
 from coincli.io.table import CHUNK_ROWS, Column, Result
 
@@ -362,14 +362,13 @@ def test_note(ch) -> str:
 
 
 def warn_thick(x: float, where: str) -> None:
-    """Caught flips of a thick coin: warn (stderr), once per run."""
+    """Caught flips of a thick coin: warn (:mod:`coincli.io.notes`), once per run."""
     from coincli.core.stats.caught import CAUGHT_XI_LIMIT
 
     if x > CAUGHT_XI_LIMIT:
-        sys.stderr.write(f"coin: warning: {where}xi = {x:.6g} is above {CAUGHT_XI_LIMIT}: "
-                         "caught flips (faces only) are the thin coin's case; this coin lands "
-                         "on a side often enough that conditioning on a face may not describe "
-                         "how it was caught\n")
+        notes.warning(f"{where}xi = {x:.6g} is above {CAUGHT_XI_LIMIT}: caught flips (faces "
+                      "only) are the thin coin's case; this coin lands on a side often enough "
+                      "that conditioning on a face may not describe how it was caught")
 
 
 def percent_text(conf: float) -> str:

@@ -13,11 +13,11 @@ numpy, scipy, rich or mujoco at import time.
 from __future__ import annotations
 
 import math
-import sys
 from dataclasses import dataclass
 
 from coincli import limits as L
 from coincli.errors import InputError, compute_error, shown, usage_error
+from coincli.io import notes
 from coincli.io import grammar as parse
 from coincli.io import options
 from coincli.limits import BOUNCE_G_MAX, BOUNCE_XI_MAX, HAND, MAX_BOUNCE_TOSSES, SURFACE_NAMES
@@ -164,8 +164,7 @@ def bounce_physics(*, surface=None, restitution=None, friction=None, torsional=N
 
         jobs_v = capped_jobs(int(j))
         if jobs_v < int(j):  # more workers than cores only share them, and cost a process each
-            sys.stderr.write(f"coin: note: --jobs {int(j)} capped at {jobs_v}, the cores this "
-                             "process may use\n")
+            notes.note(f"--jobs {int(j)} capped at {jobs_v}, the cores this process may use")
     from coincli.reports.executor import parse_run
 
     sched, ckpt, tmo = parse_run(jobs=jobs, scheduler=scheduler, checkpoint=checkpoint,

@@ -15,6 +15,7 @@ import math
 import sys
 
 from coincli.errors import compute_error, usage_error
+from coincli.io import notes
 from coincli.io import grammar as parse
 from coincli.io import options
 from coincli.limits import DEFAULT_DIAMETER, STANDARD_G
@@ -292,9 +293,8 @@ def sides(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
                      f"{fitted.fit.p_value:.3g})")
         if fitted is not None and why:  # tosses that did not settle
             curve += f"; {why}"
-        sys.stderr.write(f"coin: note: simulated points: {count} tosses at each of 8 xi from "
-                         f"{lo:.4g} to {hi:.4g} onto {physics.describe()}, {labels}; seed "
-                         f"{seed_v}; {curve}\n")
+        notes.note(f"simulated points: {count} tosses at each of 8 xi from {lo:.4g} to "
+                   f"{hi:.4g} onto {physics.describe()}, {labels}; seed {seed_v}; {curve}")
     with _quiet():
         return _sides(target, xi_marks, p_marks, psi_curves, dens, rng, exps, log, (w, h, d),
                       title, bounce)
@@ -328,10 +328,10 @@ def _sides(target, xi_marks, p_marks, psi_curves, dens, rng, exps, log, size, ti
     _notes(data.skipped)
 
 
-def _notes(notes) -> None:
-    """What could not be drawn (a design off the axis), one line each on stderr."""
-    for n in notes:
-        sys.stderr.write(f"coin: note: {n}\n")
+def _notes(skipped) -> None:
+    """What could not be drawn (a design off the axis), one note each."""
+    for n in skipped:
+        notes.note(n)
 
 
 # --------------------------------------------------------------------------- psi
