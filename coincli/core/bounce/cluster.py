@@ -193,11 +193,12 @@ class Cluster:
                 self.scratch = tempfile.mkdtemp(prefix="coin-dask-")
                 with dask.config.set({**QUIET, "temporary-directory": self.scratch}), \
                         _held(STOPS):
-                    _start_tracker()
-                    self.local = distributed.LocalCluster(
+                    self.local, stop = _started(lambda: distributed.LocalCluster(
                         n_workers=self.workers or default_jobs(), threads_per_worker=1,
                         processes=True, dashboard_address=None, silence_logs=logging.CRITICAL,
-                        local_directory=self.scratch)
+                        local_directory=self.scratch), self.timeout)
+                    if stop is not None:  # the cluster (if it started) is closed by open()
+                        raise stop
                 self.client = distributed.Client(self.local, timeout=self.timeout)
             else:
                 self.client = distributed.Client(self.address, timeout=self.timeout,
@@ -229,19 +230,26 @@ class Cluster:
         """Close the client and the LocalCluster (its workers joined), then remove the
         LocalCluster's scratch directory; a signal that arrives meanwhile waits until it is
         done (and then stops the run, if this is not already its cleanup)."""
+        stop = None
         with _held(STOPS):
             for thing in (self.client, self.local):
-                if thing is not None:
+                while thing is not None:
                     try:
                         thing.close()
+                    except KeyboardInterrupt as exc:  # one more Ctrl-C: the cleanup goes on
+                        stop = stop or exc
+                        continue
                     except Exception:  # noqa: BLE001 - already gone: nothing left to close
                         pass
+                    break
             self.client = self.local = None
             if self.scratch is not None:
                 import shutil
 
                 shutil.rmtree(self.scratch, ignore_errors=True)
                 self.scratch = None
+        if stop is not None:
+            raise stop
 
     def chunk(self, n: int) -> int:
         """The chunk of a run of ``n`` tosses on this cluster (:func:`chunk_for` its workers
@@ -414,6 +422,48 @@ def _held(names):
             signal.pthread_sigmask(signal.SIG_SETMASK, before)
 
 
+def _started(make, timeout: float):
+    """``make()`` (the LocalCluster) in a thread of its own, which has :data:`STOPS` blocked
+    as this thread has (:func:`_held`), and so every thread and process it starts: ``(its
+    result, None)``.  A stop that arrives meanwhile (pending here, or raised here by a handler
+    that another thread of coin's ran) waits for the end of the start, so that the cluster
+    exists to be closed: ``(the cluster, the stop)``, the stop an exception to raise; if the
+    start has not ended ``timeout`` s after the stop, ``(None, the stop)``, what was started
+    left to Dask."""
+    import signal
+
+    box = {}
+    done = threading.Event()  # not Thread.join: a join a signal interrupts may end for good
+
+    def start():
+        try:
+            _start_tracker()
+            box["made"] = make()
+        except BaseException as exc:  # noqa: BLE001 - raised again in the caller's thread
+            box["error"] = exc
+        finally:
+            done.set()
+
+    thread = threading.Thread(target=start, name="coin: LocalCluster start", daemon=True)
+    nums = {getattr(signal, name) for name in STOPS if hasattr(signal, name)}
+    pending = getattr(signal, "sigpending", set)
+    stop = since = None
+    thread.start()
+    while not done.is_set():
+        try:
+            done.wait(POLL)
+            if since is None and nums & pending():
+                since = time.monotonic()
+        except KeyboardInterrupt as exc:  # Ctrl-C, SIGTERM or SIGHUP (signals.Stopped)
+            stop = stop or exc
+            since = since or time.monotonic()
+        if since is not None and time.monotonic() - since > timeout:
+            return None, stop or KeyboardInterrupt()
+    if "error" in box and stop is None:
+        raise box["error"]
+    return box.get("made"), stop
+
+
 def _block(names):
     """Block the signals ``names`` in this thread: the mask before, or None (no masks)."""
     import signal
@@ -426,7 +476,8 @@ def _block(names):
 
 def _start_tracker() -> None:
     """Start multiprocessing's resource tracker now, in this thread, with :data:`STOPS`
-    blocked (:func:`_held`), so that it keeps SIGHUP blocked; and block them again here.
+    blocked (:func:`_held`, :func:`_started`), so that it keeps SIGHUP blocked; and block them
+    again here.
     Started later, by the first worker's spawn in one of Dask's threads, it would unblock
     SIGINT and SIGTERM in that thread on its way out (``ensure_running`` does), and the
     workers spawned from it would take a Ctrl-C while importing Dask (a traceback each)."""
