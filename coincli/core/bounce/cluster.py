@@ -184,11 +184,11 @@ class Cluster:
             _probe(self.address, self.timeout)
         try:
             if self.address == LOCAL:
+                import tempfile
+
                 from coincli.core.bounce.runs import default_jobs
 
                 import dask
-
-                import tempfile
 
                 self.scratch = tempfile.mkdtemp(prefix="coin-dask-")
                 with dask.config.set({**QUIET, "temporary-directory": self.scratch}), \
@@ -409,9 +409,8 @@ def _held(names):
     cleanup then closes the cluster and its workers (they are stopped through their nannies'
     queues, not by signals).  Otherwise each worker ends on its own, a traceback each, and a
     resource tracker killed by SIGHUP is started again and prints a KeyError for every
-    semaphore it never saw.  It also means a stop cannot interrupt the start half-way, which
-    left a cluster that Dask's atexit hook then failed to close (``AssertionError:
-    Status.init``).  Where threads have no signal mask (not POSIX), nothing is blocked."""
+    semaphore it never saw.  Around the close too, so that it is not cut short.  Where
+    threads have no signal mask (not POSIX), nothing is blocked."""
     import signal
 
     before = _block(names)
@@ -429,7 +428,8 @@ def _started(make, timeout: float):
     that another thread of coin's ran) waits for the end of the start, so that the cluster
     exists to be closed: ``(the cluster, the stop)``, the stop an exception to raise; if the
     start has not ended ``timeout`` s after the stop, ``(None, the stop)``, what was started
-    left to Dask."""
+    left to Dask.  A start that a stop cut short left a cluster that Dask's atexit hook then
+    failed to close (``AssertionError: Status.init``)."""
     import signal
 
     box = {}
@@ -477,8 +477,7 @@ def _block(names):
 def _start_tracker() -> None:
     """Start multiprocessing's resource tracker now, in this thread, with :data:`STOPS`
     blocked (:func:`_held`, :func:`_started`), so that it keeps SIGHUP blocked; and block them
-    again here.
-    Started later, by the first worker's spawn in one of Dask's threads, it would unblock
+    again here.  Started later, by the first worker's spawn in one of Dask's threads, it would unblock
     SIGINT and SIGTERM in that thread on its way out (``ensure_running`` does), and the
     workers spawned from it would take a Ctrl-C while importing Dask (a traceback each)."""
     try:
