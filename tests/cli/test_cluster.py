@@ -447,3 +447,125 @@ def test_a_scheduler_lost_mid_run_is_one_line_and_the_checkpoint_stays(cluster, 
     error((p.returncode, out, err), 1, f"lost the scheduler at {cluster.address}")
     assert 1 <= _records(ck) < 6
     json.loads(ck.read_text().splitlines()[-1])  # whole lines only
+
+
+# --scheduler local and a terminal's signals (issue 38, item 2).  A terminal sends Ctrl-C
+# (SIGINT) or, closed, SIGHUP to its whole foreground process group, so to the LocalCluster's
+# workers too; SIGTERM comes from `kill -- -PGID` or timeout(1) of a group.  The run must end
+# as with --jobs 2: one line, 128 + the signal, nothing left in TMPDIR (a private one here),
+# no process of its session alive.  About 10 s each (a LocalCluster of 2 workers; chunks of 64).
+
+LOCAL = ["simulate", "--landing", "bounce", "-n", "1024", "--seed", "1", "--xi", "0.5",
+         "--scheduler", "local", "-f", "csv"]
+STOP_WORDS = {signal.SIGINT: "interrupted", signal.SIGTERM: "terminated (SIGTERM)",
+              signal.SIGHUP: "hung up (SIGHUP)"}
+
+
+def _session(sid: int) -> list[int]:
+    """Every live (not zombie) process of session ``sid`` (a scan of /proc)."""
+    alive = []
+    for name in os.listdir("/proc"):
+        if name.isdigit():
+            try:
+                with open(f"/proc/{name}/stat") as f:
+                    fields = f.read().rsplit(")", 1)[1].split()
+            except (OSError, IndexError):
+                continue
+            if int(fields[3]) == sid and fields[0] not in "ZX":
+                alive.append(int(name))
+    return alive
+
+
+def _kids(pid: int) -> list[int]:
+    """The children of ``pid``, whichever of its threads started them."""
+    kids = []
+    try:
+        for tid in os.listdir(f"/proc/{pid}/task"):
+            with open(f"/proc/{pid}/task/{tid}/children") as f:
+                kids += [int(k) for k in f.read().split()]
+    except OSError:
+        pass
+    return kids
+
+
+def _scratch_made(scratch: Path) -> bool:
+    """Dask's scheduler made its ``dask-scratch-space`` (in TMPDIR, or in a directory there)."""
+    return any(path.name == "dask-scratch-space" for path in scratch.rglob("*"))
+
+
+def _local_run(tmp_path, *more):
+    """coin LOCAL in a session of its own, SIGINT at its default, a private TMPDIR."""
+    scratch = tmp_path / "tmpdir"
+    scratch.mkdir()
+    p = subprocess.Popen([*COIN, *LOCAL, *more], stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True, start_new_session=True,
+                         cwd=tmp_path, env=_env(TMPDIR=str(scratch)), preexec_fn=sigint_default)
+    return p, scratch
+
+
+def _wait(ready, p, what, limit=120.0):
+    t0 = time.monotonic()
+    while not ready():
+        if p.poll() is not None:
+            pytest.fail(f"coin ended before {what}: {p.returncode} {p.stderr.read()[-800:]}")
+        if time.monotonic() - t0 > limit:
+            pytest.fail(f"no sign of {what} after {limit} s")
+        time.sleep(0.02)
+
+
+def _stopped(p, sig, scratch):
+    """One line, 128 + sig, nothing on stdout, nothing left in TMPDIR nor in the session."""
+    try:
+        out, err = p.communicate(timeout=90)
+    finally:
+        if p.poll() is None:
+            os.killpg(p.pid, signal.SIGKILL)
+            p.communicate()
+    assert (p.returncode, out) == (128 + sig, ""), (p.returncode, err[-3000:])
+    assert err == f"coin: error: {STOP_WORDS[sig]}\n", err[-3000:]
+    t0 = time.monotonic()
+    while _session(p.pid) and time.monotonic() - t0 < 20:
+        time.sleep(0.05)
+    assert _session(p.pid) == []
+    assert sorted(os.listdir(scratch)) == []
+
+
+needs_proc = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+
+
+@needs_proc
+@pytest.mark.slow
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM, signal.SIGHUP],
+                         ids=["INT", "TERM", "HUP"])
+def test_a_signal_to_the_group_of_a_local_cluster_run_is_one_line(sig, tmp_path):
+    """The signal to the whole process group once the workers are at work (a chunk in the
+    checkpoint): the workers, which got it too, print nothing; the LocalCluster's directory
+    is removed."""
+    ck = tmp_path / "run.ckpt"
+    p, scratch = _local_run(tmp_path, "--checkpoint", str(ck))
+    _wait(lambda: _records(ck) >= 1, p, "a chunk done")
+    os.killpg(p.pid, sig)
+    _stopped(p, sig, scratch)
+
+
+@needs_proc
+@pytest.mark.slow
+@pytest.mark.parametrize(("sig", "group", "moment"), [
+    (signal.SIGINT, True, "scheduler"), (signal.SIGINT, True, "workers"),
+    (signal.SIGHUP, True, "workers"), (signal.SIGINT, False, "workers")],
+    ids=["INT-group-scheduler", "INT-group-workers", "HUP-group-workers", "INT-coin-workers"])
+def test_a_signal_while_the_local_cluster_starts_is_one_line(sig, group, moment, tmp_path):
+    """The signal while the LocalCluster is starting: as soon as its scheduler made its
+    directory in TMPDIR, or once its workers are spawned (still importing Dask); to the whole
+    group, or to coin alone.  No traceback from a worker, nor from Dask's atexit hook
+    (``AssertionError: Status.init``)."""
+    p, scratch = _local_run(tmp_path)
+    if moment == "scheduler":
+        _wait(lambda: _scratch_made(scratch), p, "the scheduler's directory")
+    else:
+        _wait(lambda: len(_kids(p.pid)) >= 3, p, "the workers spawned")  # and the tracker
+    if group:
+        os.killpg(p.pid, sig)
+    else:
+        p.send_signal(sig)
+    _stopped(p, sig, scratch)

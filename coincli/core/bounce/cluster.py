@@ -19,6 +19,7 @@ it ran on (Dask's ``KilledWorker``: the tosses are named), a worker of another v
 
 from __future__ import annotations
 
+import contextlib
 import os
 import threading
 import time
@@ -147,6 +148,7 @@ class Cluster:
         self.address, self.timeout, self.workers = address, float(timeout), workers
         self.client = None
         self.local = None
+        self.scratch = None  #: the LocalCluster's directory (TMPDIR/coin-dask-*), removed on close
         self.want = None
         self.nworkers = 1  #: the workers when the cluster was reached (the chunk's size)
 
@@ -159,7 +161,16 @@ class Cluster:
         return False
 
     def open(self) -> None:
-        """Connect (or start the LocalCluster), wait for a worker, check the versions."""
+        """Connect (or start the LocalCluster), wait for a worker, check the versions; closed
+        again whatever stops it (a fault, Ctrl-C, SIGTERM, SIGHUP), as ``__exit__`` does not run
+        when ``__enter__`` raises."""
+        try:
+            self._open()
+        except BaseException:
+            self.close()
+            raise
+
+    def _open(self) -> None:
         import logging
 
         os.environ.setdefault("DASK_LOGGING__DISTRIBUTED", "critical")  # the workers we start
@@ -173,14 +184,21 @@ class Cluster:
             _probe(self.address, self.timeout)
         try:
             if self.address == LOCAL:
+                import tempfile
+
                 from coincli.core.bounce.runs import default_jobs
 
                 import dask
 
-                with dask.config.set(QUIET):
-                    self.local = distributed.LocalCluster(
+                self.scratch = tempfile.mkdtemp(prefix="coin-dask-")
+                with dask.config.set({**QUIET, "temporary-directory": self.scratch}), \
+                        _held(STOPS):
+                    self.local, stop = _started(lambda: distributed.LocalCluster(
                         n_workers=self.workers or default_jobs(), threads_per_worker=1,
-                        processes=True, dashboard_address=None, silence_logs=logging.CRITICAL)
+                        processes=True, dashboard_address=None, silence_logs=logging.CRITICAL,
+                        local_directory=self.scratch), self.timeout)
+                    if stop is not None:  # the cluster (if it started) is closed by open()
+                        raise stop
                 self.client = distributed.Client(self.local, timeout=self.timeout)
             else:
                 self.client = distributed.Client(self.address, timeout=self.timeout,
@@ -209,13 +227,29 @@ class Cluster:
                 raise NotComputable(_mismatch(got, self.want, f"the worker {addr}"))
 
     def close(self) -> None:
-        for thing in (self.client, self.local):
-            if thing is not None:
-                try:
-                    thing.close()
-                except Exception:  # noqa: BLE001 - already gone: nothing left to close
-                    pass
-        self.client = self.local = None
+        """Close the client and the LocalCluster (its workers joined), then remove the
+        LocalCluster's scratch directory; a signal that arrives meanwhile waits until it is
+        done (and then stops the run, if this is not already its cleanup)."""
+        stop = None
+        with _held(STOPS):
+            for thing in (self.client, self.local):
+                while thing is not None:
+                    try:
+                        thing.close()
+                    except KeyboardInterrupt as exc:  # one more Ctrl-C: the cleanup goes on
+                        stop = stop or exc
+                        continue
+                    except Exception:  # noqa: BLE001 - already gone: nothing left to close
+                        pass
+                    break
+            self.client = self.local = None
+            if self.scratch is not None:
+                import shutil
+
+                shutil.rmtree(self.scratch, ignore_errors=True)
+                self.scratch = None
+        if stop is not None:
+            raise stop
 
     def chunk(self, n: int) -> int:
         """The chunk of a run of ``n`` tosses on this cluster (:func:`chunk_for` its workers
@@ -357,6 +391,102 @@ def _probe(address: str, timeout: float) -> None:
         size = struct.unpack("<Q", head)[0]
         if not 0 < size < 1 << 24:
             raise NotComputable(f"{address} answered, but not as a Dask scheduler")
+
+
+#: the signals that stop a run (Ctrl-C, SIGTERM, a closed terminal's SIGHUP)
+STOPS = ("SIGINT", "SIGTERM", "SIGHUP")
+
+
+@contextlib.contextmanager
+def _held(names):
+    """The signals ``names`` blocked in this thread while the block runs; one that arrives
+    meanwhile is delivered (and raises, coin's handlers being in place) when it ends.
+
+    Around the start of the LocalCluster, so that every thread that Dask starts then (its
+    event loop, the nannies' process watchers), and so every process those threads spawn (the
+    workers, multiprocessing's resource tracker), has them blocked for good: the signal that a
+    terminal sends its whole process group (Ctrl-C, a closed window) reaches coin alone, whose
+    cleanup then closes the cluster and its workers (they are stopped through their nannies'
+    queues, not by signals).  Otherwise each worker ends on its own, a traceback each, and a
+    resource tracker killed by SIGHUP is started again and prints a KeyError for every
+    semaphore it never saw.  Around the close too, so that it is not cut short.  Where
+    threads have no signal mask (not POSIX), nothing is blocked."""
+    import signal
+
+    before = _block(names)
+    try:
+        yield
+    finally:
+        if before is not None:
+            signal.pthread_sigmask(signal.SIG_SETMASK, before)
+
+
+def _started(make, timeout: float):
+    """``make()`` (the LocalCluster) in a thread of its own, which has :data:`STOPS` blocked
+    as this thread has (:func:`_held`), and so every thread and process it starts: ``(its
+    result, None)``.  A stop that arrives meanwhile (pending here, or raised here by a handler
+    that another thread of coin's ran) waits for the end of the start, so that the cluster
+    exists to be closed: ``(the cluster, the stop)``, the stop an exception to raise; if the
+    start has not ended ``timeout`` s after the stop, ``(None, the stop)``, what was started
+    left to Dask.  A start that a stop cut short left a cluster that Dask's atexit hook then
+    failed to close (``AssertionError: Status.init``)."""
+    import signal
+
+    box = {}
+    done = threading.Event()  # not Thread.join: a join a signal interrupts may end for good
+
+    def start():
+        try:
+            _start_tracker()
+            box["made"] = make()
+        except BaseException as exc:  # noqa: BLE001 - raised again in the caller's thread
+            box["error"] = exc
+        finally:
+            done.set()
+
+    thread = threading.Thread(target=start, name="coin: LocalCluster start", daemon=True)
+    nums = {getattr(signal, name) for name in STOPS if hasattr(signal, name)}
+    pending = getattr(signal, "sigpending", set)
+    stop = since = None
+    thread.start()
+    while not done.is_set():
+        try:
+            done.wait(POLL)
+            if since is None and nums & pending():
+                since = time.monotonic()
+        except KeyboardInterrupt as exc:  # Ctrl-C, SIGTERM or SIGHUP (signals.Stopped)
+            stop = stop or exc
+            since = since or time.monotonic()
+        if since is not None and time.monotonic() - since > timeout:
+            return None, stop or KeyboardInterrupt()
+    if "error" in box and stop is None:
+        raise box["error"]
+    return box.get("made"), stop
+
+
+def _block(names):
+    """Block the signals ``names`` in this thread: the mask before, or None (no masks)."""
+    import signal
+
+    nums = {getattr(signal, name) for name in names if hasattr(signal, name)}
+    if not hasattr(signal, "pthread_sigmask") or not nums:
+        return None
+    return signal.pthread_sigmask(signal.SIG_BLOCK, nums)
+
+
+def _start_tracker() -> None:
+    """Start multiprocessing's resource tracker now, in this thread, with :data:`STOPS`
+    blocked (:func:`_held`, :func:`_started`), so that it keeps SIGHUP blocked; and block them
+    again here.  Started later, by the first worker's spawn in one of Dask's threads, it would unblock
+    SIGINT and SIGTERM in that thread on its way out (``ensure_running`` does), and the
+    workers spawned from it would take a Ctrl-C while importing Dask (a traceback each)."""
+    try:
+        from multiprocessing import resource_tracker
+
+        resource_tracker.ensure_running()
+    except Exception:  # noqa: BLE001 - no tracker here: nothing it could unblock
+        pass
+    _block(STOPS)
 
 
 def _silence(logging) -> None:
