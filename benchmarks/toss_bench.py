@@ -317,7 +317,7 @@ def engine(n: int, repeat: int):
     for label, a in (("ordinary", (0.577, math.pi / 2, 2.0, 40.0)),
                      ("omega 1e6 rad/s, u 1e-6 m/s", (0.577, math.pi / 2, 1e-6, 1e6)),
                      ("omega 1e6 rad/s, u 2 m/s (9e4 turns)", (0.577, 1.2, 2.0, 1e6))):
-        s = timed(lambda a=a: [T.flight_time(*a) for _ in range(k)])
+        s = timed(lambda a=a: [TB.flight_time(*a) for _ in range(k)])
         rows.append([f"flight_time one at a time, {label}", f"{k:,}",
                      f"{_report.fmt_rate(k / s)}/s"])
     s = timed(lambda: TP.phase_map(0.577, math.pi / 2, (0, 3), (0, 60), (200, 200)))

@@ -47,13 +47,13 @@ from __future__ import annotations
 
 import math
 import weakref
-from functools import lru_cache
 
 import numpy as np
 
 from coincli.core import models
+from coincli.core._numerics.quadrature import gauss_legendre
 from coincli.core._numerics.roots import POSITIVE_MAX, POSITIVE_MIN, positive_roots
-from coincli.core.densities import Cosine, Density, Normal, Table, Uniform
+from coincli.core.densities import Cosine, Density, Normal, Table, Uniform, check_density
 from coincli.core.models import HALF_PI, Outcome
 
 __all__ = [
@@ -142,36 +142,6 @@ def _check_order(order) -> int:
         raise ValueError(f"order must be an integer in [{MIN_ORDER}, {MAX_ORDER}] "
                          f"(Gauss-Legendre nodes per subinterval), got {order!r}")
     return int(order)
-
-
-@lru_cache(maxsize=64)
-def _gauss_legendre(n: int):
-    """The ``n``-point Gauss-Legendre rule on [0, 1] (nodes ascending, weights).
-
-    Newton's method on ``P_n`` (the three-term recurrence) from Tricomi's estimates
-    ``cos(pi (k - 1/4) / (n + 1/2))``, run until no step exceeds 4e-16 and then once more;
-    weights ``2 / ((1 - x^2) P_n'(x)^2)``; both made exactly symmetric.  Against 40-digit
-    mpmath, n = 2 to 64, on [0, 1]: nodes within 0.95 * 2^-53, weights within 1.4e-13
-    relative (numpy's ``leggauss``: 0.90 * 2^-53 and 1.8e-12), without importing
-    ``numpy.polynomial`` (2 ms of a simulate's start-up).  tests/test_averages.py checks it.
-    """
-    k = np.arange(1, n + 1)
-    x = np.cos(math.pi * (k - 0.25) / (n + 0.5))
-    converged = False
-    for _ in range(50):
-        p_prev, p = np.ones(n), x
-        for j in range(2, n + 1):
-            p_prev, p = p, ((2 * j - 1) * x * p - (j - 1) * p_prev) / j
-        dp = n * (x * p - p_prev) / (x * x - 1)
-        step = p / dp
-        x = x - step
-        if converged:
-            break
-        converged = bool(np.max(np.abs(step)) <= 4e-16)
-    w = 2 / ((1 - x * x) * dp * dp)  # dp of the last step: the change in x is below 1e-31
-    x, w = x[::-1], w[::-1]  # ascending
-    x, w = (x - x[::-1]) / 2, (w + w[::-1]) / 2
-    return (x + 1) / 2, w / 2  # on [0, 1]
 
 
 # --------------------------------------------------------------------------- the density
@@ -432,7 +402,7 @@ def _layout_many(xi: np.ndarray, breaks: np.ndarray, tails=()):
 
 
 def _nodes(a, b, n, scale):
-    x, w = _gauss_legendre(n)
+    x, w = gauss_legendre(n)
     h = (b - a)[:, None]
     return a[:, None] + h * x, (h * scale) * w
 
@@ -718,7 +688,7 @@ def marginal(xi, density: Density | None = None, *, order: int = DEFAULT_ORDER) 
     >>> [round(v, 3) for v in marginal(3 ** -0.5, Uniform())]  # Table II, uniform column
     [0.63, 0.281, 0.088]
     """
-    density = _check_density(density)
+    density = check_density(density)
     n = _check_order(order)
     xi = models.check_xi(xi)
     if isinstance(xi, float):
@@ -757,13 +727,6 @@ def check_table_work(density: Density, count: int, per: int = 1, what: str = "xi
         f"{k * count * per:.3g} point evaluations, more than the {MAX_TABLE_WORK:.0e} one run "
         f"makes; give at most {most} {what}, or a table of at most "
         f"{max(MAX_TABLE_WORK // (count * per), 2)} points")
-
-
-def _check_density(density):
-    density = Normal() if density is None else density
-    if not isinstance(density, Density):
-        raise ValueError(f"density must be a coincli.core.densities.Density, got {density!r}")
-    return density
 
 
 # --------------------------------------------------------------------------- inverses
@@ -828,7 +791,7 @@ def marginal_inverse(p_sides, density: Density | None = None, *, order: int = DE
     its inverse (:func:`conditional_inverse`, or :func:`coincli.core.models.dynamic_inverse` at a mean
     of exactly ``HALF_PI``).  Accuracy: docs/accuracy.md.
     """
-    density = _check_density(density)
+    density = check_density(density)
     n = _check_order(order)
     psi = _delta(density)
     if psi is not None:

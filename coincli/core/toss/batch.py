@@ -48,6 +48,7 @@ from coincli.core.toss.flight import (
     _SQRT3_2,
     DEFAULT_DIAMETER,
     HEADS,
+    NAMES,
     SIDES,
     STANDARD_G,
     TAILS,
@@ -62,10 +63,12 @@ from coincli.core.toss.flight import (
     _problem_message,
     _setup,
     classify,
+    scalar_setup,
 )
 
-__all__ = ["Tosses", "toss_many"]
+__all__ = ["Tosses", "toss_many", "Toss", "toss", "flight_time"]
 
+_TWO_PI = 2.0 * math.pi
 _BATCH = 1 << 13  # tosses refined together: arrays of 64 kB stay in cache (1.5 to 2x the speed of 2^16)
 
 
@@ -611,3 +614,55 @@ def _sampled_codes(np, psi, u, om, a, z0, g, c, lim, ns, geo, tail, terms):
     code[sides] = SIDES
     code[~ok] = -1
     return code
+
+
+# --------------------------------------------------------------------------- one toss
+
+
+@_record(frozen=True)
+class Toss:
+    """One toss: time of flight, turns, final tilt and outcome."""
+
+    t_f: float  #: s, time of flight (first contact with the catch plane z = 0)
+    turns: float  #: omega t_f / (2 pi), precession turns in the air
+    alpha_f: float  #: rad, tilt of the normal at contact
+    theta0: float  #: rad, the static angle atan2(1, xi)
+    vigor: float  #: u omega / g (>> 1 for the closed forms)
+    outcome: str  #: 'heads', 'sides' or 'tails'
+    code: int  #: 0, 1, 2
+    z0: float  #: m, launch height of the centre
+    contact: str  #: 'rim' or 'thick'
+
+
+def flight_time(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, contact="rim",
+                z0=None):
+    """Time of flight ``t_f`` (s): the smallest positive root of ``z(t) - L(alpha(t)) = 0``.
+
+    Parameters are SI scalars: ``psi`` in radians, ``u`` in m/s, ``omega`` in rad/s,
+    ``diameter`` in m.  ``z0`` overrides the launch height (see :func:`default_z0`); it must
+    exceed the initial depth of the lowest point (0 for rim, ``h/2`` for thick).
+    See the module docstring for the algorithm and its guarantee.
+    """
+    scalar_setup(xi, psi, u, omega, diameter, g, contact, z0)
+    return float(toss_many(xi, psi, u, omega, diameter=diameter, g=g, contact=contact,
+                           z0=z0).t_f)
+
+
+def toss(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, contact="rim", z0=None):
+    """Simulate one toss (SI scalars, ``psi`` in radians); return a :class:`Toss`.
+
+    The same computation as :func:`toss_many` (one toss is a batch of one)."""
+    s = scalar_setup(xi, psi, u, omega, diameter, g, contact, z0)
+    r = toss_many(xi, psi, u, omega, diameter=diameter, g=g, contact=contact, z0=z0)
+    t_f, code = float(r.t_f), int(r.code)
+    return Toss(
+        t_f=t_f,
+        turns=omega * t_f / _TWO_PI,
+        alpha_f=float(r.alpha_f),
+        theta0=math.atan2(1.0, float(xi)),
+        vigor=u * omega / g,
+        outcome=NAMES[code],
+        code=code,
+        z0=float(s.z0),
+        contact=contact,
+    )

@@ -108,15 +108,13 @@ __all__ = [
     "MAX_PHASE",
     "MAX_TOSSES",
     "U_MAX",
-    "Toss",
     "default_z0",
     "lowest_point",
     "alpha_at",
     "classify",
-    "flight_time",
     "flight_limits",
     "check_toss",
-    "toss",
+    "scalar_setup",
 ]
 
 HEADS, SIDES, TAILS = 0, 1, 2  #: outcome codes
@@ -470,48 +468,19 @@ def _alpha(np, sp, cp, sh, ch):
     return 2.0 * np.arctan2(sp * sh, np.sqrt(ch * ch + cs * cs))  # (no overflow: both <= 1)
 
 
-# --------------------------------------------------------------------------- one toss
-
-
-@_record(frozen=True)
-class Toss:
-    """One toss: time of flight, turns, final tilt and outcome."""
-
-    t_f: float  #: s, time of flight (first contact with the catch plane z = 0)
-    turns: float  #: omega t_f / (2 pi), precession turns in the air
-    alpha_f: float  #: rad, tilt of the normal at contact
-    theta0: float  #: rad, the static angle atan2(1, xi)
-    vigor: float  #: u omega / g (>> 1 for the closed forms)
-    outcome: str  #: 'heads', 'sides' or 'tails'
-    code: int  #: 0, 1, 2
-    z0: float  #: m, launch height of the centre
-    contact: str  #: 'rim' or 'thick'
-
-
-def flight_time(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, contact="rim",
-                z0=None):
-    """Time of flight ``t_f`` (s): the smallest positive root of ``z(t) - L(alpha(t)) = 0``.
-
-    Parameters are SI scalars: ``psi`` in radians, ``u`` in m/s, ``omega`` in rad/s,
-    ``diameter`` in m.  ``z0`` overrides the launch height (see :func:`default_z0`); it must
-    exceed the initial depth of the lowest point (0 for rim, ``h/2`` for thick).
-    See the module docstring for the algorithm and its guarantee.
-    """
-    from coincli.core.toss.batch import toss_many
-
-    _scalar_setup(xi, psi, u, omega, diameter, g, contact, z0)
-    return float(toss_many(xi, psi, u, omega, diameter=diameter, g=g, contact=contact,
-                           z0=z0).t_f)
+# --------------------------------------------------------------------------- one toss: the checks
 
 
 def check_toss(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, contact="rim",
                z0=None):
     """Raise the ValueError :func:`toss` would raise for these numbers (out of range, or a toss
     the scan cannot follow), without tossing; return None when the toss can be made."""
-    _scalar_setup(xi, psi, u, omega, diameter, g, contact, z0)
+    scalar_setup(xi, psi, u, omega, diameter, g, contact, z0)
 
 
-def _scalar_setup(xi, psi, u, omega, diameter, g, contact, z0):
+def scalar_setup(xi, psi, u, omega, diameter, g, contact, z0):
+    """The checked :class:`_Setup` of one toss (numbers only), or the ValueError that
+    :func:`coincli.core.toss.batch.toss` raises for it."""
     for name, v in (("xi", xi), ("psi", psi), ("u", u), ("omega", omega),
                     ("diameter", diameter), ("g", g)):
         if not isinstance(v, (int, float)) or isinstance(v, bool):
@@ -1054,25 +1023,3 @@ def _newton(np, lo, hi, flo, fplo, fhi, fphi, q, thick):
     else:  # pragma: no cover - the bracket halves at least every other step
         raise RuntimeError("the root refinement did not converge")
     return out, osh, och
-
-
-def toss(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, contact="rim", z0=None):
-    """Simulate one toss (SI scalars, ``psi`` in radians); return a :class:`Toss`.
-
-    The same computation as :func:`toss_many` (one toss is a batch of one)."""
-    from coincli.core.toss.batch import toss_many
-
-    s = _scalar_setup(xi, psi, u, omega, diameter, g, contact, z0)
-    r = toss_many(xi, psi, u, omega, diameter=diameter, g=g, contact=contact, z0=z0)
-    t_f, code = float(r.t_f), int(r.code)
-    return Toss(
-        t_f=t_f,
-        turns=omega * t_f / _TWO_PI,
-        alpha_f=float(r.alpha_f),
-        theta0=math.atan2(1.0, float(xi)),
-        vigor=u * omega / g,
-        outcome=NAMES[code],
-        code=code,
-        z0=float(s.z0),
-        contact=contact,
-    )
