@@ -378,7 +378,7 @@ def conditional(xi, psi):
             band = near & _long_double_band(xp, args[1], args[5], args[6])
             if band.any():  # most of the near ones: offsets rounded from 64-bit long doubles
                 args[5][band], args[6][band] = _offsets_long_double(xp, xi[band], psi[band])
-                near &= ~band
+                near = near & ~band
             if near.any():
                 for a, v in zip(args, _near_boundary(xp, xi[near], psi[near],
                                                      *(a[near] for a in args)), strict=True):
@@ -387,6 +387,8 @@ def conditional(xi, psi):
         tails = xp.minimum(tails, heads)  # theta1 + theta2 >= pi; rounding near psi = pi/2 aside
         if xp is not M:
             heads, sides, tails = (xp.asarray(v, dtype=float) for v in (heads, sides, tails))
+            if _extended(xp) and heads.size:
+                _extended_finish(xp, xi, psi, args[5], args[6], near, heads, sides, tails)
         return Outcome(heads, sides, tails)
 
 
@@ -416,6 +418,89 @@ def _long_double_band(xp, t, u1, u2):
     return (xp.minimum(xp.abs(u1), xp.abs(u2)) >= _BAND_REL * t) & (t >= _BAND_T_MIN)
 
 
+def _extended(xp):
+    """Whether the numpy path finishes Table I in 64-bit long double (:func:`_extended_finish`)."""
+    return xp.finfo(xp.longdouble).nmant + 1 >= _LONG_DOUBLE_BITS
+
+
+def _extended_finish(xp, xi, psi, u1, u2, dd, heads, sides, tails):
+    """Table I again in 64-bit long double, rounded once to double, into heads, sides, tails.
+
+    Monotone to the last bit.  In double, ``t = theta0/2`` (and with it ``sin t``, ``cos t`` and
+    the offsets) is rounded once, ``cos theta0`` is rounded from xi on its own, and each of the
+    twenty operations after them rounds again: a chance is within 4 ulps, but the errors come
+    and go from one double xi to the next, so that P(sides) stepped down (and heads, tails up)
+    by 1 to 6 ulps over runs of consecutive doubles.  Here every input is formed from xi and psi
+    in long double (relative error a few 2**-64) and the formulas of :func:`_from_offsets` run
+    in long double: the result is the exact chance within a few 2**-64 relative, rounded once.
+    Where the exact chances of two adjacent doubles differ by more than that (everywhere the
+    chance moves by at least ~2**-60 relative per double step of xi), their roundings keep their
+    order, since rounding is monotone; where they differ by less, both round to the same double
+    except within ~2**-60 of a rounding boundary.  The result is also correctly rounded outside
+    those hairline cases, so it is at least as accurate as the double formulas.
+
+    Offsets within ``_NEAR t`` of a boundary come from the double-double ones as hi + lo (good
+    to 2**-104 t); within ``2**-40 t``, the exact offset of :func:`_offsets_exact` rounded to
+    double, as the double path has it.  Elements with ``t < 2**-40`` (xi > 2**39, where the
+    planar frame and the exact offsets take over) or an infinite xi keep the double result.
+    """
+    L = xp.longdouble
+    shape = heads.shape
+    xi_b, psi_b, u1_b, u2_b, dd_b = (xp.broadcast_to(a, shape).ravel()
+                                     for a in (xi, psi, u1, u2, dd))
+    t_d = xp.arctan2(1.0, xi_b) / 2
+    rows = xp.flatnonzero((t_d >= _BAND_T_MIN) & (xi_b < xp.inf))
+    if not rows.size:
+        return
+    x, p = xi_b[rows], psi_b[rows]
+    xl = x.astype(L)
+    t = xp.arctan2(L(1), xl) / 2
+    s0, c0 = xp.sin(t), xp.cos(t)
+    c = xl / xp.hypot(L(1), xl)
+    upper = p > _PIO2_HI
+    psi_m = xp.where(upper, (_PI_HI - p).astype(L) + L(_PI_LO) + L(_PI_LO2), p.astype(L))
+    e = xp.abs(xp.where(upper, (p - _PIO2_HI).astype(L) - L(_PIO2_LO) - L(_PIO2_LO2),
+                        (_PIO2_HI - p).astype(L) + L(_PIO2_LO) + L(_PIO2_LO2)))
+    w1, w2 = psi_m - t, t - e
+    close = xp.flatnonzero(dd_b[rows])
+    if close.size:  # double-double offsets, hi + lo
+        a1, a2 = _dd_offsets(xp, x[close], p[close])
+        tc = t_d[rows][close]
+        for w, a, u in ((w1, a1, u1_b), (w2, a2, u2_b)):
+            exact = xp.abs(a) < _EXACT_REL * tc.astype(L)
+            w[close] = xp.where(exact, u[rows][close].astype(L), a)
+    h, s, tl = _from_offsets(xp, xp.sin(psi_m), t, s0, c0, c, w1, w2)
+    tl = xp.minimum(tl, h)
+    for out, v in ((heads, h), (sides, s), (tails, tl)):
+        out.reshape(-1)[rows] = v.astype(float)
+
+
+def _dd_offsets(xp, xi, psi):
+    """(u1, u2) of :func:`_from_offsets` in long double from the double-double offsets of
+    :func:`_near_boundary` (hi + lo: good to about 2**-104 theta0/2); numpy path, t >= 2**-900."""
+    L = xp.longdouble
+    (mh, ml), (eh, el) = _dd_fold(xp, psi)
+    uniq, inv = xp.unique(xi, return_inverse=True)
+    th, tl = (v[inv] for v in _half_theta0_dd(xp, uniq)[:2])
+    u1h, u1l = _dd_add(mh, ml, -th, -tl)
+    u2h, u2l = _dd_add(th, tl, -eh, -el)
+    return u1h.astype(L) + u1l.astype(L), u2h.astype(L) + u2l.astype(L)
+
+
+def _dd_fold(xp, psi):
+    """psi folded onto [0, pi/2] and e = |pi/2 - psi|, both as double-doubles (exact to 2**-160
+    of pi): ``(mh, ml), (eh, el)``."""
+    upper = psi > _PIO2_HI  # folded onto pi - psi
+    # psi_m = pi - psi on the upper half (PI_HI - psi is exact there: two_sum keeps it all)
+    mh, ml = _two_sum(xp.where(upper, _PI_HI, psi), xp.where(upper, -psi, 0.0))
+    mh, ml = _dd_add(mh, ml, xp.where(upper, _PI_LO, 0.0), xp.where(upper, _PI_LO2, 0.0))
+    # e = pi/2 - psi (lower half) or psi - pi/2 (upper half), exactly
+    eh, el = _two_sum(xp.where(upper, psi, _PIO2_HI), xp.where(upper, -_PIO2_HI, -psi))
+    eh, el = _dd_add(eh, el, xp.where(upper, -_PIO2_LO, _PIO2_LO),
+                     xp.where(upper, -_PIO2_LO2, _PIO2_LO2))
+    return (mh, ml), (eh, el)
+
+
 def _offsets_long_double(xp, xi, psi):
     """(u1, u2) of :func:`_from_offsets` computed in long double and rounded to double.
 
@@ -440,14 +525,7 @@ def _near_boundary(xp, xi, psi, sigma, t, s0, c0, c, u1, u2):
     ``u1 = psi_m - t`` and ``u2 = t - e`` keep their relative accuracy however close ``psi`` is to
     a boundary (down to ~2**-104 t).  Elementwise; xp is math or numpy.
     """
-    upper = psi > _PIO2_HI  # folded onto pi - psi
-    # psi_m = pi - psi on the upper half (PI_HI - psi is exact there: two_sum keeps it all)
-    mh, ml = _two_sum(xp.where(upper, _PI_HI, psi), xp.where(upper, -psi, 0.0))
-    mh, ml = _dd_add(mh, ml, xp.where(upper, _PI_LO, 0.0), xp.where(upper, _PI_LO2, 0.0))
-    # e = pi/2 - psi (lower half) or psi - pi/2 (upper half), exactly
-    eh, el = _two_sum(xp.where(upper, psi, _PIO2_HI), xp.where(upper, -_PIO2_HI, -psi))
-    eh, el = _dd_add(eh, el, xp.where(upper, -_PIO2_LO, _PIO2_LO),
-                     xp.where(upper, -_PIO2_LO2, _PIO2_LO2))
+    (mh, ml), (eh, el) = _dd_fold(xp, psi)
     if xp is M:
         th, tl, ts, tsl = _half_theta0_dd(xp, xi)
     else:  # theta0/2 depends on xi alone: once per distinct xi (a sweep over psi has one)
