@@ -101,6 +101,22 @@ _FLOOR_NARROW = 3e-14  #: ... for a normal narrower than _NARROW_SD
 _NARROW_SD = 1e-3
 
 
+def _working():
+    """The type the quadrature sums in: numpy's 64-bit long double where there is one (each
+    sum is rounded to double once, in :func:`_finish`), else double.
+
+    Monotone to the last bit: in double, the nodes ``psi`` (which move with xi), the integrands
+    and the sums each round, and those errors come and go from one double xi to the next, so
+    that P(sides) stepped down (and heads, tails up) by 1 to 6 ulps over runs of consecutive
+    doubles.  In long double the sums are the quadrature's value within a few 2**-64 relative;
+    the quadrature's own error (about 1e-18 at 16 nodes) changes smoothly with xi, except
+    where a graded breakpoint appears, by far less than a chance moves from one double to the
+    next.  Rounding once, a monotone step, keeps the order of the sums (see
+    :func:`coincli.core.models._extended_finish`).
+    """
+    return np.longdouble if models._extended(np) else np.float64
+
+
 def _floor(density) -> float:
     if isinstance(density, Normal) and density.sd < _NARROW_SD:
         return _FLOOR_NARROW
@@ -259,7 +275,25 @@ def _folded_pdf(density: Density):
                 mirror = np.exp(np.fmax(gap * ((psi - HALF_PI) / sd), -1e300))  # fmax: inf*0
                 return np.exp(ln - 0.5 * (z * (z + 2 * beyond))) * (1.0 + mirror)
         return normal
+    if type(density) is Table:
+        xs, ws = density.psi, density.w
+
+        def table(psi):  # joined linearly in psi's own precision (np.interp is double only)
+            return _interp(psi, xs, ws) + _interp(math.pi - psi, xs, ws)
+        return table
     return lambda psi: density.pdf(psi) + density.pdf(math.pi - psi)
+
+
+def _interp(x, xs, ws):
+    """The points ``(xs, ws)`` joined linearly at ``x`` (zero outside them) as ``w0 + f (w1 -
+    w0)``, ``f = (x - x0)/(x1 - x0)`` in [0, 1], in the precision of ``x``
+    (:meth:`coincli.core.densities.Table.pdf`'s form for steep tables)."""
+    k = np.clip(np.searchsorted(xs, x, side="right") - 1, 0, xs.size - 2)
+    x0, x1 = xs[k], xs[k + 1]
+    f = np.clip((x - x0) / (x1 - x0), 0.0, 1.0)
+    w0 = ws[k]
+    out = w0 + f * (ws[k + 1] - w0)
+    return np.where((x < xs[0]) | (x > xs[-1]), 0.0, out)
 
 
 # --------------------------------------------------------------------------- layout
@@ -313,9 +347,7 @@ def _layout_one(x: float, breaks: list[float], tails=()):
     """(params, [(a, b) of pieces A, B, C]) for one finite xi."""
     t = math.atan2(1.0, x) / 2
     beta = math.atan(x)
-    xc = min(x, 2.0**600)  # beyond, x/hypot(1, x) is 1.0 (and inf/inf is kept away)
-    par = (t, beta, math.sin(t), math.cos(t), xc / math.hypot(1.0, xc), math.sin(beta / 2),
-           math.cos(beta / 2))
+    par = _params(np.array([x]))[:, 0]
     lo = HALF_PI - t
     pa = [p / t for p in breaks if p < t]
     pb = _graded_one(math.sqrt(2 * t / beta)) if beta > 0 else []
@@ -331,6 +363,19 @@ def _layout_one(x: float, breaks: list[float], tails=()):
                                                               mu, sd), strict=True):
                 into.extend(v[0].tolist())
     return par, [_edges_one(pa), _edges_one(pb), _edges_one(pc)]
+
+
+def _params(xi: np.ndarray):
+    """(t, beta, sin t, cos t, cos theta0, sin beta/2, cos beta/2), rows of the working
+    precision (:func:`_working`), for a 1-D array of finite xi.  The breakpoints are laid out
+    from double t and beta; the nodes and integrands take these."""
+    x = xi.astype(_working())
+    one = x.dtype.type(1)
+    t = np.arctan2(one, x) / 2
+    beta = np.arctan(x)
+    xc = np.minimum(x, 2.0**600)  # beyond, x/hypot(1, x) is 1.0 (and inf/inf is kept away)
+    return np.stack([t, beta, np.sin(t), np.cos(t), xc / np.hypot(one, xc), np.sin(beta / 2),
+                     np.cos(beta / 2)])
 
 
 def _tail_points(t, beta, mu, sd):
@@ -372,9 +417,7 @@ def _layout_many(xi: np.ndarray, breaks: np.ndarray, tails=()):
     m = xi.size
     t = np.arctan2(1.0, xi) / 2
     beta = np.arctan(xi)
-    xc = np.minimum(xi, 2.0**600)
-    par = np.stack([t, beta, np.sin(t), np.cos(t), xc / np.hypot(1.0, xc), np.sin(beta / 2),
-                    np.cos(beta / 2)])
+    par = _params(xi)
     nb = breaks.size
     lo = HALF_PI - t
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
@@ -402,7 +445,11 @@ def _layout_many(xi: np.ndarray, breaks: np.ndarray, tails=()):
 
 
 def _nodes(a, b, n, scale):
+    """Nodes and weights on the subintervals [a, b] (doubles: consecutive subintervals share
+    their end exactly) in the working precision of ``scale``."""
     x, w = gauss_legendre(n)
+    dt = np.result_type(scale, np.float64)
+    a, b = a.astype(dt), b.astype(dt)
     h = (b - a)[:, None]
     return a[:, None] + h * x, (h * scale) * w
 
@@ -421,7 +468,7 @@ def _piece_b(a, b, n, p, fold):
     u1 = beta * (s * s)  # psi - t
     # D1 = sin^2 psi - sin^2 t = sin u1 sin(2t + u1): both angles in [0, pi/2], no cancellation
     q1 = np.sqrt(np.sin(u1)) * np.sqrt(np.sin(2 * t + u1))
-    out = np.empty((3, *q1.shape))  # theta1/2, its complement, 1 (the mass)
+    out = np.empty((3, *q1.shape), dtype=q1.dtype)  # theta1/2, its complement, 1 (the mass)
     np.arctan2(s0, q1, out=out[0])
     np.arctan2(q1, s0, out=out[1])
     out[2] = 1.0
@@ -438,7 +485,7 @@ def _piece_c(a, b, n, p, fold):
     # and 2t - u2 >= t, so each factor keeps its relative accuracy
     q1 = np.sqrt(np.sin(beta + u2)) * np.sqrt(np.cos(u2))
     q2 = np.sqrt(np.sin(u2)) * np.sqrt(np.sin(2 * t - u2))
-    out = np.empty((4, *q1.shape))  # theta1/2, (theta2 - theta1)/2, (pi - theta2)/2, 1
+    out = np.empty((4, *q1.shape), dtype=q1.dtype)  # theta1/2, (theta2 - theta1)/2, (pi - theta2)/2, 1
     np.arctan2(s0, q1, out=out[0])
     # (theta2 - theta1)/2 = atan2(c sin^2 psi, (sqrt(D1 D2) + c0 s0)(c0 sqrt D1 + s0 sqrt D2))
     # with sin^2 psi = D1 + s0^2
@@ -459,10 +506,9 @@ _BLOCK = 1 << 15  #: nodes per numpy pass: the temporaries stay in cache
 def _integrate_one(x: float, density: Density, n: int, breaks: list[float]):
     p, pieces = _layout_one(x, breaks, _tail_centres(density))
     fold = _folded_pdf(density)
-    acc = [0.0] * 5
+    acc = np.zeros(5, dtype=p.dtype)
     for fn, slots, (a, b) in zip(_PIECES, _SLOTS, pieces, strict=True):
-        for k, v in zip(slots, fn(a, b, n, p, fold).sum(axis=1).tolist(), strict=True):
-            acc[k] += v
+        acc[list(slots)] += fn(a, b, n, p, fold).sum(axis=1)
     return acc
 
 
@@ -470,7 +516,7 @@ def _integrate_many(xi: np.ndarray, density: Density, n: int, breaks: np.ndarray
     m = xi.size
     par, pieces = _layout_many(xi, breaks, _tail_centres(density))
     fold = _folded_pdf(density)
-    acc = np.zeros((5, m))
+    acc = np.zeros((5, m), dtype=par.dtype)
     linear = isinstance(density, Table) and breaks.size > _MANY_KINKS
     for k, (fn, slots, (rows, a, b)) in enumerate(zip(_PIECES, _SLOTS, pieces, strict=True)):
         if not rows.size:
@@ -544,20 +590,20 @@ def _finish(acc):
     mass = acc[0] + acc[4]
     h = (acc[0] + _scale(acc[1])) / mass
     s, t = _scale(acc[2]) / mass, _scale(acc[3]) / mass
-    if isinstance(h, float):
+    if acc.ndim == 1:  # one xi: three floats
         if h >= s and h >= t:
             h = 1.0 - (s + t)
         elif s >= t:
             s = 1.0 - (h + t)
         else:
             t = 1.0 - (h + s)
-        return min(max(h, 0.0), 1.0), min(max(s, 0.0), 1.0), min(max(t, 0.0), 1.0)
+        return tuple(float(min(max(v, 0.0), 1.0)) for v in (h, s, t))
     v = np.stack([h, s, t])
     k = np.argmax(v, axis=0)
     cols = np.arange(v.shape[1])
     v[k, cols] = 0.0
     v[k, cols] = 1.0 - v.sum(axis=0)
-    return np.clip(v, 0.0, 1.0)
+    return np.clip(v, 0.0, 1.0).astype(np.float64)  # the one rounding of the long double sums
 
 
 def _delta(density: Density) -> float | None:
