@@ -51,6 +51,7 @@ import weakref
 import numpy as np
 
 from coincli.core import models
+from coincli.core._numerics.backend import long_double_64
 from coincli.core._numerics.quadrature import gauss_legendre
 from coincli.core._numerics.roots import POSITIVE_MAX, POSITIVE_MIN, positive_roots
 from coincli.core.densities import Cosine, Density, Normal, Table, Uniform, check_density
@@ -114,7 +115,7 @@ def _working():
     next.  Rounding once, a monotone step, keeps the order of the sums (see
     :func:`coincli.core.models._extended_finish`).
     """
-    return np.longdouble if models._extended(np) else np.float64
+    return np.longdouble if long_double_64(np) else np.float64
 
 
 def _floor(density) -> float:
@@ -211,7 +212,7 @@ _BREAKS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 _TAILS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
-def _psi_breaks(density: Density) -> np.ndarray:
+def psi_breaks(density: Density) -> np.ndarray:
     """Sorted points of (0, pi/2) where the folded density has a kink or a fast change."""
     try:
         return _BREAKS[density]
@@ -681,7 +682,7 @@ def _marginal_flat(xi: np.ndarray, density: Density, n: int) -> np.ndarray:
         out[1, thin] = xi[thin] * (base[1, 1] / _THIN)
     fin = np.nonzero(~inf & ~thin)[0]
     if fin.size:
-        breaks = _psi_breaks(density)
+        breaks = psi_breaks(density)
         step = max(1, min(_CHUNK // (breaks.size + 64), _CHUNK_BREAKS // max(breaks.size, 1)))
         for k in range(0, fin.size, step):
             idx = fin[k:k + step]
@@ -705,7 +706,7 @@ def _marginal_scalar(x: float, density: Density, n: int, breaks=None):
         h0, _, t0 = _marginal_scalar(0.0, density, n, breaks)
         return h0, x * (_marginal_scalar(_THIN, density, n, breaks)[1] / _THIN), t0
     if breaks is None:
-        breaks = _psi_breaks(density).tolist()
+        breaks = psi_breaks(density).tolist()
     return _finish(_integrate_one(x, density, n, breaks))
 
 
@@ -764,7 +765,7 @@ def check_table_work(density: Density, count: int, per: int = 1, what: str = "xi
     times) exceed :data:`MAX_TABLE_WORK`, naming how many values or points would fit."""
     if not isinstance(density, Table):
         return
-    k = max(int(_psi_breaks(density).size), 1)
+    k = max(int(psi_breaks(density).size), 1)
     if k * count * per <= MAX_TABLE_WORK:
         return
     most = max(MAX_TABLE_WORK // (k * per), 1)
@@ -844,7 +845,7 @@ def marginal_inverse(p_sides, density: Density | None = None, *, order: int = DE
         if psi == HALF_PI:
             return models.dynamic_inverse(p_sides)
         return conditional_inverse(p_sides, psi)
-    breaks = _psi_breaks(density).tolist()
+    breaks = psi_breaks(density).tolist()
     forward = _rows(lambda x: _marginal_scalar(x, density, n, breaks),
                     lambda x: _marginal_flat(x, density, n))
 
@@ -899,7 +900,7 @@ def _table_i_guess(p, psi):
     then ``xi = c/sqrt((1 - c)(1 + c))``.  Good to about 1e-13 where nothing cancels, and the start
     of the root finding everywhere (it is not returned as the answer).
     """
-    psi_m, e = models._fold_psi(models.M, psi)
+    psi_m, e = models.fold_psi(models.M, psi)
     q = 1.0 - p
     up = p > 0.5
     with np.errstate(all="ignore"):

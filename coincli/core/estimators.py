@@ -37,7 +37,7 @@ import numpy as np
 from coincli.core import averages as _mg
 from coincli.core import models
 from coincli.core._numerics.roots import bisect
-from coincli.core._numerics.wilson import _z, wilson_interval
+from coincli.core._numerics.wilson import two_sided_z, wilson_interval
 from coincli.core.densities import Cosine, Density, Normal, Table, Uniform, check_density
 from coincli.core.models import HALF_PI, Outcome
 
@@ -61,7 +61,7 @@ __all__ = [
 
 METHODS = ("auto", "quad", "mc", "qmc")
 MC_MAX_SAMPLES = 1 << 28  #: default cap on tosses (or points) for a tolerance (seconds)
-_Z95 = _z(0.95)  # the 97.5% point of the standard normal (coincli.core._numerics.wilson's stored value)
+_Z95 = two_sided_z(0.95)  # the 97.5% point of the standard normal (coincli.core._numerics.wilson's stored value)
 _MIN_TOL, _MAX_TOL = 1e-16, 0.5
 
 
@@ -159,7 +159,7 @@ def scipy_quad(xi, density: Density | None = None, *, tol: float = 1e-10) -> Est
     tol = check_tol(tol)
     xi = models.check_xi(xi)
     flat = np.atleast_1d(np.asarray(xi, dtype=float)).ravel()
-    breaks = _mg._psi_breaks(density).tolist()
+    breaks = _mg.psi_breaks(density).tolist()
     out = np.zeros((3, flat.size))
     err = np.zeros((3, flat.size))
     evals = 0

@@ -25,7 +25,7 @@ import functools
 import math
 from typing import NamedTuple
 
-from coincli.core._numerics.backend import M, namespace
+from coincli.core._numerics.backend import M, long_double_64, namespace
 
 __all__ = [
     "Outcome",
@@ -247,7 +247,7 @@ def dynamic(xi):
 # --------------------------------------------------------------------------- the general case
 
 
-def _fold_psi(xp, psi):
+def fold_psi(xp, psi):
     """Return (psi_m, e): psi folded onto [0, pi/2] and e = pi/2 - psi_m, both to full accuracy.
 
     P(i | psi) = P(i | pi - psi) (Table I is symmetric), so only the folded angle matters.
@@ -294,7 +294,7 @@ def _from_offsets(xp, sigma, t, s0, c0, c, u1, u2):
     heads = xp.where(u1 > 0, _over_half_pi(xp, xp.atan2(s0, q1)), 1.0)
     tails = xp.where(u2 > 0, _over_half_pi(xp, xp.atan2(q2, c0)), 0.0)
     two = _over_half_pi(xp, xp.atan2(q1, s0))
-    p, e = _two_prod(xp, c0, q1)
+    p, e = two_prod(xp, c0, q1)
     den = p + (s0 * q2 + e)  # c0 sqrt D1 + s0 sqrt D2 with the larger product exact
     w = c / xp.where(den > 0, den, 1.0)  # sin((theta2 - theta1)/2); the guard spares math a 0/0
     wide = xp.atan2(sigma * sigma * c, (q1 * q2 + c0 * s0) * den)  # (theta2 - theta1)/2 by atan2
@@ -316,7 +316,7 @@ _TWO_OVER_PI_LO = -3.935735335036497e-17
 
 def _over_half_pi(xp, a):
     """a / (pi/2) as a (2/pi)_hi + a (2/pi)_lo, the first product exact (Dekker): one rounding."""
-    p, e = _two_prod(xp, a, _TWO_OVER_PI_HI)
+    p, e = two_prod(xp, a, _TWO_OVER_PI_HI)
     return p + (e + a * _TWO_OVER_PI_LO)
 
 
@@ -364,7 +364,7 @@ def conditional(xi, psi):
     xp = namespace(xi, psi)
     with _errstate(xp):
         t, s0, c0, c = _parts(xp, xi)
-        psi_m, e = _fold_psi(xp, psi)
+        psi_m, e = fold_psi(xp, psi)
         args = [xp.sin(psi_m), t, s0, c0, c, psi_m - t, t - e]  # sigma, t, s0, c0, c, u1, u2
         if xp is not M:  # full-shape copies, for the masked updates below
             xi, psi, *args = (a.copy() for a in xp.broadcast_arrays(xi, psi, *args))
@@ -387,7 +387,7 @@ def conditional(xi, psi):
         tails = xp.minimum(tails, heads)  # theta1 + theta2 >= pi; rounding near psi = pi/2 aside
         if xp is not M:
             heads, sides, tails = (xp.asarray(v, dtype=float) for v in (heads, sides, tails))
-            if _extended(xp) and heads.size:
+            if long_double_64(xp) and heads.size:
                 _extended_finish(xp, xi, psi, args[5], args[6], near, heads, sides, tails)
         return Outcome(heads, sides, tails)
 
@@ -408,19 +408,13 @@ _PLANAR_SCALE = 2.0**840
 # take the double-double path of _near_boundary.
 _BAND_REL = 2.0**-8
 _BAND_T_MIN = 2.0**-40
-_LONG_DOUBLE_BITS = 64  # significand bits the band needs
 
 
 def _long_double_band(xp, t, u1, u2):
     """Mask of the elements whose offsets long double computes to full double accuracy."""
-    if xp.finfo(xp.longdouble).nmant + 1 < _LONG_DOUBLE_BITS:
+    if not long_double_64(xp):
         return xp.zeros(xp.shape(t), dtype=bool)
     return (xp.minimum(xp.abs(u1), xp.abs(u2)) >= _BAND_REL * t) & (t >= _BAND_T_MIN)
-
-
-def _extended(xp):
-    """Whether the numpy path finishes Table I in 64-bit long double (:func:`_extended_finish`)."""
-    return xp.finfo(xp.longdouble).nmant + 1 >= _LONG_DOUBLE_BITS
 
 
 def _extended_finish(xp, xi, psi, u1, u2, dd, heads, sides, tails):
@@ -635,7 +629,7 @@ def _half_theta0_dd(xp, xi):
     big = xi > 1
     x = xp.minimum(xi, 1 / _PLANAR_T)  # keeps inf (handled by the planar frame) out of the way
     wh = xp.where(big, 1 / xp.maximum(x, 1.0), x)
-    ph, pl = _two_prod(xp, wh, x)
+    ph, pl = two_prod(xp, wh, x)
     wl = xp.where(big, ((1.0 - ph) - pl) / xp.maximum(x, 1.0), 0.0)  # 1/xi - wh = (1 - wh xi)/xi
     ah, al = _dd_atan(xp, wh, wl)
     th, tl = _dd_add(xp.where(big, ah, _PIO2_HI), xp.where(big, al, _PIO2_LO),
@@ -644,7 +638,7 @@ def _half_theta0_dd(xp, xi):
     # Planar frame: 2**840 / (2 xi) = 2**-61 / xs with xs = xi 2**-900 in [1, 2**125) (or inf)
     xs = xp.maximum(xi, 1 / _PLANAR_T) * _PLANAR_T
     qh = 1 / xs
-    ph, pl = _two_prod(xp, qh, xp.minimum(xs, 2.0**125))
+    ph, pl = two_prod(xp, qh, xp.minimum(xs, 2.0**125))
     ql = xp.where(xs < xp.inf, ((1.0 - ph) - pl) / xs, 0.0)  # 1/xs = qh + ql
     scale = _PLANAR_T * _PLANAR_SCALE / 2
     return th / 2, tl / 2, qh * scale, ql * scale
@@ -689,7 +683,7 @@ def dynamic_inverse(p_sides):
         upper = p > 0.5
         q = xp.where(upper, 1.0 - p, p)  # exact for p > 1/2
         # x = (pi/2) q as hi + lo: Dekker's product of q with _PIO2_HI, plus q * _PIO2_LO.
-        hi, lo = _two_prod(xp, q, _PIO2_HI)
+        hi, lo = two_prod(xp, q, _PIO2_HI)
         lo = lo + q * _PIO2_LO
         x = hi + lo
         lo = lo - (x - hi)
@@ -702,7 +696,7 @@ def dynamic_inverse(p_sides):
         return xp.where(upper, 1.0 / tq, tq)
 
 
-def _two_prod(xp, a, b):
+def two_prod(xp, a, b):
     """a * b = p + e exactly (Dekker, no fma): for |a|, |b| well inside the double range."""
     p = a * b
     split = 134217729.0  # 2**27 + 1
@@ -744,14 +738,14 @@ def _dd_add(ah, al, bh, bl):
 
 def _dd_mul(xp, ah, al, bh, bl):
     """(ah + al) * (bh + bl) to about 2**-104 relative."""
-    p, e = _two_prod(xp, ah, bh)
+    p, e = two_prod(xp, ah, bh)
     return _fast_two_sum(p, e + (ah * bl + al * bh))
 
 
 def _dd_div_int(xp, ah, al, n):
     """(ah + al) / n for a small integer n (exact as a double)."""
     q = ah / n
-    p, e = _two_prod(xp, q, float(n))
+    p, e = two_prod(xp, q, float(n))
     return _fast_two_sum(q, (((ah - p) - e) + al) / n)
 
 

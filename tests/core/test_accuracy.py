@@ -143,7 +143,7 @@ def test_within_4_ulp(name, path, report, monkeypatch):
         if name != "conditional":
             pytest.skip("only conditional uses long double")
         monkeypatch.setattr(models, "_long_double_band", _no_band)
-        monkeypatch.setattr(models, "_extended", lambda xp: False)
+        monkeypatch.setattr(models, "long_double_64", lambda xp: False)
     outputs = _scalar_outputs(name) if path == "scalar" else _array_outputs(name)
     worst, fails = _worst(name, outputs)
     for label, err, where, mean in worst:
@@ -245,7 +245,7 @@ def test_paths_agree_bit_for_bit_given_the_same_libm(name, monkeypatch):
     # math twin: off, as on a platform whose long double is a double (the double-double path
     # and the double formulas the scalar path takes)
     monkeypatch.setattr(models, "_long_double_band", _no_band)
-    monkeypatch.setattr(models, "_extended", lambda xp: False)
+    monkeypatch.setattr(models, "long_double_64", lambda xp: False)
     array = _array_outputs(name)
     monkeypatch.undo()
     same = _bits(scalar) == _bits(array)

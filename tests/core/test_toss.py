@@ -269,7 +269,7 @@ def _grazing(psi, xi, contact, u=2.0, om=776.0):
     from scipy.optimize import brentq
 
     thick = contact == "thick"
-    s = T._setup(np, xi, psi, u, om, D, G, thick, None)
+    s = T.setup(np, xi, psi, u, om, D, G, thick, None)
     q = T._batch(np, s, 1)
 
     def f_and_fp(t):
@@ -369,7 +369,7 @@ def test_outcomes_without_refinement_are_those_of_toss_many(xi, contact):
     u = 10 ** rng.uniform(-3, 1.5, k)
     om = 10 ** rng.uniform(-2, 4, k)
     ref = TB.toss_many(xi, psi, u, om, contact=contact).code
-    assert np.array_equal(TB._outcomes(xi, psi, u, om, contact=contact), ref)
+    assert np.array_equal(TB.outcome_codes(xi, psi, u, om, contact=contact), ref)
     # Dense scans in omega: every outcome change is a toss whose alpha_f sits on a boundary.
     # (A coin of no thickness lands as alpha turns through pi/2, its boundary, an infinitely
     # thick one on its side: one outcome throughout.)
@@ -378,7 +378,7 @@ def test_outcomes_without_refinement_are_those_of_toss_many(xi, contact):
     for p_, u_ in ((math.pi / 2, 2.4), (1.1, 1.0), (0.3, 3.0)):
         ref = TB.toss_many(xi, p_, u_, w, contact=contact).code
         changes += np.count_nonzero(ref[1:] != ref[:-1])
-        assert np.array_equal(TB._outcomes(xi, p_, u_, w, contact=contact), ref)
+        assert np.array_equal(TB.outcome_codes(xi, p_, u_, w, contact=contact), ref)
     assert changes > 20 or xi == 0 or math.isinf(xi)
 
 
@@ -414,7 +414,7 @@ def test_descent_outcomes_are_those_of_toss_many(kind, xi):
     c = TL.sample_conditions(3 * TS._CHUNK, rng, **(TL.HAND_TOSS if kind == "hand" else ORDINARY))
     psi, u, om = c["psi"], c["u"], c["omega"]
     ref = TB.toss_many(xi, psi, u, om).code
-    assert np.array_equal(TB._outcomes(xi, psi, u, om), ref)
+    assert np.array_equal(TB.outcome_codes(xi, psi, u, om), ref)
     first, cand, full = _descent_stages(xi, psi, u, om)
     got = first >= 0
     assert np.array_equal(first[got], ref[got])
@@ -448,7 +448,7 @@ def test_descent_outcomes_at_the_side_boundary(xi):
                 om = 2 * (target + k * math.pi) / tc * (1 + rel)
                 for psi in (math.pi / 2, 1.3):
                     ref = TB.toss_many(xi, psi, u, om).code
-                    assert np.array_equal(TB._outcomes(xi, psi, u, om), ref), (u, k, target, psi)
+                    assert np.array_equal(TB.outcome_codes(xi, psi, u, om), ref), (u, k, target, psi)
                     if psi == math.pi / 2:
                         _, _, full = _descent_stages(xi, np.full(om.size, psi),
                                                      np.full(om.size, u), om)
@@ -472,7 +472,7 @@ def test_descent_outcomes_on_other_coins_planets_and_tilts():
         u = 10 ** rng.uniform(-2, 2, n)
         om = 10 ** rng.uniform(-1, 4.5, n)
         ref = TB.toss_many(xi, psi, u, om, diameter=dia, g=g).code
-        assert np.array_equal(TB._outcomes(xi, psi, u, om, diameter=dia, g=g), ref)
+        assert np.array_equal(TB.outcome_codes(xi, psi, u, om, diameter=dia, g=g), ref)
         _, _, full = _descent_stages(xi, psi, u, om, dia, g)
         assert np.array_equal(full[full >= 0], ref[full >= 0])
         decided += np.count_nonzero(full >= 0)
@@ -483,7 +483,7 @@ def test_descent_outcomes_on_other_coins_planets_and_tilts():
 
 def test_outcomes_of_no_tosses():
     for contact in T.CONTACTS:
-        assert TB._outcomes(FAIR, np.zeros((2, 0)), 2.0, 40.0, contact=contact).shape == (2, 0)
+        assert TB.outcome_codes(FAIR, np.zeros((2, 0)), 2.0, 40.0, contact=contact).shape == (2, 0)
         assert TB.toss_many(FAIR, np.zeros(0), 2.0, 40.0, contact=contact).code.shape == (0,)
 
 
@@ -729,7 +729,7 @@ def test_wilson_interval_is_the_one_of_stats(level):
 
     from coincli.core._numerics import wilson
 
-    assert wilson._z(level) == -float(ndtri((1.0 - level) / 2))
+    assert wilson.two_sided_z(level) == -float(ndtri((1.0 - level) / 2))
     for k, n in ((0, 7), (1, 7), (3, 7), (7, 7), (1, 10**9), (333_333, 10**6)):
         lo, hi = wilson.wilson_interval(k, n, level)
         assert TS.wilson_interval(k, n, level) == (float(lo), float(hi))
