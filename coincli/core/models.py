@@ -350,7 +350,10 @@ def conditional(xi, psi):
     double where it has 64 bits (numpy path, ``|u| >= 2**-8 theta0/2``), else as double-doubles
     (:func:`_near_boundary`), and below ``2**-40 theta0/2`` exactly (:func:`_offsets_exact`).
     Measured against mpmath: within 4 ulps everywhere, the doubles adjacent to a boundary
-    included (docs/accuracy.md).
+    included (docs/accuracy.md).  Where long double has 64 bits, the numpy path then runs the
+    same forms again in long double and rounds once (:func:`_extended_finish`, for theta0/2 at
+    least 2**-40): the chances are monotone in xi over consecutive doubles (P(sides)
+    non-decreasing, heads and tails non-increasing), which the double forms are not.
 
     Examples
     --------
