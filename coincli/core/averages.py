@@ -30,6 +30,10 @@ piece's integrand is evaluated in one numpy pass; the sums go back to their ``xi
 ``u2 = psi - pi/2 + t``, each factor the sine of an angle in ``[0, pi/2]`` formed without
 cancellation, so that even a chance of 1e-300 keeps its relative accuracy.
 
+Precision.  Where numpy's long double has 64 bits (x86), the nodes, the integrands, the sums and
+the normalization below run in it, and each chance is rounded to double once (``_working``):
+the chances are then monotone in xi over consecutive doubles, which sums of doubles are not.
+
 Normalization.  The sums are divided by the quadrature's own mass of the density, and the
 largest chance is taken as 1 minus the other two: heads + sides + tails = 1 to rounding, every
 chance lies in [0, 1], and a narrow density's peak a rounding away from a piece's end costs
