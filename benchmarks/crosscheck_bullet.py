@@ -44,7 +44,7 @@ import pathlib
 import sys
 import time
 
-from coincli.core._numerics.quaternion import _qconj, _qrot
+from coincli.core._numerics.quaternion import qconj, qrot
 from coincli.core.bounce import engine as E
 from coincli.core.bounce import runs as R
 from coincli.core.toss.flight import classify, default_z0
@@ -100,7 +100,7 @@ class Bullet:
     def set(self, pos, q, v, w_body, t=0.0):
         """Centre, quaternion (w, x, y, z, body to world), velocity, body angular velocity."""
         p = self.p
-        w = _qrot(q, w_body)
+        w = qrot(q, w_body)
         p.resetBasePositionAndOrientation(self.body, pos, (q[1], q[2], q[3], q[0]),
                                           physicsClientId=self.cid)
         p.resetBaseVelocity(self.body, v, w, physicsClientId=self.cid)
@@ -119,7 +119,7 @@ class Bullet:
         pos, o = p.getBasePositionAndOrientation(self.body, physicsClientId=self.cid)
         v, w = p.getBaseVelocity(self.body, physicsClientId=self.cid)
         q = (o[3], o[0], o[1], o[2])
-        return tuple(pos), q, tuple(v), _qrot(_qconj(q), w)
+        return tuple(pos), q, tuple(v), qrot(qconj(q), w)
 
     def contacts(self):
         """Contact points touching (distance <= 0) or within the breaking threshold: positions."""
@@ -148,10 +148,10 @@ class BulletTosses:
     def _rolling(self, pts, state):
         """The energy of rolling on the side, as :meth:`Engine._rolling` (same rule)."""
         pos, q, v, wb = state
-        nx, ny, nz = _qrot(q, (0.0, 0.0, 1.0))
+        nx, ny, nz = qrot(q, (0.0, 0.0, 1.0))
         if not pts or abs(nz) > E.SIDE_TILT:
             return 0.0
-        ww = _qrot(q, wb)
+        ww = qrot(q, wb)
         for c in pts:
             rx, ry, rz = c[0] - pos[0], c[1] - pos[1], c[2] - pos[2]
             sx = v[0] + ww[1] * rz - ww[2] * ry

@@ -199,7 +199,7 @@ def throughput(n: int, repeat: int):
 
 
 def _descent_constants(xi):
-    """The rim coin's radius, launch height, band sines and descent limits, as ``_outcomes``
+    """The rim coin's radius, launch height, band sines and descent limits, as ``outcome_codes``
     sets them up for a quarter-sized coin of aspect ratio ``xi`` under standard gravity."""
     from coincli.core.toss import batch as TB
     from coincli.core.toss import flight as T
@@ -214,7 +214,7 @@ def _descent_constants(xi):
 def stages(kw, n, repeat, xi=0.577):
     """CPU seconds of simulate's outcome path over ``n`` drawn tosses, cumulatively: the bounds
     pass alone (``_descent_batch``), the rim path (``_descent_outcomes``: bounds and sampled
-    passes) and all of ``_outcomes`` (validation, then the scan for what is left): the least of
+    passes) and all of ``outcome_codes`` (validation, then the scan for what is left): the least of
     ``2 repeat + 1`` interleaved runs each (the cost without interference: the differences of
     medians are noise at a few nanoseconds)."""
     import numpy as np
@@ -246,7 +246,7 @@ def stages(kw, n, repeat, xi=0.577):
 
     def outcomes():
         for c in chunks:
-            TB._outcomes(xi, c["psi"], c["u"], c["omega"])
+            TB.outcome_codes(xi, c["psi"], c["u"], c["omega"])
 
     ts = {bounds: [], descent: [], outcomes: []}
     with np.errstate(all="ignore"):
@@ -317,7 +317,7 @@ def engine(n: int, repeat: int):
     for label, a in (("ordinary", (0.577, math.pi / 2, 2.0, 40.0)),
                      ("omega 1e6 rad/s, u 1e-6 m/s", (0.577, math.pi / 2, 1e-6, 1e6)),
                      ("omega 1e6 rad/s, u 2 m/s (9e4 turns)", (0.577, 1.2, 2.0, 1e6))):
-        s = timed(lambda a=a: [T.flight_time(*a) for _ in range(k)])
+        s = timed(lambda a=a: [TB.flight_time(*a) for _ in range(k)])
         rows.append([f"flight_time one at a time, {label}", f"{k:,}",
                      f"{_report.fmt_rate(k / s)}/s"])
     s = timed(lambda: TP.phase_map(0.577, math.pi / 2, (0, 3), (0, 60), (200, 200)))
@@ -386,22 +386,22 @@ def main(argv=None) -> int:
         "glibc's allocator: until a large block is freed it serves every allocation over 128 kB "
         "(a numpy temporary of one chunk, 512 kB) by a fresh mmap, faulted in page by page, "
         "which doubles the cost of the draws (`_truncnorm`'s temporaries) and adds a third to "
-        "simulate's; `_outcomes` itself allocates no such block a batch.",
+        "simulate's; `outcome_codes` itself allocates no such block a batch.",
         "",
         _report.table(["tosses", "simulate, fresh", "per toss", "draws alone, per toss",
                        "simulate / draws (CPU)", "same, wall", "simulate, warm, per toss",
                        "draws alone, warm", "warm: simulate / draws", "3 numpy normals, warm",
                        "settled by bounds / samples / scan"], t_rows),
-        "Where the time goes, warm (CPU nanoseconds a toss).  `_outcomes` by stage, measured "
+        "Where the time goes, warm (CPU nanoseconds a toss).  `outcome_codes` by stage, measured "
         "cumulatively on the same drawn tosses (each column a difference; the least of "
         f"{2 * reps + 1} interleaved runs, the cost without interference), beside the medians "
         "of the draws and of simulate above (the rest of simulate is its counting, `bincount` "
         "of each chunk, and the vigorous limit, a quadrature once a run):",
         "",
         _report.table(["tosses", "bounds pass", "sampled passes", "validation and the scan",
-                       "`_outcomes`", "draws", "simulate"], t_split),
+                       "`outcome_codes`", "draws", "simulate"], t_split),
         "`simulate` wants outcomes, not times of flight, and reads each one off the first "
-        "proof that settles it (`coincli.core.toss.batch._outcomes`; the same codes as `toss_many`, "
+        "proof that settles it (`coincli.core.toss.batch.outcome_codes`; the same codes as `toss_many`, "
         "compared toss by toss in tests/test_toss.py: seeded hand and ordinary tosses at six "
         "thicknesses, contacts tuned to the side boundary, other coins, planets and tilts, and "
         "simulate's counts end to end).  A rim touching at `t_f` has `a sin(alpha_f) = "
@@ -424,7 +424,7 @@ def main(argv=None) -> int:
         "nothing here; it still settles thick contact, very fast spins and throws, and tilts "
         "beyond 45 degrees from the Keller flip (the sampled passes take any tilt).  At 38 "
         "rev/s the coin turns 1.2 rad while its centre falls the last 12 mm, which no longer "
-        "matters much: the hand toss costs little more than the ordinary one, and `_outcomes` "
+        "matters much: the hand toss costs little more than the ordinary one, and `outcome_codes` "
         "now costs about what the draws do.  "
         "One toss at a time pays numpy's per-call overhead some 300 times (about 1.5 ms): "
         "nothing for `coin toss`, whose start-up is a hundred times that, but a loop over "

@@ -30,6 +30,10 @@ piece's integrand is evaluated in one numpy pass; the sums go back to their ``xi
 ``u2 = psi - pi/2 + t``, each factor the sine of an angle in ``[0, pi/2]`` formed without
 cancellation, so that even a chance of 1e-300 keeps its relative accuracy.
 
+Precision.  Where numpy's long double has 64 bits (x86), the nodes, the integrands, the sums and
+the normalization below run in it, and each chance is rounded to double once (``_working``):
+the chances are then monotone in xi over consecutive doubles, which sums of doubles are not.
+
 Normalization.  The sums are divided by the quadrature's own mass of the density, and the
 largest chance is taken as 1 minus the other two: heads + sides + tails = 1 to rounding, every
 chance lies in [0, 1], and a narrow density's peak a rounding away from a piece's end costs
@@ -47,13 +51,14 @@ from __future__ import annotations
 
 import math
 import weakref
-from functools import lru_cache
 
 import numpy as np
 
 from coincli.core import models
+from coincli.core._numerics.backend import long_double_64
+from coincli.core._numerics.quadrature import gauss_legendre
 from coincli.core._numerics.roots import POSITIVE_MAX, POSITIVE_MIN, positive_roots
-from coincli.core.densities import Cosine, Density, Normal, Table, Uniform
+from coincli.core.densities import Cosine, Density, Normal, Table, Uniform, check_density
 from coincli.core.models import HALF_PI, Outcome
 
 __all__ = [
@@ -101,6 +106,22 @@ _FLOOR_NARROW = 3e-14  #: ... for a normal narrower than _NARROW_SD
 _NARROW_SD = 1e-3
 
 
+def _working():
+    """The type the quadrature sums in: numpy's 64-bit long double where there is one (each
+    sum is rounded to double once, in :func:`_finish`), else double.
+
+    Monotone to the last bit: in double, the nodes ``psi`` (which move with xi), the integrands
+    and the sums each round, and those errors come and go from one double xi to the next, so
+    that P(sides) stepped down (and heads, tails up) by 1 to 6 ulps over runs of consecutive
+    doubles.  In long double the sums are the quadrature's value within a few 2**-64 relative;
+    the quadrature's own error (about 1e-18 at 16 nodes) changes smoothly with xi, except
+    where a graded breakpoint appears, by far less than a chance moves from one double to the
+    next.  Rounding once, a monotone step, keeps the order of the sums (see
+    :func:`coincli.core.models._extended_finish`).
+    """
+    return np.longdouble if long_double_64(np) else np.float64
+
+
 def _floor(density) -> float:
     if isinstance(density, Normal) and density.sd < _NARROW_SD:
         return _FLOOR_NARROW
@@ -142,36 +163,6 @@ def _check_order(order) -> int:
         raise ValueError(f"order must be an integer in [{MIN_ORDER}, {MAX_ORDER}] "
                          f"(Gauss-Legendre nodes per subinterval), got {order!r}")
     return int(order)
-
-
-@lru_cache(maxsize=64)
-def _gauss_legendre(n: int):
-    """The ``n``-point Gauss-Legendre rule on [0, 1] (nodes ascending, weights).
-
-    Newton's method on ``P_n`` (the three-term recurrence) from Tricomi's estimates
-    ``cos(pi (k - 1/4) / (n + 1/2))``, run until no step exceeds 4e-16 and then once more;
-    weights ``2 / ((1 - x^2) P_n'(x)^2)``; both made exactly symmetric.  Against 40-digit
-    mpmath, n = 2 to 64, on [0, 1]: nodes within 0.95 * 2^-53, weights within 1.4e-13
-    relative (numpy's ``leggauss``: 0.90 * 2^-53 and 1.8e-12), without importing
-    ``numpy.polynomial`` (2 ms of a simulate's start-up).  tests/test_averages.py checks it.
-    """
-    k = np.arange(1, n + 1)
-    x = np.cos(math.pi * (k - 0.25) / (n + 0.5))
-    converged = False
-    for _ in range(50):
-        p_prev, p = np.ones(n), x
-        for j in range(2, n + 1):
-            p_prev, p = p, ((2 * j - 1) * x * p - (j - 1) * p_prev) / j
-        dp = n * (x * p - p_prev) / (x * x - 1)
-        step = p / dp
-        x = x - step
-        if converged:
-            break
-        converged = bool(np.max(np.abs(step)) <= 4e-16)
-    w = 2 / ((1 - x * x) * dp * dp)  # dp of the last step: the change in x is below 1e-31
-    x, w = x[::-1], w[::-1]  # ascending
-    x, w = (x - x[::-1]) / 2, (w + w[::-1]) / 2
-    return (x + 1) / 2, w / 2  # on [0, 1]
 
 
 # --------------------------------------------------------------------------- the density
@@ -225,7 +216,7 @@ _BREAKS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 _TAILS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
-def _psi_breaks(density: Density) -> np.ndarray:
+def psi_breaks(density: Density) -> np.ndarray:
     """Sorted points of (0, pi/2) where the folded density has a kink or a fast change."""
     try:
         return _BREAKS[density]
@@ -289,7 +280,25 @@ def _folded_pdf(density: Density):
                 mirror = np.exp(np.fmax(gap * ((psi - HALF_PI) / sd), -1e300))  # fmax: inf*0
                 return np.exp(ln - 0.5 * (z * (z + 2 * beyond))) * (1.0 + mirror)
         return normal
+    if type(density) is Table:
+        xs, ws = density.psi, density.w
+
+        def table(psi):  # joined linearly in psi's own precision (np.interp is double only)
+            return _interp(psi, xs, ws) + _interp(math.pi - psi, xs, ws)
+        return table
     return lambda psi: density.pdf(psi) + density.pdf(math.pi - psi)
+
+
+def _interp(x, xs, ws):
+    """The points ``(xs, ws)`` joined linearly at ``x`` (zero outside them) as ``w0 + f (w1 -
+    w0)``, ``f = (x - x0)/(x1 - x0)`` in [0, 1], in the precision of ``x``
+    (:meth:`coincli.core.densities.Table.pdf`'s form for steep tables)."""
+    k = np.clip(np.searchsorted(xs, x, side="right") - 1, 0, xs.size - 2)
+    x0, x1 = xs[k], xs[k + 1]
+    f = np.clip((x - x0) / (x1 - x0), 0.0, 1.0)
+    w0 = ws[k]
+    out = w0 + f * (ws[k + 1] - w0)
+    return np.where((x < xs[0]) | (x > xs[-1]), 0.0, out)
 
 
 # --------------------------------------------------------------------------- layout
@@ -343,9 +352,7 @@ def _layout_one(x: float, breaks: list[float], tails=()):
     """(params, [(a, b) of pieces A, B, C]) for one finite xi."""
     t = math.atan2(1.0, x) / 2
     beta = math.atan(x)
-    xc = min(x, 2.0**600)  # beyond, x/hypot(1, x) is 1.0 (and inf/inf is kept away)
-    par = (t, beta, math.sin(t), math.cos(t), xc / math.hypot(1.0, xc), math.sin(beta / 2),
-           math.cos(beta / 2))
+    par = _params(np.array([x]))[:, 0]
     lo = HALF_PI - t
     pa = [p / t for p in breaks if p < t]
     pb = _graded_one(math.sqrt(2 * t / beta)) if beta > 0 else []
@@ -361,6 +368,19 @@ def _layout_one(x: float, breaks: list[float], tails=()):
                                                               mu, sd), strict=True):
                 into.extend(v[0].tolist())
     return par, [_edges_one(pa), _edges_one(pb), _edges_one(pc)]
+
+
+def _params(xi: np.ndarray):
+    """(t, beta, sin t, cos t, cos theta0, sin beta/2, cos beta/2), rows of the working
+    precision (:func:`_working`), for a 1-D array of finite xi.  The breakpoints are laid out
+    from double t and beta; the nodes and integrands take these."""
+    x = xi.astype(_working())
+    one = x.dtype.type(1)
+    t = np.arctan2(one, x) / 2
+    beta = np.arctan(x)
+    xc = np.minimum(x, 2.0**600)  # beyond, x/hypot(1, x) is 1.0 (and inf/inf is kept away)
+    return np.stack([t, beta, np.sin(t), np.cos(t), xc / np.hypot(one, xc), np.sin(beta / 2),
+                     np.cos(beta / 2)])
 
 
 def _tail_points(t, beta, mu, sd):
@@ -402,9 +422,7 @@ def _layout_many(xi: np.ndarray, breaks: np.ndarray, tails=()):
     m = xi.size
     t = np.arctan2(1.0, xi) / 2
     beta = np.arctan(xi)
-    xc = np.minimum(xi, 2.0**600)
-    par = np.stack([t, beta, np.sin(t), np.cos(t), xc / np.hypot(1.0, xc), np.sin(beta / 2),
-                    np.cos(beta / 2)])
+    par = _params(xi)
     nb = breaks.size
     lo = HALF_PI - t
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
@@ -432,7 +450,11 @@ def _layout_many(xi: np.ndarray, breaks: np.ndarray, tails=()):
 
 
 def _nodes(a, b, n, scale):
-    x, w = _gauss_legendre(n)
+    """Nodes and weights on the subintervals [a, b] (doubles: consecutive subintervals share
+    their end exactly) in the working precision of ``scale``."""
+    x, w = gauss_legendre(n)
+    dt = np.result_type(scale, np.float64)
+    a, b = a.astype(dt), b.astype(dt)
     h = (b - a)[:, None]
     return a[:, None] + h * x, (h * scale) * w
 
@@ -451,7 +473,7 @@ def _piece_b(a, b, n, p, fold):
     u1 = beta * (s * s)  # psi - t
     # D1 = sin^2 psi - sin^2 t = sin u1 sin(2t + u1): both angles in [0, pi/2], no cancellation
     q1 = np.sqrt(np.sin(u1)) * np.sqrt(np.sin(2 * t + u1))
-    out = np.empty((3, *q1.shape))  # theta1/2, its complement, 1 (the mass)
+    out = np.empty((3, *q1.shape), dtype=q1.dtype)  # theta1/2, its complement, 1 (the mass)
     np.arctan2(s0, q1, out=out[0])
     np.arctan2(q1, s0, out=out[1])
     out[2] = 1.0
@@ -468,7 +490,7 @@ def _piece_c(a, b, n, p, fold):
     # and 2t - u2 >= t, so each factor keeps its relative accuracy
     q1 = np.sqrt(np.sin(beta + u2)) * np.sqrt(np.cos(u2))
     q2 = np.sqrt(np.sin(u2)) * np.sqrt(np.sin(2 * t - u2))
-    out = np.empty((4, *q1.shape))  # theta1/2, (theta2 - theta1)/2, (pi - theta2)/2, 1
+    out = np.empty((4, *q1.shape), dtype=q1.dtype)  # theta1/2, (theta2 - theta1)/2, (pi - theta2)/2, 1
     np.arctan2(s0, q1, out=out[0])
     # (theta2 - theta1)/2 = atan2(c sin^2 psi, (sqrt(D1 D2) + c0 s0)(c0 sqrt D1 + s0 sqrt D2))
     # with sin^2 psi = D1 + s0^2
@@ -489,10 +511,9 @@ _BLOCK = 1 << 15  #: nodes per numpy pass: the temporaries stay in cache
 def _integrate_one(x: float, density: Density, n: int, breaks: list[float]):
     p, pieces = _layout_one(x, breaks, _tail_centres(density))
     fold = _folded_pdf(density)
-    acc = [0.0] * 5
+    acc = np.zeros(5, dtype=p.dtype)
     for fn, slots, (a, b) in zip(_PIECES, _SLOTS, pieces, strict=True):
-        for k, v in zip(slots, fn(a, b, n, p, fold).sum(axis=1).tolist(), strict=True):
-            acc[k] += v
+        acc[list(slots)] += fn(a, b, n, p, fold).sum(axis=1)
     return acc
 
 
@@ -500,7 +521,7 @@ def _integrate_many(xi: np.ndarray, density: Density, n: int, breaks: np.ndarray
     m = xi.size
     par, pieces = _layout_many(xi, breaks, _tail_centres(density))
     fold = _folded_pdf(density)
-    acc = np.zeros((5, m))
+    acc = np.zeros((5, m), dtype=par.dtype)
     linear = isinstance(density, Table) and breaks.size > _MANY_KINKS
     for k, (fn, slots, (rows, a, b)) in enumerate(zip(_PIECES, _SLOTS, pieces, strict=True)):
         if not rows.size:
@@ -574,20 +595,20 @@ def _finish(acc):
     mass = acc[0] + acc[4]
     h = (acc[0] + _scale(acc[1])) / mass
     s, t = _scale(acc[2]) / mass, _scale(acc[3]) / mass
-    if isinstance(h, float):
+    if acc.ndim == 1:  # one xi: three floats
         if h >= s and h >= t:
             h = 1.0 - (s + t)
         elif s >= t:
             s = 1.0 - (h + t)
         else:
             t = 1.0 - (h + s)
-        return min(max(h, 0.0), 1.0), min(max(s, 0.0), 1.0), min(max(t, 0.0), 1.0)
+        return tuple(float(min(max(v, 0.0), 1.0)) for v in (h, s, t))
     v = np.stack([h, s, t])
     k = np.argmax(v, axis=0)
     cols = np.arange(v.shape[1])
     v[k, cols] = 0.0
     v[k, cols] = 1.0 - v.sum(axis=0)
-    return np.clip(v, 0.0, 1.0)
+    return np.clip(v, 0.0, 1.0).astype(np.float64)  # the one rounding of the long double sums
 
 
 def _delta(density: Density) -> float | None:
@@ -665,7 +686,7 @@ def _marginal_flat(xi: np.ndarray, density: Density, n: int) -> np.ndarray:
         out[1, thin] = xi[thin] * (base[1, 1] / _THIN)
     fin = np.nonzero(~inf & ~thin)[0]
     if fin.size:
-        breaks = _psi_breaks(density)
+        breaks = psi_breaks(density)
         step = max(1, min(_CHUNK // (breaks.size + 64), _CHUNK_BREAKS // max(breaks.size, 1)))
         for k in range(0, fin.size, step):
             idx = fin[k:k + step]
@@ -689,7 +710,7 @@ def _marginal_scalar(x: float, density: Density, n: int, breaks=None):
         h0, _, t0 = _marginal_scalar(0.0, density, n, breaks)
         return h0, x * (_marginal_scalar(_THIN, density, n, breaks)[1] / _THIN), t0
     if breaks is None:
-        breaks = _psi_breaks(density).tolist()
+        breaks = psi_breaks(density).tolist()
     return _finish(_integrate_one(x, density, n, breaks))
 
 
@@ -718,7 +739,7 @@ def marginal(xi, density: Density | None = None, *, order: int = DEFAULT_ORDER) 
     >>> [round(v, 3) for v in marginal(3 ** -0.5, Uniform())]  # Table II, uniform column
     [0.63, 0.281, 0.088]
     """
-    density = _check_density(density)
+    density = check_density(density)
     n = _check_order(order)
     xi = models.check_xi(xi)
     if isinstance(xi, float):
@@ -748,7 +769,7 @@ def check_table_work(density: Density, count: int, per: int = 1, what: str = "xi
     times) exceed :data:`MAX_TABLE_WORK`, naming how many values or points would fit."""
     if not isinstance(density, Table):
         return
-    k = max(int(_psi_breaks(density).size), 1)
+    k = max(int(psi_breaks(density).size), 1)
     if k * count * per <= MAX_TABLE_WORK:
         return
     most = max(MAX_TABLE_WORK // (k * per), 1)
@@ -757,13 +778,6 @@ def check_table_work(density: Density, count: int, per: int = 1, what: str = "xi
         f"{k * count * per:.3g} point evaluations, more than the {MAX_TABLE_WORK:.0e} one run "
         f"makes; give at most {most} {what}, or a table of at most "
         f"{max(MAX_TABLE_WORK // (count * per), 2)} points")
-
-
-def _check_density(density):
-    density = Normal() if density is None else density
-    if not isinstance(density, Density):
-        raise ValueError(f"density must be a coincli.core.densities.Density, got {density!r}")
-    return density
 
 
 # --------------------------------------------------------------------------- inverses
@@ -828,14 +842,14 @@ def marginal_inverse(p_sides, density: Density | None = None, *, order: int = DE
     its inverse (:func:`conditional_inverse`, or :func:`coincli.core.models.dynamic_inverse` at a mean
     of exactly ``HALF_PI``).  Accuracy: docs/accuracy.md.
     """
-    density = _check_density(density)
+    density = check_density(density)
     n = _check_order(order)
     psi = _delta(density)
     if psi is not None:
         if psi == HALF_PI:
             return models.dynamic_inverse(p_sides)
         return conditional_inverse(p_sides, psi)
-    breaks = _psi_breaks(density).tolist()
+    breaks = psi_breaks(density).tolist()
     forward = _rows(lambda x: _marginal_scalar(x, density, n, breaks),
                     lambda x: _marginal_flat(x, density, n))
 
@@ -890,7 +904,7 @@ def _table_i_guess(p, psi):
     then ``xi = c/sqrt((1 - c)(1 + c))``.  Good to about 1e-13 where nothing cancels, and the start
     of the root finding everywhere (it is not returned as the answer).
     """
-    psi_m, e = models._fold_psi(models.M, psi)
+    psi_m, e = models.fold_psi(models.M, psi)
     q = 1.0 - p
     up = p > 0.5
     with np.errstate(all="ignore"):

@@ -131,17 +131,17 @@ def stack_xis(coin: Coin, counts):
     """
     import numpy as np
 
-    from coincli.core.models import _two_prod
+    from coincli.core.models import two_prod
 
     n = np.asarray(counts, dtype=float)
     h, d = coin.thickness_mm, coin.diameter_mm
     if not (_SAFE_LO < h < _SAFE_HI and _SAFE_LO < d < _SAFE_HI):
         return np.array([_exact_ratio(int(k), h, d) for k in n.ravel()]).reshape(n.shape)
     with np.errstate(all="ignore"):
-        p, e = _two_prod(np, n, h)  # count * h = p + e exactly
+        p, e = two_prod(np, n, h)  # count * h = p + e exactly
 
         def residual(q):  # count*h - q*D, to ~2**-52 ulp(p): p - s is exact (Sterbenz)
-            s, t = _two_prod(np, q, d)  # q * D = s + t exactly
+            s, t = two_prod(np, q, d)  # q * D = s + t exactly
             return (p - s) + (e - t)
 
         q = p / d

@@ -22,9 +22,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from coincli.core._numerics.quadrature import gauss_legendre
 from coincli.errors import shown
 
-__all__ = ["Density", "Uniform", "Cosine", "Normal", "Table", "PAPER_DENSITIES"]
+__all__ = ["Density", "Uniform", "Cosine", "Normal", "Table", "PAPER_DENSITIES", "check_density"]
 
 MAX_TABLE_POINTS = 100_000
 #: the least area (radians times the largest weight) a table may enclose: a density of at most
@@ -177,9 +178,7 @@ def _relative_mass(mean: float, sd: float) -> float:
         return math.sqrt(math.pi / 2) * (math.erf(a / r2) + math.erf(b / r2))
     a, span = min(lo / sd, big), min(math.pi / sd, big)
     if span <= 4.0 and a * span <= 4.0:
-        from coincli.core.averages import _gauss_legendre
-
-        x, w = _gauss_legendre(24)
+        x, w = gauss_legendre(24)
         return float(span * sum(wk * math.exp(-a * (span * xk) - 0.5 * (span * xk) ** 2)
                                 for xk, wk in zip(x, w, strict=True)))
     far = min(a + span, big)
@@ -321,3 +320,12 @@ class Table(Density):
 
 
 PAPER_DENSITIES = {"uniform": Uniform, "cosine": Cosine, "normal": Normal}
+
+
+def check_density(density):
+    """``density`` itself if it is a :class:`Density`; the paper's normal for None; else a
+    ValueError (the averages and the estimators take their density through this)."""
+    density = Normal() if density is None else density
+    if not isinstance(density, Density):
+        raise ValueError(f"density must be a coincli.core.densities.Density, got {density!r}")
+    return density

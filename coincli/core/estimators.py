@@ -37,8 +37,8 @@ import numpy as np
 from coincli.core import averages as _mg
 from coincli.core import models
 from coincli.core._numerics.roots import bisect
-from coincli.core._numerics.wilson import _z, wilson_interval
-from coincli.core.densities import Cosine, Density, Normal, Table, Uniform
+from coincli.core._numerics.wilson import two_sided_z, wilson_interval
+from coincli.core.densities import Cosine, Density, Normal, Table, Uniform, check_density
 from coincli.core.models import HALF_PI, Outcome
 
 __all__ = [
@@ -61,7 +61,7 @@ __all__ = [
 
 METHODS = ("auto", "quad", "mc", "qmc")
 MC_MAX_SAMPLES = 1 << 28  #: default cap on tosses (or points) for a tolerance (seconds)
-_Z95 = _z(0.95)  # the 97.5% point of the standard normal (coincli.core._numerics.wilson's stored value)
+_Z95 = two_sided_z(0.95)  # the 97.5% point of the standard normal (coincli.core._numerics.wilson's stored value)
 _MIN_TOL, _MAX_TOL = 1e-16, 0.5
 
 
@@ -107,13 +107,6 @@ def check_tol(tol, name="tol"):
     return float(tol)
 
 
-def _check_density(density):
-    density = Normal() if density is None else density
-    if not isinstance(density, Density):
-        raise ValueError(f"density must be a coincli.core.densities.Density, got {density!r}")
-    return density
-
-
 def _shape(xi, arr):
     """An array of xi's shape from a flat array; a float for a float xi."""
     if isinstance(xi, float):
@@ -136,7 +129,7 @@ def quad(xi, density: Density | None = None, *, tol: float | None = None,
     The error reported is the calibrated bound of ``order``
     (:func:`coincli.core.averages.error_bound`); ``met`` is whether it is within ``tol``.
     """
-    density = _check_density(density)
+    density = check_density(density)
     tol = check_tol(tol)
     if order is None:
         order = _mg.DEFAULT_ORDER if tol is None else _mg.order_for_tol(tol, density)
@@ -162,11 +155,11 @@ def scipy_quad(xi, density: Density | None = None, *, tol: float = 1e-10) -> Est
     :func:`quad` that shares none of its machinery but Table I (:func:`models.conditional`)."""
     from scipy.integrate import quad as qp
 
-    density = _check_density(density)
+    density = check_density(density)
     tol = check_tol(tol)
     xi = models.check_xi(xi)
     flat = np.atleast_1d(np.asarray(xi, dtype=float)).ravel()
-    breaks = _mg._psi_breaks(density).tolist()
+    breaks = _mg.psi_breaks(density).tolist()
     out = np.zeros((3, flat.size))
     err = np.zeros((3, flat.size))
     evals = 0
@@ -381,7 +374,7 @@ def _wilson(k, n):
 
 
 def _prepare(xi, density):
-    density = _check_density(density)
+    density = check_density(density)
     xi = models.check_xi(xi)
     flat = np.atleast_1d(np.asarray(xi, dtype=float)).ravel()
     cs = np.asarray(models.geometric(flat).sides, dtype=float)  # cos theta0, 1 at xi = inf

@@ -25,7 +25,7 @@ import functools
 import math
 from typing import NamedTuple
 
-from coincli.core._numerics.backend import M, namespace
+from coincli.core._numerics.backend import M, long_double_64, namespace
 
 __all__ = [
     "Outcome",
@@ -247,7 +247,7 @@ def dynamic(xi):
 # --------------------------------------------------------------------------- the general case
 
 
-def _fold_psi(xp, psi):
+def fold_psi(xp, psi):
     """Return (psi_m, e): psi folded onto [0, pi/2] and e = pi/2 - psi_m, both to full accuracy.
 
     P(i | psi) = P(i | pi - psi) (Table I is symmetric), so only the folded angle matters.
@@ -294,7 +294,7 @@ def _from_offsets(xp, sigma, t, s0, c0, c, u1, u2):
     heads = xp.where(u1 > 0, _over_half_pi(xp, xp.atan2(s0, q1)), 1.0)
     tails = xp.where(u2 > 0, _over_half_pi(xp, xp.atan2(q2, c0)), 0.0)
     two = _over_half_pi(xp, xp.atan2(q1, s0))
-    p, e = _two_prod(xp, c0, q1)
+    p, e = two_prod(xp, c0, q1)
     den = p + (s0 * q2 + e)  # c0 sqrt D1 + s0 sqrt D2 with the larger product exact
     w = c / xp.where(den > 0, den, 1.0)  # sin((theta2 - theta1)/2); the guard spares math a 0/0
     wide = xp.atan2(sigma * sigma * c, (q1 * q2 + c0 * s0) * den)  # (theta2 - theta1)/2 by atan2
@@ -316,7 +316,7 @@ _TWO_OVER_PI_LO = -3.935735335036497e-17
 
 def _over_half_pi(xp, a):
     """a / (pi/2) as a (2/pi)_hi + a (2/pi)_lo, the first product exact (Dekker): one rounding."""
-    p, e = _two_prod(xp, a, _TWO_OVER_PI_HI)
+    p, e = two_prod(xp, a, _TWO_OVER_PI_HI)
     return p + (e + a * _TWO_OVER_PI_LO)
 
 
@@ -350,7 +350,10 @@ def conditional(xi, psi):
     double where it has 64 bits (numpy path, ``|u| >= 2**-8 theta0/2``), else as double-doubles
     (:func:`_near_boundary`), and below ``2**-40 theta0/2`` exactly (:func:`_offsets_exact`).
     Measured against mpmath: within 4 ulps everywhere, the doubles adjacent to a boundary
-    included (docs/accuracy.md).
+    included (docs/accuracy.md).  Where long double has 64 bits, the numpy path then runs the
+    same forms again in long double and rounds once (:func:`_extended_finish`, for theta0/2 at
+    least 2**-40): the chances are monotone in xi over consecutive doubles (P(sides)
+    non-decreasing, heads and tails non-increasing), which the double forms are not.
 
     Examples
     --------
@@ -364,7 +367,7 @@ def conditional(xi, psi):
     xp = namespace(xi, psi)
     with _errstate(xp):
         t, s0, c0, c = _parts(xp, xi)
-        psi_m, e = _fold_psi(xp, psi)
+        psi_m, e = fold_psi(xp, psi)
         args = [xp.sin(psi_m), t, s0, c0, c, psi_m - t, t - e]  # sigma, t, s0, c0, c, u1, u2
         if xp is not M:  # full-shape copies, for the masked updates below
             xi, psi, *args = (a.copy() for a in xp.broadcast_arrays(xi, psi, *args))
@@ -378,7 +381,7 @@ def conditional(xi, psi):
             band = near & _long_double_band(xp, args[1], args[5], args[6])
             if band.any():  # most of the near ones: offsets rounded from 64-bit long doubles
                 args[5][band], args[6][band] = _offsets_long_double(xp, xi[band], psi[band])
-                near &= ~band
+                near = near & ~band
             if near.any():
                 for a, v in zip(args, _near_boundary(xp, xi[near], psi[near],
                                                      *(a[near] for a in args)), strict=True):
@@ -387,6 +390,8 @@ def conditional(xi, psi):
         tails = xp.minimum(tails, heads)  # theta1 + theta2 >= pi; rounding near psi = pi/2 aside
         if xp is not M:
             heads, sides, tails = (xp.asarray(v, dtype=float) for v in (heads, sides, tails))
+            if long_double_64(xp) and heads.size:
+                _extended_finish(xp, xi, psi, args[5], args[6], near, heads, sides, tails)
         return Outcome(heads, sides, tails)
 
 
@@ -406,14 +411,91 @@ _PLANAR_SCALE = 2.0**840
 # take the double-double path of _near_boundary.
 _BAND_REL = 2.0**-8
 _BAND_T_MIN = 2.0**-40
-_LONG_DOUBLE_BITS = 64  # significand bits the band needs
 
 
 def _long_double_band(xp, t, u1, u2):
     """Mask of the elements whose offsets long double computes to full double accuracy."""
-    if xp.finfo(xp.longdouble).nmant + 1 < _LONG_DOUBLE_BITS:
+    if not long_double_64(xp):
         return xp.zeros(xp.shape(t), dtype=bool)
     return (xp.minimum(xp.abs(u1), xp.abs(u2)) >= _BAND_REL * t) & (t >= _BAND_T_MIN)
+
+
+def _extended_finish(xp, xi, psi, u1, u2, dd, heads, sides, tails):
+    """Table I again in 64-bit long double, rounded once to double, into heads, sides, tails.
+
+    Monotone to the last bit.  In double, ``t = theta0/2`` (and with it ``sin t``, ``cos t`` and
+    the offsets) is rounded once, ``cos theta0`` is rounded from xi on its own, and each of the
+    twenty operations after them rounds again: a chance is within 4 ulps, but the errors come
+    and go from one double xi to the next, so that P(sides) stepped down (and heads, tails up)
+    by 1 to 6 ulps over runs of consecutive doubles.  Here every input is formed from xi and psi
+    in long double (relative error a few 2**-64) and the formulas of :func:`_from_offsets` run
+    in long double: the result is the exact chance within a few 2**-64 relative, rounded once.
+    Where the exact chances of two adjacent doubles differ by more than that (everywhere the
+    chance moves by at least ~2**-60 relative per double step of xi), their roundings keep their
+    order, since rounding is monotone; where they differ by less, both round to the same double
+    except within ~2**-60 of a rounding boundary.  The result is also correctly rounded outside
+    those hairline cases, so it is at least as accurate as the double formulas.
+
+    Offsets within ``_NEAR t`` of a boundary come from the double-double ones as hi + lo (good
+    to 2**-104 t); within ``2**-40 t``, the exact offset of :func:`_offsets_exact` rounded to
+    double, as the double path has it.  Elements with ``t < 2**-40`` (xi > 2**39, where the
+    planar frame and the exact offsets take over) or an infinite xi keep the double result.
+    """
+    L = xp.longdouble
+    shape = heads.shape
+    xi_b, psi_b, u1_b, u2_b, dd_b = (xp.broadcast_to(a, shape).ravel()
+                                     for a in (xi, psi, u1, u2, dd))
+    t_d = xp.arctan2(1.0, xi_b) / 2
+    rows = xp.flatnonzero((t_d >= _BAND_T_MIN) & (xi_b < xp.inf))
+    if not rows.size:
+        return
+    x, p = xi_b[rows], psi_b[rows]
+    xl = x.astype(L)
+    t = xp.arctan2(L(1), xl) / 2
+    s0, c0 = xp.sin(t), xp.cos(t)
+    c = xl / xp.hypot(L(1), xl)
+    upper = p > _PIO2_HI
+    psi_m = xp.where(upper, (_PI_HI - p).astype(L) + L(_PI_LO) + L(_PI_LO2), p.astype(L))
+    e = xp.abs(xp.where(upper, (p - _PIO2_HI).astype(L) - L(_PIO2_LO) - L(_PIO2_LO2),
+                        (_PIO2_HI - p).astype(L) + L(_PIO2_LO) + L(_PIO2_LO2)))
+    w1, w2 = psi_m - t, t - e
+    close = xp.flatnonzero(dd_b[rows])
+    if close.size:  # double-double offsets, hi + lo
+        a1, a2 = _dd_offsets(xp, x[close], p[close])
+        tc = t_d[rows][close]
+        for w, a, u in ((w1, a1, u1_b), (w2, a2, u2_b)):
+            exact = xp.abs(a) < _EXACT_REL * tc.astype(L)
+            w[close] = xp.where(exact, u[rows][close].astype(L), a)
+    h, s, tl = _from_offsets(xp, xp.sin(psi_m), t, s0, c0, c, w1, w2)
+    tl = xp.minimum(tl, h)
+    for out, v in ((heads, h), (sides, s), (tails, tl)):
+        out.reshape(-1)[rows] = v.astype(float)
+
+
+def _dd_offsets(xp, xi, psi):
+    """(u1, u2) of :func:`_from_offsets` in long double from the double-double offsets of
+    :func:`_near_boundary` (hi + lo: good to about 2**-104 theta0/2); numpy path, t >= 2**-900."""
+    L = xp.longdouble
+    (mh, ml), (eh, el) = _dd_fold(xp, psi)
+    uniq, inv = xp.unique(xi, return_inverse=True)
+    th, tl = (v[inv] for v in _half_theta0_dd(xp, uniq)[:2])
+    u1h, u1l = _dd_add(mh, ml, -th, -tl)
+    u2h, u2l = _dd_add(th, tl, -eh, -el)
+    return u1h.astype(L) + u1l.astype(L), u2h.astype(L) + u2l.astype(L)
+
+
+def _dd_fold(xp, psi):
+    """psi folded onto [0, pi/2] and e = |pi/2 - psi|, both as double-doubles (exact to 2**-160
+    of pi): ``(mh, ml), (eh, el)``."""
+    upper = psi > _PIO2_HI  # folded onto pi - psi
+    # psi_m = pi - psi on the upper half (PI_HI - psi is exact there: two_sum keeps it all)
+    mh, ml = _two_sum(xp.where(upper, _PI_HI, psi), xp.where(upper, -psi, 0.0))
+    mh, ml = _dd_add(mh, ml, xp.where(upper, _PI_LO, 0.0), xp.where(upper, _PI_LO2, 0.0))
+    # e = pi/2 - psi (lower half) or psi - pi/2 (upper half), exactly
+    eh, el = _two_sum(xp.where(upper, psi, _PIO2_HI), xp.where(upper, -_PIO2_HI, -psi))
+    eh, el = _dd_add(eh, el, xp.where(upper, -_PIO2_LO, _PIO2_LO),
+                     xp.where(upper, -_PIO2_LO2, _PIO2_LO2))
+    return (mh, ml), (eh, el)
 
 
 def _offsets_long_double(xp, xi, psi):
@@ -440,14 +522,7 @@ def _near_boundary(xp, xi, psi, sigma, t, s0, c0, c, u1, u2):
     ``u1 = psi_m - t`` and ``u2 = t - e`` keep their relative accuracy however close ``psi`` is to
     a boundary (down to ~2**-104 t).  Elementwise; xp is math or numpy.
     """
-    upper = psi > _PIO2_HI  # folded onto pi - psi
-    # psi_m = pi - psi on the upper half (PI_HI - psi is exact there: two_sum keeps it all)
-    mh, ml = _two_sum(xp.where(upper, _PI_HI, psi), xp.where(upper, -psi, 0.0))
-    mh, ml = _dd_add(mh, ml, xp.where(upper, _PI_LO, 0.0), xp.where(upper, _PI_LO2, 0.0))
-    # e = pi/2 - psi (lower half) or psi - pi/2 (upper half), exactly
-    eh, el = _two_sum(xp.where(upper, psi, _PIO2_HI), xp.where(upper, -_PIO2_HI, -psi))
-    eh, el = _dd_add(eh, el, xp.where(upper, -_PIO2_LO, _PIO2_LO),
-                     xp.where(upper, -_PIO2_LO2, _PIO2_LO2))
+    (mh, ml), (eh, el) = _dd_fold(xp, psi)
     if xp is M:
         th, tl, ts, tsl = _half_theta0_dd(xp, xi)
     else:  # theta0/2 depends on xi alone: once per distinct xi (a sweep over psi has one)
@@ -557,7 +632,7 @@ def _half_theta0_dd(xp, xi):
     big = xi > 1
     x = xp.minimum(xi, 1 / _PLANAR_T)  # keeps inf (handled by the planar frame) out of the way
     wh = xp.where(big, 1 / xp.maximum(x, 1.0), x)
-    ph, pl = _two_prod(xp, wh, x)
+    ph, pl = two_prod(xp, wh, x)
     wl = xp.where(big, ((1.0 - ph) - pl) / xp.maximum(x, 1.0), 0.0)  # 1/xi - wh = (1 - wh xi)/xi
     ah, al = _dd_atan(xp, wh, wl)
     th, tl = _dd_add(xp.where(big, ah, _PIO2_HI), xp.where(big, al, _PIO2_LO),
@@ -566,7 +641,7 @@ def _half_theta0_dd(xp, xi):
     # Planar frame: 2**840 / (2 xi) = 2**-61 / xs with xs = xi 2**-900 in [1, 2**125) (or inf)
     xs = xp.maximum(xi, 1 / _PLANAR_T) * _PLANAR_T
     qh = 1 / xs
-    ph, pl = _two_prod(xp, qh, xp.minimum(xs, 2.0**125))
+    ph, pl = two_prod(xp, qh, xp.minimum(xs, 2.0**125))
     ql = xp.where(xs < xp.inf, ((1.0 - ph) - pl) / xs, 0.0)  # 1/xs = qh + ql
     scale = _PLANAR_T * _PLANAR_SCALE / 2
     return th / 2, tl / 2, qh * scale, ql * scale
@@ -611,7 +686,7 @@ def dynamic_inverse(p_sides):
         upper = p > 0.5
         q = xp.where(upper, 1.0 - p, p)  # exact for p > 1/2
         # x = (pi/2) q as hi + lo: Dekker's product of q with _PIO2_HI, plus q * _PIO2_LO.
-        hi, lo = _two_prod(xp, q, _PIO2_HI)
+        hi, lo = two_prod(xp, q, _PIO2_HI)
         lo = lo + q * _PIO2_LO
         x = hi + lo
         lo = lo - (x - hi)
@@ -624,7 +699,7 @@ def dynamic_inverse(p_sides):
         return xp.where(upper, 1.0 / tq, tq)
 
 
-def _two_prod(xp, a, b):
+def two_prod(xp, a, b):
     """a * b = p + e exactly (Dekker, no fma): for |a|, |b| well inside the double range."""
     p = a * b
     split = 134217729.0  # 2**27 + 1
@@ -666,14 +741,14 @@ def _dd_add(ah, al, bh, bl):
 
 def _dd_mul(xp, ah, al, bh, bl):
     """(ah + al) * (bh + bl) to about 2**-104 relative."""
-    p, e = _two_prod(xp, ah, bh)
+    p, e = two_prod(xp, ah, bh)
     return _fast_two_sum(p, e + (ah * bl + al * bh))
 
 
 def _dd_div_int(xp, ah, al, n):
     """(ah + al) / n for a small integer n (exact as a double)."""
     q = ah / n
-    p, e = _two_prod(xp, q, float(n))
+    p, e = two_prod(xp, q, float(n))
     return _fast_two_sum(q, (((ah - p) - e) + al) / n)
 
 

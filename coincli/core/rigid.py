@@ -80,8 +80,8 @@ from __future__ import annotations
 import math
 import sys
 
-from coincli.core._numerics.elliptic import _EPS, _Py, _xp, ellip_agm, ellip_f, ellip_j
-from coincli.core._numerics.quaternion import _frame_quat, _qconj, _qmul, _zxz
+from coincli.core._numerics.elliptic import EPS, FloatShim, backend_of, ellip_agm, ellip_f, ellip_j
+from coincli.core._numerics.quaternion import frame_quat, qconj, qmul, zxz
 from coincli.limits import MAX_PHASE
 
 __all__ = [
@@ -157,7 +157,7 @@ def box_sides(moments):
     for i in range(3):
         j, k = (i + 1) % 3, (i + 2) % 3
         v = x[j] + x[k] - x[i]
-        if v < -8 * _EPS:
+        if v < -8 * EPS:
             d = _distinct(*m, m[j] + m[k])  # enough digits to show I_i > I_j + I_k
             a, b, c, s = (f"{x:.{d}g}" for x in (*m, m[j] + m[k]))
             raise ValueError(
@@ -257,8 +257,8 @@ def orbit(moments, omega) -> Orbit:
     numbers, any order) started with body angular velocity ``omega`` (rad/s about the same
     axes): three floats, or an array of shape ``(..., 3)`` for many motions at once."""
     I = check_moments(moments)
-    xp = _xp(omega)
-    if xp is _Py:
+    xp = backend_of(omega)
+    if xp is FloatShim:
         w = tuple(float(x) for x in omega)
         if len(w) != 3 or not all(math.isfinite(x) for x in w):
             raise ValueError(f"omega must be three finite numbers, got {omega!r}")
@@ -304,10 +304,10 @@ def orbit(moments, omega) -> Orbit:
         rev = d == d  # True
     else:
         rev = d < 0
-        if xp is _Py or w.ndim == 1:  # one motion: the separatrix decided in exact rationals
+        if xp is FloatShim or w.ndim == 1:  # one motion: the separatrix decided in exact rationals
             exact = _exact_m1(I, (w1, w2, w3), order)
             if exact is not None:
-                rev = exact[0] < 0 if xp is _Py else xp.asarray(exact[0] < 0)
+                rev = exact[0] < 0 if xp is FloatShim else xp.asarray(exact[0] < 0)
     o.rev = rev
     # the circulation frame: (a, b, c) = sorted, or reversed with b negated (proper)
     o.Ia = xp.where(rev, Ic, Ia)
@@ -320,13 +320,13 @@ def orbit(moments, omega) -> Orbit:
     wa, wb, wc, Ia_, Ic_ = o.wa, o.wb, o.wc, o.Ia, o.Ic
     zero = scale == 0
     one_axis = ((w1 == 0) & (w2 == 0)) | ((w2 == 0) & (w3 == 0)) | ((w1 == 0) & (w3 == 0)) \
-        if xp is not _Py else sum(x != 0 for x in (w1, w2, w3)) <= 1
-    in_plane = (Ia == Ib) & (ws[2] == 0) | (Ib == Ic) & (ws[0] == 0) if xp is not _Py else (
+        if xp is not FloatShim else sum(x != 0 for x in (w1, w2, w3)) <= 1
+    in_plane = (Ia == Ib) & (ws[2] == 0) | (Ib == Ic) & (ws[0] == 0) if xp is not FloatShim else (
         (Ia == Ib and ws[2] == 0) or (Ib == Ic and ws[0] == 0))
-    stationary = zero | one_axis | in_plane if xp is not _Py else bool(
+    stationary = zero | one_axis | in_plane if xp is not FloatShim else bool(
         zero or one_axis or in_plane)
     if o.sphere:
-        stationary = stationary | True if xp is not _Py else True
+        stationary = stationary | True if xp is not FloatShim else True
     o.stationary = stationary
     Psafe = xp.where(P_ > 0, P_, 1.0)
     # amplitudes as scaled hypotenuses, ratios of them: no square underflows (a perturbation
@@ -364,7 +364,7 @@ def orbit(moments, omega) -> Orbit:
     o.n = xp.where(Psafe > 0, -(Ic_ * Q_) / (Ia_ * Psafe), 0.0)
     # a rate that underflows (moments 1e-17 apart, spins 1e-300) leaves omega constant on any
     # time a double can hold: the motion is steady there
-    stationary = stationary | (o.r == 0) if xp is not _Py else bool(stationary or o.r == 0)
+    stationary = stationary | (o.r == 0) if xp is not FloatShim else bool(stationary or o.r == 0)
     o.stationary = stationary
     # the phase at t = 0: cn0 = |wa| / acn >= 0 (so |tau0| <= K), sn0 = sb * wb / asn
     acn_s = xp.where(acn > 0, acn, 1.0)
@@ -373,7 +373,7 @@ def orbit(moments, omega) -> Orbit:
     o.sn0 = xp.where(good, o.sb * xp.minimum(
         xp.abs(wb) * xp.sqrt(kab) / acn_s, 1.0) * xp.where(wb < 0, -1.0, 1.0), 0.0)
     o.dn0 = xp.sqrt(o.cn0 * o.cn0 + m1 * o.sn0 * o.sn0)
-    o.separatrix = (m1 == 0) & ~stationary if xp is not _Py else (m1 == 0 and not stationary)
+    o.separatrix = (m1 == 0) & ~stationary if xp is not FloatShim else (m1 == 0 and not stationary)
     m1_agm = xp.where(m1 > 0, m1, 1.0)
     m_agm = xp.where(m1 > 0, m, 0.0)
     o.agm = ellip_agm(m_agm, m1_agm)
@@ -528,7 +528,7 @@ def omega_at(o: Orbit, t):
 
 
 def _as_np(o: Orbit) -> Orbit:
-    if o.xp is not _Py:
+    if o.xp is not FloatShim:
         return o
     import numpy as np
 
@@ -592,13 +592,13 @@ def attitude_at(o: Orbit, t, start=(1.0, 0.0, 0.0, 0.0)):
     # q = q0 * conj(qP) * conj(E(0)) * E(t) * qP with E = Euler z-x-z (phi, theta, psi): the
     # constant factors once per motion, E(t) by the closed form of a z-x-z rotation (two sines
     # and cosines of half-angle sums) instead of three rotations and two products a time
-    qc, qa = _frame_quat(o.perm_c, o.sign_c), _frame_quat(o.perm_a, o.sign_a)
+    qc, qa = frame_quat(o.perm_c, o.sign_c), frame_quat(o.perm_a, o.sign_a)
     rev = np.asarray(o.rev)
     qP = tuple(np.where(rev, qa[k], qc[k]) for k in range(4))
     q0 = np.asarray(start, dtype=float)
     q0 = tuple(q0[..., k] for k in range(4))
-    left = _qmul(_qmul(q0, _qconj(qP)), _qconj(_zxz(np, 0.0, theta0, psi0)))
-    qm = _qmul(_qmul(left, _zxz(np, dphi, theta, psi)), qP)
+    left = qmul(qmul(q0, qconj(qP)), qconj(zxz(np, 0.0, theta0, psi0)))
+    qm = qmul(qmul(left, zxz(np, dphi, theta, psi)), qP)
     # stationary motions: a rotation about the (constant) omega by |omega| t
     st = np.asarray(o.stationary)
     if st.any():
@@ -611,7 +611,7 @@ def attitude_at(o: Orbit, t, start=(1.0, 0.0, 0.0, 0.0)):
         axis = w / np.where(wn > 0, wn, 1.0)[..., None]
         sh = np.sin(h)
         qs = (np.cos(h), axis[..., 0] * sh, axis[..., 1] * sh, axis[..., 2] * sh)
-        qm = tuple(np.where(st, _qmul(q0, qs)[k], qm[k]) for k in range(4))
+        qm = tuple(np.where(st, qmul(q0, qs)[k], qm[k]) for k in range(4))
     out = np.stack(np.broadcast_arrays(*qm), axis=-1)
     out = out / np.linalg.norm(out, axis=-1, keepdims=True)
     # at t = 0 the start itself, exactly; then the sign with w >= 0 (q and -q are one attitude)
@@ -648,7 +648,7 @@ def _Gfun(o, s, c, d, q, nper, tau, np):
 # --------------------------------------------------------------------------- the paper's exercise
 
 
-def _roles(moments):
+def axis_roles(moments):
     """'smallest', 'middle', 'largest' for each axis, or 'tied' when it equals another."""
     out = []
     for i in range(3):
@@ -830,7 +830,7 @@ def motion(moments, omega) -> Motion:
     o = orbit(moments, w)  # on floats: no numpy
     I = o.moments
     s = o.scale
-    roles = _roles(I)
+    roles = axis_roles(I)
     ws = tuple(v / s for v in w) if s else w  # scaled: I * 5e-324 must not underflow to 0
     spin_axis = max(range(3), key=lambda i: (abs(I[i] * ws[i]), -i))
     energy = momentum = 0.0
@@ -951,7 +951,7 @@ def face_up(up, sides, rule: str = "centre"):
     return 2 * i + (comp < 0)
 
 
-_CHUNK = 1 << 16  # tosses per vectorized batch (also fixes the random stream)
+CHUNK = 1 << 16  # tosses per vectorized batch (also fixes the random stream)
 
 
 def toss_chunks(n: int, seed: int, *, moments, sides, spin, flight, start="+3",
@@ -963,7 +963,7 @@ def toss_chunks(n: int, seed: int, *, moments, sides, spin, flight, start="+3",
     one of the flight time (s), each an object with ``sample(rng, k)`` (a float for a fixed
     value, else an array), like :class:`coincli.core.toss.launch.Dist`.  ``start``: a face of
     :data:`FACES` up at launch, or 'random' (a uniformly random attitude: Haar measure, from
-    four normals).  Each batch draws a full :data:`_CHUNK` of every quantity in a fixed order
+    four normals).  Each batch draws a full :data:`CHUNK` of every quantity in a fixed order
     (omega_1, omega_2, omega_3, flight time, then the start attitude), so a seed gives the same
     tosses on every machine and a shorter run is a prefix of a longer one.
     """
@@ -973,13 +973,13 @@ def toss_chunks(n: int, seed: int, *, moments, sides, spin, flight, start="+3",
     q0 = None if start == "random" else start_quaternion(start)
     done = 0
     while done < n:
-        k = min(_CHUNK, n - done)
-        w = np.empty((_CHUNK, 3))
+        k = min(CHUNK, n - done)
+        w = np.empty((CHUNK, 3))
         for i in range(3):
-            w[:, i] = spin[i].sample(rng, _CHUNK)
-        tf = np.broadcast_to(np.asarray(flight.sample(rng, _CHUNK), dtype=float), (_CHUNK,))
+            w[:, i] = spin[i].sample(rng, CHUNK)
+        tf = np.broadcast_to(np.asarray(flight.sample(rng, CHUNK), dtype=float), (CHUNK,))
         if q0 is None:
-            qs = rng.normal(size=(_CHUNK, 4))
+            qs = rng.normal(size=(CHUNK, 4))
             qs /= np.linalg.norm(qs, axis=1, keepdims=True)
         else:
             qs = q0

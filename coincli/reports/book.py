@@ -388,7 +388,7 @@ def _motion(box, w, tf, start, rule) -> Result:
         cols.append(Column(name, header, style))
         vals.append(value)
 
-    ax = lambda i: f"{i + 1} ({_AXIS_ROLE[rigid._roles(box.moments)[i]]})"  # noqa: E731
+    ax = lambda i: f"{i + 1} ({_AXIS_ROLE[rigid.axis_roles(box.moments)[i]]})"  # noqa: E731
     add("box", "box", box.label, "text")
     for i in range(3):
         add(f"I{i + 1}", f"I{i + 1} ({box.unit})", box.moments[i])
@@ -584,7 +584,7 @@ def _toss(box, spin, n, seed, flight, start, rule, figure: str | None, progress)
             try:  # a motion the core cannot follow is the input's fault: nothing is printed
                 codes = next(chunks, None)
             except ValueError as exc:
-                raise usage_error(f"toss {done + 1} to {min(done + rigid._CHUNK, count)}: "
+                raise usage_error(f"toss {done + 1} to {min(done + rigid.CHUNK, count)}: "
                                   f"{exc}") from None
             if codes is None:
                 break

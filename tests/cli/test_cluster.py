@@ -48,8 +48,8 @@ def _poisoned(job):
 
 
 if not hasattr(runs, "_unpoisoned"):  # a preload may run twice in one process
-    runs._unpoisoned = runs._run_block
-    runs._run_block = _poisoned
+    runs._unpoisoned = runs.run_block
+    runs.run_block = _poisoned
 """
 
 
@@ -397,7 +397,7 @@ def test_no_toss_depends_on_the_chunks_and_a_checkpoint_takes_any(monkeypatch, t
     def no_toss(job):
         raise AssertionError(f"computed {job}")
 
-    monkeypatch.setattr(runs, "_run_block", no_toss)
+    monkeypatch.setattr(runs, "run_block", no_toss)
     resumed, held = sim(16, tmp_path / "c4")
     assert held == 10 and (resumed.counts, resumed.steps) == (first.counts, first.steps)
     monkeypatch.undo()

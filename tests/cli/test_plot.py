@@ -329,7 +329,7 @@ def test_map_values(plotmod, style):
 
 
 def test_phase_map_and_hyperbolae(plotmod):
-    from coincli.core.toss import flight as toss
+    from coincli.core.toss import batch as toss
 
     data = maps.phase_data(u_range=(0.0, 2.0), omega_range=(0.0, 60.0), nu=24, nw=20,
                               marks=[(1.0, 30.0)])

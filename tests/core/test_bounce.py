@@ -22,7 +22,7 @@ import pytest
 B = pytest.importorskip("coincli.core.bounce.engine")
 mujoco = pytest.importorskip("mujoco")
 
-from coincli.core._numerics.quaternion import _qconj, _qrot  # noqa: E402
+from coincli.core._numerics.quaternion import qconj, qrot  # noqa: E402
 from coincli.core.bounce import design as D  # noqa: E402
 from coincli.core.bounce import runs as R  # noqa: E402
 from coincli.core.models import conditional, dynamic  # noqa: E402
@@ -198,7 +198,7 @@ def _on_side_rolling(eng, speed, spin):
     d.qpos[:3] = (0.0, 0.0, coin.a - 2e-5)  # 20 um into the surface: touching
     d.qpos[3:7] = q
     d.qvel[:3] = (speed, 0.0, 0.0)
-    d.qvel[3:6] = _qrot(_qconj(q), (0.0, spin, 0.0))  # body frame
+    d.qvel[3:6] = qrot(qconj(q), (0.0, spin, 0.0))  # body frame
     eng.mujoco.mj_forward(eng.m, d)
 
 
@@ -250,7 +250,7 @@ def _wobbling(eng, tilt, spin_z, w3, vx=0.0):
     d.qpos[:3] = (0.0, 0.0, coin.a * math.sin(tilt) + coin.hh * math.cos(tilt) - 1e-6)
     d.qpos[3:7] = q
     d.qvel[:3] = (vx, 0.0, 0.0)
-    body = _qrot(_qconj(q), (0.0, 0.0, spin_z))
+    body = qrot(qconj(q), (0.0, 0.0, spin_z))
     d.qvel[3:6] = (body[0], body[1], body[2] + w3)
     eng.mujoco.mj_forward(eng.m, d)
 

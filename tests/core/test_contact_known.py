@@ -49,7 +49,7 @@ import math
 
 import pytest
 
-from coincli.core._numerics.quaternion import _qconj, _qrot
+from coincli.core._numerics.quaternion import qconj, qrot
 
 G = 9.80665
 D = 0.02426  #: m, the default diameter (a US quarter)
@@ -97,7 +97,7 @@ class MujocoContact:
 
 
 def _axis(q):
-    return _qrot(q, (0.0, 0.0, 1.0))
+    return qrot(q, (0.0, 0.0, 1.0))
 
 
 def _tilt(q):
@@ -114,7 +114,7 @@ def _qy(angle):
 
 
 def _world_w(state):
-    return _qrot(state[1], state[3])
+    return qrot(state[1], state[3])
 
 
 def _coin(xi):
@@ -227,7 +227,7 @@ def rolling_upright(contact_factory):
     a = coin.a
     q = _qx(-math.pi / 2)  # the axis along +y
     w = (0.0, ROLL_V / a, 0.0)
-    c.set((0.0, 0.0, a), q, (ROLL_V, 0.0, 0.0), _qrot(_qconj(q), w))
+    c.set((0.0, 0.0, a), q, (ROLL_V, 0.0, 0.0), qrot(qconj(q), w))
     c.step(round(0.05 / c.dt))
     st = c.state()
     t1, v1 = c.time, st[2][0]
@@ -319,7 +319,7 @@ def euler_disk(contact_factory, alpha, duration=0.02):
     n = (s, 0.0, co)
     w = tuple(om * s * (-e[i] + hh / a * n[i]) for i in range(3))
     q = _qy(alpha)  # body z to n
-    c.set((0.0, 0.0, a * s + hh * co), q, (0.0, 0.0, 0.0), _qrot(_qconj(q), w))
+    c.set((0.0, 0.0, a * s + hh * co), q, (0.0, 0.0, 0.0), qrot(qconj(q), w))
     ts, phis, tilts = [], [], []
     last = None
     for _ in range(100):

@@ -113,6 +113,9 @@ def test_closed_form_start_is_close_and_the_answer_is_a_root():
 
 
 def test_arrays_solve_like_scalars():
+    """An array of p gives the scalar answers to a few ulps: the array path's Table I is rounded
+    once from long double (within half an ulp), the scalar path's is the double formulas
+    (within 4 ulps of mpmath), and an answer moves with the forward chance's rounding."""
     ps = np.array([2.0**-1074, 1e-300, 1e-9, 0.2, 1 / 3, 0.5, 0.7, 1 - 1e-9, 1 - 2.0**-53, 0.0,
                    1.0, 0.2])
     for psi in (1e-4, 0.7, 1.2, math.pi / 2):
@@ -121,7 +124,7 @@ def test_arrays_solve_like_scalars():
         assert arr.shape == ps.shape and arr[-1] == arr[3]
         fin = np.isfinite(one)
         assert np.array_equal(arr[~fin], one[~fin])
-        assert np.all(np.abs(arr[fin] - one[fin]) <= 2 * np.spacing(one[fin])), (psi, arr, one)
+        assert np.all(np.abs(arr[fin] - one[fin]) <= 4 * np.spacing(one[fin])), (psi, arr, one)
     grid = conditional_inverse(ps.reshape(3, 4), 1.0)
     assert grid.shape == (3, 4)
 

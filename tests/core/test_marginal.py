@@ -241,13 +241,13 @@ def test_scalar_path_finite_and_equal_to_the_array_path(spec):
 
 @pytest.mark.parametrize("n", [2, 3, 5, 8, 16, 17, 33, 64])
 def test_gauss_legendre_rule_against_mpmath(n):
-    """The rule of coincli.core.averages (its own Newton on P_n, no numpy.polynomial) against 40-digit
+    """The rule of coincli.core._numerics.quadrature (its own Newton on P_n, no numpy.polynomial) against 40-digit
     roots of P_n: nodes on [0, 1] within one 2^-53, weights within 2e-13 relative."""
     import mpmath
 
-    from coincli.core.averages import _gauss_legendre
+    from coincli.core._numerics.quadrature import gauss_legendre
 
-    x, w = _gauss_legendre(n)
+    x, w = gauss_legendre(n)
     assert x.shape == w.shape == (n,)
     assert np.all(np.diff(x) > 0) and np.all(w > 0)
     with mpmath.workdps(40):

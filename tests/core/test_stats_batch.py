@@ -68,7 +68,7 @@ def test_rows_match_the_one_at_a_time_engine(seed):
         for t in row.tests:
             ch = chances[t.model]
             assert _close(t.chances.sides, ch.sides, 1e-13), (e, t.model)
-            ph, ps, pt = old._check_probs(ch, 3)
+            ph, ps, pt = old.check_probs(ch, 3)
             x = e.counts.values
             probs = (ph, ps, pt) if e.counts.faces else (ps, ph + pt)
             want_p = old.exact_pvalue(x, probs)

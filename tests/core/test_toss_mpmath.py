@@ -71,7 +71,7 @@ def _check(t_f, args, contact, **kw):
 @pytest.mark.parametrize("contact", T.CONTACTS)
 @pytest.mark.parametrize("args", CASES)
 def test_first_contact_matches_the_mpmath_reference(args, contact):
-    t_one = T.toss(*args, contact=contact).t_f
+    t_one = TB.toss(*args, contact=contact).t_f
     t_batch = float(TB.toss_many(*args, contact=contact).t_f)
     assert t_one == t_batch  # one toss is a batch of one: the same bits
     _check(t_one, args, contact)
@@ -145,7 +145,7 @@ def test_a_grazing_dip_is_the_first_contact(contact, psi, xi):
     u, om = 2.0, 776.0
     z0, t_min = _dip_z0(psi, xi, contact, u, om)
     args = (xi, psi, u, om)
-    t_f = T.toss(*args, contact=contact, z0=z0).t_f
+    t_f = TB.toss(*args, contact=contact, z0=z0).t_f
     assert t_f < t_min
     _check(t_f, args, contact, z0=z0)
     batch = TB.toss_many(np.full(3, xi), psi, u, om, contact=contact, z0=z0)

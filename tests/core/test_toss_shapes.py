@@ -1,7 +1,7 @@
-"""The outcome engine that simulate runs (coincli.core.toss.batch._outcomes) against toss_many's codes for
+"""The outcome engine that simulate runs (coincli.core.toss.batch.outcome_codes) against toss_many's codes for
 every mix of one number and arrays among psi, u and omega, over a grid that reaches the
 extremes: xi from 0 to 1e99, u from 0 to 1e8 m/s, omega from 0 to 1e10 rad/s (1e11 once), psi at 0, pi/2,
-pi and next to them, rim and thick contact.  A fixed --u, --omega or --psi reaches _outcomes as
+pi and next to them, rim and thick contact.  A fixed --u, --omega or --psi reaches outcome_codes as
 one number: with a fixed --psi and --omega and an array of u (`coin simulate --u uniform:0:0
 --omega 1e11 --psi 90`) its band test raised IndexError (an internal error), and with all three
 fixed an AttributeError."""
@@ -45,7 +45,7 @@ def test_outcomes_equal_toss_many_for_every_mix_of_numbers_and_arrays(contact):
         mixes = [(p, u, w), (p * one, u, w), (p, u * one, w), (p, u, w * one),
                  (p * one, u * one, w * one)]
         for pp, uu, ww in mixes:
-            got = np.broadcast_to(TB._outcomes(xi, pp, uu, ww, contact=contact), (3,))
+            got = np.broadcast_to(TB.outcome_codes(xi, pp, uu, ww, contact=contact), (3,))
             assert (got == ref).all(), (contact, xi, u, w, p, np.shape(pp), np.shape(uu),
                                         np.shape(ww), got, ref)
 
@@ -69,4 +69,4 @@ def test_a_toss_beyond_the_scans_rounds_is_a_value_error_naming_omega(monkeypatc
                                          r"1e\+10 rad/s .* 300 rounds .* lower omega"):
         TB.toss_many(1e4, psi, 1e-6, 1e10, contact="thick")
     with pytest.raises(ValueError, match="cannot be followed"):
-        TB._outcomes(1e4, np.array([psi, psi]), np.array([1e-6, 1e-6]), 1e10, contact="thick")
+        TB.outcome_codes(1e4, np.array([psi, psi]), np.array([1e-6, 1e-6]), 1e10, contact="thick")

@@ -16,6 +16,7 @@ import mpmath
 import numpy as np
 import pytest
 
+from coincli.core.toss import batch as TB
 from coincli.core.toss import flight as T
 from coincli.core.toss.batch import toss_many
 from coincli.core.toss.simulate import simulate
@@ -55,7 +56,7 @@ def test_fall_time_has_no_underflow(u, g, z0):
 @pytest.mark.parametrize("g", [SUB, 1e-310, 2.2e-308, 1e-301])
 def test_g_below_the_normal_range_is_refused(g):
     with pytest.raises(ValueError, match="g must be"):
-        T.toss(1.0, math.pi / 2, 0.0, 1.0, g=g)
+        TB.toss(1.0, math.pi / 2, 0.0, 1.0, g=g)
     with pytest.raises(ValueError, match="g must be"):
         simulate(10, 1, xi=1.0, u=0.0, omega=1.0, psi=math.pi / 2, g=g)
 
@@ -64,7 +65,7 @@ def test_the_reference_toss_at_a_tiny_g():
     """psi = 90 degrees, omega = 1: cos(alpha) = cos(t), and with g t^2 << z0 the rim touches
     when a sin(t) = z0 = (sqrt 3/2) a: t = pi/3, alpha = 60 degrees, beyond theta0 = 45: sides.
     At g = G_MIN the phase bound refuses it (the latest contact is 1e149 s away)."""
-    r = T.toss(1.0, math.pi / 2, 0.0, 1.0, g=1e-10)
+    r = TB.toss(1.0, math.pi / 2, 0.0, 1.0, g=1e-10)
     assert r.t_f == pytest.approx(_rim(1e-10), rel=1e-12) and r.outcome == "sides"
     assert abs(r.t_f - math.pi / 3) < 1e-8
     _, phase, problem = T.flight_limits(1.0, math.pi / 2, 0.0, 1.0, g=G_MIN)
@@ -76,11 +77,11 @@ def test_a_tiny_g_with_a_tiny_z0():
     once).  A flat coin (omega tiny) with thick contact and z0 just above h/2 lands when its
     centre has fallen z0 - h/2: t = sqrt(2 (z0 - h/2) / g)."""
     xi, z0 = 1e-300, 1e-280
-    r = T.toss(xi, math.pi / 2, 0.0, 1e-300, g=1e-300, contact="thick", z0=z0)
+    r = TB.toss(xi, math.pi / 2, 0.0, 1e-300, g=1e-300, contact="thick", z0=z0)
     assert r.t_f == pytest.approx(_fall(0.0, 1e-300, z0 - xi * D / 2), rel=1e-9)
     assert r.outcome == "heads"
     # rim contact, turning at 1 rad/s: a sin(t) = z0 first, t = asin(z0 / a) = z0 / a
-    r = T.toss(1.0, math.pi / 2, 0.0, 1.0, g=1e-300, z0=1e-303)
+    r = TB.toss(1.0, math.pi / 2, 0.0, 1.0, g=1e-300, z0=1e-303)
     assert r.t_f == pytest.approx(_rim(1e-300, 1e-303), rel=1e-12) and r.outcome == "heads"
 
 
@@ -90,7 +91,7 @@ def test_subnormal_physical_parameters_give_their_limit(name):
     degrees, so every landing tilt below 90 is heads), the others at the reference toss."""
     kw = {"xi": 1.0, "psi": math.pi / 2, "u": 0.0, "omega": 1.0}
     kw[name] = SUB
-    r = T.toss(kw["xi"], kw["psi"], kw["u"], kw["omega"], g=1e-10)
+    r = TB.toss(kw["xi"], kw["psi"], kw["u"], kw["omega"], g=1e-10)
     many = toss_many(kw["xi"], np.array([kw["psi"]] * 2), kw["u"], kw["omega"], g=1e-10)
     assert many.t_f.tolist() == [r.t_f] * 2
     z0 = math.sqrt(3) / 2 * A

@@ -14,25 +14,25 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from coincli.core._numerics.wilson import CONFIDENCE, _check_level
+from coincli.core._numerics.wilson import CONFIDENCE, check_level
 from coincli.core.models import Outcome
-from coincli.core.stats.counts import Counts, _check_probs, _whole
+from coincli.core.stats.counts import Counts, check_probs, whole_count
 from coincli.core.stats.fit import SpreadFit, _sigma_of, _spread_chances, aic
 from coincli.core.stats.intervals import Interval, Proportion
-from coincli.core.stats.tests import _LOG_TINY, TIE_RTOL
+from coincli.core.stats.tests import TIE_RTOL, _LOG_TINY
 
 
 def proportion(count: int, n: int, outcome: str = "sides", confidence: float = CONFIDENCE
                ) -> Proportion:
     from scipy.stats import binomtest
 
-    c = _whole(count, "count")
-    m = _whole(n, "n")
+    c = whole_count(count, "count")
+    m = whole_count(n, "n")
     if m == 0:
         raise ValueError("n must be >= 1, got 0")
     if c > m:
         raise ValueError(f"count must be <= n = {m}, got {c}")
-    conf = _check_level(confidence, "confidence")
+    conf = check_level(confidence, "confidence")
     res = binomtest(c, m)
     out = {}
     for method, label in (("wilson", "wilson"), ("exact", "clopper-pearson")):
@@ -115,10 +115,10 @@ def _exact_trinomial_logp(x: tuple[int, int, int], p: tuple[float, float, float]
 
 
 def exact_pvalue(counts: Sequence[int], probs: Sequence[float]) -> float:
-    x = [_whole(v, "counts") for v in counts]
+    x = [whole_count(v, "counts") for v in counts]
     if len(x) not in (2, 3):
         raise ValueError(f"counts must have 2 or 3 categories, got {len(x)}")
-    p = _check_probs(probs, len(x))
+    p = check_probs(probs, len(x))
     n = sum(x)
     if n == 0:
         raise ValueError("counts are all zero: no tosses to test")
@@ -147,8 +147,8 @@ def g_test(counts: Sequence[int], probs: Sequence[float]) -> tuple[float, int, f
     from scipy.special import xlogy
     from scipy.stats import chi2
 
-    x = [_whole(v, "counts") for v in counts]
-    p = _check_probs(probs, len(x))
+    x = [whole_count(v, "counts") for v in counts]
+    p = check_probs(probs, len(x))
     n = sum(x)
     if n == 0:
         raise ValueError("counts are all zero: no tosses to test")
@@ -171,7 +171,7 @@ def g_test(counts: Sequence[int], probs: Sequence[float]) -> tuple[float, int, f
 def log_likelihood(counts: Counts, probs) -> float:
     from scipy.stats import binom, multinomial
 
-    ph, ps, pt = _check_probs(probs, 3)
+    ph, ps, pt = check_probs(probs, 3)
     if counts.faces:
         return float(multinomial.logpmf(list(counts.values), counts.n, [ph, ps, pt]))
     if ps <= 0.5:
@@ -212,7 +212,7 @@ def fit_spread(xi: Sequence[float], counts: Sequence[Counts], *, confidence: flo
     from scipy.optimize import brentq, minimize_scalar
     from scipy.stats import chi2
 
-    conf = _check_level(confidence, "confidence")
+    conf = check_level(confidence, "confidence")
     xs = np.asarray([float(v) for v in xi], dtype=float)
     if xs.ndim != 1 or len(xs) != len(counts) or len(xs) == 0:
         raise ValueError(f"xi and counts must be non-empty and of one length, got {len(xs)} and "

@@ -17,7 +17,7 @@ import os
 import sys
 import types
 
-__all__ = ["M", "namespace", "is_scalar", "numpy_random", "randbits"]
+__all__ = ["M", "namespace", "is_scalar", "long_double_64", "numpy_random", "randbits"]
 
 
 def _where(cond, a, b):
@@ -39,6 +39,12 @@ M = types.SimpleNamespace(
 def is_scalar(*args) -> bool:
     """True when every argument is a plain ``int`` or ``float`` (``numpy.float64`` is a ``float``)."""
     return all(isinstance(a, (int, float)) for a in args)
+
+
+def long_double_64(xp) -> bool:
+    """Whether numpy's long double (``xp`` is numpy) has a 64-bit significand, as on x86: the
+    numpy paths of Table I and of the averages then finish in it and round once."""
+    return xp.finfo(xp.longdouble).nmant + 1 >= 64
 
 
 def namespace(*args):

@@ -13,8 +13,8 @@ costs ``eps / m1`` of relative accuracy: 1e-4 at ``m1 = 1e-12``):
   quarter-period shifts (:func:`_sncndn_eighth` evaluates the eighth: the backward Landen
   recurrence, or A&S 16.15 for ``m1 <= 1e-11``).
 
-Each runs on Python floats (through :class:`_Py`, without numpy) or on numpy arrays
-(:func:`_xp` picks).  docs/book.md has the measured accuracy (a few eps against mpmath, m1 from
+Each runs on Python floats (through :class:`FloatShim`, without numpy) or on numpy arrays
+(:func:`backend_of` picks).  docs/book.md has the measured accuracy (a few eps against mpmath, m1 from
 1 to 1e-300).
 """
 
@@ -24,12 +24,12 @@ import math
 
 __all__ = ["ellip_agm", "ellip_k", "ellip_f", "ellip_rf", "ellip_j"]
 
-_EPS = 2.220446049250313e-16
+EPS = 2.220446049250313e-16
 _MAX_AGM = 64  # AGM steps; m1 = 1e-308 needs 14
 _M1_HYPERBOLIC = 1e-11  # below: sn, cn, dn on [0, K/2] from the expansion about m = 1
 
 
-class _Py:
+class FloatShim:
     """The handful of numpy functions the elliptic code uses, on Python floats, so that the
     scalar summary runs without numpy."""
 
@@ -62,14 +62,14 @@ class _Py:
         return float(round(x))
 
 
-def _xp(*values):
+def backend_of(*values):
     """numpy if any value is a numpy array, else the scalar shim."""
     for v in values:
         if type(v).__module__ == "numpy":
             import numpy
 
             return numpy
-    return _Py
+    return FloatShim
 
 
 def ellip_agm(m, m1):
@@ -78,13 +78,13 @@ def ellip_agm(m, m1):
     lists ``a, b, c`` with :math:`a_0 = 1, b_0 = \\sqrt{m_1}, c_0 = \\sqrt m` and
     :math:`c_{n+1} = c_n^2 / (4 a_{n+1})` (no cancellation).  Works on floats and on numpy
     arrays (then all elements run the same number of steps, enough for the slowest)."""
-    xp = _xp(m, m1)
+    xp = backend_of(m, m1)
     a = m1 * 0 + 1.0
     b = xp.sqrt(m1)
     c = xp.sqrt(m)
     A, B, C = [a], [b], [c]
     for _ in range(_MAX_AGM):
-        if not xp.any(c > _EPS * a):
+        if not xp.any(c > EPS * a):
             break
         a_next = (a + b) / 2
         c = c * c / (4 * a_next)
@@ -108,12 +108,12 @@ def ellip_rf(x, y, z):
     \frac{dt}{\sqrt{(t+x)(t+y)(t+z)}}` (``x, y, z >= 0``, at most one 0) by duplication
     (Carlson 1995; DLMF 19.36.1), on floats or numpy arrays: a few ulps, with no cancellation
     however small ``x`` and ``y`` are (``F`` near ``K`` next to the separatrix needs that)."""
-    xp = _xp(x, y, z)
+    xp = backend_of(x, y, z)
     x0, y0 = x, y
     A0 = (x + y + z) / 3
     A = A0
     big = xp.maximum(xp.maximum(xp.abs(A0 - x), xp.abs(A0 - y)), xp.abs(A0 - z))
-    Q = (3 * _EPS) ** (-1 / 6) * big
+    Q = (3 * EPS) ** (-1 / 6) * big
     f = 1.0
     for _ in range(200):
         if not xp.any(f * Q >= xp.abs(A)):
@@ -201,8 +201,8 @@ def ellip_j(u, m, m1, agm=None):
     """
     agm = agm if agm is not None else ellip_agm(m, m1)
     A, B, C = agm
-    xp = _xp(u, m, m1)
-    K = math.pi / (2 * A[-1]) if xp is _Py else xp.pi / (2 * A[-1])
+    xp = backend_of(u, m, m1)
+    K = math.pi / (2 * A[-1]) if xp is FloatShim else xp.pi / (2 * A[-1])
     P = 4 * K
     u4 = xp.fmod(u, P)
     u4 = xp.where(u4 < 0, u4 + P, u4)
@@ -217,7 +217,7 @@ def ellip_j(u, m, m1, agm=None):
     s, c, d = (xp.where(far, c / d, s), xp.where(far, kp * s / d, c), xp.where(far, kp / d, d))
     # quarter shifts: u = K + v: (cn/dn, -k' sn/dn, k'/dn); 2K + v: (-sn, -cn, dn);
     # 3K + v: (-cn/dn, k' sn/dn, k'/dn)
-    odd = (q == 1) | (q == 3) if xp is not _Py else q in (1.0, 3.0)
+    odd = (q == 1) | (q == 3) if xp is not FloatShim else q in (1.0, 3.0)
     s2 = xp.where(odd, c / d, s)
     c2 = xp.where(odd, -kp * s / d, c)
     d2 = xp.where(odd, kp / d, d)

@@ -1,9 +1,9 @@
 """Quaternion helpers: unit quaternions ``(w, x, y, z)`` as tuples of floats (or of numpy
 arrays, element by element).
 
-Products and conjugates (:func:`_qmul`, :func:`_qconj`), rotating a vector (:func:`_qrot`), the
-rotation by an angle about an axis (:func:`_qaxis`), the z-x-z Euler rotation (:func:`_zxz`), and
-the quaternion of a rotation matrix (:func:`_quat_of_matrix`, :func:`_frame_quat` for a signed
+Products and conjugates (:func:`qmul`, :func:`qconj`), rotating a vector (:func:`qrot`), the
+rotation by an angle about an axis (:func:`qaxis`), the z-x-z Euler rotation (:func:`zxz`), and
+the quaternion of a rotation matrix (:func:`_quat_of_matrix`, :func:`frame_quat` for a signed
 permutation of axes).  Used by the free rigid body (:mod:`coincli.core.rigid`) and the bounce
 engine (:mod:`coincli.core.bounce.engine`).  Pure Python: numpy, where a caller passes arrays,
 comes in with them.
@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 
 
-def _qmul(p, q):
+def qmul(p, q):
     pw, px, py, pz = p
     qw, qx, qy, qz = q
     return (pw * qw - px * qx - py * qy - pz * qz,
@@ -23,18 +23,18 @@ def _qmul(p, q):
             pw * qz + px * qy - py * qx + pz * qw)
 
 
-def _zxz(np, phi, theta, psi):
+def zxz(np, phi, theta, psi):
     """The quaternion of Rz(phi) Rx(theta) Rz(psi)."""
     ct, st = np.cos(theta / 2), np.sin(theta / 2)
     a, b = (phi + psi) / 2, (phi - psi) / 2
     return (ct * np.cos(a), st * np.cos(b), st * np.sin(b), ct * np.sin(a))
 
 
-def _qconj(q):
+def qconj(q):
     return (q[0], -q[1], -q[2], -q[3])
 
 
-def _qrot(q, v):
+def qrot(q, v):
     """Rotate vector v by unit quaternion q."""
     w, x, y, z = q
     vx, vy, vz = v
@@ -44,7 +44,7 @@ def _qrot(q, v):
             vz + w * tz + (x * ty - y * tx))
 
 
-def _qaxis(axis, angle):
+def qaxis(axis, angle):
     s = math.sin(0.5 * angle)
     return (math.cos(0.5 * angle), axis[0] * s, axis[1] * s, axis[2] * s)
 
@@ -66,7 +66,7 @@ def _quat_of_matrix(R):
     return tuple(q)
 
 
-def _frame_quat(perm, sign):
+def frame_quat(perm, sign):
     """Quaternion of the rotation P with (P v)[k] = sign[k] * v[perm[k]] (user -> frame)."""
     R = [[0.0] * 3 for _ in range(3)]
     for k in range(3):

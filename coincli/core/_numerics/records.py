@@ -1,7 +1,7 @@
-"""One record style for the core's small result classes: :func:`_record`, a light dataclass.
+"""One record style for the core's small result classes: :func:`record`, a light dataclass.
 
-``@_record()`` gives a class of annotated fields an ``__init__`` (fields by position or name, with
-defaults; :data:`_NEW_LIST` for a fresh empty list an instance), a ``repr`` and ``==``; with
+``@record()`` gives a class of annotated fields an ``__init__`` (fields by position or name, with
+defaults; :data:`NEW_LIST` for a fresh empty list an instance), a ``repr`` and ``==``; with
 ``frozen=True`` also a ``hash`` and fields that cannot be changed.  Decorating costs a few
 microseconds, where the dataclasses module costs most of a millisecond of start-up a class: the
 toss modules (:mod:`coincli.core.toss`), which ``coin toss`` and ``coin simulate`` import, use it.
@@ -9,10 +9,10 @@ toss modules (:mod:`coincli.core.toss`), which ``coin toss`` and ``coin simulate
 
 from __future__ import annotations
 
-_NEW_LIST = object()  #: a record field's default: a new empty list for each instance
+NEW_LIST = object()  #: a record field's default: a new empty list for each instance
 
 
-def _record(frozen=False, skip_compare=()):
+def record(frozen=False, skip_compare=()):
     """A light dataclass: ``__init__`` (fields by position or name, defaults), ``repr``,
     ``==`` (and ``hash`` when frozen) from the class's annotated fields.  Decorating costs a few
     microseconds, where the dataclasses module costs most of a millisecond of start-up a
@@ -54,7 +54,7 @@ def _rec_init(self, *args, **kwargs):
             if k not in self._defaults:
                 raise TypeError(f"{type(self).__name__}() missing argument {k!r}")
             d = self._defaults[k]
-            values[k] = [] if d is _NEW_LIST else d
+            values[k] = [] if d is NEW_LIST else d
         object.__setattr__(self, k, values[k])
 
 

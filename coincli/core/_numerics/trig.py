@@ -1,11 +1,11 @@
 """Hand-written vectorized sines and cosines: numpy's ``sin`` and ``cos`` are scalar loops,
 several times the cost of these array operations.
 
-- :func:`_half_sincos`: ``|sin x|`` and ``cos x sign(sin x)`` within an ulp or two (fdlibm's
+- :func:`half_sincos`: ``|sin x|`` and ``cos x sign(sin x)`` within an ulp or two (fdlibm's
   kernels after a Cody-Waite reduction; numpy's beyond ``x = 1.5e6``), for the time of flight's
   ``F`` and ``F'`` (:mod:`coincli.core.toss.flight`);
-- :func:`_abs_sin_rough`, and :func:`_sin_into` in place: ``|sin x|`` for ``0 <= x < 1e5`` within
-  ``5e-11`` (a Taylor polynomial, :data:`_SIN_TAYLOR`), for bounds with a margin, not for results
+- :func:`abs_sin_rough`, and :func:`sin_into` in place: ``|sin x|`` for ``0 <= x < 1e5`` within
+  ``5e-11`` (a Taylor polynomial, :data:`SIN_TAYLOR`), for bounds with a margin, not for results
   (the outcome engine of :mod:`coincli.core.toss.batch`).
 
 Each takes the numpy module as its first argument, so this module imports no numpy.
@@ -29,7 +29,7 @@ _KC = (-1.13596475577881948265e-11, 2.08757232129817482790e-09, -2.7557314351390
        2.48015872894767294178e-05, -1.38888888888741095749e-03, 4.16666666666666019037e-02)
 
 
-def _half_sincos(np, x):
+def half_sincos(np, x):
     """``(|sin x|, cos x * sign(sin x))`` for an array ``x >= 0``: the sine and cosine of ``x``
     modulo pi, in ``[0, pi)`` (``(0, 1)`` at ``x = 0``), each within an ulp or two."""
     # (In place where the operations are the same: fewer arrays through the cache.)
@@ -73,10 +73,10 @@ def _half_sincos(np, x):
 
 
 # sin r for |r| <= pi/2 + 1e-11: Taylor to r^17 (the next term is below 5e-14).
-_SIN_TAYLOR = tuple((-1.0) ** i / math.factorial(2 * i + 1) for i in range(9))[::-1]
+SIN_TAYLOR = tuple((-1.0) ** i / math.factorial(2 * i + 1) for i in range(9))[::-1]
 
 
-def _abs_sin_rough(np, x, terms=9):
+def abs_sin_rough(np, x, terms=9):
     """``|sin x|`` for ``0 <= x < 1e5`` within ``5e-11``: the reduction ``x - k pi`` by a double
     ``pi`` errs by ``k * 1.3e-16`` plus two roundings of the size of ``x`` (an ulp of ``1e5`` is
     ``1.5e-11``), the Taylor polynomial on ``[-pi/2, pi/2]`` by ``5e-14``.  For bounds (with a
@@ -86,7 +86,7 @@ def _abs_sin_rough(np, x, terms=9):
     r *= -math.pi
     r += x
     z = r * r
-    taylor = _SIN_TAYLOR[9 - terms:]
+    taylor = SIN_TAYLOR[9 - terms:]
     p = z * taylor[0]
     for c in taylor[1:-1]:
         p += c
@@ -96,9 +96,9 @@ def _abs_sin_rough(np, x, terms=9):
     return np.abs(p, out=p)
 
 
-def _sin_into(np, x, out, r, z, taylor):
+def sin_into(np, x, out, r, z, taylor):
     """``|sin x|`` for ``0 <= x < 1e5`` into ``out`` (``r``, ``z`` scratch): as
-    :func:`_abs_sin_rough`, in place, with the Taylor coefficients ``taylor`` (of ``sin r /
+    :func:`abs_sin_rough`, in place, with the Taylor coefficients ``taylor`` (of ``sin r /
     r``, highest first)."""
     np.multiply(x, 1.0 / math.pi, out=r)
     np.rint(r, out=r)

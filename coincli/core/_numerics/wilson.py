@@ -13,7 +13,7 @@ import math
 CONFIDENCE = 0.95  #: default confidence level of the intervals
 
 
-def _check_level(value, name: str) -> float:
+def check_level(value, name: str) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise ValueError(f"{name} must be a number in (0, 1), got {value!r}")
     v = float(value)
@@ -27,7 +27,7 @@ def _check_level(value, name: str) -> float:
 _Z_COMMON = {0.9: 1.6448536269514729, 0.95: 1.959963984540054, 0.99: 2.5758293035489004}
 
 
-def _z(confidence: float) -> float:
+def two_sided_z(confidence: float) -> float:
     """The two-sided normal quantile: ``P(|Z| <= z) = confidence``, finite for every level in
     (0, 1) (``1 - confidence`` is exact for a level of 1/2 or more; erfinv below)."""
     z = _Z_COMMON.get(confidence)
@@ -52,10 +52,10 @@ def wilson_interval(count, n, confidence: float = CONFIDENCE):
     """
     import numpy as np
 
-    conf = _check_level(confidence, "confidence")
+    conf = check_level(confidence, "confidence")
     k = np.asarray(count, dtype=float)
     m = np.asarray(n, dtype=float)
-    z = _z(conf)
+    z = two_sided_z(conf)
     z2 = z * z
     with np.errstate(divide="ignore", invalid="ignore"):
         denom = m + z2

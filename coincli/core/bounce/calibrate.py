@@ -213,7 +213,7 @@ def run_design(prototypes, names, points, *, seed, per_group, groups=GROUPS, fix
     else:
         import multiprocessing as mp
 
-        from coincli.core.bounce.runs import _worker_init  # noqa: F401  (the engine imports)
+        from coincli.core.bounce.runs import worker_init  # noqa: F401  (the engine imports)
 
         ctx = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
         pool = ctx.Pool(min(jobs, len(todo)), initializer=_quiet_worker)

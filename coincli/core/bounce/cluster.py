@@ -4,7 +4,7 @@ on this machine (``--scheduler local``).
 
 The work is the local pool's: chunk ``k`` of block ``b`` draws its launches from the seed
 ``(seed, b)`` (:func:`coincli.core.bounce.runs._block_launches`) and runs them
-(:func:`coincli.core.bounce.runs._run_block`), whichever worker runs it, so the counts are those
+(:func:`coincli.core.bounce.runs.run_block`), whichever worker runs it, so the counts are those
 of ``--jobs N`` byte for byte.  A task is a pure function of what it is sent (the coin, the
 surface, the timestep, the launch distributions, the seed and the chunk's place): a chunk lost
 with a worker is computed again elsewhere.  Each task checks that its worker runs the client's
@@ -87,15 +87,15 @@ def _task(sent: _Sent, want):
 
 def _chunk(task):
     """One chunk of ``simulate``, ``task`` = ``(args, job)``: ``(k, rows)`` as
-    :func:`coincli.core.bounce.runs._run_block` gives them.  The engine is built once a worker
+    :func:`coincli.core.bounce.runs.run_block` gives them.  The engine is built once a worker
     for a run's ``args`` (and again when another task, a calibration's, replaced it)."""
     from coincli.core.bounce import runs
 
     args, job = task
-    if _ENGINE[0] != args or runs._WORKER.get("engine") is not _ENGINE[1]:
-        runs._worker_init(args)
-        _ENGINE[:] = [args, runs._WORKER["engine"]]
-    return runs._run_block(job)
+    if _ENGINE[0] != args or runs.WORKER.get("engine") is not _ENGINE[1]:
+        runs.worker_init(args)
+        _ENGINE[:] = [args, runs.WORKER["engine"]]
+    return runs.run_block(job)
 
 
 def chunk_for(n: int, workers: int) -> int:

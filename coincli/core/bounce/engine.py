@@ -68,13 +68,13 @@ import math
 from dataclasses import dataclass, replace
 
 from coincli import limits as L
-from coincli.core._numerics.quaternion import _qaxis, _qconj, _qmul, _qrot
+from coincli.core._numerics.quaternion import qaxis, qconj, qmul, qrot
 from coincli.core._numerics.roots import bisect
 from coincli.core.toss.flight import (
     DEFAULT_DIAMETER,
     NAMES,
     STANDARD_G,
-    _check,
+    check_number,
     classify,
 )
 from coincli.errors import PhysicsMissing, install_hint
@@ -187,10 +187,10 @@ class Surface:
     source: str = "given by the user"
 
     def __post_init__(self):
-        _check("restitution", self.restitution, RESTITUTION_MIN, RESTITUTION_MAX)
-        _check("friction", self.friction, 0.0, 10.0)
-        _check("torsional friction", self.torsional, 0.0, 0.1, unit="m")
-        _check("rolling friction", self.rolling, 0.0, 0.1, unit="m")
+        check_number("restitution", self.restitution, RESTITUTION_MIN, RESTITUTION_MAX)
+        check_number("friction", self.friction, 0.0, 10.0)
+        check_number("torsional friction", self.torsional, 0.0, 0.1, unit="m")
+        check_number("rolling friction", self.rolling, 0.0, 0.1, unit="m")
 
     def describe(self):
         return (f"{self.name}: restitution {self.restitution:g}, friction {self.friction:g}, "
@@ -257,9 +257,9 @@ class Coin:
     density: float = DEFAULT_DENSITY
 
     def __post_init__(self):
-        _check("xi", self.xi, 0.0, BOUNCE_XI_MAX, lo_open=True)
-        _check("diameter", self.diameter, 1e-4, 10.0, unit="m")
-        _check("density", self.density, 1.0, 1e5, unit="kg/m^3")
+        check_number("xi", self.xi, 0.0, BOUNCE_XI_MAX, lo_open=True)
+        check_number("diameter", self.diameter, 1e-4, 10.0, unit="m")
+        check_number("density", self.density, 1.0, 1e5, unit="kg/m^3")
 
     @property
     def a(self):
@@ -361,19 +361,19 @@ class _Flight:
         p = (self.p[0] + self.v[0] * s, self.p[1] + self.v[1] * s,
              self.p[2] + self.v[2] * s - 0.5 * g * s * s)
         v = (self.v[0], self.v[1], self.v[2] - g * s)
-        q = _qmul(_qaxis(self.lhat, self.big_omega * s),
-                  _qmul(self.q, (math.cos(0.5 * self.lam * s), 0.0, 0.0,
+        q = qmul(qaxis(self.lhat, self.big_omega * s),
+                  qmul(self.q, (math.cos(0.5 * self.lam * s), 0.0, 0.0,
                                  math.sin(0.5 * self.lam * s))))
-        n = _qrot(q, (0.0, 0.0, 1.0))
+        n = qrot(q, (0.0, 0.0, 1.0))
         w = tuple(self.big_omega * self.lhat[i] + self.lam * n[i] for i in range(3))
-        return p, q, v, _qrot(_qconj(q), w)
+        return p, q, v, qrot(qconj(q), w)
 
     def clearance(self, t, a, hh, g):
         """The height of the lowest point of the cylinder (radius ``a``, half-thickness ``hh``)
         above the plane z = 0 at ``t``: ``z - a sin(alpha) - hh |cos(alpha)|``."""
         s = t - self.t0
-        q = _qmul(_qaxis(self.lhat, self.big_omega * s),
-                  _qmul(self.q, (math.cos(0.5 * self.lam * s), 0.0, 0.0,
+        q = qmul(qaxis(self.lhat, self.big_omega * s),
+                  qmul(self.q, (math.cos(0.5 * self.lam * s), 0.0, 0.0,
                                  math.sin(0.5 * self.lam * s))))
         nz = 1.0 - 2.0 * (q[1] * q[1] + q[2] * q[2])
         z = self.p[2] + self.v[2] * s - 0.5 * g * s * s
@@ -404,11 +404,11 @@ def _flight_from_state(t0, qpos, qvel, i1, i3):
     vx, vy, vz, wx, wy, wz = qvel.tolist()
     nq = math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
     q = (qw / nq, qx / nq, qy / nq, qz / nq)
-    lw = _qrot(q, (i1 * wx, i1 * wy, i3 * wz))  # L in the world frame
+    lw = qrot(q, (i1 * wx, i1 * wy, i3 * wz))  # L in the world frame
     lnorm = math.sqrt(lw[0] * lw[0] + lw[1] * lw[1] + lw[2] * lw[2])
     if lnorm == 0.0:
         return _Flight(t0, (x, y, z), (vx, vy, vz), q, (0.0, 0.0, 1.0), 0.0, 0.0)
-    n = _qrot(q, (0.0, 0.0, 1.0))
+    n = qrot(q, (0.0, 0.0, 1.0))
     lhat = (lw[0] / lnorm, lw[1] / lnorm, lw[2] / lnorm)
     ln = lw[0] * n[0] + lw[1] * n[1] + lw[2] * n[2]
     return _Flight(t0, (x, y, z), (vx, vy, vz), q, lhat, lnorm / i1, ln * (1.0 / i3 - 1.0 / i1))
@@ -427,7 +427,7 @@ def _first_touch(fl: _Flight, a, hh, g, resolution):
     """
     import numpy as np
 
-    n0 = _qrot(fl.q, (0.0, 0.0, 1.0))
+    n0 = qrot(fl.q, (0.0, 0.0, 1.0))
     ln = sum(fl.lhat[i] * n0[i] for i in range(3))
     big_a = ln * fl.lhat[2]
     big_b = n0[2] - big_a
@@ -536,7 +536,7 @@ def drop_restitution(coin: Coin, surf: Surface, dt, b, *, tilt=0.0, speed=1.0, g
     mass, i1 = float(m.body_mass[1]), float(m.body_inertia[1][0])
     # the point that touches first: the low corner of a tilted coin (the tilt is about the x
     # axis, so the lever r x n lies along the body's x axis), the lower face of a flat one
-    r = _qrot(tuple(float(c) for c in d.qpos[3:7]), (0.0, -a if tilt > 0 else 0.0, -hh))
+    r = qrot(tuple(float(c) for c in d.qpos[3:7]), (0.0, -a if tilt > 0 else 0.0, -hh))
     m_eff = 1.0 / (1.0 / mass + (r[0] ** 2 + r[1] ** 2) / i1)
     e0 = float(d.energy[0]) + float(d.energy[1])
     touched = 0
@@ -553,10 +553,10 @@ def drop_restitution(coin: Coin, surf: Surface, dt, b, *, tilt=0.0, speed=1.0, g
     return math.sqrt(max(0.0, 1.0 - lost / (0.5 * m_eff * speed * speed)))
 
 
-_CALIBRATION: dict = {}
+CALIBRATION: dict = {}
 
 
-def _calibration_key(coin: Coin, surf: Surface, dt, g):
+def calibration_key(coin: Coin, surf: Surface, dt, g):
     """What decides :func:`calibrate`'s answer (its cache's key)."""
     return (coin, surf.restitution, surf.friction, surf.torsional, surf.rolling, dt, g)
 
@@ -572,9 +572,9 @@ def calibrate(coin: Coin, surf: Surface, dt=DEFAULT_DT, g=STANDARD_G):
     force would pull) and the discrete steps shift that by up to 0.1 in ``e``, hence the
     bisection, bracketed by ``b = 0.003 omega_n`` and the explicit-damping limit ``b = 1/dt``.
     """
-    key = _calibration_key(coin, surf, dt, g)
-    if key in _CALIBRATION:
-        return _CALIBRATION[key]
+    key = calibration_key(coin, surf, dt, g)
+    if key in CALIBRATION:
+        return CALIBRATION[key]
     e = surf.restitution
     wn = OMEGA_DT / dt
     # A flat drop and an edge drop (tilted 0.6 rad, on the same surface without friction: a
@@ -604,7 +604,7 @@ def calibrate(coin: Coin, surf: Surface, dt=DEFAULT_DT, g=STANDARD_G):
         if hi / lo < 1 + 1e-4:
             break
     b = math.sqrt(lo * hi)
-    _CALIBRATION[key] = b
+    CALIBRATION[key] = b
     return b
 
 
@@ -645,9 +645,9 @@ class Engine:
             raise ValueError(f"landing must be one of {', '.join(LANDINGS)}, got {landing!r}")
         if flight not in ("exact", "mujoco"):
             raise ValueError(f"flight must be 'exact' or 'mujoco', got {flight!r}")
-        _check("dt", dt, 1e-7, 1e-3, unit="s")
-        _check("g", g, 0.0, BOUNCE_G_MAX, lo_open=True, unit="m/s^2")
-        _check("t_max", t_max, 0.0, 1e3, lo_open=True, unit="s")
+        check_number("dt", dt, 1e-7, 1e-3, unit="s")
+        check_number("g", g, 0.0, BOUNCE_G_MAX, lo_open=True, unit="m/s^2")
+        check_number("t_max", t_max, 0.0, 1e3, lo_open=True, unit="s")
         self.coin, self.surface, self.dt, self.g = coin, surf, dt, g
         self.landing, self.t_max, self.flight = landing, t_max, flight
         self.damping = calibrate(coin, surf, dt, g) if damping is None else damping
@@ -727,7 +727,7 @@ class Engine:
         if abs(nz) > SIDE_TILT or d.ncon == 0:
             return 0.0
         vx, vy, _, w1, w2, w3 = d.qvel.tolist()
-        ww = _qrot((qw, qx, qy, qz), (w1, w2, w3))  # world angular velocity
+        ww = qrot((qw, qx, qy, qz), (w1, w2, w3))  # world angular velocity
         for cx, cy, cz in d.contact.pos.tolist():
             rx, ry, rz = cx - px, cy - py, cz - pz
             sx = vx + ww[1] * rz - ww[2] * ry

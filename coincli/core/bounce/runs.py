@@ -2,7 +2,7 @@
 
 :func:`simulate` draws the launches block by block (:data:`BLOCK` tosses, block ``k`` seeded
 ``(seed, k)``), runs them through one :class:`coincli.core.bounce.engine.Engine` per worker
-process (:func:`_worker_init`, :func:`_run_block`; both module-level, so that a pool pickles them
+process (:func:`worker_init`, :func:`run_block`; both module-level, so that a pool pickles them
 by name) and counts the outcomes into a :class:`BounceSimulation`.  The counts do not depend on
 the number of workers nor on how blocks are cut into chunks.  The physics of one toss is
 :mod:`coincli.core.bounce.engine`.
@@ -87,18 +87,18 @@ def _block_launches(seed, block, count, dists, coin, stream=(), start=0):
     return out
 
 
-_WORKER: dict = {}
+WORKER: dict = {}
 
 
-def _worker_init(args, parent=None):
+def worker_init(args, parent=None):
     """One engine for this process.  ``parent``: the pid of the process that owns the pool,
     when this is a pool worker (:func:`_bind_to_parent`)."""
     if parent is not None:
         _bind_to_parent(parent)
     coin, surf, dt, g, landing, t_max, flight, damping = args
-    _WORKER["engine"] = Engine(coin, surf, dt=dt, g=g, landing=landing, t_max=t_max,
+    WORKER["engine"] = Engine(coin, surf, dt=dt, g=g, landing=landing, t_max=t_max,
                                flight=flight, damping=damping)
-    _WORKER["args"] = args  # what it was built for (:func:`_run_job` reuses it)
+    WORKER["args"] = args  # what it was built for (:func:`_run_job` reuses it)
 
 
 def _bind_to_parent(parent: int) -> None:
@@ -145,12 +145,12 @@ def _parent_death_signal() -> bool:
         return False
 
 
-def _run_block(job):
+def run_block(job):
     """Tosses ``start`` to ``stop`` of one block (a chunk): ``(k, rows)``, ``k`` the chunk's
     index.  The first contacts are found for the whole block's launches, then sliced, so that a
     toss's numbers do not depend on the chunking."""
     k, (seed, block, start, stop, count, dists, stream) = job
-    eng = _WORKER["engine"]
+    eng = WORKER["engine"]
     rows = []
     launches = _block_launches(seed, block, count, dists, eng.coin, stream)
     t_first = eng.first_contacts(launches) if eng.flight == "exact" else [None] * count
@@ -206,9 +206,9 @@ def _plan(n, seed, *, xi, u, omega, psi, surf=None, landing="bounce", height=0.0
           chunk=None, executor=None) -> _Plan:
     """A run's launches distributions and chunks, its input checked (its contact damping is
     found later, :func:`_calibrate_all`); ``executor``: a cluster sizes the chunks."""
-    from coincli.core.toss.flight import _count
+    from coincli.core.toss.flight import check_count
 
-    n = _count(n)
+    n = check_count(n)
     coin = Coin(float(xi), float(diameter), float(density))
     surf = SURFACES["wood"] if surf is None else surf
     if z0 is None:
@@ -305,9 +305,9 @@ def _run_job(item):
     """A chunk of any run: ``(args, (k, job))`` -> ``rows`` (the worker's engine rebuilt when
     the run changes)."""
     args, job = item
-    if _WORKER.get("args") != args:
-        _worker_init(args)
-    return _run_block(job)[1]
+    if WORKER.get("args") != args:
+        worker_init(args)
+    return run_block(job)[1]
 
 
 def _calibration(key):
@@ -327,11 +327,11 @@ def _calibrate_all(plans, workers, parallel=True):
 
     missing = []
     for p in plans if parallel else ():
-        if engine._calibration_key(*key(p)) not in engine._CALIBRATION and key(p) not in missing:
+        if engine.calibration_key(*key(p)) not in engine.CALIBRATION and key(p) not in missing:
             missing.append(key(p))
     if len(missing) > 1:
         for i, b in workers.map(_calibration, missing, len(missing)):
-            engine._CALIBRATION[engine._calibration_key(*missing[i])] = b
+            engine.CALIBRATION[engine.calibration_key(*missing[i])] = b
     for p in plans:
         p.damping = calibrate(p.coin, p.surf, p.dt, p.g)
 

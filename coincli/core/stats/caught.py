@@ -42,7 +42,7 @@ import math
 from collections import namedtuple
 
 from coincli.core._numerics.roots import brent_minimize
-from coincli.core._numerics.wilson import CONFIDENCE, _check_level
+from coincli.core._numerics.wilson import CONFIDENCE, check_level
 from coincli.core.models import HALF_PI
 
 __all__ = [
@@ -285,7 +285,7 @@ def fit_rows(xi, same, n, *, confidence: float = CONFIDENCE, chance: SameChance 
     out (radians; inf where uniform psi is not excluded)."""
     import numpy as np
 
-    conf = _check_level(confidence, "confidence")
+    conf = check_level(confidence, "confidence")
     xi = np.asarray(xi, dtype=float).reshape(-1)
     s = np.asarray(same, dtype=float).reshape(-1)
     m = np.asarray(n, dtype=float).reshape(-1)

@@ -3,13 +3,13 @@
 Counts
     ``(heads, sides, tails)`` when the faces were told apart (a trinomial), or ``sides`` out of
     ``n`` when they were not (a binomial: side or face).  :func:`make_counts` validates them
-    (:class:`CountsError` names the offending argument); :func:`_check_probs` validates the
+    (:class:`CountsError` names the offending argument); :func:`check_probs` validates the
     chances a model gives them.  :class:`Experiment` is one coin's ``xi`` with its counts (a row
-    of an experiments file, read by :mod:`coincli.io.experiments`); :class:`_CountColumns` holds
+    of an experiments file, read by :mod:`coincli.io.experiments`); :class:`CountColumns` holds
     the counts of many experiments as arrays.
 
 Binomial law
-    Log-factorials (:class:`_LogFactorial`), the binomial log-pmf and both tails, vectorized
+    Log-factorials (:class:`LogFactorial`), the binomial log-pmf and both tails, vectorized
     numpy over scipy.special: the pieces of the exact tests (:mod:`coincli.core.stats.tests`)
     and of the likelihoods of the fit (:mod:`coincli.core.stats.fit`).
 
@@ -42,7 +42,7 @@ __all__ = [
 MAX_COUNT = 2**53
 
 
-def _whole(value, name: str) -> int | None:
+def whole_count(value, name: str) -> int | None:
     """A count: None, or a whole number >= 0 (int, or a float/numpy number with no fraction)."""
     if value is None:
         return None
@@ -124,7 +124,7 @@ def make_counts(heads=None, sides=None, tails=None, n=None) -> Counts:
     vals = {}
     for name, v in (("heads", heads), ("sides", sides), ("tails", tails), ("n", n)):
         try:
-            vals[name] = _whole(v, name)
+            vals[name] = whole_count(v, name)
         except ValueError as exc:
             raise CountsError(str(exc), name) from None
     h, s, t, m = vals["heads"], vals["sides"], vals["tails"], vals["n"]
@@ -191,7 +191,7 @@ def make_caught(same=None, different=None, n=None) -> Caught:
     vals = {}
     for name, v in (("same", same), ("different", different), ("n", n)):
         try:
-            vals[name] = _whole(v, name)
+            vals[name] = whole_count(v, name)
         except ValueError as exc:
             raise CountsError(str(exc), name) from None
     s, d, m = vals["same"], vals["different"], vals["n"]
@@ -217,7 +217,7 @@ def make_caught(same=None, different=None, n=None) -> Caught:
     return Caught(total, s, d)
 
 
-def _check_probs(probs, k: int, name: str = "probabilities") -> tuple[float, ...]:
+def check_probs(probs, k: int, name: str = "probabilities") -> tuple[float, ...]:
     """k finite probabilities >= 0 summing to 1 within 1e-6; returned renormalized."""
     try:
         p = [float(v) for v in probs]
@@ -270,7 +270,7 @@ class ExperimentColumns(RowSequence):
     :class:`Experiment` on demand.
 
     Columns: ``line`` (int), ``xi`` (float), ``diameter`` (float, NaN when the row gives
-    none), ``labels`` (list of str) and ``cc`` (the counts, :class:`_CountColumns`)."""
+    none), ``labels`` (list of str) and ``cc`` (the counts, :class:`CountColumns`)."""
 
     def __init__(self, line, xi, labels, diameter, cc):
         self.line, self.xi, self.labels, self.diameter, self.cc = line, xi, labels, diameter, cc
@@ -315,7 +315,7 @@ class ExperimentColumns(RowSequence):
         def bools(a):
             return np.array(a, dtype=bool)
 
-        cc = _CountColumns.from_arrays(
+        cc = CountColumns.from_arrays(
             faces=bools(faces), sides=counts(sides), n=ints(n), heads=counts(heads),
             tails=counts(tails), caught=bools(caught), same=counts(same))
         return cls(ints(line), floats(xi), labels, floats(diameter), cc)
@@ -366,7 +366,7 @@ class _Labels(RowSequence):
         return isinstance(other, Sequence) and list(self) == list(other)
 
 
-class _CountColumns:
+class CountColumns:
     """Counts of many experiments as arrays: heads, sides, tails (0 where faces were not told
     apart), n, and ``faces``."""
 
@@ -389,7 +389,7 @@ class _CountColumns:
         self.sides_only = ~self.faces & ~self.caught
 
     @classmethod
-    def from_arrays(cls, *, faces, sides, n, heads, tails, caught, same) -> _CountColumns:
+    def from_arrays(cls, *, faces, sides, n, heads, tails, caught, same) -> CountColumns:
         """Columns given as arrays (0 where a count is absent); ``count(i)`` rebuilds a row."""
         self = cls.__new__(cls)
         self.counts = None
@@ -398,9 +398,9 @@ class _CountColumns:
         self.sides_only = ~faces & ~caught
         return self
 
-    def rows(self, a: int, b: int) -> _CountColumns:
+    def rows(self, a: int, b: int) -> CountColumns:
         """Rows ``a`` to ``b`` (views of the arrays)."""
-        part = _CountColumns.from_arrays(
+        part = CountColumns.from_arrays(
             faces=self.faces[a:b], sides=self.sides[a:b], n=self.n[a:b], heads=self.heads[a:b],
             tails=self.tails[a:b], caught=self.caught[a:b], same=self.same[a:b])
         if self.counts is not None:
@@ -441,7 +441,7 @@ class _CountColumns:
 _TABLE_MAX = 1 << 21  #: log-factorials are tabulated up to this n (16 MiB); gammaln beyond
 
 
-class _LogFactorial:
+class LogFactorial:
     """``v -> log(v!)`` for whole numbers ``0 <= v <= nmax``: a table of gammaln(k + 1) (the same
     numbers, looked up instead of recomputed) when ``nmax`` is small enough, else gammaln."""
 
@@ -461,7 +461,7 @@ class _LogFactorial:
         return self._gammaln(np.asarray(v, dtype=float) + 1.0)
 
 
-def _binom_logpmf(k, n, p, lf=None):
+def binom_logpmf(k, n, p, lf=None):
     """log P(X = k) for X ~ Binomial(n, p), arrays; scipy.stats.binom.logpmf's formula."""
     import numpy as np
     from scipy.special import xlog1py, xlogy
@@ -469,11 +469,11 @@ def _binom_logpmf(k, n, p, lf=None):
     k = np.asarray(k)
     n = np.asarray(n)
     if lf is None:
-        lf = _LogFactorial(int(np.max(n, initial=0)))
+        lf = LogFactorial(int(np.max(n, initial=0)))
     return (lf(n) - (lf(k) + lf(n - k))) + xlogy(k, p) + xlog1py(n - k, -p)
 
 
-def _binom_cdf(k, n, p1):
+def binom_cdf(k, n, p1):
     """P(X <= k) for X ~ Binomial(n, p) with ``p1 = 1 - p`` given (not formed from p)."""
     import numpy as np
     from scipy.special import betainc
@@ -485,7 +485,7 @@ def _binom_cdf(k, n, p1):
     return np.where(inside, v, np.where(k >= n, 1.0, 0.0))
 
 
-def _binom_upper(k, n, p):
+def binom_upper(k, n, p):
     """P(X >= k) for X ~ Binomial(n, p)."""
     import numpy as np
     from scipy.special import betainc

@@ -27,17 +27,17 @@ from collections import namedtuple
 from collections.abc import Mapping, Sequence
 
 from coincli.core._numerics.roots import brent_minimize, brent_root
-from coincli.core._numerics.wilson import CONFIDENCE, _check_level
+from coincli.core._numerics.wilson import CONFIDENCE, check_level
 from coincli.core.models import HALF_PI, Outcome
 from coincli.core.stats.counts import (
     Caught,
+    CountColumns,
     Counts,
     Experiment,
     ExperimentColumns,
-    _CountColumns,
-    _LogFactorial,
+    LogFactorial,
 )
-from coincli.core.stats.tests import ALPHA, _check_method, check_many
+from coincli.core.stats.tests import ALPHA, check_many, check_method
 
 __all__ = [
     "sse_sides",
@@ -73,10 +73,10 @@ class _Likelihood:
     :func:`coincli.core.stats.tests._log_likelihoods`' (multinomial with faces told apart, else
     binomial in sides with the rarer category's chance)."""
 
-    def __init__(self, cc: _CountColumns):
+    def __init__(self, cc: CountColumns):
         import numpy as np
 
-        lf = _LogFactorial(int(np.max(cc.n, initial=0)))
+        lf = LogFactorial(int(np.max(cc.n, initial=0)))
         f = cc.faces
         self.faces = f
         self.so = so = cc.sides_only
@@ -181,12 +181,12 @@ def fit_spread(xi: Sequence[float], counts: Sequence[Counts], *, confidence: flo
     import numpy as np
     from scipy.special import gammainccinv, gammaincinv
 
-    conf = _check_level(confidence, "confidence")
+    conf = check_level(confidence, "confidence")
     xs = np.asarray([float(v) for v in xi], dtype=float)
     if xs.ndim != 1 or len(xs) != len(counts) or len(xs) == 0:
         raise ValueError(f"xi and counts must be non-empty and of one length, got {len(xs)} and "
                          f"{len(counts)}")
-    columns = isinstance(counts, _CountColumns)
+    columns = isinstance(counts, CountColumns)
     if not columns and not all(isinstance(c, (Counts, Caught)) for c in counts):
         raise ValueError("counts must be Counts (see make_counts)")
     if not np.all(np.isfinite(xs) & (xs > 0)):
@@ -194,7 +194,7 @@ def fit_spread(xi: Sequence[float], counts: Sequence[Counts], *, confidence: flo
     if int(grid) < 5:
         raise ValueError(f"grid must be >= 5, got {grid!r}")
     ux, inv = np.unique(xs, return_inverse=True)  # rows share coins: chances once per coin
-    like = _Likelihood(counts if columns else _CountColumns(counts))
+    like = _Likelihood(counts if columns else CountColumns(counts))
     cache: dict[float, float] = {}
     best: list = [-math.inf, None, None]  # log L, u and chances of the best try so far
 
@@ -341,7 +341,7 @@ def fit(experiments: Sequence[Experiment], densities: Mapping[str, object] | Non
 
     if not experiments:
         raise ValueError("experiments is empty: nothing to fit")
-    _check_method(method)
+    check_method(method)
     if isinstance(experiments, ExperimentColumns):  # a file's rows as columns: no row objects
         counts, xa, labels = experiments.cc, experiments.xi, experiments.labels
     else:

@@ -16,8 +16,8 @@ from __future__ import annotations
 import math
 from collections import namedtuple
 
-from coincli.core._numerics.wilson import CONFIDENCE, _check_level, wilson_interval
-from coincli.core.stats.counts import Counts, _whole
+from coincli.core._numerics.wilson import CONFIDENCE, check_level, wilson_interval
+from coincli.core.stats.counts import Counts, whole_count
 
 __all__ = [
     "Interval",
@@ -64,7 +64,7 @@ def clopper_pearson_interval(count, n, confidence: float = CONFIDENCE):
     """
     import numpy as np
 
-    conf = _check_level(confidence, "confidence")
+    conf = check_level(confidence, "confidence")
     k = np.asarray(count, dtype=float)
     m = np.asarray(n, dtype=float)
     a = (1.0 - conf) / 2  # exact for conf >= 1/2; a relative rounding below
@@ -228,13 +228,13 @@ def proportion(count: int, n: int, outcome: str = "sides", confidence: float = C
     >>> r.clopper_pearson.low, round(r.clopper_pearson.high, 10)
     (0.0, 3.6889e-06)
     """
-    c = _whole(count, "count")
-    m = _whole(n, "n")
+    c = whole_count(count, "count")
+    m = whole_count(n, "n")
     if m == 0:
         raise ValueError("n must be >= 1, got 0")
     if c > m:
         raise ValueError(f"count must be <= n = {m}, got {c}")
-    conf = _check_level(confidence, "confidence")
+    conf = check_level(confidence, "confidence")
     wl, wh = wilson_interval(c, m, conf)
     cl, ch = clopper_pearson_interval(c, m, conf)
     return Proportion(outcome, c, m, c / m,

@@ -51,18 +51,18 @@ import math
 from collections import namedtuple
 from collections.abc import Mapping, Sequence
 
-from coincli.core._numerics.wilson import CONFIDENCE, _check_level, wilson_interval
+from coincli.core._numerics.wilson import CONFIDENCE, check_level, wilson_interval
 from coincli.core.models import Outcome
 from coincli.core.stats.counts import (
+    CountColumns,
     Counts,
+    LogFactorial,
     RowSequence,
-    _binom_cdf,
-    _binom_logpmf,
-    _binom_upper,
-    _check_probs,
-    _CountColumns,
-    _LogFactorial,
-    _whole,
+    binom_cdf,
+    binom_logpmf,
+    binom_upper,
+    check_probs,
+    whole_count,
 )
 from coincli.core.stats.intervals import Interval, Proportion, clopper_pearson_interval
 
@@ -179,12 +179,12 @@ def _binomial_pvalues(k, n, p, p1):
     n = np.asarray(n, dtype=np.int64)
     p = np.asarray(p, dtype=float)
     p1 = np.asarray(p1, dtype=float)
-    lf = _LogFactorial(int(np.max(n, initial=0)))
+    lf = LogFactorial(int(np.max(n, initial=0)))
     with np.errstate(divide="ignore", invalid="ignore", under="ignore", over="ignore"):
         obs = (lf(n) - (lf(k) + lf(n - k))) + k * np.log(p) + (n - k) * np.log1p(-p)
         thr = obs + math.log1p(TIE_RTOL)
         above, left, right = _crossings(np.zeros(k.shape), n, p, thr, lf)
-        tail = _binom_cdf(left, n, p1) + _binom_upper(right, n, p)
+        tail = binom_cdf(left, n, p1) + binom_upper(right, n, p)
     return np.where(above, np.minimum(tail, 1.0), 1.0)
 
 
@@ -229,7 +229,7 @@ def _trinomial_pass(x, p):
     r, a, c = x[:, 0], x[:, 1], x[:, 2]
     pr, pa, pc = p[:, 0], p[:, 1], p[:, 2]
     n = r + a + c
-    lf = _LogFactorial(int(n.max()))
+    lf = LogFactorial(int(n.max()))
     out = np.full(len(x), -np.inf)
     with np.errstate(divide="ignore", invalid="ignore", under="ignore", over="ignore"):
         q, q1 = pa / (pa + pc), pc / (pa + pc)
@@ -245,7 +245,7 @@ def _trinomial_pass(x, p):
         lpr, l1pr = lpr[live], l1pr[live]
         # rows r at or below the threshold: two binomial tails in r
         above, lo, hi = _crossings(np.zeros(len(n)), n, pr, thr, lf)
-        outer = _binom_cdf(lo, n, pa[live] + pc[live]) + _binom_upper(hi, n, pr)
+        outer = binom_cdf(lo, n, pa[live] + pc[live]) + binom_upper(hi, n, pr)
         # the other rows, lo < r < hi, one flat entry each
         sizes = np.where(above, hi - lo - 1, 0)
         starts = np.concatenate(([0], np.cumsum(sizes)[:-1]))
@@ -255,7 +255,7 @@ def _trinomial_pass(x, p):
         base = (lf(nt) - (lf(rr) + lf(nt - rr))) + rr * lpr[tid] + (nt - rr) * l1pr[tid]
         na, qt, tt = nt - rr, q[tid], thr[tid]
         row_above, left, right = _crossings(base, na, qt, tt, lf)
-        tails = _binom_cdf(left, na, q1[tid]) + _binom_upper(right, na, qt)
+        tails = binom_cdf(left, na, q1[tid]) + binom_upper(right, na, qt)
         contrib = np.where(row_above, base + np.log(tails), base)
         # log(outer + sum over rows of exp(contrib)), per test
         top = np.full(len(n), -np.inf)
@@ -320,10 +320,10 @@ def exact_pvalue(counts: Sequence[int], probs: Sequence[float]) -> float:
     >>> exact_pvalue([50, 50], [0.5, 0.5])
     1.0
     """
-    x = [_whole(v, "counts") for v in counts]
+    x = [whole_count(v, "counts") for v in counts]
     if len(x) not in (2, 3):
         raise ValueError(f"counts must have 2 or 3 categories, got {len(x)}")
-    p = _check_probs(probs, len(x))
+    p = check_probs(probs, len(x))
     if sum(x) == 0:
         raise ValueError("counts are all zero: no tosses to test")
     return float(_exact_pvalues([x], [p])[0])
@@ -357,8 +357,8 @@ def g_test(counts: Sequence[int], probs: Sequence[float]) -> tuple[float, int, f
     every expected count is large (say >= 5); :func:`exact_pvalue` has no such condition.
     The chi-square tail is ``scipy.special.chdtrc``.
     """
-    x = [_whole(v, "counts") for v in counts]
-    p = _check_probs(probs, len(x))
+    x = [whole_count(v, "counts") for v in counts]
+    p = check_probs(probs, len(x))
     if sum(x) == 0:
         raise ValueError("counts are all zero: no tosses to test")
     g, df, pv = _g_tests([x], [p])
@@ -377,7 +377,7 @@ def _log_likelihoods(x, n, p, faces, caught=None, same=None):
     n = np.asarray(n, dtype=np.int64)
     p = np.asarray(p, dtype=float)
     faces = np.asarray(faces, dtype=bool)
-    lf = _LogFactorial(int(np.max(n, initial=0)))
+    lf = LogFactorial(int(np.max(n, initial=0)))
     out = np.empty(len(n))
     caught = np.zeros(len(n), bool) if caught is None else np.asarray(caught, dtype=bool)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -394,8 +394,8 @@ def _log_likelihoods(x, n, p, faces, caught=None, same=None):
             k, m = x[side, 1], n[side]
             ps, pface = p[side, 1], p[side, 0] + p[side, 2]
             # the rarer category's chance: 1 - ps loses a face chance below 1e-16
-            out[side] = np.where(ps <= 0.5, _binom_logpmf(k, m, ps, lf),
-                                 _binom_logpmf(m - k, m, pface, lf))
+            out[side] = np.where(ps <= 0.5, binom_logpmf(k, m, ps, lf),
+                                 binom_logpmf(m - k, m, pface, lf))
     return np.where(np.isnan(out), -np.inf, out)
 
 
@@ -407,7 +407,7 @@ def log_likelihood(counts: Counts, probs) -> float:
     coefficient is included (the formulas of scipy.stats' ``multinomial.logpmf`` and
     ``binom.logpmf``).  ``-inf`` when the model gives the counts probability 0.
     """
-    p = _check_probs(probs, 3)
+    p = check_probs(probs, 3)
     x = (counts.heads, counts.sides, counts.tails) if counts.faces else (0, counts.sides, 0)
     return float(_log_likelihoods([x], [counts.n], [p], [counts.faces])[0])
 
@@ -466,7 +466,7 @@ def verdict(p: float, alpha: float = ALPHA, *, exact: bool = True, impossible: b
     not prove it), ``"rejected, p = 3.1e-7"``, and ``"rejected: impossible under the model"``
     when the model gives the counts probability 0.  A non-exact test adds its name.
     """
-    a = _check_level(alpha, "alpha")
+    a = check_level(alpha, "alpha")
     if impossible:
         return "rejected: these counts are impossible under the model (probability 0)"
     if p >= a:
@@ -500,7 +500,7 @@ class ModelTest(namedtuple("ModelTest", "model chances categories expected p_val
 
 def _chance_columns(chances, size: int, name: str = "chances"):
     """(heads, sides, tails) arrays of ``size`` raw chances and the normalized T x 3 matrix;
-    ValueError as :func:`_check_probs` words it, for the first bad row."""
+    ValueError as :func:`check_probs` words it, for the first bad row."""
     import numpy as np
 
     try:
@@ -515,7 +515,7 @@ def _chance_columns(chances, size: int, name: str = "chances"):
         bad = ~(np.all(np.isfinite(raw) & (raw >= 0), axis=0) & (np.abs(total - 1.0) <= 1e-6))
     if np.any(bad):
         i = int(np.argmax(bad))
-        _check_probs(raw[:, i].tolist(), 3, name)  # raises, with the scalar wording
+        check_probs(raw[:, i].tolist(), 3, name)  # raises, with the scalar wording
     return raw, (raw / total).T
 
 
@@ -546,7 +546,7 @@ _CATS_CAUGHT = ("same", "different")
 CAUGHT_TEST = " of same side, given a face"
 
 
-def _tested(cc: _CountColumns, p):
+def _tested(cc: CountColumns, p):
     """The tested counts ``x``, their chances ``q`` (T x 3; the third column 0 where two
     categories are tested) and the expected counts (3 x T, of the raw chances ``p`` as given)
     of the rows of ``cc`` under the normalized chances ``p`` (T x 3): faces told apart (heads,
@@ -570,7 +570,7 @@ def _tested(cc: _CountColumns, p):
     return x, q, (qs, qd) if np.any(caught) else None
 
 
-def _exact_rows(cc: _CountColumns, method: str):
+def _exact_rows(cc: CountColumns, method: str):
     """Which rows get the exact test (``auto``: n at most :data:`EXACT_MAX_N`)."""
     import numpy as np
 
@@ -592,11 +592,11 @@ def _method_name(faces: bool, exact: bool, df: int, caught: bool) -> str:
     return m
 
 
-def _model_tests(cc: _CountColumns, chances, model: str, alpha: float, method: str) -> _Tests:
+def _model_tests(cc: CountColumns, chances, model: str, alpha: float, method: str) -> _Tests:
     """Test every experiment of ``cc`` against a model's ``chances`` (arrays, one per row)."""
     import numpy as np
 
-    a = _check_level(alpha, "alpha")
+    a = check_level(alpha, "alpha")
     raw, p = _chance_columns(chances, len(cc), "chances")
     faces = cc.faces
     T = len(cc)
@@ -651,11 +651,11 @@ def goodness_of_fit(counts: Counts, chances, model: str = "model", *, alpha: flo
     ``"asymptotic"``.  With faces told apart the test is trinomial; otherwise binomial in
     ``sides`` against ``P(sides)``.
     """
-    _check_method(method)
-    return _model_tests(_CountColumns([counts]), chances, model, alpha, method).get(0)
+    check_method(method)
+    return _model_tests(CountColumns([counts]), chances, model, alpha, method).get(0)
 
 
-def _check_method(method) -> None:
+def check_method(method) -> None:
     if method not in ("auto", "exact", "asymptotic"):
         raise ValueError(f"method must be 'auto', 'exact' or 'asymptotic', got {method!r}")
 
@@ -726,7 +726,7 @@ class Checks(RowSequence):
     (NaN where an outcome was not counted).  Columns: ``xi``, ``labels``, ``cc`` (the counts).
     """
 
-    def __init__(self, xi, labels, cc: _CountColumns, chances, confidence: float,
+    def __init__(self, xi, labels, cc: CountColumns, chances, confidence: float,
                  alpha: float = ALPHA, method: str = "auto", index=None):
         self.xi, self.labels, self.cc = xi, labels, cc
         self.confidence, self.alpha, self.method = confidence, alpha, method
@@ -847,7 +847,7 @@ class Checks(RowSequence):
                            tuple(t.get(0) for t in part.tests), self.labels[i])
 
 
-def _intervals(cc: _CountColumns, conf: float) -> dict:
+def _intervals(cc: CountColumns, conf: float) -> dict:
     """The estimate, Wilson and Clopper-Pearson intervals of each counted outcome of the rows
     of ``cc`` (NaN where not counted); each distinct (count, n) pair once."""
     import numpy as np
@@ -900,10 +900,10 @@ def check_many(counts: Sequence[Counts], xi, chances: Mapping[str, object], *,
     checked here: a bad one raises ValueError now, not when a row is read."""
     import numpy as np
 
-    _check_method(method)
-    conf = _check_level(confidence, "confidence")
-    _check_level(alpha, "alpha")
-    cc = counts if isinstance(counts, _CountColumns) else _CountColumns(counts)
+    check_method(method)
+    conf = check_level(confidence, "confidence")
+    check_level(alpha, "alpha")
+    cc = counts if isinstance(counts, CountColumns) else CountColumns(counts)
     T = len(cc)
     xs = np.broadcast_to(np.asarray(xi, dtype=float), (T,))
     if index is not None:

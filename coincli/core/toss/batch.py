@@ -1,9 +1,9 @@
 r"""Many tosses: :func:`toss_many`, the vectorized path of :mod:`coincli.core.toss.flight` (one
 evaluation of ``F`` and ``F'`` a toss a round, certified cells refined together, in batches of
-8192), and :func:`_outcomes`, the outcome codes alone, which ``coin simulate`` runs.
+8192), and :func:`outcome_codes`, the outcome codes alone, which ``coin simulate`` runs.
 
 Outcomes only
-    :func:`simulate` needs outcomes, not times of flight, and :func:`_outcomes` reads each off
+    :func:`simulate` needs outcomes, not times of flight, and :func:`outcome_codes` reads each off
     the first proof that settles it; the outcome is :func:`toss_many`'s, toss by toss
     (tests/test_toss.py compares them on seeded hand and ordinary tosses, at the side boundary,
     on other coins and planets, and end to end).
@@ -40,39 +40,42 @@ from __future__ import annotations
 
 import math
 
-from coincli.core._numerics.records import _record
-from coincli.core._numerics.trig import _SIN_TAYLOR, _abs_sin_rough, _sin_into
+from coincli.core._numerics.records import record
+from coincli.core._numerics.trig import SIN_TAYLOR, abs_sin_rough, sin_into
 from coincli.core.toss.flight import (
-    _EPS,
-    _FALL_TINY,
-    _SQRT3_2,
     DEFAULT_DIAMETER,
+    EPS,
+    FALL_TINY,
     HEADS,
+    NAMES,
     SIDES,
+    SQRT3_2,
     STANDARD_G,
     TAILS,
-    _alpha,
-    _Batch,
-    _check,
-    _check_all,
-    _first_root,
-    fall_time,
-    _newton,
-    _problem,
-    _problem_message,
-    _setup,
+    Batch,
+    alpha_from,
+    check_all,
+    check_number,
     classify,
+    fall_time,
+    first_root,
+    newton,
+    problem_code,
+    problem_message,
+    scalar_setup,
+    setup,
 )
 
-__all__ = ["Tosses", "toss_many"]
+__all__ = ["Tosses", "toss_many", "Toss", "toss", "flight_time"]
 
+_TWO_PI = 2.0 * math.pi
 _BATCH = 1 << 13  # tosses refined together: arrays of 64 kB stay in cache (1.5 to 2x the speed of 2^16)
 
 
 # --------------------------------------------------------------------------- many tosses
 
 
-@_record()
+@record()
 class Tosses:
     """Many tosses (arrays of one shape)."""
 
@@ -99,7 +102,7 @@ def toss_many(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, con
     return _toss_many(xi, psi, u, omega, diameter, g, contact, z0, False)
 
 
-def _outcomes(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, contact="rim"):
+def outcome_codes(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, contact="rim"):
     """The outcome codes of :func:`toss_many` (an int8 array), for one number ``xi``: the same
     codes, without refining the roots whose outcome their certified cell already decides."""
     return _toss_many(xi, psi, u, omega, diameter, g, contact, None, True)
@@ -108,9 +111,9 @@ def _outcomes(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, con
 def _toss_many(xi, psi, u, omega, diameter, g, contact, z0, outcomes_only):
     import numpy as np
 
-    xi, psi, u, omega, diameter, g, thick = _check_all(xi, psi, u, omega, diameter, g, contact)
+    xi, psi, u, omega, diameter, g, thick = check_all(xi, psi, u, omega, diameter, g, contact)
     if z0 is not None:
-        z0 = _check("z0", z0, 0.0, lo_open=True, unit="m")
+        z0 = check_number("z0", z0, 0.0, lo_open=True, unit="m")
         floor = np.asarray(xi) * np.asarray(diameter) / 2 if thick else 0.0
         if np.any(np.asarray(z0) <= floor):
             raise ValueError("z0 must be > h/2 for thick contact (the coin would start below the "
@@ -135,26 +138,26 @@ def _toss_many(xi, psi, u, omega, diameter, g, contact, z0, outcomes_only):
         xi_c, psi_c, u_c, om_c, dia_c, g_c, z0_c = (v if v is None or isinstance(v, float)
                                                     else v[sl] for v in flat)
         s = _checked_setup(np, xi_c, psi_c, u_c, om_c, dia_c, g_c, thick, z0_c, m)
-        t, sh, ch = _first_root(np, s, m, thick)
+        t, sh, ch = first_root(np, s, m, thick)
         t_f[sl] = t
-        a = _alpha(np, s.sp, s.cp, sh, ch)
+        a = alpha_from(np, s.sp, s.cp, sh, ch)
         alpha_f[sl] = a
         code[sl] = classify(a, xi_c)
     return Tosses(t_f.reshape(shape), alpha_f.reshape(shape), code.reshape(shape))
 
 
 def _checked_setup(np, xi, psi, u, om, dia, g, thick, z0, m):
-    """:func:`_setup` of a batch of ``m`` tosses, refusing the first one the scan cannot follow."""
+    """:func:`setup` of a batch of ``m`` tosses, refusing the first one the scan cannot follow."""
     with np.errstate(over="ignore", invalid="ignore"):  # refused below, not warned about
-        s = _setup(np, xi, psi, u, om, dia, g, thick, z0)
-        problem = np.broadcast_to(_problem(np, s), (m,))
+        s = setup(np, xi, psi, u, om, dia, g, thick, z0)
+        problem = np.broadcast_to(problem_code(np, s), (m,))
     if problem.any():
         k = int(np.argmax(problem != 0))
 
         def at(v, k=k):
             return float(np.broadcast_to(v, (m,))[k])
 
-        raise ValueError(_problem_message(int(problem[k]), at(om), at(u), at(g), at(s.z0),
+        raise ValueError(problem_message(int(problem[k]), at(om), at(u), at(g), at(s.z0),
                                           at(om) * at(s.t_end)))
     return s
 
@@ -166,7 +169,7 @@ def _outcomes_flat(np, flat, n, thick):
     First :func:`_descent_outcomes` (rim) or :func:`_window_outcomes` (thick) for all; then the
     undecided ones, gathered into full batches (a batch pays numpy's overhead a call, whatever
     its size), by the scan, without refining the roots whose certified cell decides them
-    (:func:`_first_root` with bands).  The first toss the scan cannot follow is refused, as
+    (:func:`first_root` with bands).  The first toss the scan cannot follow is refused, as
     :func:`toss_many` does."""
     xi, psi, u, om, dia, g, _ = flat
     xi, dia, g = float(xi), float(dia), float(g)
@@ -189,11 +192,11 @@ def _outcomes_flat(np, flat, n, thick):
         m = r.size
         psi_r, u_r, om_r = (v if isinstance(v, float) else v[r] for v in (psi, u, om))
         s = _checked_setup(np, xi, psi_r, u_r, om_r, dia, g, thick, None, m)
-        _, sh, ch, k, cells = _first_root(np, s, m, thick, bands)
+        _, sh, ch, k, cells = first_root(np, s, m, thick, bands)
         und = np.flatnonzero(k == -1)
         if und.size:
             sp, cp = (v if isinstance(v, float) else v[und] for v in (s.sp, s.cp))
-            k[und] = classify(_alpha(np, sp, cp, sh[und], ch[und]), xi)
+            k[und] = classify(alpha_from(np, sp, cp, sh[und], ch[und]), xi)
         code[r] = k
         if cells is not None:
             gi = cells[0]
@@ -203,17 +206,17 @@ def _outcomes_flat(np, flat, n, thick):
         g_idx, lo, hi, flo, fplo, fhi, fphi = (np.concatenate([p[i] for p in pending])
                                                for i in range(7))
         q = _cat_batches(np, [p[7] for p in pending], [p[0].size for p in pending])
-        _, sh, ch = _newton(np, lo, hi, flo, fplo, fhi, fphi, q, thick)
+        _, sh, ch = newton(np, lo, hi, flo, fplo, fhi, fphi, q, thick)
         sp, cp = (np.concatenate([np.broadcast_to(p[i], p[0].shape) for p in pending])
                   for i in (8, 9))
-        code[g_idx] = classify(_alpha(np, sp, cp, sh, ch), xi)
+        code[g_idx] = classify(alpha_from(np, sp, cp, sh, ch), xi)
     return code
 
 
 def _cat_batches(np, qs, sizes):
-    """The constants of several :class:`_Batch` (of :data:`_Batch._F`) end to end."""
-    out = _Batch.__new__(_Batch)
-    for k in _Batch._F:
+    """The constants of several :class:`Batch` (of :data:`Batch.FIELDS`) end to end."""
+    out = Batch.__new__(Batch)
+    for k in Batch.FIELDS:
         vs = [getattr(q, k) for q in qs]
         if all(isinstance(v, float) and v == vs[0] for v in vs):
             setattr(out, k, vs[0])
@@ -231,7 +234,7 @@ def _window_outcomes(np, psi, u, om, xi, dia, g, thick, bands, m):
     falls in the window where it can happen, has one outcome: no root finding at all.
 
     Contact happens while the centre is below ``Lmax``: in ``[w2s, t_end]``, the descent from
-    ``z = Lmax`` to ``z = 0`` (:func:`_setup`), once the launch window ``[0, w1]`` is clear
+    ``z = Lmax`` to ``z = 0`` (:func:`setup`), once the launch window ``[0, w1]`` is clear
     (there ``z >= z0`` and ``L <= a min(omega t sin psi, 1) + h/2``).  Where ``Lmax`` is the
     plain ``a`` (rim; ``hypot(a, h/2)`` thick), i.e. ``psi`` lets the coin tilt far enough,
     the window needs no trigonometry.  Over it ``x = omega t / 2`` spans ``[x1, x2]``, and
@@ -252,12 +255,12 @@ def _window_outcomes(np, psi, u, om, xi, dia, g, thick, bands, m):
 def _window_codes(np, psi, u, om, xi, dia, g, thick, bands, m):
     a = 0.5 * dia
     hh = 0.5 * xi * dia if thick else 0.0
-    z0 = _SQRT3_2 * a + hh
+    z0 = SQRT3_2 * a + hh
     if thick:
-        lmax = math.hypot(a, hh) * (1.0 + 8 * _EPS)
+        lmax = math.hypot(a, hh) * (1.0 + 8 * EPS)
         half_width = 0.5 * math.pi - 0.5 * math.atan2(a, hh)  # |psi - pi/2| for amax >= atan2
     else:
-        lmax = a * (1.0 + 8 * _EPS)
+        lmax = a * (1.0 + 8 * EPS)
         half_width = 0.25 * math.pi
     d = lmax - z0
     u2 = u * u
@@ -270,19 +273,19 @@ def _window_codes(np, psi, u, om, xi, dia, g, thick, bands, m):
     t_end = np.sqrt(u2 + 2.0 * g * z0)
     t_end += u
     t_end *= (1.0 + 1e-12) / g
-    if 2.0 * g * z0 < _FALL_TINY:  # may have underflowed (a subnormal g): see fall_time
+    if 2.0 * g * z0 < FALL_TINY:  # may have underflowed (a subnormal g): see fall_time
         t_end = fall_time(np, u, g, z0) * (1.0 + 1e-12)
     hom = 0.5 * om
     x1 = w2s * hom
     x2 = t_end * hom
-    sp = _abs_sin_rough(np, np.broadcast_to(psi, (m,)))
+    sp = abs_sin_rough(np, np.broadcast_to(psi, (m,)))
     ok &= np.abs(psi - 0.5 * math.pi) <= half_width - 1e-9
     ok &= (om > 0) & (x2 < 1e5)
     if d > 0:  # a launch window [0, w1], w1 = 2 d / (u + root): must be clear
         w1 = (2.0 * d * (1.0 + 1e-12)) / root
         ok &= a * np.minimum(om * w1 * (sp + 1e-10), 1.0) + hh < z0 * (1.0 - 1e-6)
-    s1 = _abs_sin_rough(np, x1)
-    s2 = _abs_sin_rough(np, x2)
+    s1 = abs_sin_rough(np, x1)
+    s2 = abs_sin_rough(np, x2)
     c = 2.0 / math.pi
     q1 = np.floor(x1 * c)
     q2 = np.floor(x2 * c)
@@ -318,8 +321,8 @@ _DBATCH = 1 << 15  #: tosses of one pass of the bounds (scratch reused: numpy's 
 # r^8 (below 2.5e-8) for _descent_setup.
 _COS3 = tuple((-1.0) ** i / math.factorial(2 * i) for i in range(4))[::-1]
 _COS4 = tuple((-1.0) ** i / math.factorial(2 * i) for i in range(5))[::-1]
-_SIN5 = _SIN_TAYLOR[4:]  # sin r / r to r^8, |r| <= pi/2: within (pi/2)^11 / 11! < 3.6e-6
-_SIN6 = _SIN_TAYLOR[3:]  # to r^10: within (pi/2)^13 / 13! < 6e-8
+_SIN5 = SIN_TAYLOR[4:]  # sin r / r to r^8, |r| <= pi/2: within (pi/2)^11 / 11! < 3.6e-6
+_SIN6 = SIN_TAYLOR[3:]  # to r^10: within (pi/2)^13 / 13! < 6e-8
 _E_MAX = 1e-6  #: the most (2D + M) / 2a may be (see _descent_limits)
 _W1 = 1e-5  #: S's error in _descent_batch: sines 3.6e-6, sin psi 3.6e-6, the x turned 1e-6
 #: S's error in _sampled_codes by the sine's Taylor terms: 6e-8 (6) or 5e-11 (9), sin psi
@@ -355,7 +358,7 @@ def _descent_outcomes(np, psi, u, om, xi, dia, g, bands, n):
     or ordinary tosses; those outside :func:`_descent_limits`) goes to the scan.
     """
     a = 0.5 * dia
-    z0 = _SQRT3_2 * a
+    z0 = SQRT3_2 * a
     sb, cb = bands
     c = 2.0 * a * sb * cb  # a sin theta0
     lim = _descent_limits(a, z0, g, c, sb, cb)
@@ -422,7 +425,7 @@ def _descent_limits(a, z0, g, c, sb, cb):
     i.e. ``|S^2 - 1/2| < sqrt(1/4 - (z/2a)^2)``, which is ``Y0 = cos(theta0)/2`` at ``z = c``, at
     least ``sqrt(Y0^2 - e (1 + e))`` at ``z = c + 2a e`` and at most ``sqrt(Y0^2 + e)`` at ``z = c
     - 2a e`` (``c = 2a sb cb``, ``sb^2 + cb^2 = 1``)."""
-    d = a * (1.0 + 8 * _EPS) - z0  # Lmax - z0 > 0
+    d = a * (1.0 + 8 * EPS) - z0  # Lmax - z0 > 0
     k = 2.0 * g * (z0 - c)  # r^2 = u^2 + k
     lo = max(2.0 * g * d * (1.0 + 1e-12) / (1.0 - 1e-12),  # the coin rises above Lmax
              -k / (1.0 - 0.0481 ** 2),  # r > 0.0481 u
@@ -456,7 +459,7 @@ def _descent_setup(np, psi, u, om, a, z0, g, lim):
     :func:`_descent_batch` is the same arithmetic, in place, for ``|psi - pi/2| < pi/4``; here
     ``psi`` is free (``sin psi`` within ``5e-11``: when ``psi`` keeps alpha below ``pi/2``, the
     scan's ``Lmax`` is below ``a`` and its ``w2s`` later)."""
-    sp = _abs_sin_rough(np, psi)
+    sp = abs_sin_rough(np, psi)
     ok = np.ones(sp.shape, dtype=bool)
     u2 = u * u
     ok &= (u2 > lim["u2lo"]) & (u2 < lim["u2hi"])
@@ -520,8 +523,8 @@ def _descent_batch(np, psi, u, om, a, z0, g, lim, work, flags, code):
     ok &= f1
     np.multiply(C, om, out=G)
     G *= 0.5 * (1.0 - 1e-12) / g  # G: x1 = x at w2s (a little early)
-    _sin_into(np, G, B, C, E, _SIN5)  # B: |sin x1|
-    _sin_into(np, H, F, C, E, _SIN5)  # F: |sin xc|
+    sin_into(np, G, B, C, E, _SIN5)  # B: |sin x1|
+    sin_into(np, H, F, C, E, _SIN5)  # F: |sin xc|
     np.multiply(G, 2.0 / math.pi, out=C)
     np.floor(C, out=C)  # C: q1
     np.multiply(H, 2.0 / math.pi, out=E)
@@ -571,7 +574,7 @@ def _sampled_codes(np, psi, u, om, a, z0, g, c, lim, ns, geo, tail, terms):
     between samples is free, ``min(F_i, F_i+1) - K2 h_i^2 / 8 > M`` (``F'' <= K2 <= omega^2 a
     sin psi``: the module's semi-concavity), and ``S`` there is below or above ``1/sqrt 2`` (the
     face down when the scan goes beyond).  ``S`` is known within ``_W2[terms]`` (the sines
-    by :func:`_abs_sin_rough` with ``terms`` terms), so ``L = 2a S sqrt(1 - S^2)`` is bounded by
+    by :func:`abs_sin_rough` with ``terms`` terms), so ``L = 2a S sqrt(1 - S^2)`` is bounded by
     bounding each factor; ``z`` (within ``7e-15 (u^2/g + a)``) and ``F`` within ``M``."""
     ok, sp, w2s, tc, mm = _descent_setup(np, psi, u, om, a, z0, g, lim)
     n = u.size
@@ -585,7 +588,7 @@ def _sampled_codes(np, psi, u, om, a, z0, g, c, lim, ns, geo, tail, terms):
         p[ns + j] = tc - np.maximum(h * 0.1 ** (j + 1), 2.0 * _DESCENT_EPS * tc)
     for j, d in enumerate(tail):
         p[ns + geo + j] = tc * (1.0 + d)
-    s = _abs_sin_rough(np, p * (0.5 * om), terms)
+    s = abs_sin_rough(np, p * (0.5 * om), terms)
     w = _W2[terms]
     s *= sp
     slo = np.maximum(s - w, 0.0)
@@ -611,3 +614,55 @@ def _sampled_codes(np, psi, u, om, a, z0, g, c, lim, ns, geo, tail, terms):
     code[sides] = SIDES
     code[~ok] = -1
     return code
+
+
+# --------------------------------------------------------------------------- one toss
+
+
+@record(frozen=True)
+class Toss:
+    """One toss: time of flight, turns, final tilt and outcome."""
+
+    t_f: float  #: s, time of flight (first contact with the catch plane z = 0)
+    turns: float  #: omega t_f / (2 pi), precession turns in the air
+    alpha_f: float  #: rad, tilt of the normal at contact
+    theta0: float  #: rad, the static angle atan2(1, xi)
+    vigor: float  #: u omega / g (>> 1 for the closed forms)
+    outcome: str  #: 'heads', 'sides' or 'tails'
+    code: int  #: 0, 1, 2
+    z0: float  #: m, launch height of the centre
+    contact: str  #: 'rim' or 'thick'
+
+
+def flight_time(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, contact="rim",
+                z0=None):
+    """Time of flight ``t_f`` (s): the smallest positive root of ``z(t) - L(alpha(t)) = 0``.
+
+    Parameters are SI scalars: ``psi`` in radians, ``u`` in m/s, ``omega`` in rad/s,
+    ``diameter`` in m.  ``z0`` overrides the launch height (see :func:`default_z0`); it must
+    exceed the initial depth of the lowest point (0 for rim, ``h/2`` for thick).
+    See the module docstring for the algorithm and its guarantee.
+    """
+    scalar_setup(xi, psi, u, omega, diameter, g, contact, z0)
+    return float(toss_many(xi, psi, u, omega, diameter=diameter, g=g, contact=contact,
+                           z0=z0).t_f)
+
+
+def toss(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, contact="rim", z0=None):
+    """Simulate one toss (SI scalars, ``psi`` in radians); return a :class:`Toss`.
+
+    The same computation as :func:`toss_many` (one toss is a batch of one)."""
+    s = scalar_setup(xi, psi, u, omega, diameter, g, contact, z0)
+    r = toss_many(xi, psi, u, omega, diameter=diameter, g=g, contact=contact, z0=z0)
+    t_f, code = float(r.t_f), int(r.code)
+    return Toss(
+        t_f=t_f,
+        turns=omega * t_f / _TWO_PI,
+        alpha_f=float(r.alpha_f),
+        theta0=math.atan2(1.0, float(xi)),
+        vigor=u * omega / g,
+        outcome=NAMES[code],
+        code=code,
+        z0=float(s.z0),
+        contact=contact,
+    )

@@ -83,8 +83,8 @@ from __future__ import annotations
 
 import math
 
-from coincli.core._numerics.records import _record
-from coincli.core._numerics.trig import _abs_sin_rough, _half_sincos
+from coincli.core._numerics.records import record
+from coincli.core._numerics.trig import abs_sin_rough, half_sincos
 from coincli.limits import (  # noqa: F401 (re-read by the toss modules' users as T.NAME)
     CONTACTS,
     DEFAULT_DIAMETER,
@@ -108,15 +108,13 @@ __all__ = [
     "MAX_PHASE",
     "MAX_TOSSES",
     "U_MAX",
-    "Toss",
     "default_z0",
     "lowest_point",
     "alpha_at",
     "classify",
-    "flight_time",
     "flight_limits",
     "check_toss",
-    "toss",
+    "scalar_setup",
 ]
 
 HEADS, SIDES, TAILS = 0, 1, 2  #: outcome codes
@@ -124,8 +122,8 @@ NAMES = ("heads", "sides", "tails")
 LETTERS = ("H", "S", "T")
 
 _TWO_PI = 2.0 * math.pi
-_EPS = 2.220446049250313e-16
-_SQRT3_2 = math.sqrt(3.0) / 2.0
+EPS = 2.220446049250313e-16
+SQRT3_2 = math.sqrt(3.0) / 2.0
 _CELLS_PER_TURN = 16  # scan step: a sixteenth of a precession period
 _ZOOM = 8  # refinement factor of the vectorized scan
 
@@ -141,8 +139,8 @@ def _range_text(lo, hi, lo_open, hi_open, unit, allow_inf=False):
     return f"in {'(' if lo_open else '['}{lo:g}, {hi_s}{')' if hi_open else ']'}{u}"
 
 
-def _check(name, value, lo, hi=math.inf, *, lo_open=False, hi_open=False, unit="",
-           allow_inf=False):
+def check_number(name, value, lo, hi=math.inf, *, lo_open=False, hi_open=False, unit="",
+                 allow_inf=False):
     """Validate a scalar or array_like; return a float or a float ndarray."""
     msg = f"{name} must be {_range_text(lo, hi, lo_open, hi_open, unit, allow_inf)}"
     if isinstance(value, bool):
@@ -178,25 +176,25 @@ def _check(name, value, lo, hi=math.inf, *, lo_open=False, hi_open=False, unit="
     return arr
 
 
-def _check_contact(contact):
+def check_contact(contact):
     if contact not in CONTACTS:
         raise ValueError(f"contact must be 'rim' or 'thick', got {contact!r}")
     return contact == "thick"
 
 
-def _check_all(xi, psi, u, omega, diameter, g, contact):
-    thick = _check_contact(contact)
-    xi = _check("xi", xi, 0.0, 1e100, allow_inf=not thick) if thick else _check(
+def check_all(xi, psi, u, omega, diameter, g, contact):
+    thick = check_contact(contact)
+    xi = check_number("xi", xi, 0.0, 1e100, allow_inf=not thick) if thick else check_number(
         "xi", xi, 0.0, allow_inf=True)
-    psi = _check("psi", psi, 0.0, math.pi, unit="rad")
-    u = _check("u", u, 0.0, U_MAX, unit="m/s")
-    omega = _check("omega", omega, 0.0, unit="rad/s")
-    diameter = _check("diameter", diameter, 0.0, 1e100, lo_open=True, unit="m")
-    g = _check("g", g, G_MIN, G_MAX, unit="m/s^2")
+    psi = check_number("psi", psi, 0.0, math.pi, unit="rad")
+    u = check_number("u", u, 0.0, U_MAX, unit="m/s")
+    omega = check_number("omega", omega, 0.0, unit="rad/s")
+    diameter = check_number("diameter", diameter, 0.0, 1e100, lo_open=True, unit="m")
+    g = check_number("g", g, G_MIN, G_MAX, unit="m/s^2")
     return xi, psi, u, omega, diameter, g, thick
 
 
-def _count(n):
+def check_count(n):
     if isinstance(n, bool) or not isinstance(n, (int,)) and not (
             isinstance(n, float) and n.is_integer()):
         raise ValueError(f"n must be a whole number >= 1, got {n!r}")
@@ -212,9 +210,9 @@ def _count(n):
 
 def default_z0(xi, diameter=DEFAULT_DIAMETER, contact="rim"):
     """Launch height of the centre: ``(sqrt 3 / 2) a`` (eq. 5), plus ``h / 2`` for thick contact."""
-    thick = _check_contact(contact)
+    thick = check_contact(contact)
     a = diameter / 2
-    return _SQRT3_2 * a + (xi * diameter / 2 if thick else 0.0)
+    return SQRT3_2 * a + (xi * diameter / 2 if thick else 0.0)
 
 
 def alpha_at(psi, theta):
@@ -239,7 +237,7 @@ def alpha_at(psi, theta):
 def lowest_point(alpha, diameter=DEFAULT_DIAMETER, xi=0.0, contact="rim"):
     """Depth of the coin's lowest point below its centre at tilt ``alpha``: ``a sin alpha``
     (rim) or ``a sin alpha + (h/2)|cos alpha|`` (thick)."""
-    thick = _check_contact(contact)
+    thick = check_contact(contact)
     a = diameter / 2
     if isinstance(alpha, (int, float)):
         return a * math.sin(alpha) + (xi * diameter / 2 * abs(math.cos(alpha)) if thick else 0.0)
@@ -256,7 +254,7 @@ def classify(alpha_f, xi):
     ``theta0 = atan2(1, xi)`` and ``pi - theta0 = atan2(1, -xi)`` (no rounding of a subtraction).
     Scalars give an int, arrays an int8 array.
     """
-    xi = _check("xi", xi, 0.0, allow_inf=True)
+    xi = check_number("xi", xi, 0.0, allow_inf=True)
     if isinstance(alpha_f, (int, float)) and isinstance(xi, float):
         t0, t1 = math.atan2(1.0, xi), math.atan2(1.0, -xi)
         return HEADS if alpha_f <= t0 else (SIDES if alpha_f <= t1 else TAILS)
@@ -267,7 +265,7 @@ def classify(alpha_f, xi):
     return np.where(a <= t0, HEADS, np.where(a <= t1, SIDES, TAILS)).astype(np.int8)
 
 
-@_record()
+@record()
 class _Setup:
     """Everything the root finder needs about one toss (floats) or many (arrays)."""
 
@@ -291,7 +289,7 @@ class _Setup:
 
 
 #: 2 g z0 below this is computed another way by :func:`fall_time` (it may have underflowed)
-_FALL_TINY = 1e-280
+FALL_TINY = 1e-280
 
 
 def fall_time(xp, u, g, z0):
@@ -301,19 +299,19 @@ def fall_time(xp, u, g, z0):
     the toss 'land' at once), it is ``u/g + hypot(u/g, sqrt(2 z0) / sqrt(g))``, the same
     number with no product of small numbers (issue 28); ``inf`` when the time overflows."""
     t = (u + xp.sqrt(u * u + 2.0 * g * z0)) / g
-    tiny = 2.0 * g * z0 < _FALL_TINY
+    tiny = 2.0 * g * z0 < FALL_TINY
     if isinstance(tiny, bool) and not tiny:
         return t
     rise = u / g
     return xp.where(tiny, rise + xp.hypot(rise, xp.sqrt(2.0 * z0) / xp.sqrt(g)), t)
 
 
-def _setup(xp, xi, psi, u, om, diameter, g, thick, z0):
+def setup(xp, xi, psi, u, om, diameter, g, thick, z0):
     """Per-toss constants; xp is ``math`` (via coincli.core._numerics.backend.M) or numpy."""
     a = diameter / 2
     hh = xi * diameter / 2 if thick else 0.0 * a
     if z0 is None:
-        z0 = _SQRT3_2 * a + hh
+        z0 = SQRT3_2 * a + hh
     sp, cp = _sin_cos_psi(xp, psi)
     # The largest tilt reached is alpha(pi) = 2 min(psi, pi - psi); none without precession.
     # Its sine and cosine are sin 2 psi and cos 2 psi up to sign: 2 sin psi |cos psi| and
@@ -326,7 +324,7 @@ def _setup(xp, xi, psi, u, om, diameter, g, thick, z0):
         lmax = xp.where(amax >= xp.atan2(a, hh), xp.hypot(a, hh), a * s2 + hh * c2)
     else:
         lmax = xp.where(amax >= 0.5 * math.pi, a, a * s2)
-    lmax = lmax * (1.0 + 8 * _EPS)  # a rounded-down bound must not shrink the window
+    lmax = lmax * (1.0 + 8 * EPS)  # a rounded-down bound must not shrink the window
     t_end = fall_time(xp, u, g, z0)
     d = lmax - z0  # > 0: the launch height is inside the window
     disc = u * u - 2.0 * g * d
@@ -344,23 +342,23 @@ def _setup(xp, xi, psi, u, om, diameter, g, thick, z0):
     lw1 = xp.minimum(a * xp.minimum(ab, 1.0) + hh, lmax)
     zscale = z0 + u * u / (2.0 * g)
     # Rounding: a few ulps of the height scale, plus the phase omega t carried to eps omega t.
-    tol0 = 16 * _EPS * (zscale + 2.0 * lmax)
-    tol1 = 16 * _EPS * lmax * om
-    stol = 16 * _EPS * (u + g * t_end + om * (a + hh) * (1.0 + om * t_end))
+    tol0 = 16 * EPS * (zscale + 2.0 * lmax)
+    tol1 = 16 * EPS * lmax * om
+    stol = 16 * EPS * (u + g * t_end + om * (a + hh) * (1.0 + om * t_end))
     step = xp.where(om > 0, _TWO_PI / (_CELLS_PER_TURN * xp.maximum(om, 1e-300)), xp.inf)
-    clear = z0 - lw1 * (1.0 + 8 * _EPS) > 2.0 * (tol0 + tol1 * xp.maximum(w1, 0.0))
+    clear = z0 - lw1 * (1.0 + 8 * EPS) > 2.0 * (tol0 + tol1 * xp.maximum(w1, 0.0))
     w1 = xp.where(clear, -1.0, w1)
     return _Setup(om, sp, cp, a, hh, z0, u, g, t_end, lmax, w1, w2s, k2, tol0, tol1, stol, step)
 
 
 def _sin_cos_psi(xp, psi):
-    """``sin psi, cos psi`` for ``psi`` in ``[0, pi]``: by :func:`_half_sincos` for numpy (an
+    """``sin psi, cos psi`` for ``psi`` in ``[0, pi]``: by :func:`half_sincos` for numpy (an
     array or one number alike, so that a toss gives the same bits alone or in a batch), by the
     math module for the scalar checks."""
     if xp is _M():
         return math.sin(psi), math.cos(psi)
     arr = xp.asarray(psi, dtype=float)
-    sp, cp = _half_sincos(xp, xp.atleast_1d(arr))
+    sp, cp = half_sincos(xp, xp.atleast_1d(arr))
     if arr.ndim == 0:
         return float(sp[0]), float(cp[0])
     return sp.reshape(arr.shape), cp.reshape(arr.shape)
@@ -375,7 +373,7 @@ def _M():
 # --------------------------------------------------------------------------- F and F'
 
 
-class _Batch:
+class Batch:
     """The root finder's per-toss constants: each a float (shared by the whole batch) or a 1-D
     float array with one value a toss.  Built from a :class:`_Setup` by :func:`_batch`.
 
@@ -385,13 +383,13 @@ class _Batch:
 
     __slots__ = ("hom", "z0", "u", "g", "hg", "c2a", "cp2", "c2psi", "hh", "c1", "c3", "k2p",
                  "tol0", "tol1", "stol")
-    _F = ("hom", "z0", "u", "g", "hg", "c2a", "cp2", "c2psi", "hh", "c1", "c3")  # what _ff reads
+    FIELDS = ("hom", "z0", "u", "g", "hg", "c2a", "cp2", "c2psi", "hh", "c1", "c3")  # what _ff reads
 
     def take(self, sel, names=None):
         """The constants ``names`` (default: all that are set) of the tosses ``sel`` (an index
         array or a boolean mask)."""
-        out = _Batch.__new__(_Batch)
-        for k in names or [k for k in _Batch.__slots__ if hasattr(self, k)]:
+        out = Batch.__new__(Batch)
+        for k in names or [k for k in Batch.__slots__ if hasattr(self, k)]:
             v = getattr(self, k)
             setattr(out, k, v if isinstance(v, float) else v[sel])
         return out
@@ -406,7 +404,7 @@ def _flat(np, v, n):
 
 
 def _batch(np, s: _Setup, n):
-    q = _Batch.__new__(_Batch)
+    q = Batch.__new__(Batch)
     for k in ("z0", "u", "g", "hh", "tol0", "tol1", "stol"):
         setattr(q, k, _flat(np, getattr(s, k), n))
     om, sp, cp = (np.asarray(v, dtype=float) for v in (s.om, s.sp, s.cp))
@@ -422,7 +420,7 @@ def _batch(np, s: _Setup, n):
     return q
 
 
-def _ff(np, t, q: _Batch, thick):
+def _ff(np, t, q: Batch, thick):
     """``F(t)``, an upper bound of its right derivative ``F'(t+)`` (exact except at a corner),
     and ``|sin x|``, ``cos x'`` (arrays over the tosses of ``q``; ``x = omega t / 2``, ``x'`` its
     representative modulo pi in ``[0, pi)``).
@@ -433,7 +431,7 @@ def _ff(np, t, q: _Batch, thick):
     the coin upside down; ``cos alpha = 0`` for a thick coin) the corner's term is taken as 0,
     above the right derivative: the monotonicity certificate stays sound.
     """
-    sh, ch = _half_sincos(np, q.hom * t)
+    sh, ch = half_sincos(np, q.hom * t)
     # The same operations in the same order as the formulas say, in place where one of the
     # operands is a temporary (a + b = b + a, a b = b a exactly).
     sh2 = sh * sh
@@ -463,69 +461,40 @@ def _ff(np, t, q: _Batch, thick):
     return f, fp, sh, ch
 
 
-def _alpha(np, sp, cp, sh, ch):
+def alpha_from(np, sp, cp, sh, ch):
     """The tilt ``alpha`` from ``|sin x|``, ``cos x`` (``x`` half the precession phase), as
     :func:`alpha_at`: ``2 atan2(sin psi |sin x|, hypot(cos x, cos psi sin x))``."""
     cs = cp * sh
     return 2.0 * np.arctan2(sp * sh, np.sqrt(ch * ch + cs * cs))  # (no overflow: both <= 1)
 
 
-# --------------------------------------------------------------------------- one toss
-
-
-@_record(frozen=True)
-class Toss:
-    """One toss: time of flight, turns, final tilt and outcome."""
-
-    t_f: float  #: s, time of flight (first contact with the catch plane z = 0)
-    turns: float  #: omega t_f / (2 pi), precession turns in the air
-    alpha_f: float  #: rad, tilt of the normal at contact
-    theta0: float  #: rad, the static angle atan2(1, xi)
-    vigor: float  #: u omega / g (>> 1 for the closed forms)
-    outcome: str  #: 'heads', 'sides' or 'tails'
-    code: int  #: 0, 1, 2
-    z0: float  #: m, launch height of the centre
-    contact: str  #: 'rim' or 'thick'
-
-
-def flight_time(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, contact="rim",
-                z0=None):
-    """Time of flight ``t_f`` (s): the smallest positive root of ``z(t) - L(alpha(t)) = 0``.
-
-    Parameters are SI scalars: ``psi`` in radians, ``u`` in m/s, ``omega`` in rad/s,
-    ``diameter`` in m.  ``z0`` overrides the launch height (see :func:`default_z0`); it must
-    exceed the initial depth of the lowest point (0 for rim, ``h/2`` for thick).
-    See the module docstring for the algorithm and its guarantee.
-    """
-    from coincli.core.toss.batch import toss_many
-
-    _scalar_setup(xi, psi, u, omega, diameter, g, contact, z0)
-    return float(toss_many(xi, psi, u, omega, diameter=diameter, g=g, contact=contact,
-                           z0=z0).t_f)
+# --------------------------------------------------------------------------- one toss: the checks
 
 
 def check_toss(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, contact="rim",
                z0=None):
     """Raise the ValueError :func:`toss` would raise for these numbers (out of range, or a toss
     the scan cannot follow), without tossing; return None when the toss can be made."""
-    _scalar_setup(xi, psi, u, omega, diameter, g, contact, z0)
+    scalar_setup(xi, psi, u, omega, diameter, g, contact, z0)
 
 
-def _scalar_setup(xi, psi, u, omega, diameter, g, contact, z0):
+def scalar_setup(xi, psi, u, omega, diameter, g, contact, z0):
+    """The checked :class:`_Setup` of one toss (numbers only), or the ValueError that
+    :func:`coincli.core.toss.batch.toss` raises for it."""
     for name, v in (("xi", xi), ("psi", psi), ("u", u), ("omega", omega),
                     ("diameter", diameter), ("g", g)):
         if not isinstance(v, (int, float)) or isinstance(v, bool):
             raise ValueError(f"{name} must be a number, got {v!r} (use toss_many for arrays)")
-    xi, psi, u, omega, diameter, g, thick = _check_all(xi, psi, u, omega, diameter, g, contact)
+    xi, psi, u, omega, diameter, g, thick = check_all(xi, psi, u, omega, diameter, g, contact)
     z0 = _check_z0(z0, xi, diameter, thick)
-    s = _setup(_M(), xi, psi, u, omega, diameter, g, thick, z0)
-    problem = _problem(_M(), s)
+    s = setup(_M(), xi, psi, u, omega, diameter, g, thick, z0)
+    problem = problem_code(_M(), s)
     if problem:
-        raise ValueError(_problem_message(problem, omega, u, g, s.z0, omega * s.t_end))
+        raise ValueError(problem_message(problem, omega, u, g, s.z0, omega * s.t_end))
     return s
 
 
-def _problem(xp, s: _Setup):
+def problem_code(xp, s: _Setup):
     """0 when the scan can follow the toss, else why not: 1 ``t_end`` overflows a double,
     2 ``omega t_end > MAX_PHASE``, 3 the curvature bound ``K2`` (``omega^2 a``) or the slope
     tolerance overflows.  Per toss for arrays (int8)."""
@@ -542,7 +511,7 @@ def _problem(xp, s: _Setup):
     return 2 if phase > MAX_PHASE else (0 if curv else 3)
 
 
-def _problem_message(problem, omega, u, g, z0, phase):
+def problem_message(problem, omega, u, g, z0, phase):
     if problem == 1:
         return (f"the flight is too long to represent (g = {g:g} m/s^2, u = {u:g} m/s, z0 = "
                 f"{z0:g} m); raise g or lower u or z0")
@@ -563,26 +532,26 @@ def flight_limits(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G,
     or 3 (``omega^2 a`` overflows: the scan's curvature bound is not finite).  Scalars give
     floats and an int, arrays (broadcast) arrays.  The arguments must already be in range.
     """
-    thick = _check_contact(contact)
+    thick = check_contact(contact)
     M = _M()
     if all(isinstance(v, (int, float)) for v in (xi, psi, u, omega, diameter, g)) and (
             z0 is None or isinstance(z0, (int, float))):
-        s = _setup(M, float(xi), float(psi), float(u), float(omega), float(diameter), float(g),
+        s = setup(M, float(xi), float(psi), float(u), float(omega), float(diameter), float(g),
                    thick, None if z0 is None else float(z0))
-        return s.t_end, omega * s.t_end, _problem(M, s)
+        return s.t_end, omega * s.t_end, problem_code(M, s)
     import numpy as np
 
     arrs = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (
         xi, psi, u, omega, diameter, g, 0.0 if z0 is None else z0)))
     with np.errstate(over="ignore", invalid="ignore"):
-        s = _setup(np, *arrs[:6], thick, None if z0 is None else arrs[6])
-        return s.t_end, arrs[3] * s.t_end, _problem(np, s)
+        s = setup(np, *arrs[:6], thick, None if z0 is None else arrs[6])
+        return s.t_end, arrs[3] * s.t_end, problem_code(np, s)
 
 
 def _check_z0(z0, xi, diameter, thick):
     if z0 is None:
         return None
-    z0 = _check("z0", z0, 0.0, lo_open=True, unit="m")
+    z0 = check_number("z0", z0, 0.0, lo_open=True, unit="m")
     floor = xi * diameter / 2 if thick else 0.0
     if z0 <= floor:
         raise ValueError(f"z0 must be > h/2 = {floor:g} m for thick contact (the coin would start "
@@ -595,7 +564,7 @@ _AGE_MULTI = 3  #: rounds after which a toss lays several cells a round
 _MULTI = 8  #: cells a round then
 
 
-def _first_root(np, s: _Setup, n, thick, bands=None):
+def first_root(np, s: _Setup, n, thick, bands=None):
     """The first root of F for each of the ``n`` tosses of a batch (scalars or 1-D arrays in s).
 
     Returns ``(t_f, |sin x|, cos x')`` at the roots (``x = omega t_f / 2``, as :func:`_ff`).
@@ -603,7 +572,7 @@ def _first_root(np, s: _Setup, n, thick, bands=None):
     With ``bands = (sin(theta0/2), cos(theta0/2))`` (the outcome boundaries of eq. 7 in
     ``sin(alpha/2) = sin psi |sin x|``) only outcomes are wanted: a fourth array is returned,
     the outcome code of each toss decided without refining its root (-1 where the three arrays
-    hold the root as above, -2 where a certified cell is left to :func:`_newton`; elsewhere
+    hold the root as above, -2 where a certified cell is left to :func:`newton`; elsewhere
     they are not set), and a fifth, those cells ``(tosses, lo, hi, F(lo), F'(lo), F(hi),
     F'(hi), constants)`` or None.  A cell ``[t1, t2]`` with
     ``F > 0`` certified before ``t1`` and ``F(t2)`` below zero beyond rounding (or certified
@@ -620,7 +589,7 @@ def _first_root(np, s: _Setup, n, thick, bands=None):
       positive beyond rounding, or ``F`` is certified decreasing and ``F2 > 0``): the front
       moves to its end and the width grows back (times ``_ZOOM``, up to the base step);
     - ``F2 <= 0`` and ``F`` is certified decreasing (``F'(t+) + K2 d < 0``): exactly one root,
-      queued for :func:`_newton`;
+      queued for :func:`newton`;
     - otherwise the cell shrinks (``d / _ZOOM``), down to the last bits of ``t``, where a
       non-positive ``F2`` is the contact (a tangency or a corner).
 
@@ -651,7 +620,7 @@ def _first_root(np, s: _Setup, n, thick, bands=None):
         code = np.full(n, -1, dtype=np.int8)
         spb = _flat(np, s.sp, n)
         # |sin x| at t_end, the latest contact (a bound: the quadrant is read off the same x).
-        she = _abs_sin_rough(np, np.broadcast_to(q0.hom * t_end, (n,)))
+        she = abs_sin_rough(np, np.broadcast_to(q0.hom * t_end, (n,)))
     st = (t, f, fp, sh0, d, base, wend, win2, idx, age)
     if hit.any():
         out[hit], osh[hit], och[hit] = t[hit], sh[hit], ch[hit]
@@ -738,7 +707,7 @@ def _first_root(np, s: _Setup, n, thick, bands=None):
         rest = ~(cert | free) if decided is None else ~(cert | free | decided)
         move = free
         if rest.any():
-            tiny = rest & (dd <= 4 * _EPS * t2)
+            tiny = rest & (dd <= 4 * EPS * t2)
             hit = tiny & ~pos2  # a root at the last bit of t: a tangency or a corner
             if hit.any():
                 g = idx[hit]
@@ -775,7 +744,7 @@ def _first_root(np, s: _Setup, n, thick, bands=None):
                                        np.maximum(te - t0, 0.0))
                 d[nxt] = base[nxt]
                 age[nxt] = 0
-                fn, fpn, shn, chn = _ff(np, t[nxt], q.take(nxt, _Batch._F), thick)
+                fn, fpn, shn, chn = _ff(np, t[nxt], q.take(nxt, Batch.FIELDS), thick)
                 f[nxt], fp[nxt], sh0[nxt] = fn, fpn, shn
                 at = fn <= 0
                 ga = g[at]
@@ -801,7 +770,7 @@ def _first_root(np, s: _Setup, n, thick, bands=None):
         g = np.concatenate(ends)
         te = np.broadcast_to(t_end, (n,))[g]
         out[g] = te
-        _, _, osh[g], och[g] = _ff(np, te, q0.take(g, _Batch._F), thick)
+        _, _, osh[g], och[g] = _ff(np, te, q0.take(g, Batch.FIELDS), thick)
     if cells:
         if len(cells) == 1:
             gi, lo, hi, flo, fplo, fhi, fphi = cells[0]
@@ -819,11 +788,11 @@ def _first_root(np, s: _Setup, n, thick, bands=None):
                                                                   fphi))
     if cells and gi.size:
         in_order = gi.size == n and bool((gi[1:] > gi[:-1]).all())  # all, as in q0
-        qn = q0 if in_order else q0.take(gi, _Batch._F)
+        qn = q0 if in_order else q0.take(gi, Batch.FIELDS)
         if bands is not None:  # refined by the caller, with those of other batches
             code[gi] = -2
             return out, osh, och, code, (gi, lo, hi, flo, fplo, fhi, fphi, qn)
-        out[gi], osh[gi], och[gi] = _newton(np, lo, hi, flo, fplo, fhi, fphi, qn, thick)
+        out[gi], osh[gi], och[gi] = newton(np, lo, hi, flo, fplo, fhi, fphi, qn, thick)
     if bands is not None:
         return out, osh, och, code, None
     return out, osh, och
@@ -843,7 +812,7 @@ def _bracket_code(np, gi, lo, hi, flo, fplo, fhi, fphi, q0, sp, bands, thick):
     b = np.minimum(x0 + dl, hi)
     k = gi.size
     g2 = np.concatenate([gi, gi])
-    q2 = q0.take(g2, _Batch._F + ("tol0", "tol1"))
+    q2 = q0.take(g2, Batch.FIELDS + ("tol0", "tol1"))
     t2 = np.concatenate([a, b])
     f, _, sh, _ = _ff(np, t2, q2, thick)
     tol = q2.tol0 + q2.tol1 * t2
@@ -891,7 +860,7 @@ def _band_code(np, t1, t2, sh1, sh2, hom, sp, bands):
 
 
 def _multi_cells(np, t, f, fp, sh0, d, wend, old, q, thick):
-    """The cell each toss decides on this round (see :func:`_first_root`): for the tosses
+    """The cell each toss decides on this round (see :func:`first_root`): for the tosses
     ``old``, up to :data:`_MULTI` cells of width ``d`` laid from ``t`` (one evaluation each, all
     at once) and the first that is not certainly free, or the last; for the others ``[t, t +
     d]``.  ``sh0`` is ``|sin x|`` at ``t``.  Returns the cell's ends with F, F' there, sin/cos
@@ -951,7 +920,7 @@ def _multi_cells(np, t, f, fp, sh0, d, wend, old, q, thick):
 def _hermite_start(np, lo, hi, flo, fplo, fhi, fphi):
     """The root of the cubic Hermite interpolant of F, F' at the ends of ``[lo, hi]`` (from the
     root of the quadratic through ``F(lo), F'(lo), F(hi)``, a Newton step on the cubic), in the
-    bracket: :func:`_newton`'s start."""
+    bracket: :func:`newton`'s start."""
     h = hi - lo
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         m1 = fplo * h  # slopes and coefficients in s = (t - lo) / h
@@ -971,7 +940,7 @@ def _hermite_start(np, lo, hi, flo, fplo, fhi, fphi):
     return x
 
 
-def _newton(np, lo, hi, flo, fplo, fhi, fphi, q, thick):
+def newton(np, lo, hi, flo, fplo, fhi, fphi, q, thick):
     """The single root of a decreasing F in each ``[lo, hi]`` (``F(lo) > 0 >= F(hi)``), with
     ``|sin x|`` and ``cos x'`` there (as :func:`_ff`).
 
@@ -1022,9 +991,9 @@ def _newton(np, lo, hi, flo, fplo, fhi, fphi, q, thick):
             curv = np.abs((fp - fpp) / (x - xp))
         e = ast * (qa.hom if isinstance(qa.hom, float) else qa.hom)  # the phase it turns
         near = (ast <= 1e-6 * x) & (np.abs(x - xp) <= 1e-6 * x) & (e <= 1e-4)
-        conv = zero | (ok & ((ast <= 2 * _EPS * x) | (near & (curv * ast * ast <= 0.5 * _EPS
+        conv = zero | (ok & ((ast <= 2 * EPS * x) | (near & (curv * ast * ast <= 0.5 * EPS
                                                                * x * np.abs(fp))))) | (
-            hi - lo <= 4 * _EPS * hi)
+            hi - lo <= 4 * EPS * hi)
         stay = zero | (conv & ~ok)
         # Not converged: Newton strictly inside the bracket (so that it always shrinks), else
         # bisection.
@@ -1054,25 +1023,3 @@ def _newton(np, lo, hi, flo, fplo, fhi, fphi, q, thick):
     else:  # pragma: no cover - the bracket halves at least every other step
         raise RuntimeError("the root refinement did not converge")
     return out, osh, och
-
-
-def toss(xi, psi, u, omega, *, diameter=DEFAULT_DIAMETER, g=STANDARD_G, contact="rim", z0=None):
-    """Simulate one toss (SI scalars, ``psi`` in radians); return a :class:`Toss`.
-
-    The same computation as :func:`toss_many` (one toss is a batch of one)."""
-    from coincli.core.toss.batch import toss_many
-
-    s = _scalar_setup(xi, psi, u, omega, diameter, g, contact, z0)
-    r = toss_many(xi, psi, u, omega, diameter=diameter, g=g, contact=contact, z0=z0)
-    t_f, code = float(r.t_f), int(r.code)
-    return Toss(
-        t_f=t_f,
-        turns=omega * t_f / _TWO_PI,
-        alpha_f=float(r.alpha_f),
-        theta0=math.atan2(1.0, float(xi)),
-        vigor=u * omega / g,
-        outcome=NAMES[code],
-        code=code,
-        z0=float(s.z0),
-        contact=contact,
-    )

@@ -17,8 +17,8 @@ from __future__ import annotations
 import math
 import re
 
-from coincli.core._numerics.records import _record
-from coincli.core.toss.flight import _EPS, U_MAX, _count
+from coincli.core._numerics.records import record
+from coincli.core.toss.flight import EPS, U_MAX, check_count
 
 __all__ = [
     "Dist",
@@ -35,7 +35,7 @@ _NUM = r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?"
 _NUM_RE = re.compile(_NUM, re.ASCII)
 
 
-@_record(frozen=True, skip_compare=("density",))
+@record(frozen=True, skip_compare=("density",))
 class Dist:
     """A fixed value or a distribution of one initial condition.
 
@@ -272,7 +272,7 @@ def as_dist(value, name, lo=-math.inf, hi=math.inf):
     return parse_dist(value, name, lo, hi)
 
 
-_DOMAINS = {"u": (0.0, U_MAX), "omega": (0.0, math.inf), "psi": (0.0, math.pi)}
+DOMAINS = {"u": (0.0, U_MAX), "omega": (0.0, math.inf), "psi": (0.0, math.pi)}
 
 #: A natural hand toss: the initial conditions ``coin toss`` and ``coin simulate`` draw when
 #: ``--u``, ``--omega`` or ``--psi`` is not given (SI units; normals truncated to the domain).
@@ -312,18 +312,18 @@ def sample_conditions(n, rng, *, u, omega, psi):
 
     from coincli.core._numerics.backend import numpy_random
 
-    n = _count(n)
+    n = check_count(n)
     npr = numpy_random()
     rng = npr.default_rng(rng) if not isinstance(rng, npr.Generator) else rng
     out = {}
     for name, val in (("u", u), ("omega", omega), ("psi", psi)):
-        lo, hi = _DOMAINS[name]
+        lo, hi = DOMAINS[name]
         dist = as_dist(val, name, lo, hi)
         if dist.kind != "density" and (dist.lo < lo or dist.hi > hi):
             dist = Dist(dist.kind, dist.p1, dist.p2, max(dist.lo, lo), min(dist.hi, hi))
         if dist.kind in ("fixed", "uniform"):
             a, b = dist.p1, (dist.p2 if dist.kind == "uniform" else dist.p1)
-            slack = 4 * _EPS * max(abs(lo), abs(hi) if math.isfinite(hi) else 0.0)
+            slack = 4 * EPS * max(abs(lo), abs(hi) if math.isfinite(hi) else 0.0)
             if not (lo - slack <= a <= b <= hi + slack):
                 raise ValueError(f"{name}: {dist} lies outside the allowed range "
                                  f"[{lo:g}, {hi:g}]")

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 
-from coincli.core._numerics.records import _NEW_LIST, _record
+from coincli.core._numerics.records import NEW_LIST, record
 from coincli.core.models import Outcome
 from coincli.core.toss.batch import toss_many
 from coincli.core.toss.flight import (
@@ -18,15 +18,15 @@ from coincli.core.toss.flight import (
     G_MAX,
     G_MIN,
     STANDARD_G,
-    _check,
-    _check_contact,
+    check_contact,
+    check_number,
     default_z0,
 )
 
 __all__ = ["Boundary", "PhaseMap", "hyperbolae", "phase_map"]
 
 
-@_record(frozen=True)
+@record(frozen=True)
 class Boundary:
     """One boundary curve ``omega(u) = phase / t_star(u)`` in the (u, omega) plane."""
 
@@ -77,12 +77,12 @@ def hyperbolae(xi, psi, u, omega_max, *, g=STANDARD_G, exact=False, diameter=DEF
     """
     import numpy as np
 
-    thick = _check_contact(contact)
-    xi = _check("xi", xi, 0.0, allow_inf=not thick)
-    psi = _check("psi", psi, 0.0, math.pi, unit="rad")
-    g = _check("g", g, G_MIN, G_MAX, unit="m/s^2")
-    u = np.atleast_1d(_check("u", u, 0.0, unit="m/s"))
-    omega_max = _check("omega_max", omega_max, 0.0, unit="rad/s")
+    thick = check_contact(contact)
+    xi = check_number("xi", xi, 0.0, allow_inf=not thick)
+    psi = check_number("psi", psi, 0.0, math.pi, unit="rad")
+    g = check_number("g", g, G_MIN, G_MAX, unit="m/s^2")
+    u = np.atleast_1d(check_number("u", u, 0.0, unit="m/s"))
+    omega_max = check_number("omega_max", omega_max, 0.0, unit="rad/s")
     th1, th2 = _boundary_phases(xi, psi)
     with np.errstate(divide="ignore", invalid="ignore"):
         if exact:
@@ -111,7 +111,7 @@ def hyperbolae(xi, psi, u, omega_max, *, g=STANDARD_G, exact=False, diameter=DEF
     return out[:max_curves]
 
 
-@_record()
+@record()
 class PhaseMap:
     """Outcome codes on a grid of (u, omega), with the boundary curves."""
 
@@ -121,7 +121,7 @@ class PhaseMap:
     xi: float
     psi: float
     contact: str
-    curves: list = _NEW_LIST  #: eq. (10) boundaries (:func:`hyperbolae`)
+    curves: list = NEW_LIST  #: eq. (10) boundaries (:func:`hyperbolae`)
 
     def fractions(self):
         """Fractions of the grid that land heads, sides, tails."""

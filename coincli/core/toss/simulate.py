@@ -12,18 +12,18 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterator
 
-from coincli.core._numerics.records import _record
+from coincli.core._numerics.records import record
 from coincli.core.models import Outcome, conditional
-from coincli.core.toss.batch import _outcomes
+from coincli.core.toss.batch import outcome_codes
 from coincli.core.toss.flight import (
     DEFAULT_DIAMETER,
     NAMES,
     STANDARD_G,
-    _check,
-    _check_contact,
-    _count,
+    check_contact,
+    check_count,
+    check_number,
 )
-from coincli.core.toss.launch import _DOMAINS, as_dist, sample_conditions
+from coincli.core.toss.launch import DOMAINS, as_dist, sample_conditions
 
 __all__ = [
     "Frequency",
@@ -48,10 +48,10 @@ def simulate_chunks(n, seed, *, xi, u, omega, psi, diameter=DEFAULT_DIAMETER, g=
     """
     import numpy as np
 
-    n = _count(n)
-    thick = _check_contact(contact)
-    xi = _check("xi", xi, 0.0, allow_inf=not thick)
-    dists = {k: as_dist(v, k, *_DOMAINS[k]) for k, v in (("u", u), ("omega", omega),
+    n = check_count(n)
+    thick = check_contact(contact)
+    xi = check_number("xi", xi, 0.0, allow_inf=not thick)
+    dists = {k: as_dist(v, k, *DOMAINS[k]) for k, v in (("u", u), ("omega", omega),
                                                           ("psi", psi))}
     from coincli.core._numerics.backend import numpy_random
 
@@ -63,13 +63,13 @@ def simulate_chunks(n, seed, *, xi, u, omega, psi, diameter=DEFAULT_DIAMETER, g=
         # run with the same seed.
         c = {k: (v if isinstance(v, float) else v[:m])
              for k, v in sample_conditions(_CHUNK, rng, **dists).items()}
-        code = np.broadcast_to(_outcomes(xi, c["psi"], c["u"], c["omega"], diameter=diameter,
-                                         g=g, contact=contact), (m,))
+        code = np.broadcast_to(outcome_codes(xi, c["psi"], c["u"], c["omega"],
+                                             diameter=diameter, g=g, contact=contact), (m,))
         yield code
         done += m
 
 
-@_record(frozen=True)
+@record(frozen=True)
 class Frequency:
     """Observed frequency of one outcome with its Wilson score interval."""
 
@@ -94,7 +94,7 @@ def wilson_interval(k, n, level=0.95):
     return float(lo), float(hi)
 
 
-@_record()
+@record()
 class Simulation:
     """Result of :func:`simulate`."""
 
@@ -142,7 +142,7 @@ def vigorous_limit(xi, psi):
     ``uniform:LOW:HIGH`` the two-point table of equal weights.
     """
     dist = as_dist(psi, "psi", 0.0, math.pi)
-    xi = _check("xi", xi, 0.0, allow_inf=True)
+    xi = check_number("xi", xi, 0.0, allow_inf=True)
     if dist.is_fixed:
         return conditional(xi, min(max(dist.p1, 0.0), math.pi))
     from coincli.core.averages import marginal
