@@ -142,8 +142,8 @@ def _stopped() -> int:
     ``interrupted``, ``terminated (SIGTERM)`` or ``hung up (SIGHUP)``, with the seed the run
     drew (if it drew one) so that it can be repeated; the exit code, 128 + the signal."""
     words, code = stop_line()
-    options = sys.modules.get("coincli.io.options")
-    seed = getattr(options, "DRAWN_SEED", None)
+    options = sys.modules.get("coincli.io.options")  # loaded only if the run parsed a seed
+    seed = options.drawn_seed() if options is not None else None
     if seed is not None:
         words += f" (seed {seed}: --seed {seed} repeats this run)"
     return _fail(words, code)
@@ -266,7 +266,7 @@ def _run(argv, gc_paused: bool = False) -> int:
         command = _click_command(argv)
         options = sys.modules.get("coincli.io.options")
         if options is not None:  # run() may be called again in one process (tests)
-            options.DRAWN_SEED = None
+            options.reset_drawn_seed()
         if gc_paused:
             _resume_gc()
         rv = command.main(argv, prog_name="coin", standalone_mode=False)
