@@ -457,7 +457,11 @@ def test_fit_sides_fits_points_that_overlap():
 
 
 def test_fit_sides_widens_intervals_by_the_dispersion():
-    """Points that scatter beyond binomial noise widen the interval by sqrt(deviance / df)."""
+    """Points that scatter beyond binomial noise widen the interval: the covariance is
+    multiplied by the dispersion deviance / df, so Fieller's interval is that of binomial
+    noise at a z larger by sqrt(deviance / df)."""
+    from statistics import NormalDist
+
     pts = [(0.2, 400, 40), (0.3, 400, 150), (0.45, 400, 110), (0.7, 400, 260), (1.0, 400, 250)]
     f = D.fit_sides(pts)
     phi = f.deviance / f.df
@@ -466,7 +470,32 @@ def test_fit_sides_widens_intervals_by_the_dispersion():
     g = D.SidesFit(f.alpha, f.beta, tuple(tuple(c / phi for c in row) for row in f.cov),
                    f.points, f.deviance, f.df, f.p_value)
     glo, ghi = g.interval(1 / 3)
-    assert math.log(hi / lo) == pytest.approx(math.sqrt(phi) * math.log(ghi / glo), rel=1e-9)
+    assert lo < glo < ghi < hi
+    # at the 50% level (the 95% one's z, times sqrt(phi), is past what a double holds as a
+    # level): the dispersed fit's interval is the binomial one's at z * sqrt(phi)
+    z = NormalDist().inv_cdf(0.75) * math.sqrt(phi)
+    wlo, whi = g.interval(1 / 3, 2 * NormalDist().cdf(z) - 1)
+    assert (wlo, whi) == pytest.approx(f.interval(1 / 3, 0.5), rel=1e-7)
+
+
+def test_fieller_interval_is_the_set_where_the_curve_is_within_its_error():
+    """Fieller's interval: its ends are where (alpha + beta l - q)^2 = z^2 var(alpha + beta l),
+    and the estimate lies inside; a slope not told from 0 gives no bound."""
+    from statistics import NormalDist
+
+    from scipy.special import ndtri
+
+    f = D.fit_sides([(0.3, 500, 60), (0.4, 500, 130), (0.5, 500, 190), (0.6, 500, 260)])
+    lo, hi = f.interval(1 / 3)
+    assert lo < f.inverse(1 / 3) < hi
+    (vaa, vab), (_, vbb) = f.cov
+    z2 = NormalDist().inv_cdf(0.975) ** 2
+    for x in (lo, hi):
+        lx = math.log(x)
+        lhs = (f.alpha + f.beta * lx - float(ndtri(1 / 3))) ** 2
+        assert lhs == pytest.approx(z2 * (vaa + 2 * lx * vab + lx * lx * vbb), rel=1e-9)
+    flat = D.SidesFit(0.0, 0.01, ((1.0, 0.0), (0.0, 1.0)), [], 0.0, 0, math.nan)
+    assert flat.interval(1 / 3) == (0.0, math.inf)
 
 
 def _levels_off(x):

@@ -107,11 +107,40 @@ def _norm_pdf(x):
     return np.exp(-x**2 / 2.0) / math.sqrt(2 * math.pi)
 
 
+def _probit_irls(design, n, k, *, steps: int, tol: float):
+    """The maximum-likelihood coefficients of ``P = Phi(design @ coef)`` for ``k`` of ``n``,
+    by iteratively reweighted least squares (Fisher scoring) from the least-squares fit of the
+    probits of the smoothed frequencies: at most ``steps`` steps, until no coefficient moves by
+    ``tol``; None when a step diverges."""
+    import numpy as np
+    from scipy.special import ndtr, ndtri
+
+    f = np.clip((k + 0.5) / (n + 1), 1e-6, 1 - 1e-6)
+    coef = np.linalg.lstsq(design, ndtri(f), rcond=None)[0]
+    for _ in range(steps):
+        eta = design @ coef
+        mu = np.clip(ndtr(eta), 1e-12, 1 - 1e-12)
+        phi = np.maximum(_norm_pdf(eta), 1e-300)
+        w = n * phi * phi / (mu * (1 - mu))
+        z = eta + (k / n - mu) / phi
+        try:
+            new = np.linalg.solve(design.T @ (w[:, None] * design), design.T @ (w * z))
+        except np.linalg.LinAlgError:
+            return None
+        if not np.all(np.isfinite(new)):
+            return None
+        done = np.max(np.abs(new - coef)) < tol
+        coef = new
+        if done:
+            break
+    return coef
+
+
 def fit_sides(points) -> SidesFit:
     """Fit :class:`SidesFit` to ``points``, ``(xi, n, sides)`` rows (at least two distinct xi
     with some tosses), by iteratively reweighted least squares (Fisher scoring)."""
     import numpy as np
-    from scipy.special import chdtrc, ndtr, ndtri
+    from scipy.special import chdtrc, ndtr
 
     pts = [(float(x), int(n), int(k)) for x, n, k in points if n > 0]
     if len({x for x, _, _ in pts}) < 2:
@@ -129,26 +158,10 @@ def fit_sides(points) -> SidesFit:
                          "simulate more tosses, or a range of xi where P(sides) is between 0 "
                          "and 1")
     design = np.column_stack([np.ones_like(x), x])
-    f = np.clip((k + 0.5) / (n + 1), 1e-6, 1 - 1e-6)
-    coef = np.linalg.lstsq(design, ndtri(f), rcond=None)[0]
-    for _ in range(100):
-        eta = design @ coef
-        mu = np.clip(ndtr(eta), 1e-12, 1 - 1e-12)
-        phi = np.maximum(_norm_pdf(eta), 1e-300)
-        w = n * phi * phi / (mu * (1 - mu))
-        z = eta + (k / n - mu) / phi
-        info = design.T @ (w[:, None] * design)
-        try:
-            new = np.linalg.solve(info, design.T @ (w * z))
-        except np.linalg.LinAlgError:
-            new = np.full(2, np.nan)
-        if not np.all(np.isfinite(new)):
-            raise ValueError("the simulated points do not determine a curve of P(sides) in xi "
-                             "(the fit diverges); simulate more tosses")
-        done = np.max(np.abs(new - coef)) < 1e-12
-        coef = new
-        if done:
-            break
+    coef = _probit_irls(design, n, k, steps=100, tol=1e-12)
+    if coef is None:
+        raise ValueError("the simulated points do not determine a curve of P(sides) in xi "
+                         "(the fit diverges); simulate more tosses")
     eta = design @ coef
     mu = np.clip(ndtr(eta), 1e-12, 1 - 1e-12)
     phi = _norm_pdf(eta)
@@ -246,7 +259,7 @@ def _curvature_shift(points: dict, target: float, est: float, factor: float = 1.
     least, else 0), reaches ``target``, minus ``est``.  A straight probit over a window misses a
     curved P(sides) by about this much; the interval is widened by it (lack of fit)."""
     import numpy as np
-    from scipy.special import ndtr, ndtri
+    from scipy.special import ndtri
 
     near = [(x, n, k) for x, (n, k) in sorted(points.items())
             if n > 0 and est / factor <= x <= est * factor]
@@ -257,25 +270,10 @@ def _curvature_shift(points: dict, target: float, est: float, factor: float = 1.
     k = np.array([p[2] for p in near], float)
     if not (k.sum() > 0 and (n - k).sum() > 0):
         return 0.0
-    X = np.column_stack([np.ones_like(lx), lx, lx * lx])
-    f = np.clip((k + 0.5) / (n + 1), 1e-6, 1 - 1e-6)
-    coef = np.linalg.lstsq(X, ndtri(f), rcond=None)[0]
-    for _ in range(50):
-        eta = X @ coef
-        mu = np.clip(ndtr(eta), 1e-12, 1 - 1e-12)
-        phi = np.maximum(_norm_pdf(eta), 1e-300)
-        w = n * phi * phi / (mu * (1 - mu))
-        zz = eta + (k / n - mu) / phi
-        try:
-            new = np.linalg.solve(X.T @ (w[:, None] * X), X.T @ (w * zz))
-        except np.linalg.LinAlgError:
-            return 0.0
-        if not np.all(np.isfinite(new)):
-            return 0.0
-        done = np.max(np.abs(new - coef)) < 1e-10
-        coef = new
-        if done:
-            break
+    coef = _probit_irls(np.column_stack([np.ones_like(lx), lx, lx * lx]), n, k, steps=50,
+                        tol=1e-10)
+    if coef is None:
+        return 0.0
     c0, c1, c2 = (float(v) for v in coef)
     q = float(ndtri(target))
     # the root of c0 - q + c1 l + c2 l^2 nearest l = 0 (est), within the window
