@@ -152,6 +152,17 @@ _PER_TABLE = ("p_heads", "p_heads_low", "p_heads_high", "p_sides", "p_sides_low"
               "p_sides_high", "p_tails", "p_tails_low", "p_tails_high", "settled", "unsettled")
 
 
+def _distinct_texts(values) -> dict:
+    """Each value's text in a column name: 6 significant digits (``0.3``), or, where two values
+    would then read alike (``0.3`` and ``0.3000001``), the shortest text that reads back to each
+    double, so that no two tables share a column."""
+    values = sorted(set(values))
+    short = {v: f"{v:g}" for v in values}
+    if len(set(short.values())) == len(values):
+        return short
+    return {v: repr(float(v)) for v in values}
+
+
 def widen(columns, cells, tables, note) -> Result:
     """The study as one row per coin: the coin's columns, then for each table (restitution
     ``e``, friction ``mu``) its chances and counts, named ``e0.5_mu0.3_p_sides`` (``--layout
@@ -162,9 +173,11 @@ def widen(columns, cells, tables, note) -> Result:
     lead = [i for i, c in enumerate(names) if c in ("coin", "count", "xi", "diameter_mm",
                                                    "surface")]
     out = [columns[i] for i in lead]
+    e_text, mu_text = (_distinct_texts([t[k] for t in tables]) for k in (0, 1))
     for e, mu in tables:
-        out += [Column(f"e{e:g}_mu{mu:g}_{columns[i].name}",
-                       f"e {e:g} mu {mu:g} {columns[i].header}", columns[i].style) for i in per]
+        es, ms = e_text[e], mu_text[mu]
+        out += [Column(f"e{es}_mu{ms}_{columns[i].name}", f"e {es} mu {ms} {columns[i].header}",
+                       columns[i].style) for i in per]
     out.append(columns[names.index("seed")])
 
     def rows():

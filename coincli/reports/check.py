@@ -314,12 +314,16 @@ def _caught_note(x: float, counts, conf: float) -> str:
     """What a caught check means, and this tosser's own spread of psi."""
     from coincli.core.stats import caught as stats_caught
 
+    text = ("caught flips (faces only): each model is tested on the chance of landing on the "
+            "side it started on given that it landed on a face, P(H) / (P(H) + P(T)) with the "
+            "start side as heads (a caught coin never shows a side, so P(sides) is conditioned "
+            "away).  Every model of a Keller flip gives 1/2; a spread of psi favours the "
+            "starting side.  ")
+    if not math.isfinite(x):  # --fair or --expect alone: no coin, so no spread of psi
+        return text + ("This tosser's spread of psi is not fitted: it needs the coin (--xi, "
+                       "--coin, --quarters or --diameter and --thickness).")
     f = stats_caught.fit_rows([x], [counts.same], [counts.n], confidence=conf)
-    text = (f"caught flips (faces only): each model is tested on the chance of landing on the "
-            f"side it started on given that it landed on a face, P(H) / (P(H) + P(T)) with the "
-            f"start side as heads (a caught coin never shows a side, so P(sides) is conditioned "
-            f"away).  Every model of a Keller flip gives 1/2; a spread of psi favours the "
-            f"starting side.  This tosser's spread: sd of psi {deg_text(float(f.sigma[0]))} "
+    text += (f"This tosser's spread: sd of psi {deg_text(float(f.sigma[0]))} "
             f"deg, {percent_text(conf)} profile-likelihood interval "
             f"{deg_text(float(f.low[0]))} to {deg_text(float(f.high[0]))} deg")
     bound = bound_note(int(f.at_bound[0]))
