@@ -97,7 +97,8 @@ def _quoted(path) -> str:
 def check_output_path(path) -> str:
     """The real path to write ``path`` to (symbolic links followed); :class:`FileKindError`
     when it exists as anything but a regular file, FileNotFoundError when its directory does
-    not exist.  Nothing is opened."""
+    not exist, PermissionError when that directory cannot be written (a file is written beside
+    its name, then renamed over it).  Nothing is opened."""
     path = os.fspath(path)
     if not path:
         raise FileKindError("the output file name is empty")
@@ -122,6 +123,10 @@ def check_output_path(path) -> str:
         import errno
 
         raise FileNotFoundError(errno.ENOENT, f"its directory {_quoted(parent)} does not exist")
+    if not os.access(parent, os.W_OK | os.X_OK):  # the file is written beside, then renamed
+        import errno
+
+        raise PermissionError(errno.EACCES, f"its directory {_quoted(parent)} is not writable")
     return real
 
 

@@ -113,6 +113,10 @@ def fit(file: str, *, fit_params: str | None = None, seed: str | None = None,
         from coincli.io.files import refuse_unwritable
 
         refuse_unwritable(save, "--save")
+        if checkpoint is not None and _same_file(save, checkpoint):
+            raise usage_error(f"--save and --checkpoint name one file ({save}): the "
+                              "calibration would overwrite the record of its own tosses; give "
+                              "each its own path")
     sep = None
     if delimiter is not None:
         try:
@@ -225,6 +229,13 @@ def _simulate(xi, params, n, seed, stream, kw):
         if k in kw:
             params[k] = kw.pop(k)
     return engine_simulate(xi, params, n, seed, stream, kw)
+
+
+def _same_file(a: str, b: str) -> bool:
+    """Whether two paths name one file (links followed; the file need not exist yet)."""
+    import os
+
+    return os.path.realpath(a) == os.path.realpath(b)
 
 
 def _fit_result(f, cal, exps, name, p, points, per_group, unsettled, save):

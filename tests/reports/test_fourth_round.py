@@ -38,3 +38,39 @@ def test_a_wide_study_keeps_every_cell(coin):
     # (15 when the two frictions shared their names)
     assert len(row) == 3 + 2 * 11 + 1
     assert "e0.5_mu0.3_p_sides" in row and "e0.5_mu0.3000001_p_sides" in row
+
+
+def test_one_path_for_checkpoint_and_save_is_refused_before_any_toss(coin, tmp_path):
+    tosses = tmp_path / "t.csv"
+    tosses.write_text("xi,heads,sides,tails\n0.5,40,30,30\n")
+    path = tmp_path / "both.json"
+    code, out, err = coin("fit", tosses, "--landing", "bounce", "--fit", "friction",
+                          "--design-tosses", "32", "--seed", "1", "--checkpoint", path,
+                          "--save", tmp_path / "." / "both.json")
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert "--save and --checkpoint name one file" in err
+    assert not path.exists()
+
+
+@pytest.mark.parametrize("option", ["--save", "--checkpoint"])
+def test_an_unwritable_directory_is_refused_before_any_toss(coin, tmp_path, monkeypatch,
+                                                            option):
+    """Root may write anywhere, so the directory's refusal is simulated: os.access says no
+    for it, as it does for a user without write permission."""
+    import os
+
+    tosses = tmp_path / "t.csv"
+    tosses.write_text("xi,heads,sides,tails\n0.5,40,30,30\n")
+    locked = tmp_path / "locked"
+    locked.mkdir()
+    real_access = os.access
+    monkeypatch.setattr(os, "access", lambda p, mode, **kw: False if os.fspath(p) == str(
+        locked) else real_access(p, mode, **kw))
+    started = []
+    from coincli.core.bounce import calibrate as core_calibrate
+
+    monkeypatch.setattr(core_calibrate, "run_design", lambda *a, **k: started.append(1))
+    code, out, err = coin("fit", tosses, "--landing", "bounce", "--fit", "friction",
+                          "--design-tosses", "32", "--seed", "1", option, locked / "x.json")
+    assert code == 1 and out == "" and err.count("\n") == 1
+    assert "is not writable" in err and started == []
