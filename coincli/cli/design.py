@@ -58,8 +58,12 @@ def table(request):
     coin table --landing bounce --xi 0.3:0.7:0.1 --friction 0.2,0.4 --seed 1 -f csv
     """
     bouncing = request.landing.strip().lower() == "bounce"
-    emit_all(report.table(**request, progress=simulating_bar if bouncing else estimator_bar),
-             **request.output)
+    result = report.table(**request, progress=simulating_bar if bouncing else estimator_bar)
+    emit_all(result, **request.output)
+    if bouncing:
+        from coincli.reports.bounce import warn_unmet
+
+        warn_unmet(result)  # tosses that did not settle: the note, after the table
     if request.quiet:  # the note that names a drawn seed (--method mc or qmc) is not shown
         options.report_drawn_seed()
 

@@ -128,7 +128,7 @@ def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
                     f"{e!r}/{mu!r}" for e in es for mu in mus], "--u": u_spec,
                 "--omega": w_spec, "--psi": psi_spec, "--diameter": dia, "--g": STANDARD_G}))
             bar = stack.enter_context(progress()) if progress is not None else None
-            done = 0
+            done = unsettled = never = 0
             for k, e, mu in plan:
                 surf = replace(base, restitution=e, friction=mu)
                 tick = None if bar is None else (lambda d, done=done: bar(done + d, cells * n))
@@ -138,13 +138,25 @@ def table(*, xi=None, coin=None, count=None, quarters=None, diameter=None, thick
                                 g=STANDARD_G, dt=physics.dt, t_max=physics.t_max,
                                 jobs=physics.jobs, progress=tick, executor=run)
                 done += n
+                unsettled += sim.counts[3]
+                never += sim.n - sum(sim.catch_counts)  # no first contact: no catch outcome
                 yield [[v] for v in study_row(coins, k, xis[k], dia, surf, sim, stacked)]
+        # after the last cell, the tosses that did not settle (written after the table)
+        said = bounce_report.unsettled_note(
+            physics, unsettled, done, never,
+            left="each cell's chances are among its settled tosses; a cell where none settled "
+                 "has empty chances")
+        if said:
+            result.notes.append(said)
 
     if wide:
-        return widen(columns, rows(), [(e, mu) for e in es for mu in mus], note)
-    return Result("coin table --landing bounce", columns, [], note=note,
-                  quiet=columns.index(next(c for c in columns if c.name == "p_sides")),
-                  chunks=rows())
+        result = widen(columns, rows(), [(e, mu) for e in es for mu in mus], note)
+    else:
+        result = bounce_report.BounceResult(
+            "coin table --landing bounce", columns, [], note=note,
+            quiet=columns.index(next(c for c in columns if c.name == "p_sides")),
+            chunks=rows())
+    return result
 
 
 #: the columns of a cell that the wide layout repeats for each table
@@ -192,7 +204,8 @@ def widen(columns, cells, tables, note) -> Result:
                 group = []
                 yield [[v] for v in row]
 
-    return Result("coin table --landing bounce", out, [], note=note, chunks=rows())
+    return bounce_report.BounceResult("coin table --landing bounce", out, [], note=note,
+                                      chunks=rows())
 
 
 def _runs():

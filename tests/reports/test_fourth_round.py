@@ -74,3 +74,16 @@ def test_an_unwritable_directory_is_refused_before_any_toss(coin, tmp_path, monk
                           "--design-tosses", "32", "--seed", "1", option, locked / "x.json")
     assert code == 1 and out == "" and err.count("\n") == 1
     assert "is not writable" in err and started == []
+
+
+def test_a_study_where_no_toss_settles_says_so_after_the_table(coin):
+    args = ["table", "--landing", "bounce", "--xi", "0.5", "-n", "3", "--seed", "1",
+            "--t-max", "0.1", "--u", "0.1", "--jobs", "1"]
+    for layout in ("long", "wide"):
+        code, out, err = coin(*args, "--layout", layout, "-f", "csv")
+        assert code == 0 and out.count("\n") == 2
+        assert err.startswith("coin: note: 3 of 3 tosses did not settle") and \
+            err.count("\n") == 1
+    rows = api.table(xi=0.5, landing="bounce", tosses=3, seed=1, t_max=0.1, u=0.1, jobs=1)
+    assert rows[0]["p_sides"] is None and rows[0]["unsettled"] == 3
+    assert [n.kind for n in rows.notes] == ["note"] and "did not settle" in rows.notes[0].text
