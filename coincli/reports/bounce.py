@@ -264,6 +264,8 @@ def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, 
                                      jobs=p.jobs, progress=tick, executor=run)
         except (bounce_design.BeyondTheEngine, bounce_design.TooFewSettled) as exc:
             raise _design_error(p, exc) from None
+        except bounce_design.Undetermined as exc:  # valid input: no answer from these tosses
+            raise compute_error(str(exc)) from None
         except ValueError as exc:
             raise usage_error(str(exc)) from None
     dia_mm = diameter * 1000

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 
-from coincli.errors import compute_error, shown, usage_error
+from coincli.errors import NotComputable, compute_error, shown, usage_error
 from coincli.io import grammar as parse
 from coincli.io.experiments import experiment_columns, file_name, read_experiments_text
 from coincli.io.options import level_value
@@ -366,6 +366,7 @@ def _table_designs(physics, cf, exps, p_design: float, *, seed, design_tosses,
     u_spec = launch_of(cal)[0]
     done: dict = {}
     rows = []
+    failed: list = []  # (line, why) of the tossers whose design found no answer
     for j, i in enumerate(cf.rows.tolist()):
         sigma = float(cf.fits.sigma[j])
         d = float(exps.diameter[i])
@@ -380,14 +381,21 @@ def _table_designs(physics, cf, exps, p_design: float, *, seed, design_tosses,
                        command="coin fit --design --calibration")
             check_landing(physics, u_top=reach(u_spec, U_MAX), g=STANDARD_G,
                           xi=max(bounce_design.DESIGN_GRID), dia=dia, u_text="the calibration's")
-            r = calibrate.design(physics, targets=[p_design], seed=seed_v, tol=0.01,
-                                 max_tosses=most, time_limit=1e9, diameter=dia, g=STANDARD_G,
-                                 given={"u": None, "omega": None, "psi": None},
-                                 progress=progress, psi=psi)
-            v = dict(zip((c.name for c in r.columns), r.rows[0], strict=True))
-            done[key] = (v["xi"], v["xi_low"], v["xi_high"], dia_mm, v["thickness_mm"],
-                         v["thickness_low_mm"], v["thickness_high_mm"], v["dominant"],
-                         v["tosses"], v["seed"])
+            try:
+                r = calibrate.design(physics, targets=[p_design], seed=seed_v, tol=0.01,
+                                     max_tosses=most, time_limit=None, diameter=dia,
+                                     g=STANDARD_G, given={"u": None, "omega": None, "psi": None},
+                                     progress=progress, psi=psi)
+            except NotComputable as exc:  # this tosser's design only: the others stand
+                failed.append((int(exps.line[i]), str(exc)))
+                done[key] = (None,) * 3 + (dia_mm,) + (None,) * 4 + (0, seed_v)
+            else:
+                v = dict(zip((c.name for c in r.columns), r.rows[0], strict=True))
+                done[key] = (v["xi"], v["xi_low"], v["xi_high"], dia_mm, v["thickness_mm"],
+                             v["thickness_low_mm"], v["thickness_high_mm"], v["dominant"],
+                             v["tosses"], v["seed"])
+        elif done[key][0] is None:
+            failed.append((int(exps.line[i]), "as the row of the same spread and diameter above"))
         rows.append(done[key])
     tab = ", ".join(f"{n} {cal['parameters'][n]['estimate']:.3g}" for n in cal["fitted"])
     note = (f"on your table: each tosser's coin with P(sides) = {p_design:.6g} designed on the "
@@ -402,6 +410,9 @@ def _table_designs(physics, cf, exps, p_design: float, *, seed, design_tosses,
             "table_design_dominant says which is larger), not that of the tosser's own sd.  "
             "A row with no diameter is designed for the calibration's prototypes "
             f"({float(cal['diameter_mm']):g} mm).")
+    if failed:
+        note += "  No design on your table (empty table_design_ cells) for " + "; ".join(
+            f"line {line}: {why}" for line, why in failed) + "."
     return _TableDesigns(rows, note)
 
 

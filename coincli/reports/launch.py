@@ -16,8 +16,9 @@ from __future__ import annotations
 
 import contextlib
 import math
+import sys
 
-from coincli.errors import shown, usage_error
+from coincli.errors import compute_error, shown, usage_error
 from coincli.io import grammar as parse
 from coincli.io import options
 from coincli.limits import (  # noqa: F401 (MAX_TOSSES: the reports' limit of -n)
@@ -49,10 +50,15 @@ def bounded_number(text: str, what: str, lo: float, hi: float) -> float:
 
 
 def core_call(fn, *args, **kwargs):
-    """Call the core; its ValueError is a usage error (the input is out of range)."""
+    """Call the core; its ValueError is a usage error (the input is out of range), but for the
+    one that says valid input gave no answer (``coincli.core.bounce.design.Undetermined``: the
+    tosses do not determine a curve), which cannot be computed (exit 1)."""
     try:
         return fn(*args, **kwargs)
     except ValueError as exc:
+        design = sys.modules.get("coincli.core.bounce.design")  # loaded if it raised this
+        if design is not None and isinstance(exc, design.Undetermined):
+            raise compute_error(str(exc)) from None
         raise usage_error(str(exc)) from None
 
 

@@ -87,3 +87,49 @@ def test_a_study_where_no_toss_settles_says_so_after_the_table(coin):
     rows = api.table(xi=0.5, landing="bounce", tosses=3, seed=1, t_max=0.1, u=0.1, jobs=1)
     assert rows[0]["p_sides"] is None and rows[0]["unsettled"] == 3
     assert [n.kind for n in rows.notes] == ["note"] and "did not settle" in rows.notes[0].text
+
+
+def test_a_design_the_tosses_cannot_determine_exits_1(coin):
+    """A valid bouncing design whose tosses never land on a side (no spin, no speed): no curve
+    of P(sides) can be fitted, an answer that cannot be computed (exit 1), not a usage error."""
+    code, out, err = coin("design", "-p", "1/3", "--landing", "bounce", "--u", "0", "--omega",
+                          "0", "--psi", "0", "--seed", "1", "--max-tosses", "180", "--jobs",
+                          "1", "--no-table")
+    assert code == 1 and out == "" and err.count("\n") == 1
+    assert "do not determine a curve of P(sides)" in err
+
+
+def test_one_tossers_failed_table_design_keeps_the_others(monkeypatch):
+    """coin fit --design --calibration: a tosser whose design on the table finds no answer gets
+    empty table_design cells and a note; the other tossers keep theirs."""
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from coincli.core.toss.launch import Dist
+    from coincli.errors import NotComputable
+    from coincli.io.table import Column, Result
+    from coincli.reports import calibrate, calibrated, fit, physics
+
+    def fake_design(p, *, targets, psi, **kw):
+        if psi == np.pi / 2:  # the tosser of sd 0 (psi = 90 deg): no answer
+            raise NotComputable("the simulated P(sides) does not grow with xi; no design found")
+        names = ("xi", "xi_low", "xi_high", "thickness_mm", "thickness_low_mm",
+                 "thickness_high_mm", "dominant", "tosses", "seed")
+        return Result("x", [Column(n, n) for n in names],
+                      [(0.5, 0.49, 0.51, 12.0, 11.8, 12.2, "simulation", 1200, 7)])
+
+    monkeypatch.setattr(calibrate, "design", fake_design)
+    monkeypatch.setattr(calibrated, "launch_of", lambda cal: (Dist("fixed", 2.4, 0.0, 0.0, 2.4), None, None))
+    monkeypatch.setattr(physics, "check_coin", lambda *a, **k: None)
+    monkeypatch.setattr(physics, "check_landing", lambda *a, **k: None)
+    cal = {"diameter_mm": 24.26, "fitted": ["friction"],
+           "parameters": {"friction": {"estimate": 0.3}}}
+    phys = SimpleNamespace(calibration=("cal.json", cal))
+    cf = SimpleNamespace(rows=np.array([0, 1]), fits=SimpleNamespace(sigma=np.array([0.0, 0.2])))
+    exps = SimpleNamespace(diameter=np.array([24.26, 24.26]), line=np.array([2, 3]))
+    t = fit._table_designs(phys, cf, exps, 1 / 3, seed="7", design_tosses=None)
+    assert t.rows[0][0] is None and t.rows[0][3] == 24.26
+    assert t.rows[1][0] == 0.5
+    assert "No design on your table (empty table_design_ cells) for line 2: the simulated " \
+           "P(sides) does not grow with xi" in t.note

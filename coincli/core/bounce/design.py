@@ -18,7 +18,14 @@ from coincli.core.bounce.runs import Workers, simulate, simulate_many
 from coincli.core.toss.flight import DEFAULT_DIAMETER, SIDES
 from coincli.limits import BOUNCE_XI_MAX
 
-__all__ = ["SidesFit", "fit_sides", "Design", "design", "TooFewSettled", "BeyondTheEngine"]
+__all__ = ["SidesFit", "fit_sides", "Design", "design", "TooFewSettled", "BeyondTheEngine",
+           "Undetermined"]
+
+
+class Undetermined(ValueError):
+    """The simulated tosses do not determine a curve of P(sides) in xi (a threshold in xi
+    separates the tosses on a side from the rest, the fit diverges, or P(sides) does not grow
+    with xi): the input was valid, the answer cannot be computed from these tosses."""
 
 
 class TooFewSettled(ValueError):
@@ -144,7 +151,8 @@ def fit_sides(points) -> SidesFit:
 
     pts = [(float(x), int(n), int(k)) for x, n, k in points if n > 0]
     if len({x for x, _, _ in pts}) < 2:
-        raise ValueError("fitting P(sides) needs simulated tosses at two aspect ratios or more")
+        raise Undetermined("fitting P(sides) needs simulated tosses at two aspect ratios or "
+                           "more")
     x = np.log([p[0] for p in pts])
     n = np.array([p[1] for p in pts], dtype=float)
     k = np.array([p[2] for p in pts], dtype=float)
@@ -153,15 +161,15 @@ def fit_sides(points) -> SidesFit:
     # runs off to infinity): a side must lie below a face, and a face below a side.
     xs, xf = x[k > 0], x[k < n]
     if not (xs.size and xf.size and xs.min() < xf.max() and xf.min() < xs.max()):
-        raise ValueError("the simulated points do not determine a curve of P(sides) in xi (a "
-                         "threshold in xi separates the tosses on a side from the rest); "
-                         "simulate more tosses, or a range of xi where P(sides) is between 0 "
-                         "and 1")
+        raise Undetermined("the simulated points do not determine a curve of P(sides) in xi (a "
+                           "threshold in xi separates the tosses on a side from the rest); "
+                           "simulate more tosses, or a range of xi where P(sides) is between "
+                           "0 and 1")
     design = np.column_stack([np.ones_like(x), x])
     coef = _probit_irls(design, n, k, steps=100, tol=1e-12)
     if coef is None:
-        raise ValueError("the simulated points do not determine a curve of P(sides) in xi "
-                         "(the fit diverges); simulate more tosses")
+        raise Undetermined("the simulated points do not determine a curve of P(sides) in xi "
+                           "(the fit diverges); simulate more tosses")
     eta = design @ coef
     mu = np.clip(ndtr(eta), 1e-12, 1 - 1e-12)
     phi = _norm_pdf(eta)
@@ -380,7 +388,8 @@ def design(targets, *, seed, tol=0.01, max_tosses=200_000, time_limit=None, leve
                 raise TooFewSettled(tosses, unsettled, never_landed)
             fit = fit_sides([(x, n, k) for x, (n, k) in sorted(points.items())])
             if fit.beta <= 0:
-                raise ValueError("the simulated P(sides) does not grow with xi; no design found")
+                raise Undetermined("the simulated P(sides) does not grow with xi; no design "
+                                   "found")
             fits = [_local_fit(points, t, fit.inverse(t)) for t in targets]
             est = [f.inverse(t) for f, t in zip(fits, targets, strict=True)]
             for t, x in zip(targets, est, strict=True):
