@@ -124,3 +124,17 @@ def test_a_request_is_read_only():
     with pytest.raises(AttributeError):
         req.coin = "dime"
     assert dict(req.output) == {"fmt": "table", "quiet": False}
+
+
+def test_path_objects_are_taken_for_checkpoint_and_calibration(tmp_path):
+    """Every file keyword takes a path object (os.PathLike), as the api's docstrings say."""
+    import pathlib
+
+    ck = pathlib.Path(tmp_path) / "run.ckpt"
+    rows = api.simulate(xi=0.5, landing="bounce", tosses=4, seed=1, jobs=1, checkpoint=ck)
+    assert ck.exists() and sum(r["count"] for r in rows) == 4
+    assert api.simulate(xi=0.5, landing="bounce", tosses=4, seed=1, jobs=1,
+                        checkpoint=str(ck)) == rows
+    with pytest.raises(InputError, match="--calibration"):  # read as the path it names
+        api.simulate(xi=0.5, landing="bounce", tosses=4, seed=1, jobs=1,
+                     calibration=pathlib.Path(tmp_path) / "missing.json")
