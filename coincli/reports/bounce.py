@@ -33,8 +33,8 @@ if TYPE_CHECKING:
 CONTACT_NOTE = ("The contact model is itself uncertain: a second engine (Bullet) puts the fair "
                 "xi of the hand toss on wood 0.04 lower (0.463 against 0.503) and P(sides) 0.01 "
                 "to 0.05 apart, and heads against tails differs between them (docs: 'How much "
-                "does the answer depend on the contact model?'); the intervals are sampling "
-                "error only.")
+                "does the answer depend on the contact model?'); the intervals hold the "
+                "simulation's error, not the contact model's.")
 
 
 def design_columns(dia_mm: float) -> list[Column]:
@@ -319,7 +319,9 @@ def design(p: Physics, *, targets, seed, tol, max_tosses, time_limit, u, omega, 
             + ")" + ("; a curve misses its points by more than their noise: its interval is "
                      "widened by the dispersion" if any(f.p_value < 0.01 for f in r.fits)
                      else "")
-            + f"; 95% intervals by the delta method.  Stopped: {why[r.stopped_by]}"
+            + "; 95% intervals: Fieller's (the slope's error carried), widened by the shift a "
+            "local quadratic probit makes (lack of fit; docs/bounce.md, 'How a design's "
+            f"interval is made').  Stopped: {why[r.stopped_by]}"
             + ("" if not outside else
                "; " + ", ".join(f"xi = {x:.4g} for P(sides) = {t:.4g}" for t, x in outside)
                + f" extrapolated from the aspect ratios simulated ({r.span[0]:.4g} to "
