@@ -7,7 +7,9 @@ its 95% interval of xi, against the engine's own fair xi measured apart: ``coin 
 in ln xi fitted to those counts (:func:`coincli.core.bounce.design.fit_sides`), and its xi at
 P(sides) = 1/3 with Fieller's 95% interval.  Seeds of the reference: 1000 + point.
 
-    python benchmarks/design_vs_reference.py [TOSSES_PER_POINT] [SEEDS] > recipe.md
+    python benchmarks/design_vs_reference.py [TOSSES_PER_POINT] [SEEDS] [XI,LOW,HIGH] > recipe.md
+
+``XI,LOW,HIGH``: a reference measured before (its fair xi and interval), not measured again.
 
 CPU: the reference is 6 x TOSSES_PER_POINT tosses (default 4000: about 8 CPU-minutes), each
 design about 3000 tosses (a minute).
@@ -40,18 +42,23 @@ def reference(n: int):
 def main(argv):
     n = int(argv[1]) if len(argv) > 1 else 4000
     seeds = range(1, int(argv[2]) + 1) if len(argv) > 2 else range(1, 11)
-    t0 = time.monotonic()
-    points, fit, x_ref, (lo_ref, hi_ref) = reference(n)
-    t_ref = time.monotonic() - t0
-    print(f"Reference: `coin simulate --landing bounce --surface wood --diameter 30 -n {n}` "
-          f"at {len(points)} aspect ratios (seeds 1000-{999 + len(points)}), {t_ref:.0f} s of "
-          "wall:\n")
-    print("| xi | settled | sides | P(sides) |\n|---|---|---|---|")
-    for xi, s, k in points:
-        print(f"| {xi:g} | {s} | {k} | {k / s:.4f} |")
-    print(f"\nProbit in ln xi over these points: deviance {fit.deviance:.2f} on {fit.df} df "
-          f"(p = {fit.p_value:.3f}); fair xi (P(sides) = 1/3) **{x_ref:.4f}** "
-          f"[{lo_ref:.4f}, {hi_ref:.4f}] (Fieller 95%).\n")
+    if len(argv) > 3:
+        x_ref, lo_ref, hi_ref = (float(v) for v in argv[3].split(","))
+        print(f"Reference (measured before): fair xi {x_ref:.4f} [{lo_ref:.4f}, {hi_ref:.4f}]."
+              "\n")
+    else:
+        t0 = time.monotonic()
+        points, fit, x_ref, (lo_ref, hi_ref) = reference(n)
+        t_ref = time.monotonic() - t0
+        print(f"Reference: `coin simulate --landing bounce --surface wood --diameter 30 -n {n}` "
+              f"at {len(points)} aspect ratios (seeds 1000-{999 + len(points)}), {t_ref:.0f} s "
+              "of wall:\n")
+        print("| xi | settled | sides | P(sides) |\n|---|---|---|---|")
+        for xi, s, k in points:
+            print(f"| {xi:g} | {s} | {k} | {k / s:.4f} |")
+        print(f"\nProbit in ln xi over these points: deviance {fit.deviance:.2f} on {fit.df} "
+              f"df (p = {fit.p_value:.3f}); fair xi (P(sides) = 1/3) **{x_ref:.4f}** "
+              f"[{lo_ref:.4f}, {hi_ref:.4f}] (Fieller 95%).\n")
     print("| seed | xi | 95% interval | holds the reference | tosses | wall s |")
     print("|---|---|---|---|---|---|")
     held = 0
