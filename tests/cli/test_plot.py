@@ -17,7 +17,6 @@ import warnings
 import numpy as np
 import pytest
 
-from coincli.cli import run
 from coincli.core import models
 
 TOSSES = """\
@@ -27,12 +26,6 @@ one,quarter,1,,,49,1,50
 eight,quarter,8,,,30,36,34
 rod,,,25mm,30mm,10,70,20
 """
-
-
-def _run(argv, capsys):
-    code = run(argv)
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def _one(fig, gid):
@@ -68,8 +61,8 @@ def no_matplotlib(monkeypatch):
     (["plot", "phase", "--terminal", "--toss", "1:30"], ["H heads", "vigorous limit (Table I)",
                                                          "X your toss"]),
 ])
-def test_text_plots(capsys, argv, words):
-    code, out, err = _run(argv, capsys)
+def test_text_plots(coin, argv, words):
+    code, out, err = coin(*argv)
     assert code == 0, err
     assert err == ""
     for w in words:
@@ -97,20 +90,19 @@ def test_text_plot_values_are_the_cores():
     assert hits >= 60
 
 
-def test_text_plot_without_matplotlib(capsys, no_matplotlib, tmp_path):
-    code, out, err = _run(["plot", "sides", "--out", "-", "--data", str(_tosses(tmp_path))],
-                          capsys)
+def test_text_plot_without_matplotlib(coin, no_matplotlib, tmp_path):
+    code, out, err = coin("plot", "sides", "--out", "-", "--data", str(_tosses(tmp_path)))
     assert code == 0 and err == ""
     assert "your tosses (3 rows)" in out and "95% Wilson" in out
-    code, out, err = _run(["plot", "psi"], capsys)
+    code, out, err = coin("plot", "psi")
     assert code == 0 and "P(sides)" in out and err == ""
     assert sys.modules.get("matplotlib") is None
 
 
 @pytest.mark.parametrize("sub", ["sides", "psi", "map", "phase"])
-def test_missing_matplotlib_is_one_line_with_the_hint(capsys, no_matplotlib, tmp_path, sub):
+def test_missing_matplotlib_is_one_line_with_the_hint(coin, no_matplotlib, tmp_path, sub):
     path = tmp_path / "f.png"
-    code, out, err = _run(["plot", sub, "--out", str(path)], capsys)
+    code, out, err = coin("plot", sub, "--out", str(path))
     assert code == 1 and out == ""
     assert err.count("\n") == 1 and "pip install -U 'thickcoin[plot]'" in err
     assert not path.exists()
@@ -137,40 +129,39 @@ def test_missing_matplotlib_is_one_line_with_the_hint(capsys, no_matplotlib, tmp
     (["plot", "sides", "--dpi", "0"], 2, "--dpi"),
     (["plot", "nosuch"], 2, "No such command"),
 ])
-def test_errors_are_one_line(capsys, argv, code, words):
-    got, out, err = _run(argv, capsys)
+def test_errors_are_one_line(coin, argv, code, words):
+    got, out, err = coin(*argv)
     assert got == code, err
     assert out == ""
     assert err.startswith("coin: error: ") and err.count("\n") == 1 and words in err
     assert "Traceback" not in err
 
 
-def test_bad_data_file_names_the_line(capsys, tmp_path):
+def test_bad_data_file_names_the_line(coin, tmp_path):
     p = tmp_path / "t.csv"
     p.write_text("xi,heads,sides,tails\n0.5,1,2,3\n0.5,1,x,3\n")
-    code, out, err = _run(["plot", "sides", "--data", str(p)], capsys)
+    code, out, err = coin("plot", "sides", "--data", str(p))
     assert code == 2 and "line 3" in err and err.count("\n") == 1
 
 
-def test_data_from_stdin(capsys, monkeypatch):
+def test_data_from_stdin(coin, monkeypatch):
     import io
 
     monkeypatch.setattr(sys, "stdin", io.StringIO("xi,sides,n\n0.5,30,100\n"))
-    code, out, err = _run(["plot", "sides", "--data", "-", "--terminal"], capsys)
+    code, out, err = coin("plot", "sides", "--data", "-", "--terminal")
     assert code == 0, err
     assert "your tosses (1 row)" in out
 
 
-def test_unwritable_output_is_exit_1(capsys, tmp_path):
+def test_unwritable_output_is_exit_1(coin, tmp_path):
     pytest.importorskip("matplotlib")
-    code, out, err = _run(["plot", "psi", "--out", str(tmp_path / "no" / "dir" / "f.png")],
-                          capsys)
+    code, out, err = coin("plot", "psi", "--out", str(tmp_path / "no" / "dir" / "f.png"))
     assert code == 1 and err.count("\n") == 1 and "cannot write" in err
 
 
 @pytest.mark.parametrize("name", [".png", ".SVG", "sub/.pdf"])
-def test_an_extension_alone_is_not_a_file_name(capsys, tmp_path, name):
-    code, out, err = _run(["plot", "sides", "--out", str(tmp_path / name)], capsys)
+def test_an_extension_alone_is_not_a_file_name(coin, tmp_path, name):
+    code, out, err = coin("plot", "sides", "--out", str(tmp_path / name))
     assert code == 2 and err.count("\n") == 1 and out == ""
     assert "is an extension without a file name; give a name such as figure." in err
     assert not any(tmp_path.rglob("*"))
@@ -370,30 +361,30 @@ def test_builders_leave_matplotlib_state_alone(plotmod, tmp_path):
     ["plot", "map", "--style", "ternary"],
     ["plot", "phase", "--resolution", "30"],
 ])
-def test_files_of_each_format(capsys, tmp_path, plotmod, fmt, magic, argv):
+def test_files_of_each_format(coin, tmp_path, plotmod, fmt, magic, argv):
     path = tmp_path / f"fig.{fmt}"
-    code, out, err = _run([*argv, "--out", str(path), "--dpi", "50"], capsys)
+    code, out, err = coin(*argv, "--out", str(path), "--dpi", "50")
     assert code == 0, err
     assert out == ""
     data = path.read_bytes()
     assert len(data) > 1000 and data.startswith(magic)
 
 
-def test_png_size_follows_dpi_width_height(capsys, tmp_path, plotmod):
+def test_png_size_follows_dpi_width_height(coin, tmp_path, plotmod):
     path = tmp_path / "f.png"
-    code, _, err = _run(["plot", "psi", "--out", str(path), "--dpi", "40", "--width", "5",
-                         "--height", "3"], capsys)
+    code, _, err = coin("plot", "psi", "--out", str(path), "--dpi", "40", "--width", "5",
+                        "--height", "3")
     assert code == 0, err
     head = path.read_bytes()[16:24]
     assert (int.from_bytes(head[:4], "big"), int.from_bytes(head[4:], "big")) == (200, 120)
 
 
-def test_svg_is_deterministic(capsys, tmp_path, plotmod):
+def test_svg_is_deterministic(coin, tmp_path, plotmod):
     outs = []
     for k in range(2):
         path = tmp_path / f"f{k}.svg"
-        code, _, err = _run(["plot", "sides", "--xi", "0.5", "-p", "0.3", "--data",
-                             str(_tosses(tmp_path)), "--out", str(path)], capsys)
+        code, _, err = coin("plot", "sides", "--xi", "0.5", "-p", "0.3", "--data",
+                            str(_tosses(tmp_path)), "--out", str(path))
         assert code == 0, err
         outs.append(path.read_bytes())
     assert outs[0] == outs[1]
@@ -433,18 +424,18 @@ def _one_error(code, out, err, option, *words):
 @pytest.mark.parametrize("value", ["nan", "NaN", "inf", "-inf", "0", "-1", "1e9", "1e400", "abc",
                                    ""])
 @pytest.mark.parametrize("sub", ["sides", "psi", "map", "phase"])
-def test_bad_figure_size_is_exit_2_naming_the_option(capsys, tmp_path, sub, option, allowed,
+def test_bad_figure_size_is_exit_2_naming_the_option(coin, tmp_path, sub, option, allowed,
                                                      value):
     """nan passed click's FloatRange (nan < 1 is False) and reached matplotlib: exit 1 with
     "figure size must be positive finite not (nan, 4.5)"."""
     path = tmp_path / "f.png"
-    code, out, err = _run(["plot", sub, "--out", str(path), option, value], capsys)
+    code, out, err = coin("plot", sub, "--out", str(path), option, value)
     _one_error(code, out, err, option, allowed)
     assert not path.exists()
 
 
-def test_bad_figure_size_is_refused_for_a_text_plot_too(capsys):
-    code, out, err = _run(["plot", "psi", "--terminal", "--width", "nan"], capsys)
+def test_bad_figure_size_is_refused_for_a_text_plot_too(coin):
+    code, out, err = coin("plot", "psi", "--terminal", "--width", "nan")
     _one_error(code, out, err, "--width", "from 1 to 100")
 
 
@@ -454,16 +445,15 @@ def test_bad_figure_size_is_refused_for_a_text_plot_too(capsys):
     ["plot", "map", "--dpi", "1000"],  # the map's default 12 x 4.4 inches
     ["plot", "phase", "--height", "60", "--dpi", "300"],  # 9.5 x 60 inches: 51 million
 ])
-def test_too_many_pixels_is_exit_2_before_computing(capsys, tmp_path, argv):
+def test_too_many_pixels_is_exit_2_before_computing(coin, tmp_path, argv):
     path = tmp_path / "f.png"
-    code, out, err = _run([*argv, "--out", str(path)], capsys)
+    code, out, err = coin(*argv, "--out", str(path))
     _one_error(code, out, err, "--dpi", "--width", "50,000,000")
     assert not path.exists()
 
 
-def test_pixel_cap_is_not_applied_to_a_text_plot(capsys):
-    code, out, err = _run(["plot", "psi", "--terminal", "--width", "100", "--dpi", "2000"],
-                          capsys)
+def test_pixel_cap_is_not_applied_to_a_text_plot(coin):
+    code, out, err = coin("plot", "psi", "--terminal", "--width", "100", "--dpi", "2000")
     assert code == 0 and err == "" and "P(sides)" in out
 
 
@@ -478,12 +468,11 @@ def test_check_figure_size_limits():
             check_figure_size(w, h, dpi)
 
 
-def test_figure_too_small_for_its_labels_is_exit_2_and_writes_nothing(capsys, tmp_path, plotmod):
+def test_figure_too_small_for_its_labels_is_exit_2_and_writes_nothing(coin, tmp_path, plotmod):
     """matplotlib printed "UserWarning: constrained_layout not applied because axes sizes
     collapsed to zero" and wrote a figure with its axes over the labels."""
     path = tmp_path / "f.png"
-    code, out, err = _run(["plot", "psi", "--width", "1", "--height", "1", "--out", str(path)],
-                          capsys)
+    code, out, err = coin("plot", "psi", "--width", "1", "--height", "1", "--out", str(path))
     _one_error(code, out, err, "--width", "too small")
     assert not path.exists()
     with pytest.raises(plotmod.FigureTooSmall):
@@ -509,13 +498,13 @@ def test_figure_too_small_for_its_labels_is_exit_2_and_writes_nothing(capsys, tm
     (["plot", "phase", "--omega-range", "0:inf"], "--omega-range", "rad/s"),
 ])
 @pytest.mark.parametrize("where", ["file", "terminal"])
-def test_axis_ranges_beyond_the_limits_are_exit_2(capsys, tmp_path, argv, option, allowed,
+def test_axis_ranges_beyond_the_limits_are_exit_2(coin, tmp_path, argv, option, allowed,
                                                   where):
     """--xi-range 0:1e308 wrote the figure but printed matplotlib's RuntimeWarning (overflow in
     the tick arithmetic) on stderr; --log 1:1e300 failed with exit 1 after five warning lines;
     tiny spans crashed the text plot (math domain error)."""
     dest = ["--out", str(tmp_path / "f.png")] if where == "file" else ["--terminal"]
-    code, out, err = _run([*argv, *dest], capsys)
+    code, out, err = coin(*argv, *dest)
     _one_error(code, out, err, option, allowed, "LOW:HIGH")
 
 
@@ -533,9 +522,9 @@ def test_axis_ranges_beyond_the_limits_are_exit_2(capsys, tmp_path, argv, option
     (["plot", "phase", "--xi", "0.5", "--diameter", "1e300"], "--diameter", "1e100 m"),
     (["plot", "phase", "--xi", "1e300", "--contact", "thick"], "--xi", "at most 1e100"),
 ])
-def test_non_finite_values_say_what_is_allowed(capsys, argv, option, allowed):
+def test_non_finite_values_say_what_is_allowed(coin, argv, option, allowed):
     """--xi inf said "--xi must be a number, got 'inf'", which does not say what is allowed."""
-    code, out, err = _run([*argv, "--terminal"], capsys)
+    code, out, err = coin(*argv, "--terminal")
     _one_error(code, out, err, option, allowed)
     assert "must be a number, got" not in err
 
@@ -558,12 +547,12 @@ def test_non_finite_values_say_what_is_allowed(capsys, argv, option, allowed):
     ["plot", "phase", "--omega-range", "999999999999.9999:1e12", "--resolution", "20"],
 ])
 @pytest.mark.parametrize("where", ["png", "svg", "terminal"])
-def test_extreme_allowed_ranges_draw_without_warnings(capsys, tmp_path, argv, where):
+def test_extreme_allowed_ranges_draw_without_warnings(coin, tmp_path, argv, where):
     if where != "terminal":
         pytest.importorskip("matplotlib")
     path = tmp_path / f"f.{where}"
     dest = ["--terminal"] if where == "terminal" else ["--out", str(path), "--dpi", "40"]
-    code, out, err = _run([*argv, *dest], capsys)
+    code, out, err = coin(*argv, *dest)
     assert code == 0, err
     if where == "terminal":
         assert err == ""
@@ -587,20 +576,20 @@ def test_figures_at_the_axis_limits_raise_no_warning(plotmod, tmp_path, log, xi_
         plotmod.save_figure(plotmod.map_figure(m), str(tmp_path / "m.svg"), 40)
 
 
-def test_marks_beyond_the_axis_limits_are_notes(capsys, tmp_path, plotmod):
+def test_marks_beyond_the_axis_limits_are_notes(coin, tmp_path, plotmod):
     """--xi 1.7e308 widened the axis to infinity: exit 1, "the xi range must be finite"."""
     d = plotmod.sides_data(xi_marks=[1.7e308, 0.5], points=11)
     assert d.xlim == (0.0, plotmod.XI_AXIS_MAX)
     assert any("1.7e+308 is outside the plotted range" in n for n in d.skipped)
     d = plotmod.sides_data(xi_marks=[1e-320], log=True, points=11)
     assert d.xlim[0] == plotmod.XI_LOG_MIN
-    code, out, err = _run(["plot", "sides", "--xi", "1.7e308", "--out", str(tmp_path / "f.png"),
-                           "--dpi", "40"], capsys)
+    code, out, err = coin("plot", "sides", "--xi", "1.7e308", "--out", str(tmp_path / "f.png"),
+                          "--dpi", "40")
     assert code == 0 and out == ""
     wrote, note = err.splitlines()
     assert wrote == f"coin: wrote {tmp_path / 'f.png'} (280 x 180 pixels)"
     assert note.startswith("coin: note: xi = 1.7e+308 is outside")
-    code, out, err = _run(["plot", "map", "--xi", "1.7e308", "--terminal"], capsys)
+    code, out, err = coin("plot", "map", "--xi", "1.7e308", "--terminal")
     assert code == 0 and err == ""
 
 
