@@ -65,6 +65,16 @@ def coin(capsys, monkeypatch):
     return call
 
 
+@pytest.fixture
+def plotmod():
+    """:mod:`coincli.render.figures`, the matplotlib figures (the test is skipped without
+    matplotlib)."""
+    pytest.importorskip("matplotlib")
+    from coincli.render import figures
+
+    return figures
+
+
 def pytest_terminal_summary(terminalreporter):
     folder = os.environ.get(_REPORT_DIR)
     if folder and os.environ.get("PYTEST_XDIST_WORKER") is None and os.path.isdir(folder):

@@ -7,7 +7,6 @@ from __future__ import annotations
 import csv
 import io
 import math
-import sys
 
 import mpmath
 import numpy as np
@@ -341,22 +340,6 @@ def test_no_progress_bar_off_a_terminal(coin, monkeypatch):
     code, out, err = coin("table", "--xi", "0.577", "--psi-dist", "uniform", "--method", "mc",
                           "--seed", "1", "--tol", "1e-3", "-f", "csv")
     assert code == 0 and err == "" and "\x1b" not in out
-
-
-def test_progress_bar_draws_on_stderr_only_after_a_second(monkeypatch):
-    import coincli.render.progress as acc
-
-    monkeypatch.setattr(acc, "stderr_is_terminal", lambda: True)
-    buf = io.StringIO()
-    monkeypatch.setattr(sys, "stderr", buf)
-    bar = acc.ProgressBar("mc test", delay=3600)
-    bar(10, 100)
-    assert bar.bar is None  # not within the delay
-    bar = acc.ProgressBar("mc test", delay=0)
-    bar(10, 100)
-    assert bar.bar is not None
-    bar(100, 100)
-    bar.close()
 
 
 def test_the_run_budget_stops_quasi_monte_carlo_deterministically(coin, monkeypatch):
