@@ -112,6 +112,7 @@ def test_design_bounce(coin):
                                                            "1"), 2)
 
 
+@pytest.mark.slow
 def test_plot_sides_bounce_terminal(coin):
     rc, out, note = coin("plot", "sides", "--landing", "bounce", "--seed", "1", "-n", "40",
                          "--jobs", "1", "--terminal")
@@ -129,6 +130,7 @@ def test_plot_sides_bounce_range_outside_the_simulated_window_is_one_line(coin):
               "holds no aspect ratio that --landing bounce simulates (0.05 to 100)")
 
 
+@pytest.mark.slow
 def test_plot_sides_bounce_without_a_curve_draws_the_points(coin):
     """Thin coins and few tosses: no side at all, so no probit can be fitted (it was 'coin:
     error: Singular matrix'); the points are drawn and the note says why there is no curve."""
@@ -312,6 +314,7 @@ def test_design_on_a_preset_starts_from_its_table(coin):
     assert "no toss simulated here" in out and "--max-tosses 180 reproduces this result" in out
 
 
+@pytest.mark.slow
 def test_design_bounce_honours_a_small_max_tosses(coin):
     out = ok(coin("design", "-p", "1/3", "--landing", "bounce", "--seed", "1", "--max-tosses",
                   "200", "--tol", "0.5", "--jobs", "2", "--no-table"))
