@@ -502,6 +502,7 @@ def test_a_range_of_times_is_the_shared_grammar_s_values(spec, unit):
     assert np.asarray(got).tolist() == ref
 
 
+@pytest.mark.slow
 def test_times_out_file_is_the_stdout_bytes(coin, tmp_path):
     argv = [*BOOK, "--spin", "0.4,40,0.3", "--times", "0:3:0.0001"]
     for fmt in ("csv", "jsonl", "table"):

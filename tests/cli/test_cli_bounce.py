@@ -174,6 +174,7 @@ print(json.dumps(report), file=sys.stderr)
 """
 
 
+@pytest.mark.slow
 def test_no_other_command_imports_mujoco():
     commands = [
         ["design", "--p-sides", "1/3"],

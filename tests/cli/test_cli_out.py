@@ -234,6 +234,7 @@ def test_usage_errors_point_to_the_subcommands_help(coin):
     _error(coin("bogus"), 2, "(see 'coin --help')")
 
 
+@pytest.mark.slow
 def test_help_is_plain_and_fits_80_columns():
     import typer
 
@@ -439,6 +440,7 @@ def _complete(env_extra):
     return subprocess.run([*COIN], capture_output=True, text=True, env=env, timeout=60)
 
 
+@pytest.mark.slow
 def test_completion_for_bash_zsh_and_fish():
     bash = _complete({"_COIN_COMPLETE": "complete_bash", "COMP_WORDS": "coin des",
                       "COMP_CWORD": "1"})
@@ -532,6 +534,7 @@ def test_a_matplotlibrc_fifo_in_the_working_directory_does_not_block(tmp_path):
     assert _wrote(_run(["plot", "psi", "--out", "x.png"], cwd=tmp_path, timeout=120))[0]
 
 
+@pytest.mark.slow
 def test_a_mathtext_title_is_drawn_as_plain_text(tmp_path):
     pytest.importorskip("matplotlib")
     for title in ("$\\frac{$", "$x^$", "100% of $5", "\\"):
@@ -593,6 +596,7 @@ def test_batches_stream_in_flat_memory(tmp_path):
     assert code == 0 and peak < 100 * 1024, peak
 
 
+@pytest.mark.slow
 def test_a_spooled_batch_gives_the_same_bytes(coin, monkeypatch):
     import coincli.io.batches as common
 
@@ -668,7 +672,7 @@ def _writer_columns(rng, n: int):
     return cols
 
 
-@pytest.mark.parametrize("n", [0, 1, 3, 64, 1000, 20_000])
+@pytest.mark.parametrize("n", [0, 1, 3, 64, 1000, pytest.param(20_000, marks=pytest.mark.slow)])
 def test_the_batch_writer_writes_what_one_cell_at_a_time_writes(n):
     """Every shortcut of the csv/tsv writer (a constant folded into the separators, a twin's
     text reused, few distinct values formatted once, one %-format a block) gives the bytes of
