@@ -20,6 +20,7 @@ SIM = ["simulate", "-n", "64", "--seed", "3", "--xi", "0.577", "--u", "normal:2.
        "--omega", "normal:38:4", "--psi", "90", "--landing", "bounce", "--jobs", "1"]
 
 
+@pytest.mark.slow
 def test_simulate_bounce_table_and_machine_formats(coin):
     out = ok(coin(*SIM, "--surface", "wood"))
     assert out.startswith("coin simulate --landing bounce")
@@ -342,6 +343,7 @@ def test_zero_lengths_are_the_defaults_they_name(coin):
     error(coin(*base, "--release-height", "0xx"), 2, "--release-height must be a length like")
 
 
+@pytest.mark.slow
 def test_coin_beyond_the_engines_limits_is_refused_naming_the_option(coin):
     """MuJoCo refuses a body lighter than mjMINVAL or a disc so thin that I1 + I1 >= I3 is lost
     to rounding (a two-line 'line 7' error used to leak); checked up front, one line naming the
