@@ -209,7 +209,8 @@ def _batch(n: int) -> str:
 
 
 @pytest.mark.parametrize("long_line", ["5" * 5000, "0." + "5" * 5000, " " * 5000, "#" * 5000])
-@pytest.mark.parametrize("lead", ["", "# force the per-line path\n"])
+@pytest.mark.parametrize("lead", ["", pytest.param("# force the per-line path\n",
+                                                   marks=pytest.mark.slow)])
 def test_a_long_line_is_refused_by_number_on_both_paths(coin, long_line, lead):
     # the fast path (a plain batch of 300000 lines) once echoed the whole line in the error, and
     # accepted '0.555...' (5000 digits), which the per-line path refused
