@@ -148,8 +148,9 @@ def test_import_budget():
 # --------------------------------------------------------------------------- files
 
 
-@pytest.mark.parametrize("fmt, magic", [("png", b"\x89PNG"), ("svg", b"<?xml"),
-                                        ("pdf", b"%PDF")])
+@pytest.mark.parametrize("fmt, magic", [("png", b"\x89PNG"),
+                                        pytest.param("svg", b"<?xml", marks=pytest.mark.slow),
+                                        pytest.param("pdf", b"%PDF", marks=pytest.mark.slow)])
 @pytest.mark.parametrize("argv", [
     ["plot", "sides", "--xi", "0.5"],
     ["plot", "psi", "--xi", "0.577"],
@@ -174,6 +175,7 @@ def test_png_size_follows_dpi_width_height(coin, tmp_path, plotmod):
     assert (int.from_bytes(head[:4], "big"), int.from_bytes(head[4:], "big")) == (200, 120)
 
 
+@pytest.mark.slow
 def test_svg_is_deterministic(coin, tmp_path, plotmod):
     outs = []
     for k in range(2):
@@ -323,7 +325,8 @@ def test_non_finite_values_say_what_is_allowed(coin, argv, option, allowed):
     ["plot", "phase", "--u-range", "0:1e-6", "--omega-range", "0:1e-6", "--resolution", "20"],
     ["plot", "phase", "--omega-range", "999999999999.9999:1e12", "--resolution", "20"],
 ])
-@pytest.mark.parametrize("where", ["png", "svg", "terminal"])
+@pytest.mark.parametrize("where", [pytest.param("png", marks=pytest.mark.slow),
+                                   pytest.param("svg", marks=pytest.mark.slow), "terminal"])
 def test_extreme_allowed_ranges_draw_without_warnings(coin, tmp_path, argv, where):
     if where != "terminal":
         pytest.importorskip("matplotlib")
@@ -340,6 +343,7 @@ def test_extreme_allowed_ranges_draw_without_warnings(coin, tmp_path, argv, wher
         assert out == "" and path.stat().st_size > 1000
 
 
+@pytest.mark.slow
 def test_marks_beyond_the_axis_limits_are_notes(coin, tmp_path, plotmod):
     """--xi 1.7e308 widened the axis to infinity: exit 1, "the xi range must be finite"."""
     d = plotmod.sides_data(xi_marks=[1.7e308, 0.5], points=11)
@@ -389,6 +393,7 @@ def _on_a_terminal(argv, extra_env):
     return p.returncode, b"".join(chunks).decode(), p.stderr.decode()
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not hasattr(os, "openpty"), reason="needs a pseudo-terminal")
 @pytest.mark.parametrize("sub", [["psi", "--xi", "0.577", "--psi", "70"], ["map", "--xi", "0.5"],
                                  ["sides", "-p", "1/3"]])
