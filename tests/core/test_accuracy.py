@@ -133,7 +133,11 @@ def _no_band(xp, t, u1, u2):
     return np.zeros(np.shape(t), dtype=bool)
 
 
-@pytest.mark.parametrize("path", ["scalar", "numpy", "numpy-without-long-double"])
+# the fast tier checks numpy's path; the scalar path and the one without long double (a
+# minute of a core for conditional's grid) are slow
+@pytest.mark.parametrize("path", [pytest.param("scalar", marks=pytest.mark.slow), "numpy",
+                                  pytest.param("numpy-without-long-double",
+                                               marks=pytest.mark.slow)])
 @pytest.mark.parametrize("name", FUNCTIONS)
 def test_within_4_ulp(name, path, report, monkeypatch):
     """Every output within 4 ulps; the last path is numpy's on a platform where long double is a
@@ -175,7 +179,7 @@ def _relative_offset(xi, psi):
         return float(min(abs(mpmath.mpf(psi) - b) for b in bounds) / t)
 
 
-@pytest.mark.parametrize("path", ["scalar", "numpy"])
+@pytest.mark.parametrize("path", [pytest.param("scalar", marks=pytest.mark.slow), "numpy"])
 def test_conditional_at_the_doubles_adjacent_to_a_boundary(path, report):
     """The doubles nearest each boundary: offsets down to ~1e-18 of theta0/2, below what a
     double-double theta0/2 resolves (models._offsets_exact takes over there).  Held to the bar;

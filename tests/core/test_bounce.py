@@ -107,6 +107,7 @@ def test_no_energy_gain_in_free_flight():
 # --------------------------------------------------------------------------- catch = the paper
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("xi", [0.3, 0.577, 1.0, 1.5])
 def test_catch_reproduces_eq_12(xi):
     """P(sides) of 3000 caught hand tosses (psi = 90) within its 95% Wilson interval of
