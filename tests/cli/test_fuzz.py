@@ -353,6 +353,7 @@ def test_json_is_strict_for_infinite_values(fmt, capsys, monkeypatch):
         assert float("inf") == float(rows[0]["xi"])
 
 
+@pytest.mark.slow
 def test_large_stdin_stream(capsys, monkeypatch):
     data = b"".join(b"%r\r\n" % (k / 200_001) for k in range(200_000)) + b"# end\n\n"
     code, out, err = run_case(["design", "--p-sides", "-", "--format", "csv"], data, capsys,
