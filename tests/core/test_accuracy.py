@@ -133,12 +133,13 @@ def _no_band(xp, t, u1, u2):
     return np.zeros(np.shape(t), dtype=bool)
 
 
-# the fast tier checks numpy's path; the scalar path and the one without long double (a
-# minute of a core for conditional's grid) are slow
+# the fast tier checks numpy's path of the closed forms and inverses; the scalar path, the one
+# without long double and conditional's grid (tens of seconds of a core a path) are slow
 @pytest.mark.parametrize("path", [pytest.param("scalar", marks=pytest.mark.slow), "numpy",
                                   pytest.param("numpy-without-long-double",
                                                marks=pytest.mark.slow)])
-@pytest.mark.parametrize("name", FUNCTIONS)
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n == "conditional"
+                                  else n for n in FUNCTIONS])
 def test_within_4_ulp(name, path, report, monkeypatch):
     """Every output within 4 ulps; the last path is numpy's on a platform where long double is a
     plain double (conditional then takes the double-double path for every near offset)."""
