@@ -155,6 +155,7 @@ def test_within_4_ulp(name, path, report, monkeypatch):
     assert not fails, f"{len(fails)} outputs over {BAR} ulps, e.g. {fails[:5]}"
 
 
+@pytest.mark.slow
 def test_conditional_by_region(report):
     """The conditional grid split by kind: boundary neighbourhoods (1e-12..1e-6), interior."""
     outputs = _scalar_outputs("conditional")
