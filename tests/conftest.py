@@ -1,5 +1,5 @@
 """Shared pytest plumbing: a report that tests add lines to, printed in the terminal summary,
-and ``coin``, the command run in-process.
+``coin``, the command run in-process, and ``plotmod``, the matplotlib figures' module.
 
 The suite runs on every core (pytest-xdist, ``-n auto`` in pyproject.toml; ``-p no:xdist`` runs
 it in one process).  A worker's report lines reach the summary through a folder of files that
@@ -63,6 +63,16 @@ def coin(capsys, monkeypatch):
         return code, out, err
 
     return call
+
+
+@pytest.fixture
+def plotmod():
+    """:mod:`coincli.render.figures`, the matplotlib figures (the test is skipped without
+    matplotlib)."""
+    pytest.importorskip("matplotlib")
+    from coincli.render import figures
+
+    return figures
 
 
 def pytest_terminal_summary(terminalreporter):

@@ -742,6 +742,7 @@ def test_a_bad_target_quotes_what_the_user_typed(coin):
                        f"got {bad!r}\n")
 
 
+@pytest.mark.slow
 def test_a_too_long_range_states_its_exact_count(coin):
     err = _error(coin("table", "--xi", "0.5", "--vs", "psi", "--psi", "0:100:0.0001"), 2)
     assert err == ("coin: error: --psi range '0:100:0.0001' has 1000001 values; at most 1000000 "

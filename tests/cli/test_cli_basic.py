@@ -15,16 +15,8 @@ from coincli.cli import run
 from coincli.core import models
 
 
-def _run(argv, capsys, stdin=None, monkeypatch=None):
-    if stdin is not None:
-        monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(stdin.encode())))
-    code = run(argv)
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def test_design_csv_values_are_the_cores(capsys):
-    code, out, err = _run(["design", "-p", "0.1,1/3,50%", "--format", "csv"], capsys)
+def test_design_csv_values_are_the_cores(coin):
+    code, out, err = coin("design", "-p", "0.1,1/3,50%", "--format", "csv")
     assert code == 0 and err == ""
     rows = list(csv.DictReader(io.StringIO(out)))
     assert [float(r["p_sides"]) for r in rows] == [0.1, 1 / 3, 0.5]
@@ -35,27 +27,26 @@ def test_design_csv_values_are_the_cores(capsys):
         assert float(r["thickness_mm"]) == 24.26 * xi
 
 
-def test_quiet_and_json_round_trip(capsys):
-    code, out, _ = _run(["design", "-p", "1/3", "-q"], capsys)
+def test_quiet_and_json_round_trip(coin):
+    code, out, _ = coin("design", "-p", "1/3", "-q")
     assert code == 0 and float(out) == models.dynamic_inverse(1 / 3)
-    code, out, _ = _run(["table", "--xi", "0.2,0.577", "--format", "json"], capsys)
+    code, out, _ = coin("table", "--xi", "0.2,0.577", "--format", "json")
     rows = json.loads(out)
     assert len(rows) == 4 and rows[1]["model"] == "dynamic"
     assert rows[1]["p_sides"] == models.dynamic(0.2).sides
 
 
-def test_stdin_batch_in_order_and_bad_line(capsys, monkeypatch):
-    code, out, _ = _run(["design", "-p", "-", "-f", "csv"], capsys, "0.3\n\n# c\n0.1\r\n",
-                        monkeypatch)
+def test_stdin_batch_in_order_and_bad_line(coin):
+    code, out, _ = coin("design", "-p", "-", "-f", "csv", stdin="0.3\n\n# c\n0.1\r\n")
     assert code == 0
     assert [float(r["p_sides"]) for r in csv.DictReader(io.StringIO(out))] == [0.3, 0.1]
-    code, out, err = _run(["design", "-p", "-", "-f", "csv"], capsys, "0.3\nabc\n", monkeypatch)
+    code, out, err = coin("design", "-p", "-", "-f", "csv", stdin="0.3\nabc\n")
     assert code == 2 and out == ""
     assert err.count("\n") == 1 and "stdin line 2" in err
 
 
-def test_edges_p_zero_and_one(capsys):
-    code, out, _ = _run(["design", "-p", "0,1", "-f", "csv"], capsys)
+def test_edges_p_zero_and_one(coin):
+    code, out, _ = coin("design", "-p", "0,1", "-f", "csv")
     assert code == 0
     rows = list(csv.DictReader(io.StringIO(out)))
     assert float(rows[0]["xi"]) == 0.0 and math.isinf(float(rows[1]["xi"]))
@@ -74,8 +65,8 @@ def test_edges_p_zero_and_one(capsys):
     (["design", "-p", "0.2", "--psi", "0"], 1, "only p_sides = 0"),
     (["nosuch"], 2, "No such command"),
 ])
-def test_errors_are_one_line(capsys, argv, code, words):
-    got, out, err = _run(argv, capsys)
+def test_errors_are_one_line(coin, argv, code, words):
+    got, out, err = coin(*argv)
     assert got == code
     assert out == ""
     assert err.startswith("coin: error: ") and err.count("\n") == 1 and words in err

@@ -226,6 +226,7 @@ def test_normal_rule_gives_a_sixth_to_every_face_geometrically(coin):
 # --------------------------------------------------------------------------- files
 
 
+@pytest.mark.slow
 def test_out_writes_a_figure_atomically(coin, tmp_path):
     path = tmp_path / "book.png"
     rc, out, err = coin(*BOOK, "--spin", "0.4,40,0.3", "--out", str(path))
@@ -392,6 +393,7 @@ def test_the_motion_table_imports_neither_numpy_scipy_rich_nor_matplotlib():
     assert not mods, sorted(mods)[:5]
 
 
+@pytest.mark.slow
 def test_series_and_tosses_import_only_numpy_and_scipy_special(tmp_path):
     for argv in ([*BOOK, "--spin", "0.4,40,0.3", "--times", "0:1:0.1", "-f", "csv"],
                  [*BOOK, "--spin", "0.4,40,0.3", "--flight", "0.5"],
@@ -408,6 +410,7 @@ def test_series_and_tosses_import_only_numpy_and_scipy_special(tmp_path):
         assert not {m for m in mods if m.startswith(("scipy.stats", "scipy.integrate"))}
 
 
+@pytest.mark.slow
 def test_a_figure_imports_matplotlib(tmp_path):
     mods = _loaded([*BOOK, "--spin", "0.4,40,0.3", "--out", str(tmp_path / "b.png")])
     assert "matplotlib" in mods
@@ -502,6 +505,7 @@ def test_a_range_of_times_is_the_shared_grammar_s_values(spec, unit):
     assert np.asarray(got).tolist() == ref
 
 
+@pytest.mark.slow
 def test_times_out_file_is_the_stdout_bytes(coin, tmp_path):
     argv = [*BOOK, "--spin", "0.4,40,0.3", "--times", "0:3:0.0001"]
     for fmt in ("csv", "jsonl", "table"):
@@ -639,6 +643,7 @@ def _columns_of(t, t0, t1, columns):
     return np.clip(np.floor((t - t0) * (columns / (t1 - t0))), 0, columns - 1).astype(int)
 
 
+@pytest.mark.slow
 def test_a_long_series_is_thinned_to_its_pixel_columns_keeping_the_envelope():
     """10^6 samples of three curves (a chirp, noise-like, a step) drawn as at most four points
     per pixel column each: in every column the thinned curve has the whole series' first and

@@ -20,6 +20,7 @@ SIM = ["simulate", "-n", "64", "--seed", "3", "--xi", "0.577", "--u", "normal:2.
        "--omega", "normal:38:4", "--psi", "90", "--landing", "bounce", "--jobs", "1"]
 
 
+@pytest.mark.slow
 def test_simulate_bounce_table_and_machine_formats(coin):
     out = ok(coin(*SIM, "--surface", "wood"))
     assert out.startswith("coin simulate --landing bounce")
@@ -112,6 +113,7 @@ def test_design_bounce(coin):
                                                            "1"), 2)
 
 
+@pytest.mark.slow
 def test_plot_sides_bounce_terminal(coin):
     rc, out, note = coin("plot", "sides", "--landing", "bounce", "--seed", "1", "-n", "40",
                          "--jobs", "1", "--terminal")
@@ -129,6 +131,7 @@ def test_plot_sides_bounce_range_outside_the_simulated_window_is_one_line(coin):
               "holds no aspect ratio that --landing bounce simulates (0.05 to 100)")
 
 
+@pytest.mark.slow
 def test_plot_sides_bounce_without_a_curve_draws_the_points(coin):
     """Thin coins and few tosses: no side at all, so no probit can be fitted (it was 'coin:
     error: Singular matrix'); the points are drawn and the note says why there is no curve."""
@@ -172,6 +175,7 @@ print(json.dumps(report), file=sys.stderr)
 """
 
 
+@pytest.mark.slow
 def test_no_other_command_imports_mujoco():
     commands = [
         ["design", "--p-sides", "1/3"],
@@ -312,6 +316,7 @@ def test_design_on_a_preset_starts_from_its_table(coin):
     assert "no toss simulated here" in out and "--max-tosses 180 reproduces this result" in out
 
 
+@pytest.mark.slow
 def test_design_bounce_honours_a_small_max_tosses(coin):
     out = ok(coin("design", "-p", "1/3", "--landing", "bounce", "--seed", "1", "--max-tosses",
                   "200", "--tol", "0.5", "--jobs", "2", "--no-table"))
@@ -338,6 +343,7 @@ def test_zero_lengths_are_the_defaults_they_name(coin):
     error(coin(*base, "--release-height", "0xx"), 2, "--release-height must be a length like")
 
 
+@pytest.mark.slow
 def test_coin_beyond_the_engines_limits_is_refused_naming_the_option(coin):
     """MuJoCo refuses a body lighter than mjMINVAL or a disc so thin that I1 + I1 >= I3 is lost
     to rounding (a two-line 'line 7' error used to leak); checked up front, one line naming the

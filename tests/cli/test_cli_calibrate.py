@@ -26,6 +26,7 @@ def tosses(tmp_path_factory):
     return path
 
 
+@pytest.mark.slow
 def test_fit_saves_a_calibration_the_other_commands_take(coin, tosses, tmp_path):
     """Calibrated for a tumbling toss (psi uniform, the engines' random axis), the table is
     used with that launch by every command, and another launch is refused or noted."""
@@ -153,6 +154,7 @@ def test_fit_refuses_in_one_line(coin, tosses, tmp_path):
           "is not a table calibration")
 
 
+@pytest.mark.slow
 def test_psi_spread_calibrated_on_the_engine(coin, tmp_path):
     """``--fit psi-spread`` on the engine, small (160 tosses of data, 5 designed spreads of 32
     tosses): tosses simulated on wood with psi ~ normal(90, 20) deg are calibrated; the 95%

@@ -13,7 +13,6 @@ from pathlib import Path
 
 import pytest
 
-from coincli.cli import run
 from coincli.core import coins
 from coincli.core.models import dynamic, geometric
 from coincli.core.stats import counts as stats_counts
@@ -24,14 +23,6 @@ from coincli.io import experiments
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 TOSSES = DATA / "tosses.csv"
-
-
-def _run(argv, capsys, stdin=None, monkeypatch=None):
-    if stdin is not None:
-        monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(stdin.encode())))
-    code = run(argv)
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def _csv(out):
@@ -45,9 +36,9 @@ def _f(text):
 # --------------------------------------------------------------------------- check
 
 
-def test_check_csv_is_the_core(capsys):
-    code, out, err = _run(["check", "--xi", "0.583", "--heads", "35", "--sides", "33",
-                           "--tails", "32", "--format", "csv"], capsys)
+def test_check_csv_is_the_core(coin):
+    code, out, err = coin("check", "--xi", "0.583", "--heads", "35", "--sides", "33",
+                          "--tails", "32", "--format", "csv")
     assert code == 0 and err == ""
     rows = _csv(out)
     ref = stats.check(stats_counts.make_counts(35, 33, 32), 0.583)
@@ -76,9 +67,8 @@ def test_check_csv_is_the_core(capsys):
     (["--diameter", "24mm", "--thickness", "1.4cm"], 14 / 24),
     (["-x", "0.5"], 0.5),
 ])
-def test_check_coin_forms(capsys, coin_args, xi):
-    code, out, err = _run(["check", *coin_args, "--sides", "33", "-n", "100", "-f", "csv"],
-                          capsys)
+def test_check_coin_forms(coin, coin_args, xi):
+    code, out, err = coin("check", *coin_args, "--sides", "33", "-n", "100", "-f", "csv")
     assert code == 0, err
     rows = _csv(out)
     assert float(rows[0]["xi"]) == pytest.approx(xi, rel=1e-15)
@@ -88,12 +78,12 @@ def test_check_coin_forms(capsys, coin_args, xi):
         stats.exact_pvalue([33, 67], [dynamic(xi).sides, 1 - dynamic(xi).sides]), rel=1e-12)
 
 
-def test_check_psi_dist_and_json(capsys):
+def test_check_psi_dist_and_json(coin):
     from coincli.core.averages import marginal
     from coincli.core.densities import Normal, Uniform
 
-    code, out, _ = _run(["check", "--xi", "0.58", "--heads", "45", "--sides", "35", "--tails",
-                         "20", "--psi-dist", "uniform,normal:90:20", "--format", "json"], capsys)
+    code, out, _ = coin("check", "--xi", "0.58", "--heads", "45", "--sides", "35", "--tails",
+                        "20", "--psi-dist", "uniform,normal:90:20", "--format", "json")
     assert code == 0
     rows = json.loads(out)
     assert [r["model"] for r in rows] == ["geometric", "dynamic", "uniform", "normal:90:20"]
@@ -102,25 +92,25 @@ def test_check_psi_dist_and_json(capsys):
     assert all(0 <= r["p_value"] <= 1 for r in rows)
 
 
-def test_check_quiet_prints_p_values(capsys):
-    code, out, _ = _run(["check", "--xi", "0.583", "--heads", "35", "--sides", "33", "--tails",
-                         "32", "-q"], capsys)
+def test_check_quiet_prints_p_values(coin):
+    code, out, _ = coin("check", "--xi", "0.583", "--heads", "35", "--sides", "33", "--tails",
+                        "32", "-q")
     ref = stats.check(stats_counts.make_counts(35, 33, 32), 0.583)
     assert code == 0 and [float(v) for v in out.split()] == [t.p_value for t in ref.tests]
 
 
-def test_check_human_table(capsys):
-    code, out, _ = _run(["check", "--quarters", "8", "--heads", "35", "--sides", "33",
-                         "--tails", "32"], capsys)
+def test_check_human_table(coin):
+    code, out, _ = coin("check", "--quarters", "8", "--heads", "35", "--sides", "33",
+                        "--tails", "32")
     assert code == 0
     assert out.startswith("coin check: quarter x8 (xi = 0.577")
     assert "95% Wilson" in out and "95% Clopper-Pearson" in out
     assert "consistent at the 5% level" in out and "exact multinomial" in out
 
 
-def test_check_levels(capsys):
-    code, out, _ = _run(["check", "--xi", "0.583", "--heads", "35", "--sides", "33", "--tails",
-                         "32", "--alpha", "0.001", "--confidence", "99%", "-f", "csv"], capsys)
+def test_check_levels(coin):
+    code, out, _ = coin("check", "--xi", "0.583", "--heads", "35", "--sides", "33", "--tails",
+                        "32", "--alpha", "0.001", "--confidence", "99%", "-f", "csv")
     rows = _csv(out)
     assert rows[0]["verdict"] == "consistent at the 0.1% level (p = 0.0017)"
     assert float(rows[0]["sides_cp_low"]) == stats_intervals.proportion(33, 100, confidence=0.99
@@ -139,8 +129,8 @@ def test_check_levels(capsys):
     (["--sides", "3"], "give n"),
     (["--heads", "3", "--tails", "3"], "sides is required"),
 ])
-def test_check_bad_counts_are_one_line_exit_2(capsys, counts, words):
-    code, out, err = _run(["check", "--xi", "0.5", *counts], capsys)
+def test_check_bad_counts_are_one_line_exit_2(coin, counts, words):
+    code, out, err = coin("check", "--xi", "0.5", *counts)
     assert code == 2 and out == ""
     assert err.startswith("coin: error: ") and err.count("\n") == 1 and words in err
 
@@ -158,8 +148,8 @@ def test_check_bad_counts_are_one_line_exit_2(capsys, counts, words):
     (["check", "--xi", "0.5", "--sides", "3", "-n", "9", "--psi-dist", "nope"], "--psi-dist"),
     (["check", "--xi", "0.5", "--sides", "3", "-n", "9", "-f", "xml"], "--format"),
 ])
-def test_check_usage_errors(capsys, argv, words):
-    code, out, err = _run(argv, capsys)
+def test_check_usage_errors(coin, argv, words):
+    code, out, err = coin(*argv)
     assert code == 2 and out == ""
     assert err.count("\n") == 1 and words in err
 
@@ -171,8 +161,8 @@ def test_check_usage_errors(capsys, argv, words):
     ["--sides", "1000000", "-n", "1000000"],
 ])
 @pytest.mark.parametrize("xi", ["1e-6", "0.583", "1e6"])
-def test_check_extreme_data(capsys, counts, xi):
-    code, out, err = _run(["check", "--xi", xi, *counts, "-f", "csv"], capsys)
+def test_check_extreme_data(coin, counts, xi):
+    code, out, err = coin("check", "--xi", xi, *counts, "-f", "csv")
     assert code == 0, err
     assert "nan" not in out.lower()
     for r in _csv(out):
@@ -185,8 +175,8 @@ def test_check_extreme_data(capsys, counts, xi):
 # --------------------------------------------------------------------------- fit
 
 
-def test_fit_csv_is_the_core(capsys):
-    code, out, err = _run(["fit", str(TOSSES), "--format", "csv"], capsys)
+def test_fit_csv_is_the_core(coin):
+    code, out, err = coin("fit", str(TOSSES), "--format", "csv")
     assert code == 0 and err == ""
     rows = _csv(out)
     exps = experiments.parse_experiments(TOSSES.read_text())
@@ -207,19 +197,19 @@ def test_fit_csv_is_the_core(capsys):
     assert side_only[0]["test"] == "exact binomial" and side_only[0]["heads"] == ""
 
 
-def test_fit_human_tables_and_quiet(capsys):
-    code, out, _ = _run(["fit", str(TOSSES)], capsys)
+def test_fit_human_tables_and_quiet(coin):
+    code, out, _ = coin("fit", str(TOSSES))
     assert code == 0
     assert "model comparison, all experiments" in out
     assert "profile-likelihood interval" in out and "SSE" in out
-    code, out, _ = _run(["fit", str(TOSSES), "-q"], capsys)
+    code, out, _ = coin("fit", str(TOSSES), "-q")
     ref = stats_fit.fit(experiments.parse_experiments(TOSSES.read_text()))
     assert float(out) == math.degrees(ref.spread.sigma)
 
 
-def test_fit_from_stdin_json_and_densities(capsys, monkeypatch):
-    code, out, _ = _run(["fit", "-", "--psi-dist", "uniform", "--no-spread", "-f", "json"],
-                        capsys, TOSSES.read_text(), monkeypatch)
+def test_fit_from_stdin_json_and_densities(coin):
+    code, out, _ = coin("fit", "-", "--psi-dist", "uniform", "--no-spread", "-f", "json",
+                        stdin=TOSSES.read_text())
     assert code == 0
     rows = json.loads(out)
     assert [r["model"] for r in rows if r["scope"] == "model"] == ["geometric", "dynamic",
@@ -236,24 +226,24 @@ def test_fit_from_stdin_json_and_densities(capsys, monkeypatch):
     ("coin,count,sides,n\nquater,2,1,10\n", "line 2, column 'coin'"),
     ("# only a comment\n", "line 1: the file is empty"),
 ])
-def test_fit_malformed_rows(capsys, tmp_path, text, words):
+def test_fit_malformed_rows(coin, tmp_path, text, words):
     path = tmp_path / "tosses.csv"
     path.write_text(text)
     for fmt in ("table", "csv", "json"):
-        code, out, err = _run(["fit", str(path), "-f", fmt], capsys)
+        code, out, err = coin("fit", str(path), "-f", fmt)
         assert code == 2 and out == ""
         assert err == f"coin: error: {path} {err.split(str(path) + ' ', 1)[1]}"
         assert err.count("\n") == 1 and words in err
 
 
-def test_fit_file_errors(capsys, tmp_path):
-    code, out, err = _run(["fit", str(tmp_path / "missing.csv")], capsys)
+def test_fit_file_errors(coin, tmp_path):
+    code, out, err = coin("fit", str(tmp_path / "missing.csv"))
     assert code == 2 and out == "" and "cannot read" in err
     p = tmp_path / "bin.csv"
     p.write_bytes(b"xi,sides,n\n\xff\xfe\n")
-    code, out, err = _run(["fit", str(p)], capsys)
+    code, out, err = coin("fit", str(p))
     assert code == 2 and "not UTF-8" in err
-    code, out, err = _run(["fit", str(TOSSES), "-q", "--no-spread"], capsys)
+    code, out, err = coin("fit", str(TOSSES), "-q", "--no-spread")
     assert code == 2 and "--no-spread" in err
 
 

@@ -37,6 +37,7 @@ CAL = {
 SAME, N = 560, 1000  # a tosser of a quarter: sd of psi about 20 deg
 
 
+@pytest.mark.slow
 def test_each_tossers_coin_on_the_calibrated_table(coin, tmp_path):
     cal = tmp_path / "table.json"
     cal.write_text(json.dumps(CAL))

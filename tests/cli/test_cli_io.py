@@ -114,6 +114,7 @@ def test_a_psi_table_of_dev_zero_is_refused_as_a_device(argv):
     _error(result, 2, "--psi-dist", "psi table '/dev/zero' is a character device, not a regular")
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(shutil.which("yes") is None, reason="no `yes` command")
 def test_an_endless_pipe_of_values_stops_at_the_byte_cap():
     # an endless pipe of long lines: coin reads MAX_STDIN_BYTES + 1 bytes, no more, and names
@@ -126,6 +127,7 @@ def test_an_endless_pipe_of_values_stops_at_the_byte_cap():
     _error(result, 2, f"--p-sides: stdin has more than {MAX_STDIN_LINES} values")
 
 
+@pytest.mark.slow
 def test_too_many_values_are_refused_before_the_lines_are_split():
     # 25 million lines (100 MB, within the byte cap) once took 3.1 GB and 8 s; the line count
     # comes first now, so the refusal fits well inside the 2 GB address-space limit
@@ -207,7 +209,8 @@ def _batch(n: int) -> str:
 
 
 @pytest.mark.parametrize("long_line", ["5" * 5000, "0." + "5" * 5000, " " * 5000, "#" * 5000])
-@pytest.mark.parametrize("lead", ["", "# force the per-line path\n"])
+@pytest.mark.parametrize("lead", ["", pytest.param("# force the per-line path\n",
+                                                   marks=pytest.mark.slow)])
 def test_a_long_line_is_refused_by_number_on_both_paths(coin, long_line, lead):
     # the fast path (a plain batch of 300000 lines) once echoed the whole line in the error, and
     # accepted '0.555...' (5000 digits), which the per-line path refused

@@ -123,6 +123,7 @@ def test_no_number_is_cut_at_any_terminal_width(name):
             assert len(line) <= cols or _unbreakable(line), (cols, line)
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not hasattr(os, "openpty"), reason="needs a pseudo-terminal")
 @pytest.mark.parametrize("name", list(PLOTS))
 def test_text_plots_fit_the_terminal(name):
@@ -134,6 +135,7 @@ def test_text_plots_fit_the_terminal(name):
         assert max(map(len, lines)) <= max(cols, 40) + 1, (cols, max(map(len, lines)))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("argv", [["plot", "psi"], ["fair"], ["phase", "--cols", "20",
                                                                 "--rows", "8"]])
 def test_columns_zero_or_garbage_is_ignored(argv):
@@ -213,6 +215,7 @@ def _format_commands():
     return sorted(found)
 
 
+@pytest.mark.slow
 def test_every_command_with_format_has_no_headers_and_markdown(coin):
     names = _format_commands()
     assert set(names) <= set(FORMAT_COMMANDS) and len(names) >= 8, names
@@ -234,6 +237,7 @@ def test_usage_errors_point_to_the_subcommands_help(coin):
     _error(coin("bogus"), 2, "(see 'coin --help')")
 
 
+@pytest.mark.slow
 def test_help_is_plain_and_fits_80_columns():
     import typer
 
@@ -293,6 +297,7 @@ def _small_files():
     resource.setrlimit(resource.RLIMIT_FSIZE, (8192, 8192))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("argv", [["plot", "map"], ["plot", "psi"],
                                   ["phase", "--cols", "20", "--rows", "10"]])
 def test_a_failed_write_leaves_the_old_file_and_no_temporary(tmp_path, argv):
@@ -307,6 +312,7 @@ def test_a_failed_write_leaves_the_old_file_and_no_temporary(tmp_path, argv):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["k.png"]
 
 
+@pytest.mark.slow
 def test_a_write_replaces_the_file_whole_and_keeps_its_mode_and_link(tmp_path):
     pytest.importorskip("matplotlib")
     real = tmp_path / "real.png"
@@ -406,6 +412,7 @@ def test_a_closed_stdout_is_exit_1_with_one_line(argv):
     assert p.stderr == "coin: error: standard output is closed; nothing can be written\n"
 
 
+@pytest.mark.slow
 def test_a_closed_stdout_does_not_stop_a_command_that_writes_a_file(tmp_path):
     pytest.importorskip("matplotlib")
     out = tmp_path / "p.png"
@@ -439,6 +446,7 @@ def _complete(env_extra):
     return subprocess.run([*COIN], capture_output=True, text=True, env=env, timeout=60)
 
 
+@pytest.mark.slow
 def test_completion_for_bash_zsh_and_fish():
     bash = _complete({"_COIN_COMPLETE": "complete_bash", "COMP_WORDS": "coin des",
                       "COMP_CWORD": "1"})
@@ -526,12 +534,14 @@ def test_hostile_environments_give_clean_output_and_the_same_figure(tmp_path):
         assert code == 0 and err == "", (name, err)
 
 
+@pytest.mark.slow
 def test_a_matplotlibrc_fifo_in_the_working_directory_does_not_block(tmp_path):
     pytest.importorskip("matplotlib")
     os.mkfifo(tmp_path / "matplotlibrc")
     assert _wrote(_run(["plot", "psi", "--out", "x.png"], cwd=tmp_path, timeout=120))[0]
 
 
+@pytest.mark.slow
 def test_a_mathtext_title_is_drawn_as_plain_text(tmp_path):
     pytest.importorskip("matplotlib")
     for title in ("$\\frac{$", "$x^$", "100% of $5", "\\"):
@@ -593,6 +603,7 @@ def test_batches_stream_in_flat_memory(tmp_path):
     assert code == 0 and peak < 100 * 1024, peak
 
 
+@pytest.mark.slow
 def test_a_spooled_batch_gives_the_same_bytes(coin, monkeypatch):
     import coincli.io.batches as common
 
@@ -614,6 +625,7 @@ def test_a_bad_line_at_the_end_of_a_long_batch_writes_nothing(coin):
             _error(coin("design", "-p", "-", "-f", fmt, stdin=good + bad + "\n"), 2, *words)
 
 
+@pytest.mark.slow
 def test_streamed_json_and_jsonl_are_the_rows_of_csv(coin):
     stdin = "".join(f"{k / 20001!r}\n" for k in range(1, 20001)) + "1\n0\n"
     rows = list(csv.DictReader(io.StringIO(_ok(coin("design", "-p", "-", "-f", "csv",
@@ -668,7 +680,7 @@ def _writer_columns(rng, n: int):
     return cols
 
 
-@pytest.mark.parametrize("n", [0, 1, 3, 64, 1000, 20_000])
+@pytest.mark.parametrize("n", [0, 1, 3, 64, 1000, pytest.param(20_000, marks=pytest.mark.slow)])
 def test_the_batch_writer_writes_what_one_cell_at_a_time_writes(n):
     """Every shortcut of the csv/tsv writer (a constant folded into the separators, a twin's
     text reused, few distinct values formatted once, one %-format a block) gives the bytes of

@@ -176,6 +176,7 @@ def test_ctrl_c_exits_130_without_a_traceback():
         p.stdin.close()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", [None, "5"])
 def test_an_interrupted_run_reports_the_seed_it_drew(seed):
     """Ctrl-C on a random run that drew its seed: the one line names the seed, so the run can

@@ -25,7 +25,8 @@ from tests.cli.cli_helpers import error, sigint_default
 
 distributed = pytest.importorskip("distributed")
 pytest.importorskip("mujoco")
-pytestmark = pytest.mark.xdist_group("cluster")  # one worker: one cluster for the module
+# one worker: one cluster for the module; slow: the processes start in seconds each
+pytestmark = [pytest.mark.xdist_group("cluster"), pytest.mark.slow]
 
 ROOT = Path(__file__).resolve().parents[2]
 COIN = [sys.executable, "-m", "coincli"]

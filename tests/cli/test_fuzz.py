@@ -245,7 +245,12 @@ def _check_json(obj, text, where):
 # --------------------------------------------------------------------------- tests
 
 
-@pytest.mark.parametrize("name", sorted(COMMANDS))
+# the phase pictures compute a grid of tosses a case: seconds of a core for the examples
+SLOW_FUZZ = {"phase", "plot phase"}
+
+
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n in SLOW_FUZZ
+                                  else n for n in sorted(COMMANDS)])
 def test_fuzz_command(name, capsys, monkeypatch, tmp_path):
     # `coin plot` (a group) printed its help with exit 2 and no error line: that is click's
     # bare-group usage, now accepted by the oracle (GROUPS); its subcommands are fuzzed too.
@@ -348,6 +353,7 @@ def test_json_is_strict_for_infinite_values(fmt, capsys, monkeypatch):
         assert float("inf") == float(rows[0]["xi"])
 
 
+@pytest.mark.slow
 def test_large_stdin_stream(capsys, monkeypatch):
     data = b"".join(b"%r\r\n" % (k / 200_001) for k in range(200_000)) + b"# end\n\n"
     code, out, err = run_case(["design", "--p-sides", "-", "--format", "csv"], data, capsys,

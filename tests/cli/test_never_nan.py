@@ -103,6 +103,7 @@ def test_some_unsettled_tosses_are_noted_and_the_rest_counted(coin):
     assert "they are left out of the frequencies" in err
 
 
+@pytest.mark.slow
 def test_design_with_no_settled_toss_is_one_line(coin):
     """--diameter 10m: no toss of the sweep settles.  It used to say 'fitting P(sides) needs
     simulated tosses at two aspect ratios or more'; now it says that none settled, and why."""

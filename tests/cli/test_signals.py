@@ -231,6 +231,7 @@ assert {s: signal.getsignal(s) for s in before} == before, "run() left a handler
 # --------------------------------------------------------------------------- item 13: --jobs
 
 
+@pytest.mark.slow
 def test_jobs_beyond_the_cores_are_capped_with_a_note(coin, monkeypatch):
     """--jobs 1024 on a machine of 2 cores ran 1024 workers; now the cores, said in a note, and
     the same bytes as --jobs 2 (the results never depend on the workers)."""

@@ -64,6 +64,7 @@ FIT = [
 ]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("commands", [CHECK, FIT], ids=["check", "fit"])
 def test_check_and_fit_load_only_numpy_and_scipy_special(commands):
     # each command runs in a fresh process: a module loaded by one must not hide another's
@@ -76,6 +77,7 @@ def test_check_and_fit_load_only_numpy_and_scipy_special(commands):
         assert _bad(loaded) == [], f"coin {' '.join(argv)} imported {_bad(loaded)}"
 
 
+@pytest.mark.slow
 def test_the_probe_sees_a_forbidden_module_when_it_is_loaded(tmp_path):
     # control: a figure file needs matplotlib
     pytest.importorskip("matplotlib")

@@ -133,8 +133,13 @@ def _no_band(xp, t, u1, u2):
     return np.zeros(np.shape(t), dtype=bool)
 
 
-@pytest.mark.parametrize("path", ["scalar", "numpy", "numpy-without-long-double"])
-@pytest.mark.parametrize("name", FUNCTIONS)
+# the fast tier checks numpy's path of the closed forms and inverses; the scalar path, the one
+# without long double and conditional's grid (tens of seconds of a core a path) are slow
+@pytest.mark.parametrize("path", [pytest.param("scalar", marks=pytest.mark.slow), "numpy",
+                                  pytest.param("numpy-without-long-double",
+                                               marks=pytest.mark.slow)])
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n == "conditional"
+                                  else n for n in FUNCTIONS])
 def test_within_4_ulp(name, path, report, monkeypatch):
     """Every output within 4 ulps; the last path is numpy's on a platform where long double is a
     plain double (conditional then takes the double-double path for every near offset, and
@@ -152,6 +157,7 @@ def test_within_4_ulp(name, path, report, monkeypatch):
     assert not fails, f"{len(fails)} outputs over {BAR} ulps, e.g. {fails[:5]}"
 
 
+@pytest.mark.slow
 def test_conditional_by_region(report):
     """The conditional grid split by kind: boundary neighbourhoods (1e-12..1e-6), interior."""
     outputs = _scalar_outputs("conditional")
@@ -177,7 +183,7 @@ def _relative_offset(xi, psi):
         return float(min(abs(mpmath.mpf(psi) - b) for b in bounds) / t)
 
 
-@pytest.mark.parametrize("path", ["scalar", "numpy"])
+@pytest.mark.parametrize("path", [pytest.param("scalar", marks=pytest.mark.slow), "numpy"])
 def test_conditional_at_the_doubles_adjacent_to_a_boundary(path, report):
     """The doubles nearest each boundary: offsets down to ~1e-18 of theta0/2, below what a
     double-double theta0/2 resolves (models._offsets_exact takes over there).  Held to the bar;

@@ -107,6 +107,7 @@ def test_no_energy_gain_in_free_flight():
 # --------------------------------------------------------------------------- catch = the paper
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("xi", [0.3, 0.577, 1.0, 1.5])
 def test_catch_reproduces_eq_12(xi):
     """P(sides) of 3000 caught hand tosses (psi = 90) within its 95% Wilson interval of
@@ -218,6 +219,7 @@ def test_rolling_energy_is_left_out_only_when_rolling_on_the_side():
     assert eng.rolling_rest and not B.Engine(B.Coin(0.0725), B.SURFACES["wood"]).rolling_rest
 
 
+@pytest.mark.slow
 def test_rolling_rule_changes_no_outcome():
     """The rest rule without the rolling energy decides the same side as the rule on the whole
     energy, for every toss the latter settles (and settles tosses the latter leaves rolling at
@@ -305,6 +307,7 @@ def test_spin_rule_is_exact_without_friction():
         assert T.classify(eng._tilt(), 0.577) == T.HEADS
 
 
+@pytest.mark.slow
 def test_spin_rule_changes_no_outcome():
     """The rest rule with the spin rule decides the same side as without it, for every toss the
     latter settles: 48 hand tosses at xi = 0.3 and 48 of the fair coin (docs/bounce.md gives

@@ -170,6 +170,7 @@ def test_a_surface_that_fits_carries_no_lack_of_fit(design):
     assert f.tau2 == [0.0, 0.0] and (f.low, f.high) == (f0.low, f0.high)
 
 
+@pytest.mark.slow
 def test_the_surfaces_lack_of_fit_is_measured_and_carried():
     pts = C.design_points(2, 4)
     counts = C.run_design(PROTOTYPES, NAMES, pts, seed=1, per_group=16, simulate=biased)

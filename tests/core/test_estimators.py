@@ -7,7 +7,6 @@ from __future__ import annotations
 import csv
 import io
 import math
-import sys
 
 import mpmath
 import numpy as np
@@ -280,22 +279,15 @@ def test_bad_arguments_name_themselves(call, match):
 # --------------------------------------------------------------------------- command line
 
 
-def _run(argv, capsys):
-    code = run(argv)
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def test_table_tol_adds_error_columns_and_keeps_quiet(capsys):
-    code, out, err = _run(["table", "--xi", "0.577", "--all", "--tol", "1e-9", "-f", "csv"],
-                          capsys)
+def test_table_tol_adds_error_columns_and_keeps_quiet(coin):
+    code, out, err = coin("table", "--xi", "0.577", "--all", "--tol", "1e-9", "-f", "csv")
     assert code == 0 and err == ""
     rows = list(csv.DictReader(io.StringIO(out)))
     quad = [r for r in rows if r["method"].startswith("quad")]
     assert len(quad) == 3 and all(r["method"] == f"quad n={order_for_tol(1e-9)}" for r in quad)
     assert all(float(r["err_sides"]) <= 1e-9 for r in quad)
-    code, out, _ = _run(["table", "--xi", "0.577", "--psi-dist", "uniform", "--tol", "1e-9",
-                         "-q"], capsys)
+    code, out, _ = coin("table", "--xi", "0.577", "--psi-dist", "uniform", "--tol", "1e-9",
+                        "-q")
     assert code == 0
     assert [float(v) for v in out.split()] == [models.geometric(0.577).sides,
                                                models.dynamic(0.577).sides,
@@ -303,9 +295,9 @@ def test_table_tol_adds_error_columns_and_keeps_quiet(capsys):
                                                              abs=1e-9)]
 
 
-def test_table_qmc_rows(capsys):
-    code, out, err = _run(["table", "--xi", "0.3,0.577", "--psi-dist", "uniform", "--method",
-                           "qmc", "--seed", "4", "-f", "json"], capsys)
+def test_table_qmc_rows(coin):
+    code, out, err = coin("table", "--xi", "0.3,0.577", "--psi-dist", "uniform", "--method",
+                          "qmc", "--seed", "4", "-f", "json")
     assert code == 0 and err == ""
     import json
 
@@ -317,9 +309,8 @@ def test_table_qmc_rows(capsys):
     assert json.loads(out)[0]["err_sides"] is None  # closed forms: no error column value
 
 
-def test_design_tol_sets_the_quadrature(capsys):
-    code, out, _ = _run(["design", "-p", "1/3", "--psi-dist", "normal", "--tol", "1e-4", "-q"],
-                        capsys)
+def test_design_tol_sets_the_quadrature(coin):
+    code, out, _ = coin("design", "-p", "1/3", "--psi-dist", "normal", "--tol", "1e-4", "-q")
     assert code == 0
     xi = float(out)
     assert marginal(xi, Normal()).sides == pytest.approx(1 / 3, abs=1e-4)
@@ -336,38 +327,22 @@ def test_design_tol_sets_the_quadrature(capsys):
     (["design", "-p", "0.3", "--psi-dist", "uniform", "--method", "mc"], "cannot be inverted"),
     (["design", "-p", "0.3", "--tol", "1e-3"], "apply to psi-averaged chances"),
 ])
-def test_option_errors_are_one_line_usage_errors(argv, message, capsys):
-    code, out, err = _run(argv, capsys)
+def test_option_errors_are_one_line_usage_errors(argv, message, coin):
+    code, out, err = coin(*argv)
     assert code == 2 and out == "" and err.count("\n") == 1 and message in err
 
 
-def test_no_progress_bar_off_a_terminal(capsys, monkeypatch):
+def test_no_progress_bar_off_a_terminal(coin, monkeypatch):
     """A long run with stderr not a terminal: no bar, nothing on stderr, clean stdout."""
     import coincli.render.progress as acc
 
     monkeypatch.setattr(acc, "stderr_is_terminal", lambda: False)
-    code, out, err = _run(["table", "--xi", "0.577", "--psi-dist", "uniform", "--method", "mc",
-                           "--seed", "1", "--tol", "1e-3", "-f", "csv"], capsys)
+    code, out, err = coin("table", "--xi", "0.577", "--psi-dist", "uniform", "--method", "mc",
+                          "--seed", "1", "--tol", "1e-3", "-f", "csv")
     assert code == 0 and err == "" and "\x1b" not in out
 
 
-def test_progress_bar_draws_on_stderr_only_after_a_second(monkeypatch):
-    import coincli.render.progress as acc
-
-    monkeypatch.setattr(acc, "stderr_is_terminal", lambda: True)
-    buf = io.StringIO()
-    monkeypatch.setattr(sys, "stderr", buf)
-    bar = acc.ProgressBar("mc test", delay=3600)
-    bar(10, 100)
-    assert bar.bar is None  # not within the delay
-    bar = acc.ProgressBar("mc test", delay=0)
-    bar(10, 100)
-    assert bar.bar is not None
-    bar(100, 100)
-    bar.close()
-
-
-def test_the_run_budget_stops_quasi_monte_carlo_deterministically(capsys, monkeypatch):
+def test_the_run_budget_stops_quasi_monte_carlo_deterministically(coin, monkeypatch):
     # A --tol out of reach of qmc: the run stops at its budget of points (not on the clock),
     # warns, and the same seed gives the same bytes.
     import coincli.reports.accuracy as acc
@@ -375,16 +350,16 @@ def test_the_run_budget_stops_quasi_monte_carlo_deterministically(capsys, monkey
     monkeypatch.setattr(acc, "RUN_BUDGET", 1 << 16)
     argv = ["table", "--xi", "0.577", "--psi-dist", "uniform", "--method", "qmc", "--seed", "1",
             "--tol", "1e-9", "-f", "csv"]
-    code, out, err = _run(argv, capsys)
+    code, out, err = coin(*argv)
     assert code == 0 and out.count("\n") == 4
     assert err.startswith("coin: warning: uniform: qmc reached") and "not --tol 1e-09" in err
     assert "--tol not met; it stopped at the run's limit of 65536 points" in err
     assert "qmc 65536 points" in out and out.splitlines()[0].endswith(",seed")
     assert out.splitlines()[-1].endswith(",1")
-    assert _run(argv, capsys)[1] == out
+    assert coin(*argv)[1] == out
 
 
-def test_monte_carlo_refuses_a_tol_beyond_the_run_limit_up_front(capsys, monkeypatch):
+def test_monte_carlo_refuses_a_tol_beyond_the_run_limit_up_front(coin, monkeypatch):
     # The tosses a --tol needs follow from the chances: a --tol past the run's limit is a
     # one-line usage error before any toss, naming the smallest --tol that fits; that one runs
     # and meets it.
@@ -396,20 +371,20 @@ def test_monte_carlo_refuses_a_tol_beyond_the_run_limit_up_front(capsys, monkeyp
     argv = ["table", "--xi", "0.577", "--psi-dist", "uniform", "--method", "mc", "--seed", "1",
             "-f", "csv", "--tol"]
     t0 = time.process_time()
-    code, out, err = _run([*argv, "1e-5"], capsys)
+    code, out, err = coin(*argv, "1e-5")
     assert time.process_time() - t0 < 5  # refused before simulating (2^16 tosses would not do)
     assert code == 2 and out == "" and err.count("\n") == 1
     assert err.startswith("coin: error: --tol 1e-05 needs about ")
     assert "over the run's limit of 65536 tosses" in err
     smallest = err.split("the smallest --tol that fits is ")[1].split()[0]
     assert 3e-3 < float(smallest) < 1e-2  # z sqrt(p (1 - p) / 2^16) with p(1 - p) near 1/4
-    code, out, err = _run([*argv, smallest], capsys)
+    code, out, err = coin(*argv, smallest)
     assert code == 0 and err == "", err
     row = out.splitlines()[-1].split(",")
     assert int(row[5].split()[1]) <= 1 << 16
     assert max(float(v) for v in row[6:9]) <= float(smallest)
     # a tolerance a little below the smallest is refused (the figure is the limit, rounded up)
-    code, _, err = _run([*argv, f"{float(smallest) * 0.97:.3g}"], capsys)
+    code, _, err = coin(*argv, f"{float(smallest) * 0.97:.3g}")
     assert code == 2 and "the smallest --tol that fits is " + smallest in err
 
 
@@ -444,22 +419,22 @@ def test_smallest_tol_is_the_limit():
     assert E.mc_smallest_tol([0.25], 1) == 0.5
 
 
-def test_the_budget_is_one_per_run_shared_by_the_densities(capsys, monkeypatch):
+def test_the_budget_is_one_per_run_shared_by_the_densities(coin, monkeypatch):
     import coincli.reports.accuracy as acc
 
     monkeypatch.setattr(acc, "RUN_BUDGET", 1 << 16)
-    code, out, err = _run(["table", "--xi", "0.577", "--all", "--method", "qmc", "--seed",
-                           "2", "--tol", "1e-9", "-f", "csv"], capsys)
+    code, out, err = coin("table", "--xi", "0.577", "--all", "--method", "qmc", "--seed",
+                          "2", "--tol", "1e-9", "-f", "csv")
     assert code == 0 and err.count("coin: warning:") == 3
     assert "limit of 65536 points, shared by 3 densities" in err
     used = [int(line.split(",")[5].split()[1]) for line in out.splitlines()[3:]]
     assert len(used) == 3 and sum(used) <= 1 << 16, used
     argv = ["table", "--xi", "0.577", "--all", "--method", "mc", "--seed", "2", "-f", "csv",
             "--tol"]
-    code, out, err = _run([*argv, "1e-3"], capsys)
+    code, out, err = coin(*argv, "1e-3")
     assert code == 2 and "over the run's limit of 65536 tosses shared by 3 densities" in err
     smallest = err.split("the smallest --tol that fits is ")[1].split()[0]
-    code, out, err = _run([*argv, smallest], capsys)
+    code, out, err = coin(*argv, smallest)
     assert code == 0 and err == ""
     rows = [line.split(",") for line in out.splitlines()[3:]]
     assert sum(int(r[5].split()[1]) for r in rows) <= 1 << 16

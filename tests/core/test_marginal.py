@@ -94,6 +94,7 @@ def test_every_order_within_its_calibrated_bound(order):
             assert abs(g - float(r)) <= bound, (label, xi, order, g, float(r), bound)
 
 
+@pytest.mark.slow
 def test_reference_file_is_what_the_reference_code_computes():
     """Recompute two stored cases live, so the file cannot drift from marginal_reference.py."""
     for label, xi in (("normal", XI_FAIR), ("normal sd 1e-4 at 60 deg (boundary)", 3.0)):

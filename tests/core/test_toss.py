@@ -319,6 +319,7 @@ def test_a_dip_too_thin_for_dense_sampling_is_found(contact, psi, xi):
 # --------------------------------------------------------------------------- vectorized vs scalar
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("contact", T.CONTACTS)
 def test_vectorized_matches_scalar(contact):
     rng = np.random.default_rng(5)
@@ -529,6 +530,7 @@ def _deviation(bounds, curves):
     return max(np.min(np.abs(cw - b)) / b for b in bounds)
 
 
+@pytest.mark.slow
 def test_fair_coin_boundaries_are_the_hyperbolae_of_eq10_once_u_is_large():
     # The paper's z0 = (sqrt 3/2) a = a sin(theta0) for xi = 1/sqrt 3, so a toss that first
     # touches at alpha_f = theta0 lands at exactly t_f = 2u/g: the boundaries are eq. (10)

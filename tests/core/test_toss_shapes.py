@@ -35,6 +35,7 @@ def _cases(contact):
         yield xi, u, w, p
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("contact", ["rim", "thick"])
 def test_outcomes_equal_toss_many_for_every_mix_of_numbers_and_arrays(contact):
     cases = list(_cases(contact))
