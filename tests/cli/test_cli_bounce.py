@@ -75,7 +75,8 @@ def test_toss_bounce_and_trajectory(coin, tmp_path):
             "bounce", "--surface", "wood"]
     out = ok(coin(*argv, "--trajectory", str(path)))
     assert "if caught (eq. 7)" in out and "bounces" in out and "settled at (s)" in out
-    rows = list(csv.DictReader(path.open()))
+    with path.open() as f:
+        rows = list(csv.DictReader(f))
     assert rows and float(rows[0]["t"]) == 0.0
     assert [float(r["t"]) for r in rows] == sorted(float(r["t"]) for r in rows)
     assert [p.name for p in tmp_path.iterdir()] == ["toss.csv"]  # no temporary left behind
