@@ -17,9 +17,10 @@ located by Brent's method to ``t_tol``.  A doubtful cell of width ``scan`` whose
 above the plane is a graze at most ``Kc scan^2 / 8`` deep (1e-10 m at ``scan = 1e-6 s`` and 240
 rad/s): it is passed over, the one approximation of the search, refined with ``scan``.
 
-A flight that starts at a contact (``F(0) = 0``) starts the search at the first of ``s = scan,
-2 scan, 4 scan, ...`` where ``F > 0``: a return to the plane earlier than that (within a few
-``scan``) is not looked for.
+A flight that starts at a contact (``F(0) = 0``) starts the search at ``s = scan`` when ``F >
+0`` there (a dip below the plane and back within ``scan`` is not looked for); otherwise the
+flight is shorter than ``scan`` and its end is bracketed by halving ``s`` to a point above the
+plane.
 """
 
 from __future__ import annotations
@@ -118,11 +119,14 @@ def next_contact(fl: Flight, a, hh, t_limit, *, scan=1e-6, t_tol=1e-13, from_con
 
     s0 = 0.0
     if from_contact:
-        s0 = scan
-        while s0 < s_end and F(s0) <= 0.0:
-            s0 *= 2
-        if s0 >= s_end:
-            return None
+        s0 = min(scan, s_end)
+        if F(s0) <= 0.0:  # a flight shorter than scan: halve to a point above the plane
+            for _ in range(80):
+                s0 /= 2
+                if F(s0) > 0.0:
+                    return fl.t0 + brentq(F, s0, 2 * s0, xtol=t_tol,
+                                          rtol=4 * np.finfo(float).eps, maxiter=500)
+            return fl.t0
     elif F(0.0) <= 0.0:
         return fl.t0
 

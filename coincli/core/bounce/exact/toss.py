@@ -58,7 +58,7 @@ from coincli.core.toss.flight import DEFAULT_DIAMETER, NAMES, classify
 from . import flat as F
 from . import rim as R
 from . import side as S
-from .body import UP, Cylinder, rim_point
+from .body import UP, Cylinder, cross, rim_point
 from .free import G, Flight, next_contact
 from .impact import face_impact, point_impact
 
@@ -284,7 +284,7 @@ class _State:
                 return "flight"
             return self.set_flat()
         r = self.lowest()
-        vn = float(self.v[2] + np.cross(self.w, r)[2])
+        vn = float(self.v[2] + cross(self.w, r)[2])
         if vn >= 0:
             return self.after_contact()
         imp = point_impact(body, self.n, self.v, self.w, r, eng.mu, eng.e,
@@ -311,7 +311,7 @@ class _State:
         body = self.eng.body
         self.x[2] -= R.height(body, self.x, self.n)
         r = self.lowest()
-        vn = float(self.v[2] + np.cross(self.w, r)[2])
+        vn = float(self.v[2] + cross(self.w, r)[2])
         self.v[2] -= vn
 
     def set_flat(self):
@@ -332,7 +332,7 @@ class _State:
         self.n = h / np.linalg.norm(h)
         self.x[2] = body.a
         self.v[2] = 0.0
-        e = np.cross(UP, self.n)
+        e = cross(UP, self.n)
         self.w = self.w - float(self.w @ e) * e
         self.log("side")
         return "side"
@@ -349,7 +349,7 @@ class _State:
         else:
             pts = [-body.hh * self.n - body.a * UP, body.hh * self.n - body.a * UP]
         for _ in range(200):
-            vns = [float(self.v[2] + np.cross(self.w, r)[2]) for r in pts]
+            vns = [float(self.v[2] + cross(self.w, r)[2]) for r in pts]
             j = int(np.argmin(vns))
             if vns[j] > -tol.v_min:
                 break
@@ -358,15 +358,15 @@ class _State:
             self.v, self.w = np.array(imp.v), np.array(imp.w)
             self.impacts.append((self.t, vns[j], imp.contact_velocity_after[2]))
             self.log("two-point impact")
-        vns = [float(self.v[2] + np.cross(self.w, r)[2]) for r in pts]
+        vns = [float(self.v[2] + cross(self.w, r)[2]) for r in pts]
         if min(vns) >= tol.v_min:
             return "flight"
         if max(vns) >= tol.v_min and not flat:
             # one end stays, the other lifts: on the staying end's rim, tilted off the side
             j = int(np.argmin(vns))
-            axis = np.cross(UP, self.n)
+            axis = cross(UP, self.n)
             tip = 10 * tol.flat_tol * (-1 if j == 0 else 1)  # n_z = -sin(tip)
-            self.n = self.n * math.cos(tip) + np.cross(axis, self.n) * math.sin(tip)
+            self.n = self.n * math.cos(tip) + cross(axis, self.n) * math.sin(tip)
             self.n /= np.linalg.norm(self.n)
             self.settle_on_rim()
             return "rim"
@@ -441,11 +441,13 @@ class _State:
         vs = float(np.linalg.norm(self.v)) + body.a * float(np.linalg.norm(self.w)) + 1e-3
         scales = np.array([body.a] * 6 + [vs] * 3 + [vs / body.a] * 3)
         if rescaled:
-            def g(s, yy):
-                sig = math.hypot(*R.contact(body, yy[4:7] / np.linalg.norm(yy[4:7]), yy[7:10],
-                                            yy[10:13], eng.mu, eng.c, eng.tau, mode,
-                                            eng.g).slip)
-                return np.concatenate([[sig], sig * f(s, yy[1:])])
+            def g(_s, yy):
+                n = yy[4:7] / np.linalg.norm(yy[4:7])
+                c = R.contact(body, n, yy[7:10], yy[10:13], eng.mu, eng.c, eng.tau, mode,
+                              eng.g)
+                sig = math.hypot(*c.slip)
+                return np.concatenate([[sig], sig * yy[7:10], sig * cross(yy[10:13], n),
+                                       sig * np.array(c.a_centre), sig * np.array(c.alpha)])
             y = np.concatenate([[self.t], y])
             scales = np.concatenate([[1.0], scales])
             rate = eng.mu * eng.g * (1 + body.m * (body.a + body.hh) ** 2 / body.i1)
@@ -455,8 +457,9 @@ class _State:
                 sig0 / tol.slip_tol + 2) / rate)
         else:
             g, span = f, (self.t, eng.t_max)
-        sol = solve_ivp(g, span, y, method="DOP853", rtol=tol.rtol, atol=tol.rtol * scales,
-                        events=funcs)
+        with np.errstate(divide="ignore", invalid="ignore"):  # a wild trial step is rejected
+            sol = solve_ivp(g, span, y, method="DOP853", rtol=tol.rtol,
+                            atol=tol.rtol * scales, events=funcs)
         if sol.status < 0:
             raise ArithmeticError(f"the rim contact's ODE failed: {sol.message}")
         hits = [(te[0], j) for j, te in enumerate(sol.t_events) if len(te)]
