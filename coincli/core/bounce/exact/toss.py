@@ -49,6 +49,8 @@ from coincli.core.bounce.engine import (
     DEFAULT_T_MAX,
     REST_MARGIN,
     ROLLING_XI_MIN,
+    SIDE_TILT,
+    SLIP_TOL,
     UNSETTLED,
     Launch,
     Surface,
@@ -145,10 +147,28 @@ class ExactEngine:
         return 0.5 * s * w3 + 0.5 * min((lz - s * c) ** 2, (lz + s * c) ** 2) / (
             b.i1 * (1 - c * c))
 
+    def rolled(self, v, n, w):
+        """The energy of rolling on the side (the MuJoCo engine's
+        :meth:`~coincli.core.bounce.engine.Engine._rolling`, its thresholds): when the axis is
+        within SIDE_TILT of horizontal and the lowest point slips slower than SLIP_TOL, ``(I3
+        w3^2 + m v_perp^2) / 2``; else 0."""
+        if abs(n[2]) > SIDE_TILT:
+            return 0.0
+        b = self.body
+        r = -b.hh * n * (1.0 if n[2] >= 0 else -1.0) - b.a * UP
+        s = v + cross(w, r)
+        if math.hypot(s[0], s[1]) > SLIP_TOL:
+            return 0.0
+        nh = math.hypot(n[0], n[1])
+        along = (v[0] * n[0] + v[1] * n[1]) / nh
+        w3 = float(w @ n)
+        return 0.5 * (b.i3 * w3 * w3 + b.m * (v[0] ** 2 + v[1] ** 2 - along * along))
+
     def decided(self, x, v, n, w, touching):
         E = self.energy(x, v, n, w)
-        return E < self.barrier or (self.rules and touching and
-                                    E - self.spin_locked(n, w) < self.barrier)
+        return E < self.barrier or (self.rules and touching and (
+            E - self.spin_locked(n, w) < self.barrier or
+            E - self.rolled(v, n, w) < self.barrier))
 
     # -- one toss
 
@@ -194,6 +214,7 @@ class _State:
             raise ArithmeticError(f"more than {self.eng.MAX_EVENTS} events in one toss")
 
     def finish(self, mode, code=None):
+        mode = {"rim-slip": "rim", "contact": "rim", "decided": "rim"}.get(mode, mode)
         alpha = math.acos(max(-1.0, min(1.0, float(self.n[2]))))
         if code is None:
             code = int(classify(alpha, self.eng.xi))
@@ -244,7 +265,7 @@ class _State:
                 return self.side()
             elif mode == "unsettled":
                 return self.finish("flight", UNSETTLED)
-            elif mode == "decided":
+            elif mode == "decided":  # a rule's event in the rim mode (located at its crossing)
                 return self.finish("rim")
 
     def flight(self):
@@ -384,20 +405,62 @@ class _State:
 
         sol = solve("rolling")
         slip = math.hypot(*sol.slip)
-        if slip <= tol.slip_tol:
+        if slip <= 2 * tol.slip_tol:  # (a halt is located at slip_tol, to the ODE's error)
             if sol.N < 0:
                 self.log("lift-off")
                 return "flight"
             self.v[:2] -= np.array(sol.slip)
             if may_roll and sol.rolling_holds:
                 return self.rolling()
-            # static friction cannot hold: slip starts against the friction rolling needs
+            # static friction cannot hold: slip starts in the direction it is consistent with
+            # (at the cone's edge, where rolling has just failed, that is -F_t: k = 0 there)
             ft = np.array(sol.force[:2])
-            self.v[:2] -= 2 * tol.slip_tol * ft / np.linalg.norm(ft)
+            edge = math.hypot(*ft) <= eng.mu * sol.N * (1 + 1e-6)
+            self.v[:2] += 4 * tol.slip_tol * (-ft / np.linalg.norm(ft) if edge else
+                                              self.slip_onset())
         if solve("slipping").N < 0:
             self.log("lift-off")
             return "flight"
         return self.slipping()
+
+    def slip_onset(self):
+        """The direction ``u`` (horizontal, unit) in which slip starts from rest when rolling
+        needs more than ``mu N``: slipping along ``u`` under the friction ``-mu N u`` must
+        accelerate the slip along ``u`` (``a_s(u) = k u``, ``k > 0``).  Found on a 72-point
+        circle of directions and refined by Brent's method; none found (a Painleve-type
+        inconsistency): ArithmeticError."""
+        from scipy.optimize import brentq
+
+        eng, body = self.eng, self.eng.body
+        r, rdot = rim_point(body, self.n), R.rim_rate(body, self.n, self.w)
+        delta = 1e-9
+
+        def accel(phi):
+            u = np.array([math.cos(phi), math.sin(phi), 0.0])
+            c = R.contact(body, self.n, self.v + delta * u, self.w, eng.mu, eng.c, eng.tau,
+                          "slipping", eng.g)
+            a = np.array(c.a_centre) + cross(np.array(c.alpha), r) + cross(self.w, rdot)
+            return u, a
+
+        def across(phi):
+            u, a = accel(phi)
+            return u[0] * a[1] - u[1] * a[0]
+
+        phis = np.linspace(0.0, 2 * math.pi, 73)
+        vals = [across(p) for p in phis]
+        best = None
+        for j in range(72):
+            if vals[j] == 0.0 or vals[j] * vals[j + 1] < 0:
+                phi = phis[j] if vals[j] == 0.0 else brentq(across, phis[j], phis[j + 1],
+                                                            xtol=1e-12)
+                u, a = accel(phi)
+                k = float(a @ u)
+                if k > 0 and (best is None or k > best[0]):
+                    best = (k, u)
+        if best is None:
+            raise ArithmeticError("rolling needs more than mu N and no slip direction is "
+                                  "consistent (a Painleve-type case)")
+        return best[1][:2]
 
     def _events(self, mode, rescaled):
         eng, tol, body = self.eng, self.eng.tol, self.eng.body
@@ -481,6 +544,9 @@ class _State:
 
     def _after_rim_event(self, name):
         eng = self.eng
+        stuck = [ev for ev in self.events[-20:] if abs(ev[0] - self.t) < 1e-12]
+        if len(stuck) >= 20:
+            raise ArithmeticError(f"the rim contact's {name} events make no progress")
         if name in ("rest", "spin rule"):
             return "decided"
         if name == "t_max":
