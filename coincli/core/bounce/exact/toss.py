@@ -60,7 +60,7 @@ from coincli.core.toss.flight import DEFAULT_DIAMETER, NAMES, classify
 from . import flat as F
 from . import rim as R
 from . import side as S
-from .body import UP, Cylinder, cross, rim_point
+from .body import UP, Cylinder, contact_matrix, cross, rim_point
 from .free import G, Flight, next_contact
 from .impact import face_impact, point_impact
 
@@ -118,10 +118,12 @@ class ExactEngine:
     MAX_EVENTS = 20000  #: a toss with more events than this raises (a Zeno loop would)
 
     def __init__(self, xi, surf: Surface, *, diameter=DEFAULT_DIAMETER, density=DEFAULT_DENSITY, g=G,
-                 t_max=DEFAULT_T_MAX, tol: Tolerances | None = None):
+                 t_max=DEFAULT_T_MAX, tol: Tolerances | None = None, rest_rule=True):
         self.xi, self.surface, self.g, self.t_max = float(xi), surf, g, t_max
         self.body = Cylinder.solid(diameter, xi, density)
         self.tol = tol or Tolerances()
+        #: False: no rest rule; the toss ends when a flat or side contact comes to rest
+        self.rest_rule = rest_rule
         b = self.body
         self.R = math.hypot(b.a, b.hh)
         self.barrier = b.m * g * (self.R - REST_MARGIN)
@@ -165,6 +167,8 @@ class ExactEngine:
         return 0.5 * (b.i3 * w3 * w3 + b.m * (v[0] ** 2 + v[1] ** 2 - along * along))
 
     def decided(self, x, v, n, w, touching):
+        if not self.rest_rule:
+            return False
         E = self.energy(x, v, n, w)
         return E < self.barrier or (self.rules and touching and (
             E - self.spin_locked(n, w) < self.barrier or
@@ -333,7 +337,22 @@ class _State:
         self.x[2] -= R.height(body, self.x, self.n)
         r = self.lowest()
         vn = float(self.v[2] + cross(self.w, r)[2])
-        self.v[2] -= vn
+        self.contact_impulse(r, np.array([0.0, 0.0, -vn / contact_matrix(body, self.n, r)[2, 2]]))
+
+    def contact_impulse(self, r, P):
+        """Apply the impulse ``P`` at ``r``: the small corrections at a change of mode are
+        impulses at the contact, so that they dissipate (a normal impulse that stops ``v_n``
+        loses ``v_n^2 / (2 K_zz)``, one that stops the whole contact velocity ``v.K^-1 v / 2``)."""
+        body = self.eng.body
+        self.v = self.v + P / body.m
+        self.w = self.w + body.inverse_inertia(self.n) @ cross(r, P)
+
+    def set_contact_velocity(self, target):
+        """Change the lowest point's velocity to ``target`` by an impulse there."""
+        body = self.eng.body
+        r = self.lowest()
+        vc = self.v + cross(self.w, r)
+        self.contact_impulse(r, np.linalg.solve(contact_matrix(body, self.n, r), target - vc))
 
     def set_flat(self):
         body = self.eng.body
@@ -386,7 +405,7 @@ class _State:
             # one end stays, the other lifts: on the staying end's rim, tilted off the side
             j = int(np.argmin(vns))
             axis = cross(UP, self.n)
-            tip = 10 * tol.flat_tol * (-1 if j == 0 else 1)  # n_z = -sin(tip)
+            tip = 1e-4 * tol.flat_tol * (-1 if j == 0 else 1)  # n_z = -sin(tip): lifts m g hh tip
             self.n = self.n * math.cos(tip) + cross(axis, self.n) * math.sin(tip)
             self.n /= np.linalg.norm(self.n)
             self.settle_on_rim()
@@ -409,15 +428,15 @@ class _State:
             if sol.N < 0:
                 self.log("lift-off")
                 return "flight"
-            self.v[:2] -= np.array(sol.slip)
-            if may_roll and sol.rolling_holds:
+            self.set_contact_velocity(np.zeros(3))
+            if may_roll and solve("rolling").rolling_holds:
                 return self.rolling()
             # static friction cannot hold: slip starts in the direction it is consistent with
             # (at the cone's edge, where rolling has just failed, that is -F_t: k = 0 there)
             ft = np.array(sol.force[:2])
             edge = math.hypot(*ft) <= eng.mu * sol.N * (1 + 1e-6)
-            self.v[:2] += 4 * tol.slip_tol * (-ft / np.linalg.norm(ft) if edge else
-                                              self.slip_onset())
+            u = -ft / np.linalg.norm(ft) if edge else self.slip_onset()
+            self.set_contact_velocity(4 * tol.slip_tol * np.array([u[0], u[1], 0.0]))
         if solve("slipping").N < 0:
             self.log("lift-off")
             return "flight"
@@ -478,9 +497,10 @@ class _State:
             "lift-off": (lambda _s, y: sol(y).N, -1),
             "flat": (lambda _s, y: math.hypot(y[k + 3], y[k + 4]) - tol.flat_tol, -1),
             "side": (lambda _s, y: y[k + 5], 0),
-            "rest": (lambda _s, y: eng.energy(*_xvnw(split(y))) - eng.barrier, -1),
         }
-        if eng.rules:
+        if eng.rest_rule:
+            evs["rest"] = (lambda _s, y: eng.energy(*_xvnw(split(y))) - eng.barrier, -1)
+        if eng.rules and eng.rest_rule:
             evs["spin rule"] = (lambda _s, y: eng.energy(*_xvnw(split(y))) - eng.spin_locked(
                 split(y)[1], split(y)[3]) - eng.barrier, -1)
         if mode == "rolling":
@@ -578,7 +598,15 @@ class _State:
             rolled = 0.5 * (body.i3 * y[5] ** 2 + body.m * (float(v @ v) - along ** 2))
             self.x = np.array([y[0], y[1], body.a])
             self.v, self.n, self.w = v, ne, y[5] * ne + y[6] * UP
-            if E < eng.barrier or (eng.rules and rolling and E - rolled < eng.barrier):
+            if eng.rest_rule and (E < eng.barrier or eng.rules and rolling and
+                                  E - rolled < eng.barrier):
+                return self.finish("side")
+            if not eng.rest_rule and rolling and eng.c > 0:  # roll to a stop (constant decel.)
+                t_stop = abs(y[5]) * (body.i3 + body.m * body.a ** 2) / (eng.c * body.m * eng.g)
+                run = S.run(body, y, eng.mu, eng.c, eng.tau, t_stop, eng.g, rtol=tol.rtol)
+                y = run.state[:3] + (0.0, 0.0, 0.0, 0.0)
+                self.t += t_stop
+                self.x, self.v, self.w = np.array([y[0], y[1], body.a]), np.zeros(3), np.zeros(3)
                 return self.finish("side")
             if self.t >= eng.t_max:
                 return self.finish("side", UNSETTLED)
