@@ -1,4 +1,4 @@
-"""The exact engine (issue 39, stage 2) against the MuJoCo engine, toss by toss on the same launches.
+"""The exact engine (issue 39, stage 2) against MuJoCo, toss by toss on the same launches.
 
     PYTHONPATH=$PWD python benchmarks/exact_vs_mujoco.py --n 200 --xi 0.354,0.5,0.577,0.7
 

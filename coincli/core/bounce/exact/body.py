@@ -30,7 +30,7 @@ class Cylinder:
     i3: float
 
     @classmethod
-    def solid(cls, diameter: float, xi: float, density: float = DENSITY) -> "Cylinder":
+    def solid(cls, diameter: float, xi: float, density: float = DENSITY) -> Cylinder:
         """The solid cylinder of ``diameter`` (m), aspect ratio ``xi = h / D`` and ``density``
         (kg/m^3; cupronickel by default, as the bounce engine's coin)."""
         if not (diameter > 0 and xi > 0 and density > 0):

@@ -51,7 +51,7 @@ class Flight:
     g: float = G
 
     @classmethod
-    def from_state(cls, body: Cylinder, t0, x, v, n, w, g=G) -> "Flight":
+    def from_state(cls, body: Cylinder, t0, x, v, n, w, g=G) -> Flight:
         n = np.asarray(n, float)
         n = n / np.linalg.norm(n)
         w = np.asarray(w, float)

@@ -122,7 +122,7 @@ def contact(body: Cylinder, n, v, w, mu, c=0.0, tau=0.0, mode="rolling", g=G) ->
 def rhs(body: Cylinder, mu, c=0.0, tau=0.0, mode="rolling", g=G):
     """The right-hand side ``f(t, y)`` of the rim mode for ``y = (x, n, v, w)`` (12)."""
     def f(_t, y):
-        x, n, v, w = y[:3], y[3:6], y[6:9], y[9:12]
+        n, v, w = y[3:6], y[6:9], y[9:12]
         sol = contact(body, n, v, w, mu, c, tau, mode, g)
         return np.concatenate([v, cross(w, n), sol.a_centre, sol.alpha])
     return f
