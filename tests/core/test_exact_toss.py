@@ -128,8 +128,9 @@ def test_rolling_on_the_side_is_sides_by_the_rolling_rule():
 @pytest.mark.parametrize("tilt_deg", [20, 40, 50, 130, 140, 160])
 def test_catch_limit_lands_on_the_face_of_the_first_contact(tilt_deg):
     """Restitution 0 and friction 1.5 (below a / hh = 2, where the face contact would tip):
-    the contact point stops dead at the first contact (no rebound, no slip) and the coin falls to the side its centre is over, the catch's face
-    (eq. 7 at the first contact); xi 0.5 (theta0 = 63.4 deg)."""
+    the contact point stops dead at the first contact (no rebound, no slip) and the coin
+    falls to the side its centre is over, the catch's face (eq. 7 at the first contact);
+    xi 0.5 (theta0 = 63.4 deg)."""
     eng = ExactEngine(0.5, surface(0.0, 1.5))
     tilt = math.radians(tilt_deg)
     r = drop(eng, tilt, gap=0.05, vz=0.0)

@@ -118,7 +118,8 @@ class ExactEngine:
     MAX_EVENTS = 20000  #: a toss with more events than this raises (a Zeno loop would)
 
     def __init__(self, xi, surf: Surface, *, diameter=DEFAULT_DIAMETER,
-                 density=DEFAULT_DENSITY, g=G, t_max=DEFAULT_T_MAX, tol: Tolerances | None = None, rest_rule=True):
+                 density=DEFAULT_DENSITY, g=G, t_max=DEFAULT_T_MAX,
+                 tol: Tolerances | None = None, rest_rule=True):
         self.xi, self.surface, self.g, self.t_max = float(xi), surf, g, t_max
         self.body = Cylinder.solid(diameter, xi, density)
         self.tol = tol or Tolerances()
