@@ -392,14 +392,16 @@ class _State(RimMode):
         for _ in range(200):
             vns = [float(self.v[2] + cross(self.w, r)[2]) for r in pts]
             j = int(np.argmin(vns))
-            if vns[j] > -tol.v_min:
-                break
+            if vns[j] > -tol.v_min or eng.decided(self.x, self.v, self.n, self.w, True):
+                break  # (a rest rule decides now: the loop ends the toss)
             imp = point_impact(body, self.n, self.v, self.w, pts[j], eng.mu, eng.e,
                                rtol=tol.rtol)
             self.v, self.w = np.array(imp.v), np.array(imp.w)
             self.impacts.append((self.t, vns[j], imp.contact_velocity_after[2]))
             self.log("two-point impact")
         vns = [float(self.v[2] + cross(self.w, r)[2]) for r in pts]
+        if eng.decided(self.x, self.v, self.n, self.w, True):
+            return "decided"
         if min(vns) >= tol.v_min:
             return "flight"
         if max(vns) >= tol.v_min and not flat:
