@@ -143,11 +143,11 @@ def impulse(K, vc0, mu, e, *, rtol=RTOL, slip_tol=SLIP_TOL):
         if not phases or phases[-1] != "slip":
             phases.append("slip")
 
-        evals = [0]
+        budget = {"evals": 0, "stiff": False}
 
-        def rhs(_t, y):
-            evals[0] += 1
-            if evals[0] > STIFF_EVALS and method == "DOP853":
+        def rhs(_t, y, budget=budget):
+            budget["evals"] += 1
+            if budget["evals"] > STIFF_EVALS and not budget["stiff"]:
                 raise _Stiff
             v = velocity(y[0], y[1:3])
             rho = math.hypot(v[0], v[1])
@@ -170,11 +170,11 @@ def impulse(K, vc0, mu, e, *, rtol=RTOL, slip_tol=SLIP_TOL):
         span = 10 * pscale / rho0 + 100 * math.log(rho0 / floor + 2) / (mu * lam_min)
         y0 = [p, pt[0], pt[1], W]
         atol = rtol * np.array([pscale, pscale, pscale, pscale * vscale])
-        method = "DOP853"
         try:
-            sol = solve_ivp(rhs, (0.0, span), y0, method=method, rtol=rtol, atol=atol,
+            sol = solve_ivp(rhs, (0.0, span), y0, method="DOP853", rtol=rtol, atol=atol,
                             events=(ev_compression, ev_restitution, ev_halt))
         except _Stiff:
+            budget["stiff"] = True
             for method in ("LSODA", "Radau"):
                 sol = solve_ivp(rhs, (0.0, span), y0, method=method, rtol=rtol, atol=atol,
                                 events=(ev_compression, ev_restitution, ev_halt))
