@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .body import UP, Cylinder, rim_point
+from .body import UP, Cylinder, cross, rim_point
 
 G = 9.80665  #: m/s^2
 
@@ -40,7 +40,7 @@ G = 9.80665  #: m/s^2
 def rim_rate(body: Cylinder, n, w):
     """``dr/dt``: how fast the contact point moves (world frame) as the axis turns."""
     n, w = np.asarray(n, float), np.asarray(w, float)
-    ndot = np.cross(w, n)
+    ndot = cross(w, n)
     u = n[2] * n - UP
     norm = np.linalg.norm(u)
     e = u / norm
@@ -90,21 +90,21 @@ def contact(body: Cylinder, n, v, w, mu, c=0.0, tau=0.0, mode="rolling", g=G) ->
     r = rim_point(body, n)
     rdot = rim_rate(body, n, w)
     inertia, inv = body.inertia(n), body.inverse_inertia(n)
-    gyro = -np.cross(w, inertia @ w)
+    gyro = -cross(w, inertia @ w)
     res = _resistance_axis(w, c, tau)
     gvec = -g * UP
 
     def motion(F):
-        alpha = inv @ (np.cross(r, F) + F[2] * res + gyro)
+        alpha = inv @ (cross(r, F) + F[2] * res + gyro)
         return F / body.m + gvec, alpha
 
     def accel(F):  # the contact point's acceleration (the body's point at the contact)
         aG, alpha = motion(F)
-        return aG + np.cross(alpha, r) + np.cross(w, rdot)
+        return aG + cross(alpha, r) + cross(w, rdot)
 
     b = accel(np.zeros(3))
     J = np.column_stack([accel(np.eye(3)[j]) - b for j in range(3)])
-    slip = (v + np.cross(w, r)) * np.array([1.0, 1.0, 0.0])
+    slip = (v + cross(w, r)) * np.array([1.0, 1.0, 0.0])
     if mode == "rolling":
         F = np.linalg.solve(J, -b)
     elif mode == "slipping":
@@ -122,9 +122,9 @@ def contact(body: Cylinder, n, v, w, mu, c=0.0, tau=0.0, mode="rolling", g=G) ->
 def rhs(body: Cylinder, mu, c=0.0, tau=0.0, mode="rolling", g=G):
     """The right-hand side ``f(t, y)`` of the rim mode for ``y = (x, n, v, w)`` (12)."""
     def f(_t, y):
-        x, n, v, w = y[:3], y[3:6], y[6:9], y[9:12]
+        n, v, w = y[3:6], y[6:9], y[9:12]
         sol = contact(body, n, v, w, mu, c, tau, mode, g)
-        return np.concatenate([v, np.cross(w, n), sol.a_centre, sol.alpha])
+        return np.concatenate([v, cross(w, n), sol.a_centre, sol.alpha])
     return f
 
 
