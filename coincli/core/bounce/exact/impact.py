@@ -32,6 +32,7 @@ at ``p_c``.  For a collinear impact without friction it is Newton's ``v_n' = -e 
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -176,8 +177,10 @@ def impulse(K, vc0, mu, e, *, rtol=RTOL, slip_tol=SLIP_TOL):
         except _Stiff:
             budget["stiff"] = True
             for method in ("LSODA", "Radau"):
-                sol = solve_ivp(rhs, (0.0, span), y0, method=method, rtol=rtol, atol=atol,
-                                events=(ev_compression, ev_restitution, ev_halt))
+                with warnings.catch_warnings():  # LSODA's convergence notice: its status says
+                    warnings.simplefilter("ignore", UserWarning)  # it, and Radau follows
+                    sol = solve_ivp(rhs, (0.0, span), y0, method=method, rtol=rtol, atol=atol,
+                                    events=(ev_compression, ev_restitution, ev_halt))
                 if sol.status >= 0:
                     break
         if sol.status < 0:
